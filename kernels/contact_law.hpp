@@ -1,0 +1,128 @@
+#pragma once
+// Sphere-sphere contact law, SPEC §2: linear normal spring, incremental tangential spring with
+// Coulomb cap, and the rolling-resistance moment spring with its cap. Pure physics on one pair,
+// callable on host and device, so the analytic tests exercise exactly the code the kernels run.
+// Optional physics are template flags: with Rolling = false no rolling code is compiled in.
+#include "types.hpp"
+
+namespace grainlab {
+
+enum ContactFlag : std::uint8_t {
+  kTouching = 1u << 0,        // overlap > 0 this step
+  kSliding = 1u << 1,         // Coulomb cap active (|F_t| reached mu |F_n|)
+  kRollingSliding = 1u << 2,  // rolling cap active (|M_r| reached mu_r |F_n| l)
+};
+
+struct ContactParams {
+  Real E = 100e6;             // k_n = E * rbar                                    [Pa]
+  Real kappa = 1.0;           // k_t = kappa * k_n                                 [-]
+  Real mu = 0.5;              // Coulomb friction coefficient                     [-]
+  Real mu_r = 0.0;            // rolling friction coefficient                     [-]
+  Real roll_arm = 0.05;       // l = roll_arm * rbar (SPEC §2)                    [-]
+  Real normal_damping = 0.0;  // viscous normal damping ratio beta (choice: off)  [-]
+  Real dt = 0.0;              // time step                                         [s]
+};
+
+// What a pair carries from step to step (SPEC §2: history belongs to the pair).
+struct ContactHistory {
+  Vec3 ft;  // tangential force on j   [N]
+  Vec3 mr;  // rolling moment on i     [N m]
+};
+
+struct ContactResult {
+  Vec3 f;         // total force on j (force on i is -f)          [N]
+  Vec3 ti, tj;    // torques on i and on j, rolling moment included [N m]
+  std::uint8_t flags = 0;
+};
+
+// Rotate a history vector into the plane normal to n, keeping its length (SPEC §2). Projection plus
+// rescaling makes the stored force follow a rigidly rotating contact instead of staying frozen in the
+// global frame (test: objectivity).
+KOKKOS_INLINE_FUNCTION Vec3 to_tangent_plane(const Vec3& h, const Vec3& n) {
+  const Real len2 = norm2(h);
+  if (len2 == Real(0)) return h;
+  Vec3 p = h - dot(h, n) * n;
+  const Real plen2 = norm2(p);
+  if (plen2 == Real(0)) return Vec3();
+  return math::sqrt(len2 / plen2) * p;
+}
+
+template <bool Rolling, bool Viscous>
+struct LinearRollingContact {
+  // d = x_j - x_i; contact iff the caller found |d| < r_i + r_j. Velocities are the half-step ones
+  // (leapfrog), so v*dt is exactly the displacement since the last force evaluation.
+  KOKKOS_INLINE_FUNCTION static ContactResult evaluate(const ContactParams& P, Real ri, Real rj, Real mi,
+                                                       Real mj, const Vec3& d, Real dist, const Vec3& vi,
+                                                       const Vec3& vj, const Vec3& wi, const Vec3& wj,
+                                                       ContactHistory& h) {
+    ContactResult out;
+    const Vec3 n = (Real(1) / dist) * d;
+    const Real delta = ri + rj - dist;
+    const Real rbar = Real(0.5) * (ri + rj);
+    const Real kn = P.E * rbar;
+    const Real kt = P.kappa * kn;
+
+    // (choice) The contact point is the middle of the overlap, lever arms a = r - delta/2. With the
+    // same point for i and j a rigid spin of the pair gives zero relative velocity there, so rotation
+    // alone never loads the tangential spring (SPEC's r n differs by delta/2, < 1 % of r).
+    const Real ai = ri - Real(0.5) * delta;
+    const Real aj = rj - Real(0.5) * delta;
+
+    Real fn = kn * delta;
+    const Vec3 vrel = (vj + cross(wj, -aj * n)) - (vi + cross(wi, ai * n));
+    const Real vn = dot(vrel, n);
+    if (Viscous) {
+      // Dashpot c = 2 beta sqrt(m* k_n): restitution exp(-pi beta / sqrt(1 - beta^2)) for one contact.
+      const Real meff = mi * mj / (mi + mj);
+      fn -= Real(2) * P.normal_damping * math::sqrt(meff * kn) * vn;
+      if (fn < Real(0)) fn = Real(0);  // (choice) no cohesion from the dashpot
+    }
+    out.flags = kTouching;
+
+    // Tangential spring: rotate the history, add the increment, cap at mu |F_n|.
+    const Vec3 vt = vrel - vn * n;
+    Vec3 ft = to_tangent_plane(h.ft, n) - (kt * P.dt) * vt;
+    const Real fmax = P.mu * fn;
+    const Real ft2 = norm2(ft);
+    if (ft2 > fmax * fmax) {
+      ft = (fmax / math::sqrt(ft2)) * ft;
+      out.flags |= kSliding;
+    }
+    h.ft = ft;
+
+    out.f = fn * n + ft;
+    const Vec3 nxf = cross(n, out.f);
+    out.ti = -ai * nxf;  // (a_i n) x (-F)
+    out.tj = -aj * nxf;  // (-a_j n) x F
+
+    if (Rolling) {
+      // Iwashita-Oda relative rotation, twisting removed (SPEC §2 choice); k_r = k_t rbar^2.
+      const Vec3 dw = wi - wj;
+      const Vec3 dtheta = (dw - dot(dw, n) * n) * P.dt;
+      Vec3 mr = to_tangent_plane(h.mr, n) - (kt * rbar * rbar) * dtheta;
+      const Real mmax = P.mu_r * fn * P.roll_arm * rbar;
+      const Real mr2 = norm2(mr);
+      if (mr2 > mmax * mmax) {
+        mr = (mmax / math::sqrt(mr2)) * mr;
+        out.flags |= kRollingSliding;
+      }
+      h.mr = mr;
+      out.ti += mr;
+      out.tj -= mr;
+    }
+    return out;
+  }
+};
+
+// Sphere-wall contact, SPEC §3: frictionless, k_w = E_w r (choice), force along the inward normal.
+struct Wall {
+  Vec3 n;           // inward unit normal
+  Real offset = 0;  // plane: n.x = offset; signed distance of a centre = n.x - offset
+};
+
+struct WallLaw {
+  KOKKOS_INLINE_FUNCTION static Real overlap(const Wall& w, const Vec3& x, Real r) { return r - (dot(w.n, x) - w.offset); }
+  KOKKOS_INLINE_FUNCTION static Real stiffness(Real E_wall, Real r) { return E_wall * r; }
+};
+
+}  // namespace grainlab

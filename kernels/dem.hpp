@@ -1,0 +1,109 @@
+#pragma once
+// The per-step DEM kernels (SPEC §2-4) over the structure-of-arrays state. Host code in src/ decides
+// when to call them; nothing here allocates except the grow-only history buffers at rebuilds.
+#include "contact_law.hpp"
+#include "neighbor.hpp"
+
+namespace grainlab {
+
+struct Particles {
+  VecView x, v, w;  // position, half-step velocity, half-step angular velocity
+  VecView f, t;     // total force and torque of the last evaluation (undamped: unbalanced force)
+  VecView x_ref;    // positions at the last neighbour build (rebuild criterion)
+  RealView r, m, inertia;
+  IntView id;
+  int n = 0;
+};
+
+// Per-pair state aligned with a PairList (index p).
+struct PairHistory {
+  VecView ft, mr;
+  FlagView flags;
+};
+struct PairForces {
+  VecView f;        // force on j
+  VecView ti, tj;   // torques on i and j
+};
+
+constexpr int kMaxWalls = 8;
+struct WallSet {
+  int count = 0;
+  Wall w[kMaxWalls];
+};
+
+// Sums of one step's sphere-wall contacts, per wall (deterministic, see DeterministicSum).
+struct WallLoads {
+  Real force[kMaxWalls] = {};      // normal force received, along the wall's outward direction [N]
+  Real stiffness[kMaxWalls] = {};  // sum of k_w over touching spheres                         [N/m]
+  int touching[kMaxWalls] = {};
+};
+
+// Fixed-chunk reduction: the chunk boundaries depend only on n, each chunk is summed sequentially and
+// the chunk partials are summed in chunk order, so the result is bitwise the same on any thread count
+// (a plain parallel_reduce would not be, and these sums feed the wall servo, i.e. the dynamics).
+class DeterministicSum {
+ public:
+  static constexpr int kChunk = 256;
+  static constexpr int kMaxValues = 3 * kMaxWalls;
+  // f(i, acc) adds particle/pair i's contributions to acc[0..nv).
+  template <class F>
+  void run(const char* label, int n, int nv, const F& f, Real* out) {
+    const int nchunks = (n + kChunk - 1) / kChunk;
+    if (int(partial_.extent(0)) < nchunks)
+      partial_ = Kokkos::View<Real* [kMaxValues], MemSpace>("grainlab::reduce::partial", nchunks + 16);
+    if (result_.data() == nullptr) {
+      result_ = Kokkos::View<Real[kMaxValues], MemSpace>("grainlab::reduce::result");
+      host_ = Kokkos::create_mirror_view(result_);
+    }
+    auto partial = partial_;
+    auto result = result_;
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<ExecSpace>(0, nchunks), KOKKOS_LAMBDA(int c) {
+          Real acc[kMaxValues];
+          for (int k = 0; k < kMaxValues; ++k) acc[k] = 0;
+          const int end = (c + 1) * kChunk < n ? (c + 1) * kChunk : n;
+          for (int i = c * kChunk; i < end; ++i) f(i, acc);
+          for (int k = 0; k < kMaxValues; ++k) partial(c, k) = acc[k];
+        });
+    Kokkos::parallel_for(
+        "grainlab::reduce::chunks", Kokkos::RangePolicy<ExecSpace>(0, nv), KOKKOS_LAMBDA(int k) {
+          Real s = 0;
+          for (int c = 0; c < nchunks; ++c) s += partial(c, k);
+          result(k) = s;
+        });
+    Kokkos::deep_copy(host_, result_);
+    for (int k = 0; k < nv; ++k) out[k] = host_(k);
+  }
+
+ private:
+  Kokkos::View<Real* [kMaxValues], MemSpace> partial_;
+  Kokkos::View<Real[kMaxValues], MemSpace> result_;
+  typename Kokkos::View<Real[kMaxValues], MemSpace>::HostMirror host_;
+};
+
+struct ContactFeatures {
+  bool rolling = false;  // mu_r > 0
+  bool viscous = false;  // normal_damping > 0
+};
+
+// SPEC §2 on every listed pair: history update and per-pair force/torques; separated pairs lose history.
+void compute_pair_forces(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
+                         const ContactParams& cp, ContactFeatures feat);
+
+// Per particle, in a fixed order: sum of pair forces (row i, then transposed row), wall forces, then
+// Cundall damping (SPEC §4) and the leapfrog kick-drift. Returns max |x - x_ref|^2 (exact reduction).
+Real gather_and_integrate(const Particles& P, const PairList& L, const PairForces& F, const WallSet& walls,
+                          Real E_wall, Real alpha, Real dt);
+
+// Wall loads at the current positions (SPEC §3 per-wall force reduction).
+WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red);
+
+// Copies history from the old list to the new one by pair identity (i, j); new pairs start at zero.
+void transfer_history(const PairList& old_list, const PairHistory& old_h, const PairList& new_list,
+                      const PairHistory& new_h);
+
+// Grow-only allocation of per-pair arrays for at least n pairs.
+void ensure_pair_arrays(PairHistory& h, int n);
+void ensure_pair_arrays(PairForces& f, int n);
+
+}  // namespace grainlab

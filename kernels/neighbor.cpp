@@ -1,0 +1,271 @@
+#include "neighbor.hpp"
+
+#include <algorithm>
+#include <string>
+#include <cmath>
+
+namespace grainlab {
+namespace {
+
+// Grow-only reallocation: keeps the step loop free of allocations once the pair count is steady.
+void ensure(IntView& v, const char* label, long n) {
+  if (long(v.extent(0)) < n) {
+    const long cap = std::max(n, long(1.25 * double(n)) + 16);
+    v = IntView(Kokkos::view_alloc(std::string(label), Kokkos::WithoutInitializing), cap);
+  }
+}
+
+// Insertion sort of a short device-side segment (cells hold a few particles, rows a few tens).
+KOKKOS_INLINE_FUNCTION void sort_segment(const IntView& a, int begin, int end) {
+  for (int k = begin + 1; k < end; ++k) {
+    const int v = a(k);
+    int m = k - 1;
+    while (m >= begin && a(m) > v) {
+      a(m + 1) = a(m);
+      --m;
+    }
+    a(m + 1) = v;
+  }
+}
+
+// Exclusive scan of counts(0..n-1) into offsets(0..n); returns the total.
+int exclusive_scan(const IntView& counts, const IntView& offsets, int n) {
+  int total = 0;
+  Kokkos::parallel_scan(
+      "grainlab::neighbor::scan", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int i, int& upd, bool final) {
+        const int c = counts(i);
+        if (final) offsets(i) = upd;
+        upd += c;
+      },
+      total);
+  Kokkos::parallel_for(
+      "grainlab::neighbor::scan_tail", Kokkos::RangePolicy<ExecSpace>(0, 1),
+      KOKKOS_LAMBDA(int) { offsets(n) = total; });
+  return total;
+}
+
+// Count-then-fill pair search over the 27 neighbouring cells (Cabana VerletList style tagged functor).
+struct PairSearch {
+  struct Count {};
+  struct Fill {};
+  VecView x;
+  RealView r;
+  IntView cell_start, cell_particles, counts, offsets, pair_i, pair_j;
+  int nc0, nc1, nc2;
+  Real lo0, lo1, lo2, ih0, ih1, ih2, skin;
+
+  KOKKOS_INLINE_FUNCTION int cell_coord(Real v, Real lo, Real ih, int nc) const {
+    int c = int((v - lo) * ih);
+    return c < 0 ? 0 : (c >= nc ? nc - 1 : c);
+  }
+
+  template <bool DoFill>
+  KOKKOS_INLINE_FUNCTION int visit(int i, int out) const {
+    const Real xi = x(i, 0), yi = x(i, 1), zi = x(i, 2), ri = r(i);
+    const int cx = cell_coord(xi, lo0, ih0, nc0), cy = cell_coord(yi, lo1, ih1, nc1),
+              cz = cell_coord(zi, lo2, ih2, nc2);
+    int n = 0;
+    for (int dz = -1; dz <= 1; ++dz) {
+      const int z = cz + dz;
+      if (z < 0 || z >= nc2) continue;
+      for (int dy = -1; dy <= 1; ++dy) {
+        const int y = cy + dy;
+        if (y < 0 || y >= nc1) continue;
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = cx + dx;
+          if (xx < 0 || xx >= nc0) continue;
+          const int c = (z * nc1 + y) * nc0 + xx;
+          for (int k = cell_start(c); k < cell_start(c + 1); ++k) {
+            const int j = cell_particles(k);
+            if (j <= i) continue;
+            const Real ex = x(j, 0) - xi, ey = x(j, 1) - yi, ez = x(j, 2) - zi;
+            const Real cut = ri + r(j) + skin;
+            if (ex * ex + ey * ey + ez * ez < cut * cut) {
+              if (DoFill) {
+                pair_i(out + n) = i;
+                pair_j(out + n) = j;
+              }
+              ++n;
+            }
+          }
+        }
+      }
+    }
+    return n;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(Count, int i) const { counts(i) = visit<false>(i, 0); }
+  KOKKOS_INLINE_FUNCTION void operator()(Fill, int i) const {
+    const int begin = offsets(i);
+    visit<true>(i, begin);
+    sort_segment(pair_j, begin, offsets(i + 1));  // deterministic row order: ascending j
+  }
+};
+
+}  // namespace
+
+NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, Real cell_min, CellGrid& grid,
+                                  PairList& list) {
+  const int n = int(x.extent(0));
+  NeighborStats st;
+
+  // Bounding box (min/max reductions are exact, so thread-count independent).
+  Real lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
+    Kokkos::parallel_reduce(
+        "grainlab::neighbor::bbox_lo", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i, Real& m) { m = x(i, d) < m ? x(i, d) : m; }, Kokkos::Min<Real>(lo[d]));
+    Kokkos::parallel_reduce(
+        "grainlab::neighbor::bbox_hi", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i, Real& m) { m = x(i, d) > m ? x(i, d) : m; }, Kokkos::Max<Real>(hi[d]));
+  }
+  if (n == 0)
+    for (int d = 0; d < 3; ++d) lo[d] = hi[d] = 0;
+  // Cells of edge >= cell_min; if a stray particle stretches the box, coarsen so cells stay <= 8N + 27
+  // (memory and time stay O(N) whatever happens to the geometry).
+  Real h = cell_min;
+  for (;;) {
+    long total = 1;
+    for (int d = 0; d < 3; ++d) total *= std::max(1L, long(std::floor((hi[d] - lo[d]) / h)));
+    if (total <= 8L * n + 27) break;
+    h *= 1.5;
+  }
+  for (int d = 0; d < 3; ++d) {
+    grid.nc[d] = int(std::max(1L, long(std::floor((hi[d] - lo[d]) / h))));
+    grid.lo[d] = lo[d];
+    const Real edge = (hi[d] - lo[d]) / grid.nc[d];
+    grid.inv_h[d] = edge > 0 ? Real(1) / edge : Real(0);
+  }
+  const int nc = int(grid.ncells());
+  st.ncells = nc;
+  ensure(grid.cell_start, "grainlab::cells::start", nc + 1);
+  ensure(grid.cell_particles, "grainlab::cells::particles", n);
+  ensure(grid.cell_of, "grainlab::cells::of", n);
+  ensure(grid.cursor, "grainlab::cells::cursor", std::max(n, nc + 1));
+
+  // Bin: count (atomic counts are exact integers), scan, fill, then sort each cell so the order of
+  // particles in a cell does not depend on which thread inserted first.
+  {
+    auto cell_of = grid.cell_of;
+    auto cursor = grid.cursor;
+    auto cell_start = grid.cell_start;
+    auto cell_particles = grid.cell_particles;
+    const int n0 = grid.nc[0], n1 = grid.nc[1], n2 = grid.nc[2];
+    const Real l0 = grid.lo[0], l1 = grid.lo[1], l2 = grid.lo[2];
+    const Real i0 = grid.inv_h[0], i1 = grid.inv_h[1], i2 = grid.inv_h[2];
+    Kokkos::parallel_for(
+        "grainlab::neighbor::zero_cells", Kokkos::RangePolicy<ExecSpace>(0, nc + 1),
+        KOKKOS_LAMBDA(int c) { cursor(c) = 0; });
+    Kokkos::parallel_for(
+        "grainlab::neighbor::bin", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          auto cc = [](Real v, Real l, Real ih, int m) {
+            int c = int((v - l) * ih);
+            return c < 0 ? 0 : (c >= m ? m - 1 : c);
+          };
+          const int c = (cc(x(i, 2), l2, i2, n2) * n1 + cc(x(i, 1), l1, i1, n1)) * n0 + cc(x(i, 0), l0, i0, n0);
+          cell_of(i) = c;
+          Kokkos::atomic_fetch_add(&cursor(c), 1);
+        });
+    exclusive_scan(cursor, cell_start, nc);
+    Kokkos::parallel_for(
+        "grainlab::neighbor::zero_cursor", Kokkos::RangePolicy<ExecSpace>(0, nc),
+        KOKKOS_LAMBDA(int c) { cursor(c) = cell_start(c); });
+    Kokkos::parallel_for(
+        "grainlab::neighbor::fill_cells", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          const int slot = Kokkos::atomic_fetch_add(&cursor(cell_of(i)), 1);
+          cell_particles(slot) = i;
+        });
+    Kokkos::parallel_for(
+        "grainlab::neighbor::sort_cells", Kokkos::RangePolicy<ExecSpace>(0, nc),
+        KOKKOS_LAMBDA(int c) { sort_segment(cell_particles, cell_start(c), cell_start(c + 1)); });
+  }
+
+  // Pairs: count, scan, fill (rows sorted by j).
+  ensure(list.offsets, "grainlab::pairs::offsets", n + 1);
+  ensure(list.counts, "grainlab::pairs::counts", n);
+  PairSearch ps{x,
+                r,
+                grid.cell_start,
+                grid.cell_particles,
+                list.counts,
+                list.offsets,
+                list.pair_i,
+                list.pair_j,
+                grid.nc[0],
+                grid.nc[1],
+                grid.nc[2],
+                grid.lo[0],
+                grid.lo[1],
+                grid.lo[2],
+                grid.inv_h[0],
+                grid.inv_h[1],
+                grid.inv_h[2],
+                skin};
+  Kokkos::parallel_for("grainlab::neighbor::count_pairs", Kokkos::RangePolicy<ExecSpace, PairSearch::Count>(0, n),
+                       ps);
+  const int np = exclusive_scan(list.counts, list.offsets, n);
+  ensure(list.pair_i, "grainlab::pairs::i", np);
+  ensure(list.pair_j, "grainlab::pairs::j", np);
+  ensure(list.t_pairs, "grainlab::pairs::t_pairs", np);
+  ensure(list.t_offsets, "grainlab::pairs::t_offsets", n + 1);
+  ps.pair_i = list.pair_i;
+  ps.pair_j = list.pair_j;
+  Kokkos::parallel_for("grainlab::neighbor::fill_pairs", Kokkos::RangePolicy<ExecSpace, PairSearch::Fill>(0, n), ps);
+  list.npairs = np;
+  st.npairs = np;
+
+  // Transposed index for the gather: pairs grouped by j, ascending pair index within a row.
+  {
+    auto counts = list.counts;
+    auto pj = list.pair_j;
+    auto toff = list.t_offsets;
+    auto tp = list.t_pairs;
+    Kokkos::parallel_for(
+        "grainlab::neighbor::zero_tcounts", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i) { counts(i) = 0; });
+    Kokkos::parallel_for(
+        "grainlab::neighbor::count_transpose", Kokkos::RangePolicy<ExecSpace>(0, np),
+        KOKKOS_LAMBDA(int p) { Kokkos::atomic_fetch_add(&counts(pj(p)), 1); });
+    exclusive_scan(counts, toff, n);
+    Kokkos::parallel_for(
+        "grainlab::neighbor::cursor_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i) { counts(i) = toff(i); });
+    Kokkos::parallel_for(
+        "grainlab::neighbor::fill_transpose", Kokkos::RangePolicy<ExecSpace>(0, np), KOKKOS_LAMBDA(int p) {
+          const int slot = Kokkos::atomic_fetch_add(&counts(pj(p)), 1);
+          tp(slot) = p;
+        });
+    Kokkos::parallel_for(
+        "grainlab::neighbor::sort_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int j) { sort_segment(tp, toff(j), toff(j + 1)); });
+  }
+  {
+    auto off = list.offsets;
+    int mr = 0;
+    Kokkos::parallel_reduce(
+        "grainlab::neighbor::max_row", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i, int& m) {
+          const int len = off(i + 1) - off(i);
+          m = len > m ? len : m;
+        },
+        Kokkos::Max<int>(mr));
+    st.max_row = n > 0 ? mr : 0;
+  }
+  return st;
+}
+
+void brute_force_pairs(const VecView& x, const RealView& r, Real skin, std::vector<std::pair<int, int>>& out) {
+  auto hx = Kokkos::create_mirror_view_and_copy(HostSpace(), x);
+  auto hr = Kokkos::create_mirror_view_and_copy(HostSpace(), r);
+  const int n = int(x.extent(0));
+  out.clear();
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      Real d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += (hx(j, k) - hx(i, k)) * (hx(j, k) - hx(i, k));
+      const Real cut = hr(i) + hr(j) + skin;
+      if (d2 < cut * cut) out.emplace_back(i, j);
+    }
+}
+
+}  // namespace grainlab

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Installs what grainlab needs on Debian 12 and bootstraps Kokkos with OpenMP when none is found.
+# Idempotent: a second run only checks and returns in about a second.
+#
+#   scripts/setup-deps.sh            # apt packages + Kokkos (OpenMP+Serial) into $GRAINLAB_DEPS
+#   KOKKOS_ROOT=/path scripts/...    # use your own Kokkos (>= 3.4, 4.x fine); nothing is built
+#
+# Facts behind the recipe: ../shared/DEPENDENCIES.md (Debian's libtrilinos-kokkos-dev is Serial-only,
+# so Kokkos 3.4.01 is taken from Debian's trilinos *source* package and built with OpenMP).
+set -euo pipefail
+
+DEPS_DIR="${GRAINLAB_DEPS:-${XDG_CACHE_HOME:-$HOME/.cache}/grainlab}"
+KOKKOS_VARIANT="${KOKKOS_VARIANT:-openmp}"          # openmp | cuda (issue 6)
+KOKKOS_PREFIX="$DEPS_DIR/kokkos-3.4.01-$KOKKOS_VARIANT"
+say() { printf '[setup] %s\n' "$*" >&2; }
+
+# ---- 1. Debian packages ----------------------------------------------------------------------
+PKGS=(cmake g++ make libeigen3-dev libhdf5-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev
+      dpkg-dev xz-utils)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  say "installing Debian packages: ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+fi
+
+# ---- 2. Kokkos -------------------------------------------------------------------------------
+# A user-supplied Kokkos wins (KOKKOS_ROOT or Kokkos_ROOT); CMake's find_package checks it.
+if [ -n "${KOKKOS_ROOT:-${Kokkos_ROOT:-}}" ]; then
+  echo "${KOKKOS_ROOT:-${Kokkos_ROOT:-}}"; exit 0
+fi
+if [ -f "$KOKKOS_PREFIX/.complete" ]; then
+  echo "$KOKKOS_PREFIX"; exit 0
+fi
+
+mkdir -p "$DEPS_DIR"
+# Serialise concurrent bootstraps (two make invocations at once must not build twice).
+exec 9>"$DEPS_DIR/.lock"; flock 9
+if [ -f "$KOKKOS_PREFIX/.complete" ]; then echo "$KOKKOS_PREFIX"; exit 0; fi
+
+SRC_DIR="$DEPS_DIR/src"
+KOKKOS_SRC="$SRC_DIR/kokkos-3.4.01"
+if [ ! -f "$KOKKOS_SRC/CMakeLists.txt" ]; then
+  APTDIR="$DEPS_DIR/apt-src"
+  mkdir -p "$APTDIR/lists/partial" "$APTDIR/cache/archives/partial" "$SRC_DIR"
+  # The system's own sources, re-typed as deb-src, in a private directory: no system file is edited
+  # and no archive host is written into this repository.
+  if [ -f /etc/apt/sources.list.d/debian.sources ]; then
+    sed 's/^Types:.*/Types: deb-src/' /etc/apt/sources.list.d/debian.sources > "$APTDIR/debian.sources"
+  elif [ -f /etc/apt/sources.list ]; then
+    sed -n 's/^deb /deb-src /p' /etc/apt/sources.list > "$APTDIR/debian.list"
+  else
+    say "error: no apt sources found to derive a deb-src entry from"; exit 1
+  fi
+  APTOPT=(-o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$APTDIR"
+          -o Dir::State::Lists="$APTDIR/lists" -o Dir::Cache="$APTDIR/cache")
+  say "fetching Debian's trilinos source package (~166 MB, once)"
+  apt-get "${APTOPT[@]}" update -qq
+  ( cd "$SRC_DIR" && apt-get "${APTOPT[@]}" source --download-only -qq trilinos >&2 )
+  tarball=$(ls "$SRC_DIR"/trilinos_*.orig.tar.* | head -n1)
+  say "extracting packages/kokkos from $(basename "$tarball")"
+  rm -rf "$SRC_DIR/extract"; mkdir -p "$SRC_DIR/extract"
+  tar -xf "$tarball" -C "$SRC_DIR/extract" --wildcards '*/packages/kokkos/*'
+  rm -rf "$KOKKOS_SRC"
+  mv "$SRC_DIR"/extract/*/packages/kokkos "$KOKKOS_SRC"
+  rm -rf "$SRC_DIR/extract"
+fi
+
+EXTRA=()
+case "$KOKKOS_VARIANT" in
+  openmp) EXTRA=(-DKokkos_ENABLE_OPENMP=ON) ;;
+  *) say "error: KOKKOS_VARIANT=$KOKKOS_VARIANT is not supported by this script (allowed: openmp)"; exit 1 ;;
+esac
+BUILD="$DEPS_DIR/build-kokkos-$KOKKOS_VARIANT"
+rm -rf "$BUILD" "$KOKKOS_PREFIX"
+say "building Kokkos 3.4.01 ($KOKKOS_VARIANT + Serial) into $KOKKOS_PREFIX"
+cmake -S "$KOKKOS_SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$KOKKOS_PREFIX" \
+  -DCMAKE_CXX_STANDARD=17 -DKokkos_CXX_STANDARD=17 -DKokkos_ENABLE_SERIAL=ON "${EXTRA[@]}" \
+  -DKokkos_ENABLE_TESTS=OFF -DBUILD_SHARED_LIBS=OFF -DCMAKE_POSITION_INDEPENDENT_CODE=ON >/dev/null
+cmake --build "$BUILD" -j "$(nproc)" >/dev/null
+cmake --install "$BUILD" >/dev/null
+rm -rf "$BUILD"
+touch "$KOKKOS_PREFIX/.complete"
+say "Kokkos ready"
+echo "$KOKKOS_PREFIX"

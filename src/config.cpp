@@ -1,0 +1,211 @@
+#include "config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+namespace grainlab {
+namespace {
+
+constexpr Real kInf = std::numeric_limits<Real>::infinity();
+
+std::string fmt(Real v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+// A YAML mapping with its dotted path, the keys read so far, and range-checked getters.
+class Section {
+ public:
+  Section(const YAML::Node& n, std::string path, const std::string* file) : n_(n), path_(std::move(path)), file_(file) {
+    if (!n_.IsMap()) fail(path_.empty() ? "(top level)" : path_, "must be a mapping of keys to values");
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const {
+    throw ConfigError(*file_ + ": " + key + ": " + msg);
+  }
+  std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+  bool has(const std::string& k) {
+    seen_.insert(k);
+    return bool(n_[k]) && !n_[k].IsNull();
+  }
+
+  // Real in [lo, hi] (lower bound open when lo_open), finite.
+  Real real(const std::string& k, Real def, Real lo, Real hi, bool lo_open = false) {
+    if (!has(k)) return def;
+    return real_node(k, lo, hi, lo_open);
+  }
+  Real real_required(const std::string& k, Real lo, Real hi, bool lo_open = false) {
+    if (!has(k)) fail(key_path(k), "is required (" + range(lo, hi, lo_open) + ")");
+    return real_node(k, lo, hi, lo_open);
+  }
+  long integer(const std::string& k, long def, long lo, long hi) {
+    if (!has(k)) return def;
+    const Real v = real_node(k, Real(lo), Real(hi), false);
+    if (v != std::floor(v)) fail(key_path(k), "= " + fmt(v) + " must be an integer");
+    return long(v);
+  }
+  std::string choice(const std::string& k, const std::string& def, const std::vector<std::string>& allowed) {
+    std::string v = def;
+    if (has(k)) {
+      if (!n_[k].IsScalar()) fail(key_path(k), "must be a string");
+      v = n_[k].Scalar();
+    }
+    std::string list;
+    for (auto& a : allowed) {
+      if (a == v) return v;
+      list += (list.empty() ? "" : ", ") + a;
+    }
+    fail(key_path(k), "= '" + v + "' is not one of: " + list);
+  }
+  std::string string(const std::string& k, const std::string& def) {
+    if (!has(k)) return def;
+    if (!n_[k].IsScalar() || n_[k].Scalar().empty()) fail(key_path(k), "must be a non-empty string");
+    return n_[k].Scalar();
+  }
+  Section sub(const std::string& k) {
+    seen_.insert(k);
+    YAML::Node c = n_[k];
+    if (!c || c.IsNull()) c = YAML::Node(YAML::NodeType::Map);
+    return Section(c, key_path(k), file_);
+  }
+  YAML::Node raw(const std::string& k) {
+    seen_.insert(k);
+    return n_[k];
+  }
+  // Unknown keys are errors: a misspelt key would otherwise silently mean its default.
+  void finish() const {
+    for (auto it = n_.begin(); it != n_.end(); ++it) {
+      const std::string k = it->first.IsScalar() ? it->first.Scalar() : "?";
+      if (!seen_.count(k)) {
+        std::string known;
+        for (auto& s : seen_) known += (known.empty() ? "" : ", ") + s;
+        fail(key_path(k), "unknown key (known here: " + known + ")");
+      }
+    }
+  }
+
+ private:
+  static std::string range(Real lo, Real hi, bool lo_open) {
+    return std::string("allowed range ") + (lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi == kInf ? ")" : "]");
+  }
+  Real real_node(const std::string& k, Real lo, Real hi, bool lo_open) {
+    const YAML::Node v = n_[k];
+    Real x = 0;
+    bool ok = v.IsScalar();
+    if (ok) {
+      try {
+        x = v.as<Real>();
+      } catch (const YAML::Exception&) {
+        ok = false;
+      }
+    }
+    if (!ok) fail(key_path(k), "must be a number (" + range(lo, hi, lo_open) + ")");
+    if (!std::isfinite(x) || x < lo || x > hi || (lo_open && x == lo))
+      fail(key_path(k), "= " + (v.IsScalar() ? v.Scalar() : fmt(x)) + " is outside the " + range(lo, hi, lo_open));
+    return x;
+  }
+
+  YAML::Node n_;
+  std::string path_;
+  const std::string* file_;
+  std::set<std::string> seen_;
+};
+
+}  // namespace
+
+RunConfig load_run_config(const std::string& path) {
+  RunConfig c;
+  c.path = path;
+  YAML::Node root;
+  {
+    std::ifstream in(path);
+    if (!in) throw ConfigError(path + ": cannot open the file for reading");
+    try {
+      root = YAML::Load(in);
+    } catch (const YAML::Exception& e) {
+      throw ConfigError(path + ": not valid YAML: " + e.what());
+    }
+  }
+  if (!root || root.IsNull()) throw ConfigError(path + ": the file is empty");
+  Section top(root, "", &path);
+
+  Section s = top.sub("sample");
+  c.packing.count = int(s.integer("count", 3000, 1, 100000000));
+  c.packing.D = s.real("D", 3.63, 0, 10);
+  if (std::abs(c.packing.D - 1) < 1e-12) s.fail("sample.D", "= 1 is not supported (use D != 1)");
+  c.packing.r_min = s.real("r_min", 0.2e-3, 0, 1, true);
+  c.packing.r_max = s.real("r_max", 0.6e-3, 0, 1, true);
+  if (c.packing.r_max < c.packing.r_min)
+    s.fail("sample.r_max", "= " + fmt(c.packing.r_max) + " must be >= sample.r_min = " + fmt(c.packing.r_min));
+  c.packing.seed = std::uint64_t(s.integer("seed", 1, 0, std::numeric_limits<long>::max()));
+  c.packing.solid_fraction = s.real("initial_solid_fraction", 0.3, 0, 0.45, true);
+  c.density = s.real("density", 2650, 0, 1e6, true);
+  c.density_scaling = s.real("density_scaling", 1, 1, 1e12);
+  s.finish();
+
+  Section m = top.sub("material");
+  ContactParams& cp = c.engine.contact;
+  cp.E = m.real("E", 100e6, 0, 1e13, true);
+  cp.kappa = m.real("kappa", 1, 0, 10);
+  cp.mu = m.real("mu", 0.5, 0, 10);
+  cp.mu_r = m.real("mu_r", 0, 0, 10);
+  cp.roll_arm = m.real("roll_arm", 0.05, 0, 1);
+  cp.normal_damping = m.real("normal_damping", 0, 0, 1, false);
+  if (cp.normal_damping >= 1) m.fail("material.normal_damping", "must be < 1 (under-damped contact)");
+  c.engine.E_wall = m.real("E_wall", cp.E, 0, 1e13, true);
+  m.finish();
+
+  Section n = top.sub("numerics");
+  c.engine.dt_factor = n.real("dt_factor", 0.2, 0, 1, true);
+  cp.dt = n.real("dt", 0, 0, 1, true);  // 0 = automatic; a value above the stable limit is refused later
+  c.engine.skin = n.real("skin", 0.1e-3, 0, 1, true);
+  c.engine.damping = n.real("damping", 0.7, 0, 1);
+  c.engine.servo_max_step = n.real("servo_max_step", 1e-3, 0, 1, true);
+  n.finish();
+
+  YAML::Node st = top.raw("stages");
+  if (!st || !st.IsSequence() || st.size() == 0) top.fail("stages", "must be a non-empty list of stages");
+  for (size_t k = 0; k < st.size(); ++k) {
+    Section g(st[k], "stages[" + std::to_string(k) + "]", &path);
+    StageConfig sc;
+    sc.name = g.string("name", "stage" + std::to_string(k));
+    const std::string type = g.choice("type", "isotropic", {"isotropic", "triaxial"});
+    sc.type = type == "isotropic" ? StageType::Isotropic : StageType::Triaxial;
+    sc.mu = g.real("mu", cp.mu, 0, 10);
+    sc.mu_r = g.real("mu_r", cp.mu_r, 0, 10);
+    sc.damping = g.real("damping", c.engine.damping, 0, 1);
+    sc.pressure = g.real("pressure", 190e3, 0, 1e10, true);
+    sc.max_steps = g.integer("max_steps", 1000000, 1, 1000000000000L);
+    sc.check_every = g.integer("check_every", 200, 1, 1000000000L);
+    sc.servo_gain = g.real("servo_gain", 0.5, 0, 1, true);
+    if (sc.type == StageType::Isotropic) {
+      sc.pressure_tolerance = g.real("pressure_tolerance", 0.01, 0, 1, true);
+      sc.ufr_tolerance = g.real("ufr_tolerance", 0.01, 0, 1, true);
+      sc.ke_tolerance = g.real("ke_tolerance", 1e-4, 0, 1, true);
+    } else {
+      sc.drainage = g.choice("drainage", "undrained", {"undrained", "drained"}) == "undrained" ? Drainage::Undrained
+                                                                                              : Drainage::Drained;
+      sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, true);
+      sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
+    }
+    g.finish();
+    c.stages.push_back(sc);
+  }
+
+  Section o = top.sub("output");
+  c.out_dir = o.string("dir", "runs/" + [&] {
+    std::string b = path.substr(path.find_last_of('/') + 1);
+    return b.substr(0, b.find_last_of('.'));
+  }());
+  c.output_every = o.integer("every", 1000, 1, 1000000000000L);
+  o.finish();
+  top.finish();
+  return c;
+}
+
+}  // namespace grainlab

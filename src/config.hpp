@@ -1,0 +1,49 @@
+#pragma once
+// Run configuration (YAML). Every error names the file, the key and the allowed range; unknown keys
+// are errors too (a typo must not silently fall back to a default).
+#include <string>
+#include <vector>
+
+#include "engine.hpp"
+#include "packing.hpp"
+
+namespace grainlab {
+
+struct ConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class StageType { Isotropic, Triaxial };
+enum class Drainage { Undrained, Drained };
+
+struct StageConfig {
+  std::string name;
+  StageType type = StageType::Isotropic;
+  Real mu = 0.5, mu_r = 0.0, damping = 0.7;
+  // isotropic consolidation (SPEC §6.2)
+  Real pressure = 190e3;           // p'_0 target                                   [Pa]
+  Real pressure_tolerance = 0.01;  // |p - p0| / p0                                  [-]
+  Real ufr_tolerance = 0.01;       // unbalanced-force ratio                         [-]
+  Real ke_tolerance = 1e-4;        // kinetic / elastic energy                       [-]
+  Real servo_gain = 0.5;           // see WallControl::gain                          [-]
+  // triaxial shear (SPEC §6.3)
+  Drainage drainage = Drainage::Undrained;
+  Real axial_strain_rate = 1.0;    // [1/s]
+  Real max_axial_strain = 0.05;    // [-]
+  long max_steps = 1000000;
+  long check_every = 200;          // steps between equilibrium checks
+};
+
+struct RunConfig {
+  std::string path;
+  PackingSpec packing;
+  Real density = 2650, density_scaling = 1;
+  EngineParams engine;
+  std::vector<StageConfig> stages;
+  std::string out_dir = "runs/default";
+  long output_every = 1000;        // steps between rows of series.csv
+};
+
+RunConfig load_run_config(const std::string& path);
+
+}  // namespace grainlab

@@ -1,0 +1,261 @@
+#include "engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace grainlab {
+
+WallSet make_box_walls(const Vec3d& lo, const Vec3d& hi) {
+  WallSet ws;
+  ws.count = 6;
+  for (int a = 0; a < 3; ++a) {
+    Vec3 n;
+    n = Vec3(a == 0, a == 1, a == 2);
+    ws.w[2 * a].n = n;  // lower face, normal +e_a: n.x = lo
+    ws.w[2 * a].offset = lo[a];
+    ws.w[2 * a + 1].n = -n;  // upper face, normal -e_a: -x_a = -hi
+    ws.w[2 * a + 1].offset = -hi[a];
+  }
+  return ws;
+}
+
+std::vector<Vec3d> Engine::to_host(const VecView& v) {
+  auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), v);
+  std::vector<Vec3d> out(v.extent(0));
+  for (size_t i = 0; i < out.size(); ++i) out[i] = {h(i, 0), h(i, 1), h(i, 2)};
+  return out;
+}
+
+Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet& walls, bool walls_are_box)
+    : params_(params), walls_(walls), box_(walls_are_box) {
+  const int n = int(s.r.size());
+  if (s.x.size() != s.r.size()) throw ParameterError("particle positions and radii differ in count");
+  if (!(s.density > 0)) throw ParameterError("density must be > 0");
+  if (!(s.density_scaling >= 1)) throw ParameterError("density_scaling must be >= 1 (SPEC §1)");
+  if (params_.E_wall <= 0) params_.E_wall = params_.contact.E;
+  if (box_ && walls_.count != 6) throw ParameterError("a box needs exactly 6 walls");
+  P_.n = n;
+  P_.x = VecView("grainlab::particles::x", n);
+  P_.v = VecView("grainlab::particles::v", n);
+  P_.w = VecView("grainlab::particles::w", n);
+  P_.f = VecView("grainlab::particles::f", n);
+  P_.t = VecView("grainlab::particles::t", n);
+  P_.x_ref = VecView("grainlab::particles::x_ref", n);
+  P_.r = RealView("grainlab::particles::r", n);
+  P_.m = RealView("grainlab::particles::m", n);
+  P_.inertia = RealView("grainlab::particles::inertia", n);
+  P_.id = IntView("grainlab::particles::id", n);
+  auto hx = Kokkos::create_mirror_view(P_.x);
+  auto hv = Kokkos::create_mirror_view(P_.v);
+  auto hw = Kokkos::create_mirror_view(P_.w);
+  auto hr = Kokkos::create_mirror_view(P_.r);
+  auto hm = Kokkos::create_mirror_view(P_.m);
+  auto hI = Kokkos::create_mirror_view(P_.inertia);
+  auto hid = Kokkos::create_mirror_view(P_.id);
+  r_min_ = n ? s.r[0] : 0;
+  r_max_ = n ? s.r[0] : 0;
+  Real m_min = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!(s.r[i] > 0)) throw ParameterError("particle " + std::to_string(i) + " has a radius <= 0");
+    for (int k = 0; k < 3; ++k) {
+      hx(i, k) = s.x[i][k];
+      hv(i, k) = s.v.empty() ? 0 : s.v[i][k];
+      hw(i, k) = s.w.empty() ? 0 : s.w[i][k];
+    }
+    hr(i) = s.r[i];
+    // SPEC §1: m = 4/3 pi r^3 rho, I = 2/5 m r^2, both times the density scaling factor.
+    hm(i) = 4.0 / 3.0 * M_PI * s.r[i] * s.r[i] * s.r[i] * s.density * s.density_scaling;
+    hI(i) = 0.4 * hm(i) * s.r[i] * s.r[i];
+    hid(i) = i;
+    r_min_ = std::min(r_min_, s.r[i]);
+    r_max_ = std::max(r_max_, s.r[i]);
+    m_min = i == 0 ? hm(i) : std::min(m_min, hm(i));
+  }
+  Kokkos::deep_copy(P_.x, hx);
+  Kokkos::deep_copy(P_.v, hv);
+  Kokkos::deep_copy(P_.w, hw);
+  Kokkos::deep_copy(P_.r, hr);
+  Kokkos::deep_copy(P_.m, hm);
+  Kokkos::deep_copy(P_.inertia, hI);
+  Kokkos::deep_copy(P_.id, hid);
+
+  // SPEC §4: dt = f sqrt(m_min / k_max), k_max the stiffest spring a particle can feel.
+  const Real k_max = std::max(params_.contact.E * std::max<Real>(1, params_.contact.kappa), params_.E_wall) * r_max_;
+  dt_crit_ = n ? std::sqrt(m_min / k_max) : 0;
+  if (!(params_.dt_factor > 0 && params_.dt_factor <= 1)) {
+    std::ostringstream os;
+    os << "dt_factor = " << params_.dt_factor << " is outside the allowed range (0, 1]";
+    throw ParameterError(os.str());
+  }
+  if (params_.contact.dt <= 0) {
+    params_.contact.dt = params_.dt_factor * dt_crit_;
+  } else if (params_.contact.dt > dt_crit_) {
+    std::ostringstream os;
+    os << "dt = " << params_.contact.dt << " s is above the stable limit sqrt(m_min/k_max) = " << dt_crit_
+       << " s (m_min = " << m_min << " kg, k_max = " << k_max << " N/m); use dt <= "
+       << params_.dt_factor * dt_crit_ << " s (dt_factor " << params_.dt_factor << ") or leave dt unset";
+    throw ParameterError(os.str());
+  }
+  if (!(params_.skin > 0)) throw ParameterError("skin must be > 0");
+  rebuild();
+  evaluate_forces();
+}
+
+void Engine::set_friction(Real mu, Real mu_r) {
+  if (!(mu >= 0) || !(mu_r >= 0)) throw ParameterError("friction coefficients must be >= 0");
+  params_.contact.mu = mu;
+  params_.contact.mu_r = mu_r;
+}
+
+void Engine::rebuild() {
+  const int next = 1 - cur_;
+  nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, 2 * r_max_ + params_.skin, grid_, lists_[next]);
+  ensure_pair_arrays(hist_[next], lists_[next].npairs);
+  ensure_pair_arrays(pf_, lists_[next].npairs);
+  transfer_history(lists_[cur_], hist_[cur_], lists_[next], hist_[next]);
+  cur_ = next;
+  Kokkos::deep_copy(P_.x_ref, P_.x);
+  ++rebuilds_;
+}
+
+void Engine::evaluate_forces() {
+  // Forces at the current positions without advancing: a zero-dt pass through the same kernels would
+  // also move nothing, but history must not be incremented twice, so only the wall loads and pair
+  // forces are refreshed here by a step of the contact kernel with dt = 0.
+  ContactParams cp = params_.contact;
+  cp.dt = 0;
+  ContactFeatures feat{params_.contact.mu_r > 0, params_.contact.normal_damping > 0};
+  compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, feat);
+  loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_);
+}
+
+void Engine::step() {
+  const ContactParams& cp = params_.contact;
+  const ContactFeatures feat{cp.mu_r > 0, cp.normal_damping > 0};
+  // 1. Pair forces at x(t) from v(t - dt/2): v dt is the slip since the last evaluation.
+  compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, feat);
+  // 2. Wall loads at x(t) (deterministic sums: they drive the servo).
+  loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_);
+  // 3. Gather, damp, kick, drift: x(t + dt), v(t + dt/2).
+  const Real maxd2 = gather_and_integrate(P_, lists_[cur_], pf_, walls_, params_.E_wall, params_.damping, cp.dt);
+  time_ += cp.dt;
+  ++step_;
+  // 4. Walls to t + dt from the loads measured at t.
+  move_walls();
+  // 5. Neighbour list when any particle moved more than skin/2 since the last build (SPEC §5).
+  const Real half = 0.5 * params_.skin;
+  if (rebuild_every_step_ || maxd2 > half * half) rebuild();
+}
+
+Real Engine::wall_position(int k) const {
+  const Wall& w = walls_.w[k];
+  return (k % 2 == 0) ? w.offset : -w.offset;
+}
+
+void Engine::set_wall_position(int k, Real pos) {
+  if (!box_) throw std::logic_error("set_wall_position needs box walls");
+  walls_.w[k].offset = (k % 2 == 0) ? pos : -pos;
+}
+
+Real Engine::wall_area(int k) const {
+  if (!box_) return control_.at(k).area;
+  const int a = k / 2;
+  Real area = 1;
+  for (int b = 0; b < 3; ++b)
+    if (b != a) area *= wall_position(2 * b + 1) - wall_position(2 * b);
+  return area;
+}
+
+Real Engine::box_volume() const {
+  if (!box_) return 0;
+  Real v = 1;
+  for (int a = 0; a < 3; ++a) v *= wall_position(2 * a + 1) - wall_position(2 * a);
+  return v;
+}
+
+void Engine::move_walls() {
+  const Real dt = params_.contact.dt;
+  const Real smax = params_.servo_max_step * r_min_;
+  for (int k = 0; k < walls_.count; ++k) {
+    const WallControl& c = control_[k];
+    Real s = 0;  // displacement along the inward normal this step
+    if (c.mode == WallMode::Velocity) {
+      s = c.velocity * dt;
+    } else if (c.mode == WallMode::Servo) {
+      // SPEC §3: v = G (sigma_target - sigma) inward, with G = gain * A / (K_w dt): each step corrects
+      // the fraction `gain` of the force error at the measured wall stiffness K_w; bounded by smax.
+      const Real area = wall_area(k);
+      const Real ferr = (c.target_stress * area - loads_.force[k]);
+      s = loads_.stiffness[k] > 0 ? c.gain * ferr / loads_.stiffness[k] : (ferr > 0 ? smax : -smax);
+      s = std::max(-smax, std::min(smax, s));
+    }
+    walls_.w[k].offset += s;  // plane n.x = offset moves by s along n
+  }
+}
+
+Diagnostics Engine::diagnostics() {
+  Diagnostics d;
+  auto v = P_.v;
+  auto w = P_.w;
+  auto f = P_.f;
+  auto x = P_.x;
+  auto r = P_.r;
+  auto m = P_.m;
+  auto I = P_.inertia;
+  const WallSet ws = walls_;
+  const Real Ew = params_.E_wall;
+  Real pa[3] = {};
+  red_.run(
+      "grainlab::diag::particles", P_.n, 3,
+      KOKKOS_LAMBDA(int i, Real* acc) {
+        acc[0] += 0.5 * (m(i) * norm2(load(v, i)) + I(i) * norm2(load(w, i)));
+        acc[1] += norm(load(f, i));
+        const Vec3 xi = load(x, i);
+        for (int k = 0; k < ws.count; ++k) {
+          const Real dw = WallLaw::overlap(ws.w[k], xi, r(i));
+          if (dw > 0) acc[2] += 0.5 * WallLaw::stiffness(Ew, r(i)) * dw * dw;
+        }
+      },
+      pa);
+  const PairList& L = lists_[cur_];
+  const PairHistory& H = hist_[cur_];
+  auto pi = L.pair_i;
+  auto pj = L.pair_j;
+  auto fl = H.flags;
+  auto ft = H.ft;
+  auto mr = H.mr;
+  auto fc = pf_.f;
+  const ContactParams cp = params_.contact;
+  const bool rolling = cp.mu_r > 0;
+  Real ca[6] = {};
+  red_.run(
+      "grainlab::diag::pairs", L.npairs, 6,
+      KOKKOS_LAMBDA(int p, Real* acc) {
+        const int i = pi(p), j = pj(p);
+        const Real rbar = 0.5 * (r(i) + r(j));
+        const Real kn = cp.E * rbar, kt = cp.kappa * kn;
+        // Normal spring energy from the current geometry (not from last step's flags).
+        const Real delta = r(i) + r(j) - norm(load(x, j) - load(x, i));
+        if (delta > 0) acc[4] += 0.5 * kn * delta * delta;
+        const std::uint8_t fp = fl(p);
+        if (!(fp & kTouching)) return;
+        acc[0] += 1;
+        acc[1] += (fp & kSliding) ? 1 : 0;
+        acc[2] += (fp & kRollingSliding) ? 1 : 0;
+        acc[3] += norm(load(fc, p));
+        acc[5] += 0.5 * norm2(load(ft, p)) / kt;
+        if (rolling) acc[5] += 0.5 * norm2(load(mr, p)) / (kt * rbar * rbar);
+      },
+      ca);
+  d.kinetic = pa[0];
+  d.contacts = int(ca[0]);
+  d.sliding = int(ca[1]);
+  d.rolling_sliding = int(ca[2]);
+  d.mean_contact_force = d.contacts ? ca[3] / d.contacts : 0;
+  d.potential = pa[2] + ca[4] + ca[5];
+  d.unbalanced_ratio = (d.contacts && P_.n && ca[3] > 0) ? (pa[1] / P_.n) / (ca[3] / d.contacts) : 0;
+  return d;
+}
+
+}  // namespace grainlab

@@ -1,0 +1,139 @@
+#pragma once
+// Host orchestration of one DEM system: owns the device state, runs the step (SPEC §2-5) and the wall
+// controllers (SPEC §3), and exposes deterministic diagnostics. No physics lives here: it calls the
+// kernels in kernels/.
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "../kernels/dem.hpp"
+
+namespace grainlab {
+
+using Vec3d = std::array<Real, 3>;
+
+struct ParticleSetup {
+  std::vector<Vec3d> x, v, w;  // v and w may be empty (zero)
+  std::vector<Real> r;
+  Real density = 2650;         // [kg/m^3]
+  Real density_scaling = 1;    // s >= 1 multiplies m and I (SPEC §1)
+};
+
+enum class WallMode { Fixed, Velocity, Servo };
+
+struct WallControl {
+  WallMode mode = WallMode::Fixed;
+  Real velocity = 0;       // along the inward normal (positive = into the sample)   [m/s]
+  Real target_stress = 0;  // servo target (compression positive)                     [Pa]
+  Real gain = 0.5;         // servo relaxation: fraction of the force error corrected per step, using
+                           // the measured wall stiffness (choice; bounded by servo_max_step)   [-]
+  Real area = 0;           // used only when the walls are not a box                  [m^2]
+};
+
+struct EngineParams {
+  ContactParams contact;      // contact.dt = 0: dt = dt_factor * sqrt(m_min / k_max)
+  Real dt_factor = 0.2;       // SPEC §4 safety factor f
+  Real E_wall = 0;            // 0: same as contact.E                                    [Pa]
+  Real damping = 0.7;         // Cundall alpha                                           [-]
+  Real skin = 1e-4;           // Verlet skin                                             [m]
+  Real servo_max_step = 1e-3; // a servoed wall moves at most this fraction of r_min per step (SPEC §3)
+};
+
+struct Diagnostics {
+  Real kinetic = 0;        // translational + rotational (half-step velocities)   [J]
+  Real potential = 0;      // normal + tangential + rolling + wall springs        [J]
+  int contacts = 0;        // touching sphere-sphere pairs
+  int sliding = 0;         // of which at the Coulomb cap
+  int rolling_sliding = 0; // of which at the rolling cap
+  Real mean_contact_force = 0;  // [N]
+  Real unbalanced_ratio = 0;    // mean |F_particle| / mean |F_contact| (PFC's definition)
+};
+
+// Thrown for a parameter outside its valid range; the message says which, the range, and a fix.
+struct ParameterError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// Six axis-aligned walls with inward normals: 0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z.
+WallSet make_box_walls(const Vec3d& lo, const Vec3d& hi);
+
+class Engine {
+ public:
+  Engine(const ParticleSetup& setup, const EngineParams& params, const WallSet& walls, bool walls_are_box);
+
+  void step();
+  void run(long nsteps) {
+    for (long s = 0; s < nsteps; ++s) step();
+  }
+
+  // Stage parameters (SPEC §6: each stage sets its own mu, mu_r, damping).
+  void set_friction(Real mu, Real mu_r);
+  void set_damping(Real alpha) { params_.damping = alpha; }
+  void set_rebuild_every_step(bool on) { rebuild_every_step_ = on; }
+
+  const EngineParams& params() const { return params_; }
+  Real dt() const { return params_.contact.dt; }
+  Real critical_dt() const { return dt_crit_; }
+  Real time() const { return time_; }
+  long step_count() const { return step_; }
+  int num_particles() const { return P_.n; }
+  Real r_min() const { return r_min_; }
+  Real r_max() const { return r_max_; }
+
+  WallSet& walls() { return walls_; }
+  const WallSet& walls() const { return walls_; }
+  WallControl& wall_control(int k) { return control_.at(k); }
+  const WallLoads& wall_loads() const { return loads_; }
+  bool walls_are_box() const { return box_; }
+  Real wall_position(int k) const;  // box walls: the coordinate of the plane along its axis
+  void set_wall_position(int k, Real pos);
+  Real wall_area(int k) const;
+  Real wall_stress(int k) const { return loads_.force[k] / wall_area(k); }
+  Real box_volume() const;
+
+  Diagnostics diagnostics();
+
+  const Particles& particles() const { return P_; }
+  const PairList& pairs() const { return lists_[cur_]; }
+  const PairHistory& history() const { return hist_[cur_]; }
+  const PairForces& pair_forces() const { return pf_; }
+  int rebuild_count() const { return rebuilds_; }
+  const NeighborStats& last_build() const { return nstats_; }
+
+  // Host copies of the state (tests and output).
+  std::vector<Vec3d> positions() const { return to_host(P_.x); }
+  std::vector<Vec3d> velocities() const { return to_host(P_.v); }
+  std::vector<Vec3d> angular_velocities() const { return to_host(P_.w); }
+  std::vector<Vec3d> forces() const { return to_host(P_.f); }
+  std::vector<Vec3d> torques() const { return to_host(P_.t); }
+  static std::vector<Vec3d> to_host(const VecView& v);
+
+  // Re-evaluates contact forces at the current positions without integrating (used after a state is
+  // set by hand, e.g. at start).
+  void evaluate_forces();
+
+ private:
+  void rebuild();
+  void move_walls();
+
+  EngineParams params_;
+  Particles P_;
+  PairList lists_[2];
+  PairHistory hist_[2];
+  PairForces pf_;
+  int cur_ = 0;
+  CellGrid grid_;
+  NeighborStats nstats_;
+  DeterministicSum red_;
+  WallSet walls_;
+  std::array<WallControl, kMaxWalls> control_{};
+  WallLoads loads_;
+  bool box_ = false;
+  bool rebuild_every_step_ = false;
+  int rebuilds_ = 0;
+  Real r_min_ = 0, r_max_ = 0, dt_crit_ = 0, time_ = 0;
+  long step_ = 0;
+};
+
+}  // namespace grainlab

@@ -1,0 +1,119 @@
+#include "packing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+namespace grainlab {
+namespace {
+std::uint64_t splitmix64(std::uint64_t& s) {
+  std::uint64_t z = (s += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+}  // namespace
+
+Rng::Rng(std::uint64_t seed) {
+  for (auto& s : s_) s = splitmix64(seed);
+}
+std::uint64_t Rng::next() {
+  const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+  const std::uint64_t t = s_[1] << 17;
+  s_[2] ^= s_[0];
+  s_[3] ^= s_[1];
+  s_[1] ^= s_[2];
+  s_[0] ^= s_[3];
+  s_[2] ^= t;
+  s_[3] = rotl(s_[3], 45);
+  return result;
+}
+
+Real power_law_radius(Real u, Real D, Real a, Real b) {
+  if (a == b) return a;
+  const Real e = 1 - D;
+  const Real lo = std::pow(a, e), hi = std::pow(b, e);
+  return std::pow(lo + u * (hi - lo), 1 / e);
+}
+
+Packing generate_packing(const PackingSpec& s) {
+  if (s.count < 1) throw ParameterError("count must be >= 1");
+  if (!(s.r_min > 0) || !(s.r_max >= s.r_min)) throw ParameterError("need 0 < r_min <= r_max");
+  if (std::abs(s.D - 1) < 1e-12) throw ParameterError("D = 1 is not supported (log-uniform); use D != 1");
+  if (!(s.solid_fraction > 0 && s.solid_fraction <= 0.45))
+    throw ParameterError("solid_fraction must be in (0, 0.45] for random sequential placement");
+  Rng rng(s.seed);
+  Packing p;
+  p.r.resize(s.count);
+  Real vs = 0;
+  for (auto& r : p.r) {
+    r = power_law_radius(rng.uniform(), s.D, s.r_min, s.r_max);
+    vs += 4.0 / 3.0 * M_PI * r * r * r;
+  }
+  // Largest first: the big spheres find room while the box is empty.
+  std::sort(p.r.begin(), p.r.end(), std::greater<Real>());
+  const Real L = std::cbrt(vs / s.solid_fraction);
+  p.lo = {0, 0, 0};
+  p.hi = {L, L, L};
+  const Real rmax = p.r.front();
+  if (L <= 2 * rmax) throw ParameterError("box too small for the largest sphere; raise count or lower r_max");
+  const Real h = 2 * rmax;
+  const int nc = std::max(1, int(L / h));
+  const Real cell = L / nc;
+  std::vector<std::vector<int>> cells(size_t(nc) * nc * nc);
+  auto cidx = [&](Real v) { return std::min(nc - 1, std::max(0, int(v / cell))); };
+  p.x.resize(s.count);
+  const int max_tries = 20000;
+  for (int i = 0; i < s.count; ++i) {
+    const Real r = p.r[i];
+    bool placed = false;
+    for (int t = 0; t < max_tries && !placed; ++t) {
+      Vec3d c;
+      for (int d = 0; d < 3; ++d) c[d] = r + rng.uniform() * (L - 2 * r);
+      const int cx = cidx(c[0]), cy = cidx(c[1]), cz = cidx(c[2]);
+      bool ok = true;
+      for (int dz = -1; dz <= 1 && ok; ++dz)
+        for (int dy = -1; dy <= 1 && ok; ++dy)
+          for (int dx = -1; dx <= 1 && ok; ++dx) {
+            const int X = cx + dx, Y = cy + dy, Z = cz + dz;
+            if (X < 0 || Y < 0 || Z < 0 || X >= nc || Y >= nc || Z >= nc) continue;
+            for (int j : cells[(size_t(Z) * nc + Y) * nc + X]) {
+              Real d2 = 0;
+              for (int d = 0; d < 3; ++d) d2 += (c[d] - p.x[j][d]) * (c[d] - p.x[j][d]);
+              if (d2 < (r + p.r[j]) * (r + p.r[j])) {
+                ok = false;
+                break;
+              }
+            }
+          }
+      if (ok) {
+        p.x[i] = c;
+        cells[(size_t(cz) * nc + cy) * nc + cx].push_back(i);
+        placed = true;
+      }
+    }
+    if (!placed) {
+      std::ostringstream os;
+      os << "could not place sphere " << i << " of " << s.count << " without overlap at solid_fraction "
+         << s.solid_fraction << "; lower solid_fraction";
+      throw ParameterError(os.str());
+    }
+  }
+  // Order particles by cell (z, y, x) so neighbours are close in memory (better cache use in the
+  // kernels); ties keep insertion order, so the result is still a pure function of the seed.
+  std::vector<int> order(s.count);
+  std::iota(order.begin(), order.end(), 0);
+  auto key = [&](int i) { return (size_t(cidx(p.x[i][2])) * nc + cidx(p.x[i][1])) * nc + cidx(p.x[i][0]); };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  Packing q = p;
+  for (int k = 0; k < s.count; ++k) {
+    q.x[k] = p.x[order[k]];
+    q.r[k] = p.r[order[k]];
+  }
+  return q;
+}
+
+}  // namespace grainlab
