@@ -2,6 +2,7 @@
 // Host orchestration of one DEM system: owns the device state, runs the step (SPEC §2-5) and the wall
 // controllers (SPEC §3), and exposes deterministic diagnostics. No physics lives here: it calls the
 // kernels in kernels/.
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <string>
@@ -74,7 +75,8 @@ class Engine {
 
   const EngineParams& params() const { return params_; }
   Real dt() const { return params_.contact.dt; }
-  Real critical_dt() const { return dt_crit_; }
+  Real critical_dt() const { return dt_crit_; }  // stable limit for the current features (f = 1)
+  Real stable_dt(bool rolling) const { return rolling ? std::min(dt_trans_, dt_roll_) : dt_trans_; }
   Real time() const { return time_; }
   long step_count() const { return step_; }
   int num_particles() const { return P_.n; }
@@ -132,7 +134,7 @@ class Engine {
   bool box_ = false;
   bool rebuild_every_step_ = false;
   int rebuilds_ = 0;
-  Real r_min_ = 0, r_max_ = 0, dt_crit_ = 0, time_ = 0;
+  Real r_min_ = 0, r_max_ = 0, dt_crit_ = 0, dt_trans_ = 0, dt_roll_ = 0, time_ = 0;
   long step_ = 0;
 };
 

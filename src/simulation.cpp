@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -112,7 +113,10 @@ std::vector<StageResult> run_simulation(const RunConfig& cfg, const RunOptions& 
   setup.density_scaling = cfg.density_scaling;
   Sample sample;
   for (Real r : pk.r) sample.Vs += 4.0 / 3.0 * M_PI * r * r * r;
-  Engine eng(setup, cfg.engine, make_box_walls(pk.lo, pk.hi), true);
+  // The time step is chosen once for the whole run, for its stiffest stage (rolling on in any stage).
+  EngineParams ep = cfg.engine;
+  for (const StageConfig& sc : cfg.stages) ep.contact.mu_r = std::max(ep.contact.mu_r, sc.mu_r);
+  Engine eng(setup, ep, make_box_walls(pk.lo, pk.hi), true);
   if (!opt.quiet)
     std::printf("grainlab %s | Kokkos %d | %s x %d threads | %d particles | dt = %.4g s (%.3g of the limit)\n",
                 GRAINLAB_VERSION, KOKKOS_VERSION, ExecSpace::name(), ExecSpace().concurrency(),

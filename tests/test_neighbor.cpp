@@ -1,0 +1,87 @@
+// The Verlet list against a brute-force N^2 oracle. Issue 2 item 7.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "helpers.hpp"
+
+using namespace grainlab;
+
+namespace {
+
+std::vector<std::pair<int, int>> listed_pairs(const Engine& eng) {
+  const PairList& L = eng.pairs();
+  auto pi = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_i);
+  auto pj = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_j);
+  std::vector<std::pair<int, int>> out;
+  for (int p = 0; p < L.npairs; ++p) out.emplace_back(pi(p), pj(p));
+  return out;
+}
+
+// A granular gas in a box with collisions: particles cross cells, the list is rebuilt often.
+void check_against_oracle(Real size_ratio, std::uint64_t seed) {
+  PackingSpec ps;
+  ps.count = 600;
+  ps.r_max = 0.6e-3;
+  ps.r_min = ps.r_max / size_ratio;
+  ps.D = 2.5;
+  ps.seed = seed;
+  ps.solid_fraction = 0.25;
+  Packing pk = generate_packing(ps);
+  ParticleSetup s;
+  s.x = pk.x;
+  s.r = pk.r;
+  EngineParams p;
+  p.contact = test::reference_contact();
+  p.damping = 0;
+  p.skin = 0.1 * ps.r_max;
+  // Speeds such that the fastest particles cross skin/2 in ~20 steps: many rebuilds in a short run.
+  const Real dt = Engine(s, p, make_box_walls(pk.lo, pk.hi), true).dt();
+  const Real V = 0.5 * p.skin / (20 * dt);
+  std::mt19937_64 g(seed);
+  std::uniform_real_distribution<Real> U(-1, 1);
+  for (size_t i = 0; i < s.r.size(); ++i) s.v.push_back({V * U(g), V * U(g), V * U(g)});
+  Engine eng(s, p, make_box_walls(pk.lo, pk.hi), true);
+  int checked_builds = 0, last_builds = eng.rebuild_count();
+  std::vector<std::pair<int, int>> oracle;
+  for (int k = 0; k < 1500; ++k) {
+    eng.step();
+    if (eng.rebuild_count() != last_builds) {
+      // Just rebuilt at the current positions: the list must equal the oracle, pair for pair, in order.
+      last_builds = eng.rebuild_count();
+      brute_force_pairs(eng.particles().x, eng.particles().r, p.skin, oracle);
+      ASSERT_EQ(listed_pairs(eng), oracle) << "after rebuild " << last_builds;
+      ++checked_builds;
+    } else if (k % 10 == 0) {
+      // Between builds: every touching pair must be listed (the skin/2 criterion guarantees it).
+      brute_force_pairs(eng.particles().x, eng.particles().r, 0, oracle);
+      const auto listed = listed_pairs(eng);
+      const std::set<std::pair<int, int>> have(listed.begin(), listed.end());
+      for (auto& pr : oracle) ASSERT_TRUE(have.count(pr)) << pr.first << "," << pr.second << " touching but unlisted";
+    }
+  }
+  std::printf("  ratio %g: %d rebuilds checked, %d pairs listed\n", size_ratio, checked_builds, eng.pairs().npairs);
+  EXPECT_GT(checked_builds, 20);
+}
+
+}  // namespace
+
+TEST(Neighbor, MatchesBruteForceSizeRatio3) { check_against_oracle(3, 21); }
+TEST(Neighbor, MatchesBruteForceSizeRatio10) { check_against_oracle(10, 22); }
+
+// A particle far outside the rest must not blow up the cell grid (memory stays O(N)).
+TEST(Neighbor, StrayParticleKeepsGridSmall) {
+  ParticleSetup s;
+  for (int i = 0; i < 100; ++i) s.x.push_back({1e-3 * (i % 10), 1e-3 * (i / 10), 0});
+  s.x.push_back({1e3, 1e3, 1e3});
+  s.r.assign(s.x.size(), 0.4e-3);
+  EngineParams p;
+  p.contact = test::reference_contact();
+  Engine eng(s, p, WallSet{}, false);
+  EXPECT_LE(eng.last_build().ncells, 8L * 101 + 27);
+  std::vector<std::pair<int, int>> oracle;
+  brute_force_pairs(eng.particles().x, eng.particles().r, p.skin, oracle);
+  EXPECT_EQ(listed_pairs(eng), oracle);
+}
