@@ -30,7 +30,7 @@ struct DenseScene {
 };
 
 inline DenseScene consolidated_scene(int n, Real size_ratio, std::uint64_t seed, Real mu, Real mu_r, long steps,
-                                     Real pressure = 190e3) {
+                                     Real pressure = 190e3, Real servo_max_step = 2e-3) {
   PackingSpec ps;
   ps.count = n;
   ps.r_max = 0.6e-3;
@@ -47,7 +47,7 @@ inline DenseScene consolidated_scene(int n, Real size_ratio, std::uint64_t seed,
   s.params.contact.mu = mu;
   s.params.contact.mu_r = mu_r;
   s.params.damping = 0.7;
-  s.params.servo_max_step = 2e-3;
+  s.params.servo_max_step = servo_max_step;
   Engine eng(s.setup, s.params, make_box_walls(pk.lo, pk.hi), true);
   for (int k = 0; k < 6; ++k) {
     eng.wall_control(k).mode = WallMode::Servo;
@@ -73,6 +73,60 @@ inline std::vector<Vec3d> host_vec(const VecView& v, int n) {
   auto all = Engine::to_host(v);
   all.resize(n);
   return all;
+}
+
+}  // namespace grainlab::test
+
+namespace grainlab::test {
+
+// The determinism scene: a consolidated frictional, rolling-resistant sample sheared by its walls (axial
+// walls at constant speed, lateral walls servoed), so contacts slide, roll, open and close and the list
+// is rebuilt. Returns the final state (x, v, w, then the six wall offsets) as raw doubles.
+struct ShearRun {
+  std::vector<Vec3d> state;
+  int rebuilds = 0, contacts = 0, sliding = 0, rolling_sliding = 0;
+};
+
+inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int shear_steps = 2000) {
+  static const DenseScene base = consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
+  DenseScene sc = base;
+  sc.params.contact.mu = 0.5;
+  sc.params.contact.mu_r = 0.3;
+  sc.params.damping = 0.2;
+  sc.params.skin = skin;
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  eng.set_rebuild_every_step(rebuild_every_step);
+  const Real H = sc.hi[2] - sc.lo[2];
+  for (int k = 0; k < 6; ++k) {
+    WallControl& c = eng.wall_control(k);
+    if (k >= 4) {
+      c.mode = WallMode::Velocity;
+      c.velocity = 0.5 * 20.0 * H;  // 20 /s axial strain rate: large slips in a short test
+    } else {
+      c.mode = WallMode::Servo;
+      c.target_stress = 190e3;
+    }
+  }
+  ShearRun out;
+  for (int s = 0; s < shear_steps; ++s) {
+    eng.step();
+    if (s % 100 == 99) {
+      const Diagnostics d = eng.diagnostics();
+      out.sliding = std::max(out.sliding, d.sliding);
+      out.rolling_sliding = std::max(out.rolling_sliding, d.rolling_sliding);
+    }
+  }
+  out.contacts = eng.diagnostics().contacts;
+  out.rebuilds = eng.rebuild_count();
+  auto x = eng.positions(), v = eng.velocities(), w = eng.angular_velocities();
+  out.state.insert(out.state.end(), x.begin(), x.end());
+  out.state.insert(out.state.end(), v.begin(), v.end());
+  out.state.insert(out.state.end(), w.begin(), w.end());
+  Vec3d walls[2];
+  for (int k = 0; k < 6; ++k) walls[k / 3][k % 3] = eng.walls().w[k].offset;
+  out.state.push_back(walls[0]);
+  out.state.push_back(walls[1]);
+  return out;
 }
 
 }  // namespace grainlab::test

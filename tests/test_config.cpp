@@ -1,0 +1,84 @@
+// Config loading: shipped configs validate, and bad input gets one clear error naming file, key, range.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "src/config.hpp"
+
+using namespace grainlab;
+namespace fs = std::filesystem;
+
+namespace {
+std::string write_tmp(const std::string& name, const std::string& text) {
+  const fs::path p = fs::temp_directory_path() / ("grainlab_test_" + name + ".yaml");
+  std::ofstream(p) << text;
+  return p.string();
+}
+std::string error_of(const std::string& path) {
+  try {
+    load_run_config(path);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+const char* kMinimal = "stages:\n  - {type: isotropic}\n";
+}  // namespace
+
+TEST(Config, ShippedConfigsValidate) {
+  int n = 0;
+  for (auto& e : fs::recursive_directory_iterator(GRAINLAB_SOURCE_DIR "/configs")) {
+    if (e.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(e.path().string());
+    EXPECT_NO_THROW(load_run_config(e.path().string()));
+    ++n;
+  }
+  EXPECT_GE(n, 1);
+}
+
+TEST(Config, DefaultsAreSpecReferenceValues) {
+  const RunConfig c = load_run_config(write_tmp("min", kMinimal));
+  EXPECT_EQ(c.engine.contact.E, 100e6);
+  EXPECT_EQ(c.engine.contact.mu, 0.5);
+  EXPECT_EQ(c.engine.contact.roll_arm, 0.05);
+  EXPECT_EQ(c.packing.D, 3.63);
+  EXPECT_EQ(c.density, 2650);
+  EXPECT_EQ(c.engine.dt_factor, 0.2);
+  EXPECT_EQ(c.stages.at(0).pressure, 190e3);
+}
+
+TEST(Config, OutOfRangeNamesFileKeyAndRange) {
+  const std::string p = write_tmp("range", std::string("material: {E: -5}\n") + kMinimal);
+  const std::string e = error_of(p);
+  EXPECT_NE(e.find(p), std::string::npos) << e;
+  EXPECT_NE(e.find("material.E"), std::string::npos) << e;
+  EXPECT_NE(e.find("allowed range (0,"), std::string::npos) << e;
+}
+
+TEST(Config, RejectsBadInputClearly) {
+  struct Case {
+    const char* name;
+    std::string text;
+    const char* expect;
+  };
+  const std::vector<Case> cases = {
+      {"typo", std::string("material: {mu_roll: 0.1}\n") + kMinimal, "material.mu_roll: unknown key"},
+      {"type", std::string("sample: {count: many}\n") + kMinimal, "sample.count: must be a number"},
+      {"nan", std::string("material: {mu: .nan}\n") + kMinimal, "material.mu"},
+      {"int", std::string("sample: {count: 10.5}\n") + kMinimal, "must be an integer"},
+      {"rmax", std::string("sample: {r_min: 1e-3, r_max: 1e-4}\n") + kMinimal, "sample.r_max"},
+      {"stage", "stages:\n  - {type: shake}\n", "stages[0].type: = 'shake' is not one of"},
+      {"nostages", "material: {E: 1e8}\n", "stages: must be a non-empty list"},
+      {"empty", "", "the file is empty"},
+      {"yaml", "stages: [\n", "not valid YAML"},
+      {"notmap", "- 1\n- 2\n", "must be a mapping"},
+      {"dtfactor", std::string("numerics: {dt_factor: 1.5}\n") + kMinimal, "numerics.dt_factor"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = error_of(write_tmp(c.name, c.text));
+    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
+    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
+  }
+  EXPECT_NE(error_of("/nonexistent/grainlab.yaml").find("cannot open"), std::string::npos);
+}
