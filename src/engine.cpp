@@ -280,4 +280,124 @@ Diagnostics Engine::diagnostics() {
   return d;
 }
 
+EngineState Engine::capture() const {
+  EngineState s;
+  s.step = step_;
+  s.time = time_;
+  s.dt = params_.contact.dt;
+  s.mu = params_.contact.mu;
+  s.mu_r = params_.contact.mu_r;
+  s.damping = params_.damping;
+  s.x = positions();
+  s.v = velocities();
+  s.w = angular_velocities();
+  s.f = forces();
+  s.t = torques();
+  {
+    auto hr = Kokkos::create_mirror_view_and_copy(HostSpace(), P_.r);
+    s.r.assign(hr.data(), hr.data() + P_.n);
+  }
+  const PairList& L = lists_[cur_];
+  const PairHistory& H = hist_[cur_];
+  auto pi = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_i);
+  auto pj = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_j);
+  auto fl = Kokkos::create_mirror_view_and_copy(HostSpace(), H.flags);
+  auto ft = Kokkos::create_mirror_view_and_copy(HostSpace(), H.ft);
+  auto mr = Kokkos::create_mirror_view_and_copy(HostSpace(), H.mr);
+  for (int p = 0; p < L.npairs; ++p) {
+    // Only touching pairs carry history (a separated pair has lost it: SPEC §2).
+    if (!(fl(p) & kTouching)) continue;
+    s.pair_i.push_back(pi(p));
+    s.pair_j.push_back(pj(p));
+    s.ft.push_back({ft(p, 0), ft(p, 1), ft(p, 2)});
+    s.mr.push_back({mr(p, 0), mr(p, 1), mr(p, 2)});
+    s.flags.push_back(fl(p));
+  }
+  s.walls = walls_;
+  s.control = control_;
+  s.loads = loads_;
+  s.walls_are_box = box_;
+  return s;
+}
+
+void Engine::restore(const EngineState& s) {
+  const int n = P_.n;
+  if (int(s.x.size()) != n || int(s.r.size()) != n || s.v.size() != s.x.size() || s.w.size() != s.x.size())
+    throw ParameterError("state has " + std::to_string(s.x.size()) + " particles, the engine " + std::to_string(n));
+  {
+    auto hr = Kokkos::create_mirror_view_and_copy(HostSpace(), P_.r);
+    for (int i = 0; i < n; ++i)
+      if (hr(i) != s.r[i]) throw ParameterError("state radii differ from the engine's (particle " + std::to_string(i) + ")");
+  }
+  const size_t m = s.pair_i.size();
+  if (s.pair_j.size() != m || s.ft.size() != m || s.mr.size() != m || s.flags.size() != m)
+    throw ParameterError("state contact arrays differ in length");
+  auto put = [n](const VecView& v, const std::vector<Vec3d>& src) {
+    auto h = Kokkos::create_mirror_view(v);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) h(i, k) = src.empty() ? 0 : src[i][k];
+    Kokkos::deep_copy(v, h);
+  };
+  put(P_.x, s.x);
+  put(P_.v, s.v);
+  put(P_.w, s.w);
+  put(P_.f, s.f);
+  put(P_.t, s.t);
+  step_ = s.step;
+  time_ = s.time;
+  params_.contact.dt = s.dt;
+  params_.contact.mu = s.mu;
+  params_.contact.mu_r = s.mu_r;
+  params_.damping = s.damping;
+  dt_crit_ = stable_dt(s.mu_r > 0);
+  walls_ = s.walls;
+  control_ = s.control;
+  loads_ = s.loads;
+  box_ = s.walls_are_box;
+
+  // The saved pairs as a sorted CSR list, then the ordinary rebuild + transfer by pair identity.
+  PairList old;
+  PairHistory oh;
+  {
+    old.npairs = int(m);
+    old.offsets = IntView("grainlab::restore::offsets", n + 1);
+    old.pair_j = IntView("grainlab::restore::j", std::max<size_t>(m, 1));
+    oh.ft = VecView("grainlab::restore::ft", std::max<size_t>(m, 1));
+    oh.mr = VecView("grainlab::restore::mr", std::max<size_t>(m, 1));
+    oh.flags = FlagView("grainlab::restore::flags", std::max<size_t>(m, 1));
+    auto ho = Kokkos::create_mirror_view(old.offsets);
+    auto hj = Kokkos::create_mirror_view(old.pair_j);
+    auto hft = Kokkos::create_mirror_view(oh.ft);
+    auto hmr = Kokkos::create_mirror_view(oh.mr);
+    auto hfl = Kokkos::create_mirror_view(oh.flags);
+    std::vector<int> count(n + 1, 0);
+    for (size_t p = 0; p < m; ++p) {
+      const int i = s.pair_i[p], j = s.pair_j[p];
+      if (i < 0 || j <= i || j >= n || (p > 0 && std::make_pair(s.pair_i[p - 1], s.pair_j[p - 1]) >= std::make_pair(i, j)))
+        throw ParameterError("state contact list is not a sorted list of pairs i < j < N (corrupt?)");
+      ++count[i + 1];
+      hj(p) = j;
+      for (int k = 0; k < 3; ++k) {
+        hft(p, k) = s.ft[p][k];
+        hmr(p, k) = s.mr[p][k];
+      }
+      hfl(p) = s.flags[p];
+    }
+    for (int i = 0; i < n; ++i) count[i + 1] += count[i];
+    for (int i = 0; i <= n; ++i) ho(i) = count[i];
+    Kokkos::deep_copy(old.offsets, ho);
+    Kokkos::deep_copy(old.pair_j, hj);
+    Kokkos::deep_copy(oh.ft, hft);
+    Kokkos::deep_copy(oh.mr, hmr);
+    Kokkos::deep_copy(oh.flags, hfl);
+  }
+  const int next = 1 - cur_;
+  nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, 2 * r_max_ + params_.skin, grid_, lists_[next]);
+  ensure_pair_arrays(hist_[next], lists_[next].npairs);
+  ensure_pair_arrays(pf_, lists_[next].npairs);
+  transfer_history(old, oh, lists_[next], hist_[next]);
+  cur_ = next;
+  Kokkos::deep_copy(P_.x_ref, P_.x);
+}
+
 }  // namespace grainlab

@@ -51,6 +51,23 @@ struct Diagnostics {
   Real unbalanced_ratio = 0;    // mean |F_particle| / mean |F_contact| (PFC's definition)
 };
 
+// Everything that determines the future of a run (SPEC §2: history belongs to the pair), on the host.
+// Capturing and restoring gives bitwise the same continuation (tests/test_restart.cpp).
+struct EngineState {
+  long step = 0;
+  Real time = 0, dt = 0;
+  Real mu = 0, mu_r = 0, damping = 0;
+  std::vector<Vec3d> x, v, w, f, t;
+  std::vector<Real> r;
+  std::vector<int> pair_i, pair_j;  // pairs carrying history, sorted by (i, j)
+  std::vector<Vec3d> ft, mr;
+  std::vector<std::uint8_t> flags;
+  WallSet walls;
+  std::array<WallControl, kMaxWalls> control{};
+  WallLoads loads;
+  bool walls_are_box = false;
+};
+
 // Thrown for a parameter outside its valid range; the message says which, the range, and a fix.
 struct ParameterError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
@@ -110,6 +127,10 @@ class Engine {
   std::vector<Vec3d> forces() const { return to_host(P_.f); }
   std::vector<Vec3d> torques() const { return to_host(P_.t); }
   static std::vector<Vec3d> to_host(const VecView& v);
+
+  EngineState capture() const;
+  // Restores a captured state of the same particle set (same count and radii); throws otherwise.
+  void restore(const EngineState& s);
 
   // Re-evaluates contact forces at the current positions without integrating (used after a state is
   // set by hand, e.g. at start).

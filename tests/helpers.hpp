@@ -2,6 +2,7 @@
 // Scenes shared by the tests.
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "src/engine.hpp"
@@ -87,7 +88,8 @@ struct ShearRun {
   int rebuilds = 0, contacts = 0, sliding = 0, rolling_sliding = 0;
 };
 
-inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int shear_steps = 2000) {
+inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int shear_steps = 2000,
+                              int restart_at = -1) {
   static const DenseScene base = consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
   DenseScene sc = base;
   sc.params.contact.mu = 0.5;
@@ -108,22 +110,30 @@ inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int sh
     }
   }
   ShearRun out;
+  std::unique_ptr<Engine> resumed;  // after restart_at steps, continue in a fresh engine from a capture
   for (int s = 0; s < shear_steps; ++s) {
-    eng.step();
+    if (s == restart_at) {
+      const EngineState st = eng.capture();
+      resumed = std::make_unique<Engine>(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+      resumed->restore(st);
+    }
+    Engine& e = resumed ? *resumed : eng;
+    e.step();
     if (s % 100 == 99) {
-      const Diagnostics d = eng.diagnostics();
+      const Diagnostics d = e.diagnostics();
       out.sliding = std::max(out.sliding, d.sliding);
       out.rolling_sliding = std::max(out.rolling_sliding, d.rolling_sliding);
     }
   }
-  out.contacts = eng.diagnostics().contacts;
-  out.rebuilds = eng.rebuild_count();
-  auto x = eng.positions(), v = eng.velocities(), w = eng.angular_velocities();
+  Engine& eng_end = resumed ? *resumed : eng;
+  out.contacts = eng_end.diagnostics().contacts;
+  out.rebuilds = eng.rebuild_count() + (resumed ? resumed->rebuild_count() : 0);
+  auto x = eng_end.positions(), v = eng_end.velocities(), w = eng_end.angular_velocities();
   out.state.insert(out.state.end(), x.begin(), x.end());
   out.state.insert(out.state.end(), v.begin(), v.end());
   out.state.insert(out.state.end(), w.begin(), w.end());
   Vec3d walls[2];
-  for (int k = 0; k < 6; ++k) walls[k / 3][k % 3] = eng.walls().w[k].offset;
+  for (int k = 0; k < 6; ++k) walls[k / 3][k % 3] = eng_end.walls().w[k].offset;
   out.state.push_back(walls[0]);
   out.state.push_back(walls[1]);
   return out;
