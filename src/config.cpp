@@ -67,6 +67,18 @@ class Section {
     if (!n_[k].IsScalar() || n_[k].Scalar().empty()) fail(key_path(k), "must be a non-empty string");
     return n_[k].Scalar();
   }
+  bool boolean(const std::string& k, bool def) {
+    if (!has(k)) return def;
+    const YAML::Node v = n_[k];
+    bool b = def;
+    try {
+      if (!v.IsScalar()) throw YAML::Exception(YAML::Mark(), "");
+      b = v.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(key_path(k), "must be true or false");
+    }
+    return b;
+  }
   Section sub(const std::string& k) {
     seen_.insert(k);
     YAML::Node c = n_[k];
@@ -135,6 +147,18 @@ RunConfig load_run_config(const std::string& path) {
   Section top(root, "", &path);
 
   Section s = top.sub("sample");
+  c.sample_file = s.string("file", "");
+  if (!c.sample_file.empty()) {
+    // A saved sample brings its particles, box and densities: generation keys would be ignored, so
+    // they are refused rather than silently dropped.
+    for (const char* k : {"count", "D", "r_min", "r_max", "seed", "initial_solid_fraction", "density",
+                          "density_scaling"})
+      if (s.has(k)) s.fail(std::string("sample.") + k, "cannot be combined with sample.file (the file defines it)");
+    if (c.sample_file[0] != '/') {
+      const size_t slash = path.find_last_of('/');
+      if (slash != std::string::npos) c.sample_file = path.substr(0, slash + 1) + c.sample_file;
+    }
+  }
   c.packing.count = int(s.integer("count", 3000, 1, 100000000));
   c.packing.D = s.real("D", 3.63, 0, 10);
   if (std::abs(c.packing.D - 1) < 1e-12) s.fail("sample.D", "= 1 is not supported (use D != 1)");
@@ -187,6 +211,11 @@ RunConfig load_run_config(const std::string& path) {
       sc.pressure_tolerance = g.real("pressure_tolerance", 0.01, 0, 1, true);
       sc.ufr_tolerance = g.real("ufr_tolerance", 0.01, 0, 1, true);
       sc.ke_tolerance = g.real("ke_tolerance", 1e-4, 0, 1, true);
+      sc.target_e0 = g.real("target_e0", 0, 0, 10);
+      sc.target_e0_tolerance = g.real("target_e0_tolerance", 0.003, 0, 1, true);
+      sc.mu_max = g.real("mu_max", 1.0, 0, 10, true);
+      sc.max_trials = int(g.integer("max_trials", 10, 2, 100));
+      sc.save_sample = g.boolean("save_sample", true);
     } else {
       sc.drainage = g.choice("drainage", "undrained", {"undrained", "drained"}) == "undrained" ? Drainage::Undrained
                                                                                               : Drainage::Drained;
@@ -203,9 +232,72 @@ RunConfig load_run_config(const std::string& path) {
     return b.substr(0, b.find_last_of('.'));
   }());
   c.output_every = o.integer("every", 1000, 1, 1000000000000L);
+  c.snapshot_strain = o.real("snapshot_strain", 0.01, 0, 1);
+  c.checkpoint_every = o.integer("checkpoint_every", 100000, 0, 1000000000000L);
+  c.checkpoint_minutes = o.real("checkpoint_minutes", 10, 0, 1e6);
+  c.keep_checkpoints = int(o.integer("keep_checkpoints", 2, 1, 1000));
   o.finish();
   top.finish();
   return c;
+}
+
+std::string resolved_config_yaml(const RunConfig& c) {
+  YAML::Emitter e;
+  e.SetDoublePrecision(17);
+  e << YAML::BeginMap;
+  e << YAML::Key << "sample" << YAML::Value << YAML::BeginMap;
+  if (!c.sample_file.empty()) {
+    e << YAML::Key << "file" << YAML::Value << c.sample_file;
+  } else {
+    e << YAML::Key << "count" << YAML::Value << c.packing.count << YAML::Key << "D" << YAML::Value << c.packing.D
+      << YAML::Key << "r_min" << YAML::Value << c.packing.r_min << YAML::Key << "r_max" << YAML::Value
+      << c.packing.r_max << YAML::Key << "seed" << YAML::Value << c.packing.seed << YAML::Key
+      << "initial_solid_fraction" << YAML::Value << c.packing.solid_fraction << YAML::Key << "density"
+      << YAML::Value << c.density << YAML::Key << "density_scaling" << YAML::Value << c.density_scaling;
+  }
+  e << YAML::EndMap;
+  const ContactParams& cp = c.engine.contact;
+  e << YAML::Key << "material" << YAML::Value << YAML::BeginMap << YAML::Key << "E" << YAML::Value << cp.E
+    << YAML::Key << "kappa" << YAML::Value << cp.kappa << YAML::Key << "mu" << YAML::Value << cp.mu << YAML::Key
+    << "mu_r" << YAML::Value << cp.mu_r << YAML::Key << "roll_arm" << YAML::Value << cp.roll_arm << YAML::Key
+    << "normal_damping" << YAML::Value << cp.normal_damping << YAML::Key << "E_wall" << YAML::Value
+    << c.engine.E_wall << YAML::EndMap;
+  e << YAML::Key << "numerics" << YAML::Value << YAML::BeginMap << YAML::Key << "dt_factor" << YAML::Value
+    << c.engine.dt_factor;
+  if (cp.dt > 0) e << YAML::Key << "dt" << YAML::Value << cp.dt;
+  e << YAML::Key << "skin" << YAML::Value << c.engine.skin << YAML::Key << "damping" << YAML::Value
+    << c.engine.damping << YAML::Key << "servo_max_step" << YAML::Value << c.engine.servo_max_step << YAML::EndMap;
+  e << YAML::Key << "stages" << YAML::Value << YAML::BeginSeq;
+  for (const StageConfig& sc : c.stages) {
+    e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sc.name << YAML::Key << "type" << YAML::Value
+      << (sc.type == StageType::Isotropic ? "isotropic" : "triaxial") << YAML::Key << "mu" << YAML::Value << sc.mu
+      << YAML::Key << "mu_r" << YAML::Value << sc.mu_r << YAML::Key << "damping" << YAML::Value << sc.damping
+      << YAML::Key << "max_steps" << YAML::Value << sc.max_steps << YAML::Key << "check_every" << YAML::Value
+      << sc.check_every << YAML::Key << "servo_gain" << YAML::Value << sc.servo_gain;
+    if (sc.type == StageType::Isotropic) {
+      e << YAML::Key << "pressure" << YAML::Value << sc.pressure << YAML::Key << "pressure_tolerance" << YAML::Value
+        << sc.pressure_tolerance << YAML::Key << "ufr_tolerance" << YAML::Value << sc.ufr_tolerance << YAML::Key
+        << "ke_tolerance" << YAML::Value << sc.ke_tolerance << YAML::Key << "save_sample" << YAML::Value
+        << sc.save_sample;
+      if (sc.target_e0 > 0)
+        e << YAML::Key << "target_e0" << YAML::Value << sc.target_e0 << YAML::Key << "target_e0_tolerance"
+          << YAML::Value << sc.target_e0_tolerance << YAML::Key << "mu_max" << YAML::Value << sc.mu_max << YAML::Key
+          << "max_trials" << YAML::Value << sc.max_trials;
+    } else {
+      e << YAML::Key << "drainage" << YAML::Value << (sc.drainage == Drainage::Undrained ? "undrained" : "drained")
+        << YAML::Key << "axial_strain_rate" << YAML::Value << sc.axial_strain_rate << YAML::Key
+        << "max_axial_strain" << YAML::Value << sc.max_axial_strain;
+    }
+    e << YAML::EndMap;
+  }
+  e << YAML::EndSeq;
+  e << YAML::Key << "output" << YAML::Value << YAML::BeginMap << YAML::Key << "dir" << YAML::Value << c.out_dir
+    << YAML::Key << "every" << YAML::Value << c.output_every << YAML::Key << "snapshot_strain" << YAML::Value
+    << c.snapshot_strain << YAML::Key << "checkpoint_every" << YAML::Value << c.checkpoint_every << YAML::Key
+    << "checkpoint_minutes" << YAML::Value << c.checkpoint_minutes << YAML::Key << "keep_checkpoints" << YAML::Value
+    << c.keep_checkpoints << YAML::EndMap;
+  e << YAML::EndMap;
+  return std::string(e.c_str()) + "\n";
 }
 
 }  // namespace grainlab

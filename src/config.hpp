@@ -32,6 +32,12 @@ struct StageConfig {
   Real max_axial_strain = 0.05;    // [-]
   long max_steps = 1000000;
   long check_every = 200;          // steps between equilibrium checks
+  // isotropic: search the stage's mu so the stage ends at this void ratio (0 = off)
+  Real target_e0 = 0;
+  Real target_e0_tolerance = 0.003;
+  Real mu_max = 1.0;               // upper end of the search bracket [0, mu_max]
+  int max_trials = 10;
+  bool save_sample = true;         // isotropic: write sample_<name>.h5 at the end (reusable)
 };
 
 struct RunConfig {
@@ -40,10 +46,17 @@ struct RunConfig {
   Real density = 2650, density_scaling = 1;
   EngineParams engine;
   std::vector<StageConfig> stages;
+  std::string sample_file;          // a saved sample (sample_<stage>.h5) instead of generating one
   std::string out_dir = "runs/default";
   long output_every = 1000;        // steps between rows of series.csv
+  Real snapshot_strain = 0.01;     // axial-strain interval between snapshots in triaxial stages (0: off)
+  long checkpoint_every = 100000;  // steps between checkpoints (0: off)
+  Real checkpoint_minutes = 10;    // wall-clock minutes between checkpoints (0: off)
+  int keep_checkpoints = 2;
 };
 
 RunConfig load_run_config(const std::string& path);
+// The configuration with every default filled in, as YAML (stored in every run's files).
+std::string resolved_config_yaml(const RunConfig& c);
 
 }  // namespace grainlab

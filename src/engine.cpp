@@ -97,14 +97,14 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
   dt_crit_ = stable_dt(params_.contact.mu_r > 0);
   if (!(params_.dt_factor > 0 && params_.dt_factor <= 1)) {
     std::ostringstream os;
-    os << "dt_factor = " << params_.dt_factor << " is outside the allowed range (0, 1]";
+    os << "numerics.dt_factor = " << params_.dt_factor << " is outside the allowed range (0, 1]";
     throw ParameterError(os.str());
   }
   if (params_.contact.dt <= 0) {
     params_.contact.dt = params_.dt_factor * dt_crit_;
   } else if (params_.contact.dt > dt_crit_) {
     std::ostringstream os;
-    os << "dt = " << params_.contact.dt << " s is above the stable limit " << dt_crit_
+    os << "numerics.dt = " << params_.contact.dt << " s is above the stable limit " << dt_crit_
        << " s (translational sqrt(m_min/k_max) = " << dt_trans_ << " s with m_min = " << m_min
        << " kg, k_max = " << k_max << " N/m";
     if (params_.contact.mu_r > 0) os << "; rolling sqrt(I_min/k_r) = " << dt_roll_ << " s";
@@ -152,13 +152,20 @@ void Engine::evaluate_forces() {
   loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_);
 }
 
-void Engine::step() {
+void Engine::evaluate() {
   const ContactParams& cp = params_.contact;
   const ContactFeatures feat{cp.mu_r > 0, cp.normal_damping > 0};
   // 1. Pair forces at x(t) from v(t - dt/2): v dt is the slip since the last evaluation.
   compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, feat);
   // 2. Wall loads at x(t) (deterministic sums: they drive the servo).
   loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_);
+  evaluated_ = true;
+}
+
+void Engine::advance() {
+  if (!evaluated_) throw std::logic_error("Engine::advance() without evaluate()");
+  evaluated_ = false;
+  const ContactParams& cp = params_.contact;
   // 3. Gather, damp, kick, drift: x(t + dt), v(t + dt/2).
   const Real maxd2 = gather_and_integrate(P_, lists_[cur_], pf_, walls_, params_.E_wall, params_.damping, cp.dt);
   time_ += cp.dt;
@@ -227,11 +234,13 @@ Diagnostics Engine::diagnostics() {
   auto I = P_.inertia;
   const WallSet ws = walls_;
   const Real Ew = params_.E_wall;
-  Real pa[3] = {};
+  Real pa[4] = {};
   red_.run(
-      "grainlab::diag::particles", P_.n, 3,
+      "grainlab::diag::particles", P_.n, 4,
       KOKKOS_LAMBDA(int i, Real* acc) {
-        acc[0] += 0.5 * (m(i) * norm2(load(v, i)) + I(i) * norm2(load(w, i)));
+        const Real kt = 0.5 * m(i) * norm2(load(v, i));
+        acc[0] += kt + 0.5 * I(i) * norm2(load(w, i));
+        acc[3] += kt;
         acc[1] += norm(load(f, i));
         const Vec3 xi = load(x, i);
         for (int k = 0; k < ws.count; ++k) {
@@ -271,6 +280,7 @@ Diagnostics Engine::diagnostics() {
       },
       ca);
   d.kinetic = pa[0];
+  d.kinetic_translational = pa[3];
   d.contacts = int(ca[0]);
   d.sliding = int(ca[1]);
   d.rolling_sliding = int(ca[2]);

@@ -43,6 +43,9 @@ struct EngineParams {
 
 struct Diagnostics {
   Real kinetic = 0;        // translational + rotational (half-step velocities)   [J]
+  Real kinetic_translational = 0;  // translational only: the equilibrium measure, since a rattler's
+                                   // free spin cannot be damped (Cundall damping acts on forces) and
+                                   // carries no stress                                 [J]
   Real potential = 0;      // normal + tangential + rolling + wall springs        [J]
   int contacts = 0;        // touching sphere-sphere pairs
   int sliding = 0;         // of which at the Coulomb cap
@@ -80,7 +83,14 @@ class Engine {
  public:
   Engine(const ParticleSetup& setup, const EngineParams& params, const WallSet& walls, bool walls_are_box);
 
-  void step();
+  // One step = evaluate() then advance(). Between the two, positions, pair forces, history and wall
+  // loads all belong to the same instant t: the place to measure (analysis, snapshots).
+  void step() {
+    evaluate();
+    advance();
+  }
+  void evaluate();
+  void advance();
   void run(long nsteps) {
     for (long s = 0; s < nsteps; ++s) step();
   }
@@ -154,6 +164,7 @@ class Engine {
   WallLoads loads_;
   bool box_ = false;
   bool rebuild_every_step_ = false;
+  bool evaluated_ = false;
   int rebuilds_ = 0;
   Real r_min_ = 0, r_max_ = 0, dt_crit_ = 0, dt_trans_ = 0, dt_roll_ = 0, time_ = 0;
   long step_ = 0;

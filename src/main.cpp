@@ -9,7 +9,7 @@
 namespace {
 int usage(FILE* f) {
   std::fprintf(f,
-               "usage: grainlab run CONFIG.yaml [--out DIR] [--threads N] [--quiet]\n"
+               "usage: grainlab run CONFIG.yaml [--out DIR] [--threads N] [--resume] [--quiet]\n"
                "       grainlab validate CONFIG.yaml\n"
                "       grainlab version\n");
   return f == stderr ? 2 : 0;
@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
     const std::string s = argv[a];
     if (s == "--quiet") {
       opt.quiet = true;
+    } else if (s == "--resume") {
+      opt.resume = true;
+    } else if (s == "--stop-after-steps" && a + 1 < argc) {  // testing aid: acts like Ctrl-C after N steps
+      opt.stop_after_steps = std::atol(argv[++a]);
     } else if (s == "--out" && a + 1 < argc) {
       opt.out_dir = argv[++a];
     } else if (s == "--threads" && a + 1 < argc) {
@@ -61,7 +65,8 @@ int main(int argc, char** argv) {
   grainlab::compat::initialize(threads);
   int rc = 0;
   try {
-    grainlab::run_simulation(cfg, opt);
+    const grainlab::RunResult r = grainlab::run_simulation(cfg, opt);
+    if (r.interrupted) rc = 130;  // like a shell's Ctrl-C, but with a checkpoint written
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), e.what());
     rc = 1;

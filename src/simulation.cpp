@@ -5,20 +5,43 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
 
+#include "h5io.hpp"
+
 namespace grainlab {
 namespace fs = std::filesystem;
 
+namespace {
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void on_stop_signal(int) { g_stop = 1; }
+
+// Installs SIGINT/SIGTERM handlers for the life of a run, restoring the previous ones after.
+struct SignalGuard {
+  using Handler = void (*)(int);
+  Handler old_int, old_term;
+  SignalGuard() {
+    g_stop = 0;
+    old_int = std::signal(SIGINT, on_stop_signal);
+    old_term = std::signal(SIGTERM, on_stop_signal);
+  }
+  ~SignalGuard() {
+    std::signal(SIGINT, old_int);
+    std::signal(SIGTERM, old_term);
+  }
+};
+}  // namespace
+
 void write_file_atomic(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const std::string tmp = temp_name(path);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot write (" + tmp + " could not be created)");
+    if (!out) throw std::runtime_error(path + ": cannot write (directory missing or not writable)");
     out << content;
     out.flush();
     if (!out) {
@@ -27,205 +50,825 @@ void write_file_atomic(const std::string& path, const std::string& content) {
       throw std::runtime_error(path + ": write failed (disk full?); the previous file is untouched");
     }
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": rename failed: " + ec.message());
-  }
+  commit_atomic(tmp, path);
+}
+
+const std::vector<std::pair<std::string, std::string>>& series_columns() {
+  static const std::vector<std::pair<std::string, std::string>> cols = {
+      {"time", "s"},           {"step", "-"},           {"eps_a", "-"},          {"eps_v", "-"},
+      {"e", "-"},              {"p", "Pa"},             {"q", "Pa"},             {"u", "Pa"},
+      {"sigma_x", "Pa"},       {"sigma_y", "Pa"},       {"sigma_z", "Pa"},       {"z", "-"},
+      {"kinetic_energy", "J"}, {"ke_ratio", "-"},       {"ufr", "-"},            {"inertial_number", "-"},
+      {"sliding_frac", "-"},   {"rolling_sliding_frac", "-"}, {"dt", "s"},       {"density_scaling", "-"},
+  };
+  return cols;
 }
 
 namespace {
 
-struct Sample {
-  Real Vs = 0;  // solid volume [m^3]
+// ------------------------------------------------------------------------------------------------
+// Series: numeric columns plus the stage of each row.
+struct Series {
+  std::vector<std::vector<double>> rows;
+  std::vector<int> stage;
+  std::string csv(const std::vector<StageConfig>& stages) const {
+    std::ostringstream os;
+    const auto& cols = series_columns();
+    os << "stage";
+    for (auto& c : cols) os << ',' << c.first;
+    os << '\n' << std::setprecision(12);
+    for (size_t r = 0; r < rows.size(); ++r) {
+      os << stages[stage[r]].name;
+      for (size_t c = 0; c < cols.size(); ++c) {
+        os << ',';
+        if (cols[c].first == "step") os << long(rows[r][c]);
+        else os << rows[r][c];
+      }
+      os << '\n';
+    }
+    return os.str();
+  }
+  std::vector<double> column(size_t c) const {
+    std::vector<double> v;
+    for (auto& r : rows) v.push_back(r[c]);
+    return v;
+  }
+  std::vector<double> flat() const {
+    std::vector<double> v;
+    for (auto& r : rows) v.insert(v.end(), r.begin(), r.end());
+    return v;
+  }
 };
 
-struct State {
-  Real sx = 0, sy = 0, sz = 0, p = 0, q = 0, V = 0, e = 0;
+// The driver's own state: everything besides the engine that a resumed run needs.
+struct Lab {
+  int stage = 0;
+  long stage_step = 0;
+  bool started = false;
+  Real H0 = 0, V0 = 0, p0 = 0, aspect = 1, mu = 0;
+  Real last_eps = 0, last_time = 0;  // for the measured strain rate (inertial number)
+  int snapshots = 0;
+  Real next_snap_eps = 0;
+  std::vector<Real> trial_mu, trial_e;  // target_e0 search
+  bool searching = false;
+  Series series;
+  std::vector<StageResult> results;
+  std::vector<std::string> snapshot_files;
+  std::vector<double> snapshot_time, snapshot_eps;
+
+  std::vector<double> scalars() const {
+    return {double(stage), double(stage_step), double(started), H0, V0, p0, aspect, mu, last_eps, last_time,
+            double(snapshots), next_snap_eps, double(searching)};
+  }
+  void set_scalars(const std::vector<double>& s) {
+    if (s.size() != 13) throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");
+    stage = int(s[0]);
+    stage_step = long(s[1]);
+    started = s[2] != 0;
+    H0 = s[3];
+    V0 = s[4];
+    p0 = s[5];
+    aspect = s[6];
+    mu = s[7];
+    last_eps = s[8];
+    last_time = s[9];
+    snapshots = int(s[10]);
+    next_snap_eps = s[11];
+    searching = s[12] != 0;
+  }
 };
 
-State wall_state(const Engine& eng, const Sample& s) {
-  State st;
-  st.sx = 0.5 * (eng.wall_stress(0) + eng.wall_stress(1));
-  st.sy = 0.5 * (eng.wall_stress(2) + eng.wall_stress(3));
-  st.sz = 0.5 * (eng.wall_stress(4) + eng.wall_stress(5));
-  st.p = (st.sx + st.sy + st.sz) / 3;
-  st.q = st.sz - 0.5 * (st.sx + st.sy);  // triaxial deviator, axial = z
-  st.V = eng.box_volume();
-  st.e = (st.V - s.Vs) / s.Vs;
-  return st;
+std::string join(const std::vector<std::string>& v, char sep) {
+  std::string s;
+  for (size_t k = 0; k < v.size(); ++k) s += (k ? std::string(1, sep) : "") + v[k];
+  return s;
+}
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  if (s.empty()) return out;
+  size_t a = 0;
+  for (;;) {
+    const size_t b = s.find(sep, a);
+    out.push_back(s.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  return out;
 }
 
-class Series {
+std::string build_info() {
+  std::ostringstream os;
+  os << "grainlab " << GRAINLAB_VERSION << "; Kokkos " << KOKKOS_VERSION / 10000 << '.' << (KOKKOS_VERSION / 100) % 100
+     << '.' << KOKKOS_VERSION % 100 << "; backend " << ExecSpace::name() << " x " << ExecSpace().concurrency()
+     << "; compiler " <<
+#if defined(__clang__)
+      "clang " << __clang_version__
+#elif defined(__GNUC__)
+      "g++ " << __VERSION__
+#else
+      "unknown"
+#endif
+     << "; precision " << (sizeof(Real) == 8 ? "double" : "float");
+  return os.str();
+}
+
+// The resolved config with output.dir blanked: two runs may differ only in where they write.
+std::string config_fingerprint(const RunConfig& c) {
+  RunConfig d = c;
+  d.out_dir = "";
+  return resolved_config_yaml(d);
+}
+
+// ------------------------------------------------------------------------------------------------
+class Laboratory {
  public:
-  explicit Series(std::string path) : path_(std::move(path)) {
-    os_ << "time,step,stage,eps_a,eps_v,e,p,q,u,sigma_x,sigma_y,sigma_z,z,kinetic_energy,ufr,"
-           "sliding_frac,rolling_sliding_frac,dt,density_scaling\n";
+  Laboratory(const RunConfig& cfg, const RunOptions& opt) : cfg_(cfg), opt_(opt) {
+    out_ = opt.out_dir.empty() ? cfg.out_dir : opt.out_dir;
+    fingerprint_ = config_fingerprint(cfg);
   }
-  void row(const Engine& eng, const std::string& stage, const State& st, const Diagnostics& d, Real eps_a,
-           Real eps_v, Real u, Real density_scaling) {
-    const int np = eng.num_particles();
-    os_ << std::setprecision(10) << eng.time() << ',' << eng.step_count() << ',' << stage << ',' << eps_a << ','
-        << eps_v << ',' << st.e << ',' << st.p << ',' << st.q << ',' << u << ',' << st.sx << ',' << st.sy << ','
-        << st.sz << ',' << (np ? 2.0 * d.contacts / np : 0) << ',' << d.kinetic << ',' << d.unbalanced_ratio << ','
-        << (d.contacts ? Real(d.sliding) / d.contacts : 0) << ','
-        << (d.contacts ? Real(d.rolling_sliding) / d.contacts : 0) << ',' << eng.dt() << ',' << density_scaling
-        << '\n';
-  }
-  void flush() { write_file_atomic(path_, os_.str()); }
+
+  RunResult run();
 
  private:
-  std::string path_;
-  std::ostringstream os_;
+  struct Measure {
+    Real sx, sy, sz, p, q, V, e, eps_a, eps_v, u;
+  };
+
+  void prepare_output_dir();
+  void build_engine();
+  void start_stage(const StageConfig& sc);
+  Measure measure(const StageConfig& sc) const;
+  std::vector<double> row(const StageConfig& sc, const Measure& m, const Diagnostics& d);
+  bool isotropic_done(const StageConfig& sc, const Diagnostics& d) const;
+  void place_lateral_walls();
+  // Runs the stage from lab_.stage_step; returns false when interrupted.
+  bool run_stage(const StageConfig& sc);
+  bool search_e0(const StageConfig& sc);
+  Real trial_consolidation(const StageConfig& sc, const EngineState& s0, Real mu, bool& interrupted);
+  void snapshot(const std::string& tag);
+  void write_xdmf();
+  void save_sample(const StageConfig& sc);
+  std::string write_checkpoint(const EngineState* state_override = nullptr);
+  bool load_newest_checkpoint();
+  void flush_outputs();
+  void progress(const std::string& line, bool final = false);
+  bool stop_requested() const {
+    return g_stop || (opt_.stop_after_steps >= 0 && total_steps_ >= opt_.stop_after_steps);
+  }
+
+  const RunConfig& cfg_;
+  RunOptions opt_;
+  std::string out_, fingerprint_;
+  std::unique_ptr<Engine> eng_;
+  Real Vs_ = 0, d_mean_ = 0, density_ = 0, scaling_ = 1;
+  Lab lab_;
+  long total_steps_ = 0;  // steps taken by this process (for stop_after_steps)
+  std::chrono::steady_clock::time_point last_ckpt_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point stage_t0_ = std::chrono::steady_clock::now();
+  long stage_step0_ = 0;
+  bool tty_ = ::isatty(STDOUT_FILENO);
 };
 
-class Progress {
- public:
-  explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(STDOUT_FILENO)) {}
-  void show(const std::string& line) {
-    if (quiet_) return;
-    if (tty_) {
-      std::printf("\r%-110s", line.c_str());
-      std::fflush(stdout);
+void Laboratory::prepare_output_dir() {
+  std::error_code ec;
+  fs::create_directories(out_ + "/checkpoints", ec);
+  if (ec) throw std::runtime_error(out_ + ": cannot create the output directory (" + ec.message() + ")");
+  if (!opt_.resume) {
+    for (const char* f : {"series.csv", "run.h5"})
+      if (fs::exists(out_ + "/" + f))
+        throw std::runtime_error(out_ + ": already holds a run (" + f +
+                                 "); continue it with --resume or choose another --out (nothing was changed)");
+    if (!fs::is_empty(out_ + "/checkpoints"))
+      throw std::runtime_error(out_ + "/checkpoints: holds checkpoints of an earlier run; use --resume or another --out");
+  }
+  // Probe that the directory is writable now rather than after hours of computing.
+  write_file_atomic(out_ + "/.write_probe", "ok\n");
+  fs::remove(out_ + "/.write_probe", ec);
+}
+
+void Laboratory::build_engine() {
+  ParticleSetup setup;
+  WallSet walls;
+  EngineParams ep = cfg_.engine;
+  // The time step is chosen once for the whole run, for its stiffest stage (rolling on in any stage).
+  for (const StageConfig& sc : cfg_.stages) ep.contact.mu_r = std::max(ep.contact.mu_r, sc.mu_r);
+  std::unique_ptr<EngineState> sample;
+  if (!cfg_.sample_file.empty()) {
+    H5Reader r(cfg_.sample_file);
+    sample = std::make_unique<EngineState>(read_state(r));
+    setup.x = sample->x;
+    setup.r = sample->r;
+    setup.density = r.attr_double("density");
+    setup.density_scaling = r.attr_double("density_scaling");
+    walls = sample->walls;
+    if (!sample->walls_are_box) throw std::runtime_error(cfg_.sample_file + ": the sample has no box walls");
+  } else {
+    Packing pk = generate_packing(cfg_.packing);
+    setup.x = pk.x;
+    setup.r = pk.r;
+    setup.density = cfg_.density;
+    setup.density_scaling = cfg_.density_scaling;
+    walls = make_box_walls(pk.lo, pk.hi);
+  }
+  density_ = setup.density;
+  scaling_ = setup.density_scaling;
+  Vs_ = 0;
+  d_mean_ = 0;
+  for (Real r : setup.r) {
+    Vs_ += 4.0 / 3.0 * M_PI * r * r * r;
+    d_mean_ += 2 * r;
+  }
+  d_mean_ /= std::max<size_t>(setup.r.size(), 1);
+  eng_ = std::make_unique<Engine>(setup, ep, walls, true);
+  if (sample) {
+    // A reused sample starts a new run: its own clock and this run's time step.
+    sample->step = 0;
+    sample->time = 0;
+    sample->dt = eng_->dt();
+    sample->mu_r = ep.contact.mu_r;
+    eng_->restore(*sample);
+  }
+}
+
+Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
+  const Engine& e = *eng_;
+  Measure m;
+  m.sx = 0.5 * (e.wall_stress(0) + e.wall_stress(1));
+  m.sy = 0.5 * (e.wall_stress(2) + e.wall_stress(3));
+  m.sz = 0.5 * (e.wall_stress(4) + e.wall_stress(5));
+  m.p = (m.sx + m.sy + m.sz) / 3;
+  m.q = m.sz - 0.5 * (m.sx + m.sy);  // triaxial deviator, axial = z
+  m.V = e.box_volume();
+  m.e = (m.V - Vs_) / Vs_;
+  const Real H = e.wall_position(5) - e.wall_position(4);
+  m.eps_a = lab_.H0 > 0 ? (lab_.H0 - H) / lab_.H0 : 0;  // SPEC §6.3: strains from wall displacements
+  m.eps_v = lab_.V0 > 0 ? (lab_.V0 - m.V) / lab_.V0 : 0;
+  m.u = 0;
+  if (sc.type == StageType::Triaxial && sc.drainage == Drainage::Undrained)
+    m.u = (lab_.p0 + m.q / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + q/3
+  return m;
+}
+
+std::vector<double> Laboratory::row(const StageConfig&, const Measure& m, const Diagnostics& d) {
+  const Engine& e = *eng_;
+  const int np = e.num_particles();
+  // Inertial number I = eps_dot d_mean sqrt(rho / p') with the measured axial strain rate and the
+  // (scaled) density the dynamics actually uses (SPEC §6.3 quasi-static check).
+  const Real dt_rows = e.time() - lab_.last_time;
+  const Real rate = dt_rows > 0 ? std::abs(m.eps_a - lab_.last_eps) / dt_rows : 0;
+  lab_.last_eps = m.eps_a;
+  lab_.last_time = e.time();
+  const Real I = m.p > 0 ? rate * d_mean_ * std::sqrt(density_ * scaling_ / m.p) : 0;
+  return {e.time(),
+          double(e.step_count()),
+          m.eps_a,
+          m.eps_v,
+          m.e,
+          m.p,
+          m.q,
+          m.u,
+          m.sx,
+          m.sy,
+          m.sz,
+          np ? 2.0 * d.contacts / np : 0,
+          d.kinetic,
+          d.potential > 0 ? d.kinetic_translational / d.potential : 0,
+          d.unbalanced_ratio,
+          I,
+          d.contacts ? Real(d.sliding) / d.contacts : 0,
+          d.contacts ? Real(d.rolling_sliding) / d.contacts : 0,
+          e.dt(),
+          scaling_};
+}
+
+bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) const {
+  // SPEC §6.2: every wall within the pressure tolerance, and equilibrium (unbalanced force, kinetic energy).
+  for (int k = 0; k < 6; ++k)
+    if (std::abs(eng_->wall_stress(k) - sc.pressure) > sc.pressure_tolerance * sc.pressure) return false;
+  return d.unbalanced_ratio < sc.ufr_tolerance && d.kinetic_translational < sc.ke_tolerance * d.potential;
+}
+
+void Laboratory::start_stage(const StageConfig& sc) {
+  Engine& e = *eng_;
+  lab_.mu = sc.mu;
+  e.set_friction(sc.mu, sc.mu_r);
+  e.set_damping(sc.damping);
+  const Measure m0 = measure(sc);
+  lab_.H0 = e.wall_position(5) - e.wall_position(4);
+  lab_.V0 = e.box_volume();
+  lab_.p0 = sc.type == StageType::Isotropic ? sc.pressure : std::max<Real>(m0.p, 1e-30);
+  lab_.aspect = (e.wall_position(1) - e.wall_position(0)) / (e.wall_position(3) - e.wall_position(2));
+  lab_.last_eps = 0;
+  lab_.last_time = e.time();
+  lab_.next_snap_eps = cfg_.snapshot_strain;
+  lab_.stage_step = 0;
+  lab_.trial_mu.clear();
+  lab_.trial_e.clear();
+  lab_.searching = sc.type == StageType::Isotropic && sc.target_e0 > 0;
+  for (int k = 0; k < 6; ++k) {
+    WallControl& c = e.wall_control(k);
+    c = WallControl{};
+    c.gain = sc.servo_gain;
+    if (sc.type == StageType::Isotropic) {
+      c.mode = WallMode::Servo;
+      c.target_stress = sc.pressure;
+    } else if (k >= 4) {
+      c.mode = WallMode::Velocity;  // axial walls approach each other at the strain rate
+      c.velocity = 0.5 * sc.axial_strain_rate * lab_.H0;
+    } else if (sc.drainage == Drainage::Drained) {
+      c.mode = WallMode::Servo;
+      c.target_stress = lab_.p0;  // sigma_3 = p'_0 (SPEC §6.3)
     } else {
-      std::printf("%s\n", line.c_str());
+      c.mode = WallMode::Fixed;  // placed analytically every step
     }
   }
-  void done() {
-    if (!quiet_ && tty_) std::printf("\n");
-  }
+  lab_.started = true;
+}
 
- private:
-  bool quiet_, tty_;
-};
+void Laboratory::place_lateral_walls() {
+  // Exact constant volume (SPEC §6.3 undrained): the lateral walls are placed every step so that
+  // Lx Ly H = V0 at the stage's initial aspect ratio, about the current centre.
+  Engine& e = *eng_;
+  const Real H = e.wall_position(5) - e.wall_position(4);
+  const Real cx = 0.5 * (e.wall_position(0) + e.wall_position(1));
+  const Real cy = 0.5 * (e.wall_position(2) + e.wall_position(3));
+  const Real Ly = std::sqrt(lab_.V0 / (H * lab_.aspect));
+  const Real Lx = lab_.V0 / (H * Ly);
+  e.set_wall_position(0, cx - 0.5 * Lx);
+  e.set_wall_position(1, cx + 0.5 * Lx);
+  e.set_wall_position(2, cy - 0.5 * Ly);
+  e.set_wall_position(3, cy + 0.5 * Ly);
+}
+
+Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s0, Real mu, bool& interrupted) {
+  Engine& e = *eng_;
+  e.restore(s0);
+  e.set_friction(mu, sc.mu_r);
+  interrupted = false;
+  for (long s = 0; s < sc.max_steps; ++s) {
+    e.evaluate();
+    const bool check = ((s + 1) % sc.check_every) == 0;
+    bool done = false;
+    if (check) done = isotropic_done(sc, e.diagnostics());
+    e.advance();
+    ++total_steps_;
+    if (done) break;
+    if (stop_requested()) {
+      interrupted = true;
+      return 0;
+    }
+    if (s % 5000 == 0) {
+      std::ostringstream os;
+      os << std::setprecision(4) << sc.name << " | target_e0 " << sc.target_e0 << " | trial " << lab_.trial_mu.size() + 1
+         << " mu = " << mu << " | step " << s << " | p = " << measure(sc).p / 1e3 << " kPa";
+      progress(os.str());
+    }
+  }
+  return measure(sc).e;
+}
+
+bool Laboratory::search_e0(const StageConfig& sc) {
+  // e after consolidation grows with the preparation friction (SPEC §6.2): bracket [0, mu_max], then
+  // regula falsi (Illinois) on e(mu) - target. Each trial starts from the same stage-start state s0.
+  const EngineState s0 = eng_->capture();
+  auto next_mu = [&]() -> Real {
+    const size_t n = lab_.trial_mu.size();
+    if (n == 0) return 0;
+    if (n == 1) return sc.mu_max;
+    // On a small sample e(mu) is monotone only on average (+-0.005 of noise at a few hundred spheres), so
+    // the trials are ordered by mu and the narrowest adjacent pair whose void ratios straddle the target
+    // is refined, by interpolation kept within 10-90 % of the pair: never a repeated mu, and the
+    // interval always shrinks.
+    std::vector<std::pair<Real, Real>> t;
+    for (size_t k = 0; k < n; ++k) t.emplace_back(lab_.trial_mu[k], lab_.trial_e[k]);
+    std::sort(t.begin(), t.end());
+    Real best_w = 1e300, mu = -1;
+    for (size_t k = 0; k + 1 < t.size(); ++k) {
+      const Real a = t[k].second - sc.target_e0, b = t[k + 1].second - sc.target_e0;
+      const Real w = t[k + 1].first - t[k].first;
+      if (a * b > 0 || w <= 0 || w >= best_w) continue;
+      const Real f = std::min<Real>(0.9, std::max<Real>(0.1, a / (a - b)));
+      best_w = w;
+      mu = t[k].first + f * w;
+    }
+    return mu;  // -1: the target lies outside [e(0), e(mu_max)]
+  };
+  while (int(lab_.trial_mu.size()) < sc.max_trials) {
+    // Converged?
+    for (size_t k = 0; k < lab_.trial_mu.size(); ++k)
+      if (std::abs(lab_.trial_e[k] - sc.target_e0) <= sc.target_e0_tolerance) goto found;
+    {
+      const Real mu = next_mu();
+      if (mu < 0) break;
+      bool interrupted = false;
+      const Real e = trial_consolidation(sc, s0, mu, interrupted);
+      if (interrupted) {
+        eng_->restore(s0);
+        return false;
+      }
+      lab_.trial_mu.push_back(mu);
+      lab_.trial_e.push_back(e);
+      if (!opt_.quiet) {
+        progress("", true);
+        std::printf("%s: target_e0 %.4f: trial %zu mu = %.4f -> e = %.4f\n", sc.name.c_str(), sc.target_e0,
+                    lab_.trial_mu.size(), mu, e);
+      }
+      eng_->restore(s0);
+      write_checkpoint();  // stage-start state + the trials so far: a resume skips finished trials
+    }
+  }
+found : {
+  size_t best = 0;
+  for (size_t k = 1; k < lab_.trial_mu.size(); ++k)
+    if (std::abs(lab_.trial_e[k] - sc.target_e0) < std::abs(lab_.trial_e[best] - sc.target_e0)) best = k;
+  lab_.mu = lab_.trial_mu[best];
+  if (std::abs(lab_.trial_e[best] - sc.target_e0) > sc.target_e0_tolerance && !opt_.quiet)
+    std::printf("%s: target_e0 %.4f NOT reached within %.4f (reachable here: e in [%.4f, %.4f]); using mu = %.4f "
+                "(e = %.4f)\n",
+                sc.name.c_str(), sc.target_e0, sc.target_e0_tolerance,
+                *std::min_element(lab_.trial_e.begin(), lab_.trial_e.end()),
+                *std::max_element(lab_.trial_e.begin(), lab_.trial_e.end()), lab_.mu, lab_.trial_e[best]);
+}
+  lab_.searching = false;
+  eng_->restore(s0);
+  eng_->set_friction(lab_.mu, sc.mu_r);
+  return true;
+}
+
+void Laboratory::progress(const std::string& line, bool final) {
+  if (opt_.quiet) return;
+  if (tty_) {
+    if (final) std::printf("\r%-120s\r", "");
+    else std::printf("\r%-120s", line.c_str());
+    std::fflush(stdout);
+  } else if (!final) {
+    std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
+  }
+}
+
+bool Laboratory::run_stage(const StageConfig& sc) {
+  Engine& e = *eng_;
+  if (lab_.searching && !search_e0(sc)) return false;
+  stage_t0_ = std::chrono::steady_clock::now();
+  stage_step0_ = lab_.stage_step;
+  int rows_since_flush = 0;
+  bool done = false;
+  Measure final_m{};
+  while (lab_.stage_step < sc.max_steps) {
+    e.evaluate();  // x(t), pair forces, history and wall loads now belong to the same instant
+    ++lab_.stage_step;
+    const bool report = (e.step_count() % cfg_.output_every) == 0;
+    const bool last_step = lab_.stage_step == sc.max_steps;
+    const bool check = (lab_.stage_step % sc.check_every) == 0 || last_step;
+    Measure m{};
+    if (report || check || sc.type == StageType::Triaxial) m = measure(sc);
+    const bool snap = sc.type == StageType::Triaxial && cfg_.snapshot_strain > 0 && m.eps_a >= lab_.next_snap_eps;
+    if (report || check || snap) {
+      const Diagnostics d = e.diagnostics();
+      if (report) {
+        lab_.series.rows.push_back(row(sc, m, d));
+        lab_.series.stage.push_back(lab_.stage);
+        const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_t0_).count();
+        const double rate = (lab_.stage_step - stage_step0_) / std::max(el, 1e-9);
+        std::ostringstream line;
+        line << std::setprecision(4) << sc.name << " | step " << e.step_count() << " | p = " << m.p / 1e3
+             << " kPa | q = " << m.q / 1e3 << " kPa | e = " << m.e;
+        if (sc.type == StageType::Triaxial) {
+          line << " | eps_a = " << m.eps_a;
+          const double steps_left = (sc.max_axial_strain - m.eps_a) / std::max(1e-30, sc.axial_strain_rate * e.dt());
+          line << " | ETA " << std::setprecision(3) << steps_left / std::max(rate, 1e-9) << " s";
+        } else {
+          line << " | ufr = " << d.unbalanced_ratio;
+        }
+        line << " | " << std::setprecision(3) << rate << " steps/s";
+        progress(line.str());
+        if (++rows_since_flush >= 20) {
+          flush_outputs();
+          rows_since_flush = 0;
+        }
+      }
+      if (check) done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : m.eps_a >= sc.max_axial_strain;
+      if (snap) {
+        snapshot(sc.name + "_eps" + std::to_string(lab_.snapshots));
+        while (lab_.next_snap_eps <= m.eps_a) lab_.next_snap_eps += cfg_.snapshot_strain;
+      }
+      if (sc.type == StageType::Triaxial && m.eps_a >= sc.max_axial_strain) done = true;
+      if (done || last_step) {
+        // The stage's final row and snapshot, at the very instant its end criteria were evaluated.
+        if (!report) {
+          lab_.series.rows.push_back(row(sc, m, d));
+          lab_.series.stage.push_back(lab_.stage);
+        }
+        final_m = m;
+        if (!snap) snapshot(sc.name + "_end");
+      }
+    }
+    e.advance();  // a step always completes: the history increments of evaluate() are already applied
+    ++total_steps_;
+    if (sc.type == StageType::Triaxial && sc.drainage == Drainage::Undrained) place_lateral_walls();
+    if (done) break;
+    const bool ckpt_steps = cfg_.checkpoint_every > 0 && e.step_count() % cfg_.checkpoint_every == 0;
+    const bool ckpt_time =
+        cfg_.checkpoint_minutes > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - last_ckpt_).count() > 60 * cfg_.checkpoint_minutes;
+    if (ckpt_steps || ckpt_time) write_checkpoint();
+    if (stop_requested()) return false;
+  }
+  progress("", true);
+  StageResult res;
+  res.name = sc.name;
+  res.converged = done;
+  res.steps = lab_.stage_step;
+  res.mu = lab_.mu;
+  const Measure& m = final_m;
+  res.p = m.p;
+  res.q = m.q;
+  res.e = m.e;
+  lab_.results.push_back(res);
+  if (sc.type == StageType::Isotropic && sc.save_sample) save_sample(sc);
+  if (!opt_.quiet)
+    std::printf("stage %s: %s after %ld steps, mu = %.4g, p = %.4g kPa, q = %.4g kPa, e = %.4f\n", sc.name.c_str(),
+                done ? "done" : "NOT converged (max_steps reached)", lab_.stage_step, lab_.mu, m.p / 1e3, m.q / 1e3, m.e);
+  return true;
+}
+
+void Laboratory::snapshot(const std::string& tag) {
+  const Engine& e = *eng_;
+  std::error_code ec;
+  fs::create_directories(out_ + "/snapshots", ec);
+  char name[64];
+  std::snprintf(name, sizeof(name), "snapshots/snap_%05d.h5", lab_.snapshots);
+  const EngineState s = e.capture();
+  // Contacts: normal from the current positions; f_n and f_t from the pair force of this evaluation.
+  const auto fpair = Engine::to_host(e.pair_forces().f);
+  auto pi = Kokkos::create_mirror_view_and_copy(HostSpace(), e.pairs().pair_i);
+  auto pj = Kokkos::create_mirror_view_and_copy(HostSpace(), e.pairs().pair_j);
+  auto fl = Kokkos::create_mirror_view_and_copy(HostSpace(), e.history().flags);
+  std::vector<int> ci, cj;
+  std::vector<Vec3d> cn, cft, cmr;
+  std::vector<double> cfn;
+  std::vector<std::uint8_t> cfl;
+  for (int p = 0; p < e.pairs().npairs; ++p) {
+    if (!(fl(p) & kTouching)) continue;
+    const int i = pi(p), j = pj(p);
+    Vec3d d{s.x[j][0] - s.x[i][0], s.x[j][1] - s.x[i][1], s.x[j][2] - s.x[i][2]};
+    const Real len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (auto& c : d) c /= len;
+    ci.push_back(i);
+    cj.push_back(j);
+    cn.push_back(d);
+    cfn.push_back(fpair[p][0] * d[0] + fpair[p][1] * d[1] + fpair[p][2] * d[2]);
+    cfl.push_back(fl(p));
+  }
+  // history arrays in capture() are in the same (sorted, touching-only) order as the loop above
+  cft = s.ft;
+  cmr = s.mr;
+  std::vector<int> ids(s.x.size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = int(i);
+  write_h5_atomic(out_ + "/" + name, [&](H5Writer& w) {
+    w.attr("step", double(e.step_count()));
+    w.attr("time", e.time());
+    w.attr("tag", tag);
+    w.group("/particles");
+    w.write("/particles/id", ids);
+    w.write("/particles/x", s.x);
+    w.write("/particles/v", s.v);
+    w.write("/particles/w", s.w);
+    w.write("/particles/r", s.r);
+    w.group("/contacts");
+    w.write("/contacts/i", ci);
+    w.write("/contacts/j", cj);
+    w.write("/contacts/n", cn);
+    w.write("/contacts/f_n", cfn);
+    w.write("/contacts/f_t", cft);
+    w.write("/contacts/m_r", cmr);
+    w.write("/contacts/flags", cfl);
+    std::vector<int> conn;
+    for (size_t k = 0; k < ci.size(); ++k) conn.insert(conn.end(), {ci[k], cj[k]});
+    w.write("/contacts/connectivity", conn);
+  });
+  lab_.snapshot_files.push_back(name);
+  lab_.snapshot_time.push_back(e.time());
+  lab_.snapshot_eps.push_back(measure(cfg_.stages[lab_.stage]).eps_a);
+  ++lab_.snapshots;
+  write_xdmf();
+}
+
+void Laboratory::write_xdmf() {
+  // ParaView: particles as points (apply "Point Gaussian" or Glyph by `radius`), contacts as lines
+  // coloured by f_n (force chains), one time step per snapshot.
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+    << "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  std::ostringstream c;
+  c << "<Grid Name=\"contacts\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (size_t k = 0; k < lab_.snapshot_files.size(); ++k) {
+    H5Reader r(out_ + "/" + lab_.snapshot_files[k]);
+    const size_t n = r.doubles("/particles/r").size();
+    const size_t m = r.ints("/contacts/i").size();
+    const std::string f = lab_.snapshot_files[k];
+    x << " <Grid Name=\"p" << k << "\"><Time Value=\"" << std::setprecision(12) << lab_.snapshot_time[k] << "\"/>\n"
+      << "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n"
+      << "  <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"" << n << " 3\" NumberType=\"Float\" Precision=\"8\" "
+         "Format=\"HDF\">" << f << ":/particles/x</DataItem></Geometry>\n";
+    for (auto& a : {std::make_pair("radius", "/particles/r"), std::make_pair("id", "/particles/id")})
+      x << "  <Attribute Name=\"" << a.first << "\" Center=\"Node\"><DataItem Dimensions=\"" << n << "\" NumberType=\""
+        << (std::string(a.first) == "id" ? "Int\" Precision=\"4" : "Float\" Precision=\"8") << "\" Format=\"HDF\">" << f
+        << ':' << a.second << "</DataItem></Attribute>\n";
+    for (auto& a : {std::make_pair("velocity", "/particles/v"), std::make_pair("spin", "/particles/w")})
+      x << "  <Attribute Name=\"" << a.first << "\" AttributeType=\"Vector\" Center=\"Node\"><DataItem Dimensions=\"" << n
+        << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << f << ':' << a.second
+        << "</DataItem></Attribute>\n";
+    x << " </Grid>\n";
+    c << " <Grid Name=\"c" << k << "\"><Time Value=\"" << std::setprecision(12) << lab_.snapshot_time[k] << "\"/>\n"
+      << "  <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" << m << "\">"
+      << "<DataItem Dimensions=\"" << m << " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << f
+      << ":/contacts/connectivity</DataItem></Topology>\n"
+      << "  <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"" << n << " 3\" NumberType=\"Float\" Precision=\"8\" "
+         "Format=\"HDF\">" << f << ":/particles/x</DataItem></Geometry>\n"
+      << "  <Attribute Name=\"f_n\" Center=\"Cell\"><DataItem Dimensions=\"" << m
+      << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << f << ":/contacts/f_n</DataItem></Attribute>\n"
+      << " </Grid>\n";
+  }
+  x << "</Grid>\n" << c.str() << "</Grid>\n</Domain>\n</Xdmf>\n";
+  write_file_atomic(out_ + "/particles.xdmf", x.str());
+}
+
+void Laboratory::save_sample(const StageConfig& sc) {
+  const std::string path = out_ + "/sample_" + sc.name + ".h5";
+  const EngineState s = eng_->capture();
+  const StageResult& r = lab_.results.back();
+  write_h5_atomic(path, [&](H5Writer& w) {
+    write_state(w, s);
+    w.attr("density", density_);
+    w.attr("density_scaling", scaling_);
+    w.attr("p", r.p);
+    w.attr("e", r.e);
+    w.attr("mu_prep", r.mu);
+    w.attr("stage", sc.name);
+    w.attr("config", resolved_config_yaml(cfg_));
+    w.attr("build", build_info());
+  });
+  if (!opt_.quiet) std::printf("sample: %s (reuse it with sample: {file: ...})\n", path.c_str());
+}
+
+std::string Laboratory::write_checkpoint(const EngineState* state_override) {
+  const EngineState s = state_override ? *state_override : eng_->capture();
+  char name[64];
+  std::snprintf(name, sizeof(name), "/checkpoints/ckpt_%012ld.h5", eng_->step_count());
+  const std::string path = out_ + name;
+  write_h5_atomic(path, [&](H5Writer& w) {
+    write_state(w, s);
+    w.group("/lab");
+    w.write("/lab/scalars", lab_.scalars());
+    w.write("/lab/trial_mu", lab_.trial_mu);
+    w.write("/lab/trial_e", lab_.trial_e);
+    w.write("/lab/series", lab_.series.flat());
+    w.write("/lab/series_stage", lab_.series.stage);
+    std::vector<double> res;
+    std::vector<std::string> names;
+    for (auto& r : lab_.results) {
+      res.insert(res.end(), {double(r.converged), double(r.steps), r.p, r.q, r.e, r.mu});
+      names.push_back(r.name);
+    }
+    w.write("/lab/results", res);
+    w.write_string("/lab/result_names", join(names, '\n'));
+    w.write_string("/lab/snapshot_files", join(lab_.snapshot_files, '\n'));
+    w.write("/lab/snapshot_time", lab_.snapshot_time);
+    w.write("/lab/snapshot_eps", lab_.snapshot_eps);
+    w.write_string("/lab/config", fingerprint_);
+    w.attr("build", build_info());
+  });
+  last_ckpt_ = std::chrono::steady_clock::now();
+  // Keep the newest keep_checkpoints files; older ones go only after the new one is safely in place.
+  std::vector<std::string> all;
+  for (auto& f : fs::directory_iterator(out_ + "/checkpoints"))
+    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") all.push_back(f.path());
+  std::sort(all.begin(), all.end());
+  for (size_t k = 0; k + cfg_.keep_checkpoints < all.size(); ++k) fs::remove(all[k]);
+  flush_outputs();
+  return path;
+}
+
+bool Laboratory::load_newest_checkpoint() {
+  std::vector<std::string> all;
+  for (auto& f : fs::directory_iterator(out_ + "/checkpoints"))
+    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") all.push_back(f.path());
+  std::sort(all.rbegin(), all.rend());
+  for (const std::string& path : all) {
+    try {
+      H5Reader r(path);
+      if (r.string("/lab/config") != fingerprint_)
+        throw std::runtime_error(path + ": written by a different config; resume with the config that started the "
+                                        "run (see run.h5 attribute 'config')");
+      EngineState s = read_state(r);
+      Lab lab;
+      lab.set_scalars(r.doubles("/lab/scalars"));
+      lab.trial_mu = r.doubles("/lab/trial_mu");
+      lab.trial_e = r.doubles("/lab/trial_e");
+      const auto flat = r.doubles("/lab/series");
+      lab.series.stage = r.ints("/lab/series_stage");
+      const size_t nc = series_columns().size();
+      if (flat.size() != lab.series.stage.size() * nc) throw H5Error(path + ": series has the wrong size (corrupt?)");
+      for (size_t k = 0; k < lab.series.stage.size(); ++k)
+        lab.series.rows.emplace_back(flat.begin() + k * nc, flat.begin() + (k + 1) * nc);
+      const auto res = r.doubles("/lab/results");
+      const auto names = split(r.string("/lab/result_names"), '\n');
+      if (res.size() != 6 * names.size()) throw H5Error(path + ": stage results have the wrong size (corrupt?)");
+      for (size_t k = 0; k < names.size(); ++k) {
+        StageResult sr;
+        sr.name = names[k];
+        sr.converged = res[6 * k] != 0;
+        sr.steps = long(res[6 * k + 1]);
+        sr.p = res[6 * k + 2];
+        sr.q = res[6 * k + 3];
+        sr.e = res[6 * k + 4];
+        sr.mu = res[6 * k + 5];
+        lab.results.push_back(sr);
+      }
+      lab.snapshot_files = split(r.string("/lab/snapshot_files"), '\n');
+      lab.snapshot_time = r.doubles("/lab/snapshot_time");
+      lab.snapshot_eps = r.doubles("/lab/snapshot_eps");
+      if (lab.stage < 0 || lab.stage > int(cfg_.stages.size())) throw H5Error(path + ": stage index out of range");
+      eng_->restore(s);
+      lab_ = lab;
+      if (!opt_.quiet) std::printf("resuming from %s (step %ld)\n", path.c_str(), s.step);
+      return true;
+    } catch (const H5Error& e) {
+      std::fprintf(stderr, "grainlab: warning: skipping unreadable checkpoint: %s\n", e.what());
+    }
+  }
+  return false;
+}
+
+void Laboratory::flush_outputs() {
+  write_file_atomic(out_ + "/series.csv", lab_.series.csv(cfg_.stages));
+  write_h5_atomic(out_ + "/run.h5", [&](H5Writer& w) {
+    w.attr("config", resolved_config_yaml(cfg_));
+    w.attr("build", build_info());
+    w.attr("density_scaling", scaling_);
+    w.group("/series");
+    const auto& cols = series_columns();
+    for (size_t c = 0; c < cols.size(); ++c) w.write("/series/" + cols[c].first, lab_.series.column(c));
+    w.write("/series/stage", lab_.series.stage);
+    std::vector<std::string> units, names;
+    for (auto& c : cols) names.push_back(c.first), units.push_back(c.second);
+    w.write_string("/series/columns", join(names, ','));
+    w.write_string("/series/units", join(units, ','));
+    std::vector<std::string> stage_names;
+    for (auto& s : cfg_.stages) stage_names.push_back(s.name);
+    w.write_string("/series/stage_names", join(stage_names, ','));
+    w.group("/snapshots");
+    w.write_string("/snapshots/files", join(lab_.snapshot_files, '\n'));
+    w.write("/snapshots/time", lab_.snapshot_time);
+    w.write("/snapshots/eps_a", lab_.snapshot_eps);
+  });
+}
+
+RunResult Laboratory::run() {
+  SignalGuard guard;
+  prepare_output_dir();
+  build_engine();
+  RunResult result;
+  if (opt_.resume) {
+    if (!load_newest_checkpoint())
+      throw std::runtime_error(out_ + "/checkpoints: no readable checkpoint to resume from");
+  }
+  if (!opt_.quiet) {
+    std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g\n",
+                build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_);
+    std::printf("output: %s\n", out_.c_str());
+  }
+  if (!opt_.resume) write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
+  for (; lab_.stage < int(cfg_.stages.size()); ++lab_.stage) {
+    const StageConfig& sc = cfg_.stages[lab_.stage];
+    if (!lab_.started) start_stage(sc);
+    if (!run_stage(sc)) {
+      progress("", true);
+      result.interrupted = true;
+      // Searching: the checkpoint holds the stage-start state; otherwise the current step boundary.
+      result.checkpoint = write_checkpoint();
+      if (!opt_.quiet)
+        std::printf("interrupted at step %ld: checkpoint %s; continue with --resume\n", eng_->step_count(),
+                    result.checkpoint.c_str());
+      result.stages = lab_.results;
+      return result;
+    }
+    lab_.started = false;
+  }
+  flush_outputs();
+  write_checkpoint();  // the final state, so a finished run can be extended or inspected
+  if (!opt_.quiet) std::printf("done: %s/series.csv, run.h5, particles.xdmf\n", out_.c_str());
+  result.stages = lab_.results;
+  return result;
+}
 
 }  // namespace
 
-std::vector<StageResult> run_simulation(const RunConfig& cfg, const RunOptions& opt) {
-  const std::string out = opt.out_dir.empty() ? cfg.out_dir : opt.out_dir;
-  fs::create_directories(out);
-  Packing pk = generate_packing(cfg.packing);
-  ParticleSetup setup;
-  setup.x = pk.x;
-  setup.r = pk.r;
-  setup.density = cfg.density;
-  setup.density_scaling = cfg.density_scaling;
-  Sample sample;
-  for (Real r : pk.r) sample.Vs += 4.0 / 3.0 * M_PI * r * r * r;
-  // The time step is chosen once for the whole run, for its stiffest stage (rolling on in any stage).
-  EngineParams ep = cfg.engine;
-  for (const StageConfig& sc : cfg.stages) ep.contact.mu_r = std::max(ep.contact.mu_r, sc.mu_r);
-  Engine eng(setup, ep, make_box_walls(pk.lo, pk.hi), true);
-  if (!opt.quiet)
-    std::printf("grainlab %s | Kokkos %d | %s x %d threads | %d particles | dt = %.4g s (%.3g of the limit)\n",
-                GRAINLAB_VERSION, KOKKOS_VERSION, ExecSpace::name(), ExecSpace().concurrency(),
-                eng.num_particles(), eng.dt(), eng.dt() / eng.critical_dt());
-
-  Series series(out + "/series.csv");
-  Progress progress(opt.quiet);
-  std::vector<StageResult> results;
-  auto clock = std::chrono::steady_clock::now;
-
-  for (const StageConfig& sc : cfg.stages) {
-    eng.set_friction(sc.mu, sc.mu_r);
-    eng.set_damping(sc.damping);
-    StageResult res;
-    res.name = sc.name;
-    const State st0 = wall_state(eng, sample);
-    const Real H0 = eng.wall_position(5) - eng.wall_position(4);
-    const Real V0 = st0.V;
-    const Real p0 = sc.type == StageType::Isotropic ? sc.pressure : std::max<Real>(st0.p, 1e-30);
-    const Real aspect = (eng.wall_position(1) - eng.wall_position(0)) / (eng.wall_position(3) - eng.wall_position(2));
-    for (int k = 0; k < 6; ++k) {
-      WallControl& c = eng.wall_control(k);
-      c = WallControl{};
-      c.gain = sc.servo_gain;
-      if (sc.type == StageType::Isotropic) {
-        c.mode = WallMode::Servo;
-        c.target_stress = sc.pressure;
-      } else if (k >= 4) {
-        c.mode = WallMode::Velocity;  // axial walls approach each other at the strain rate
-        c.velocity = 0.5 * sc.axial_strain_rate * H0;
-      } else if (sc.drainage == Drainage::Drained) {
-        c.mode = WallMode::Servo;
-        c.target_stress = p0;  // sigma_3 = p'_0 (SPEC §6.3)
-      } else {
-        c.mode = WallMode::Fixed;  // placed analytically below
-      }
-    }
-    auto t_start = clock();
-    long s = 0;
-    Real eps_a = 0, eps_v = 0, u = 0;
-    for (; s < sc.max_steps; ++s) {
-      eng.step();
-      if (sc.type == StageType::Triaxial) {
-        const Real H = eng.wall_position(5) - eng.wall_position(4);
-        if (sc.drainage == Drainage::Undrained) {
-          // Exact constant volume: lateral walls placed every step so Lx Ly H = V0 at a fixed aspect.
-          const Real cx = 0.5 * (eng.wall_position(0) + eng.wall_position(1));
-          const Real cy = 0.5 * (eng.wall_position(2) + eng.wall_position(3));
-          const Real Ly = std::sqrt(V0 / (H * aspect));
-          const Real Lx = V0 / (H * Ly);
-          eng.set_wall_position(0, cx - 0.5 * Lx);
-          eng.set_wall_position(1, cx + 0.5 * Lx);
-          eng.set_wall_position(2, cy - 0.5 * Ly);
-          eng.set_wall_position(3, cy + 0.5 * Ly);
-        }
-        eps_a = (H0 - H) / H0;
-        eps_v = (V0 - eng.box_volume()) / V0;
-      }
-      const bool report = (eng.step_count() % cfg.output_every) == 0;
-      const bool check = ((s + 1) % sc.check_every) == 0;
-      if (!(report || check)) continue;
-      const State st = wall_state(eng, sample);
-      const Diagnostics d = eng.diagnostics();
-      if (sc.type == StageType::Triaxial && sc.drainage == Drainage::Undrained)
-        u = (p0 + st.q / 3) - st.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + q/3
-      if (report) {
-        series.row(eng, sc.name, st, d, eps_a, eps_v, u, cfg.density_scaling);
-        const double el = std::chrono::duration<double>(clock() - t_start).count();
-        std::ostringstream line;
-        line << std::setprecision(4) << sc.name << " | step " << eng.step_count() << " | p = " << st.p / 1e3
-             << " kPa | q = " << st.q / 1e3 << " kPa | e = " << st.e;
-        if (sc.type == StageType::Triaxial) line << " | eps_a = " << eps_a;
-        line << " | ufr = " << d.unbalanced_ratio << " | " << std::setprecision(3) << (s + 1) / std::max(el, 1e-9)
-             << " steps/s";
-        progress.show(line.str());
-      }
-      if (check) {
-        bool done;
-        if (sc.type == StageType::Isotropic) {
-          // SPEC §6.2: pressure within tolerance and equilibrium (unbalanced force and kinetic energy).
-          bool walls_ok = true;
-          for (int k = 0; k < 6; ++k)
-            walls_ok = walls_ok && std::abs(eng.wall_stress(k) - sc.pressure) <= sc.pressure_tolerance * sc.pressure;
-          done = walls_ok && d.unbalanced_ratio < sc.ufr_tolerance && d.kinetic < sc.ke_tolerance * d.potential;
-        } else {
-          done = eps_a >= sc.max_axial_strain;
-        }
-        if (done) {
-          res.converged = true;
-          ++s;
-          break;
-        }
-      }
-    }
-    progress.done();
-    const State st = wall_state(eng, sample);
-    res.steps = s;
-    res.p = st.p;
-    res.q = st.q;
-    res.e = st.e;
-    series.row(eng, sc.name, st, eng.diagnostics(), eps_a, eps_v, u, cfg.density_scaling);
-    series.flush();
-    if (!opt.quiet)
-      std::printf("stage %s: %s after %ld steps, p = %.4g kPa, q = %.4g kPa, e = %.4f\n", sc.name.c_str(),
-                  res.converged ? "done" : "NOT converged (max_steps reached)", s, st.p / 1e3, st.q / 1e3, st.e);
-    results.push_back(res);
-  }
-  if (!opt.quiet) std::printf("series: %s/series.csv\n", out.c_str());
-  return results;
+RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt) {
+  Laboratory lab(cfg, opt);
+  return lab.run();
 }
 
 }  // namespace grainlab
