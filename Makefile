@@ -1,6 +1,8 @@
 # grainlab: `make run` and `make test` go from a fresh Debian 12 clone to a result.
 BUILD  ?= build
 CONFIG ?= configs/quick.yaml
+# Each `make run` writes a new run directory (grainlab never overwrites a run); runs/latest points to it.
+RUN_DIR ?= runs/$(basename $(notdir $(CONFIG)))-$(shell date +%Y%m%d-%H%M%S)
 JOBS   ?= $(shell nproc)
 CMAKE_ARGS ?=
 
@@ -21,7 +23,8 @@ build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
 run: build
-	$(BUILD)/grainlab run $(CONFIG)
+	$(BUILD)/grainlab run $(CONFIG) --out $(RUN_DIR)
+	@ln -sfn $(notdir $(RUN_DIR)) runs/latest && echo "runs/latest -> $(RUN_DIR)"
 
 # Tests declare their own thread counts (OMP_NUM_THREADS per test, see tests/CMakeLists.txt);
 # --parallel lets CTest pack them onto the cores using each test's PROCESSORS property.
