@@ -290,6 +290,53 @@ Diagnostics Engine::diagnostics() {
   return d;
 }
 
+Descriptors Engine::analyze(Real volume) {
+  const PairList& L = lists_[cur_];
+  const EngineContacts src{P_.x, pf_.f, L.pair_i, L.pair_j, hist_[cur_].flags};
+  Descriptors D = compute_descriptors(src, L.npairs, P_.n, volume > 0 ? volume : box_volume(), red_);
+  count_rattlers(P_, L, hist_[cur_], red_, D.rattlers0, D.rattlers1);
+  // Boundary contacts: per wall, sum of k_w delta (r - delta/2) along the wall normal.
+  {
+    auto x = P_.x;
+    auto r = P_.r;
+    const WallSet ws = walls_;
+    const int nw = ws.count;
+    const Real Ew = params_.E_wall;
+    Real mom[kMaxWalls] = {};
+    red_.run(
+        "grainlab::analysis::wall_moments", P_.n, nw,
+        KOKKOS_LAMBDA(int i, Real* acc) {
+          const Vec3 xi = load(x, i);
+          for (int k = 0; k < nw; ++k) {
+            const Real dw = WallLaw::overlap(ws.w[k], xi, r(i));
+            if (dw > 0) acc[k] += WallLaw::stiffness(Ew, r(i)) * dw * (r(i) - 0.5 * dw);
+          }
+        },
+        mom);
+    const Real V = volume > 0 ? volume : box_volume();
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        Real t = 0;
+        for (int k = 0; k < nw; ++k) t += mom[k] * walls_.w[k].n[a] * walls_.w[k].n[b];
+        D.sigma_walls[a][b] = D.sigma[a][b] + (V > 0 ? t / V : 0);
+      }
+    Sym sw;
+    sw.v[0] = D.sigma_walls[0][0];
+    sw.v[1] = D.sigma_walls[1][1];
+    sw.v[2] = D.sigma_walls[2][2];
+    sw.v[3] = 0.5 * (D.sigma_walls[0][1] + D.sigma_walls[1][0]);
+    sw.v[4] = 0.5 * (D.sigma_walls[1][2] + D.sigma_walls[2][1]);
+    sw.v[5] = 0.5 * (D.sigma_walls[2][0] + D.sigma_walls[0][2]);
+    D.p_walls = sw.trace() / 3;
+    const Sym sd = sw.deviator();
+    D.q_walls = std::sqrt(1.5 * sd.ddot(sd));
+  }
+  // Mechanical coordination (Thornton 2000): rattlers with fewer than 2 contacts removed.
+  const int active = P_.n - D.rattlers0 - D.rattlers1;
+  D.z_mech = active > 0 ? Real(2 * D.nc - D.rattlers1) / active : 0;
+  return D;
+}
+
 EngineState Engine::capture() const {
   EngineState s;
   s.step = step_;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "../kernels/analysis.hpp"
 #include "../kernels/dem.hpp"
 
 namespace grainlab {
@@ -122,6 +123,9 @@ class Engine {
   Real box_volume() const;
 
   Diagnostics diagnostics();
+  // SPEC §7 descriptors of the current evaluation (call between evaluate() and advance() for
+  // positions and forces of one instant). Volume: the box's, or `volume` when given.
+  Descriptors analyze(Real volume = 0);
 
   const Particles& particles() const { return P_; }
   const PairList& pairs() const { return lists_[cur_]; }

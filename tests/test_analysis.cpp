@@ -1,0 +1,281 @@
+// SPEC §7 descriptors against known answers (issue 4).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "helpers.hpp"
+
+using namespace grainlab;
+
+namespace {
+
+// Contacts given as arrays (synthetic sets), through the same kernel as the engine's contacts.
+struct ArrayContacts {
+  VecView n, f;
+  RealView l;
+  FlagView flags;
+  KOKKOS_INLINE_FUNCTION bool operator()(int p, Contact& c) const {
+    c.n = load(n, p);
+    c.f = load(f, p);
+    c.l = l(p);
+    c.flags = flags(p) | kTouching;
+    return true;
+  }
+};
+
+struct HostContact {
+  Eigen::Vector3d n, f;
+  double l;
+  std::uint8_t flags;
+};
+
+Descriptors run_kernel(const std::vector<HostContact>& cs, double volume) {
+  const int m = int(cs.size());
+  ArrayContacts a{VecView("n", m), VecView("f", m), RealView("l", m), FlagView("flags", m)};
+  auto hn = Kokkos::create_mirror_view(a.n);
+  auto hf = Kokkos::create_mirror_view(a.f);
+  auto hl = Kokkos::create_mirror_view(a.l);
+  auto hfl = Kokkos::create_mirror_view(a.flags);
+  for (int p = 0; p < m; ++p) {
+    for (int k = 0; k < 3; ++k) {
+      hn(p, k) = cs[p].n[k];
+      hf(p, k) = cs[p].f[k];
+    }
+    hl(p) = cs[p].l;
+    hfl(p) = cs[p].flags;
+  }
+  Kokkos::deep_copy(a.n, hn);
+  Kokkos::deep_copy(a.f, hf);
+  Kokkos::deep_copy(a.l, hl);
+  Kokkos::deep_copy(a.flags, hfl);
+  DeterministicSum red;
+  return compute_descriptors(a, m, 1000, volume, red);
+}
+
+Eigen::Matrix3d dev(const Eigen::Matrix3d& a) { return a - a.trace() / 3 * Eigen::Matrix3d::Identity(); }
+Eigen::Matrix3d to_mat(const Sym& s) {
+  Eigen::Matrix3d m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) = s(i, j);
+  return m;
+}
+double max_abs(const Eigen::Matrix3d& a) { return a.cwiseAbs().maxCoeff(); }
+
+// Fourier model (Rothenburg & Bathurst): E(n) = (1 + a^c:nn)/4pi, l(n) = l0 (1 + a^d:nn),
+// f_n(n) = f0 (1 + a^n:nn), f_t(n) = f0 [a^t n - (n.a^t.n) n].
+struct Fourier {
+  Eigen::Matrix3d ac, ad, an, at;
+};
+std::vector<HostContact> fourier_set(const Fourier& F, int m, std::uint64_t seed) {
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> N01;
+  std::uniform_real_distribution<double> U(0, 1);
+  const double emax = 1 + F.ac.eigenvalues().real().maxCoeff();
+  std::vector<HostContact> out;
+  while (int(out.size()) < m) {
+    Eigen::Vector3d n(N01(g), N01(g), N01(g));
+    n.normalize();
+    if (U(g) * emax > 1 + n.dot(F.ac * n)) continue;  // rejection sampling of E(n)
+    HostContact c;
+    c.n = n;
+    c.l = 1e-3 * (1 + n.dot(F.ad * n));
+    const double fn = 1.0 * (1 + n.dot(F.an * n));
+    const Eigen::Vector3d atn = F.at * n;
+    c.f = fn * n + (atn - n.dot(atn) * n);
+    c.flags = 0;
+    out.push_back(c);
+  }
+  return out;
+}
+Eigen::Matrix3d axisym(double a) { return a * Eigen::Vector3d(-0.5, -0.5, 1).asDiagonal(); }
+Eigen::Matrix3d general(double a) {  // deviatoric, not coaxial with the frame
+  Eigen::Matrix3d m;
+  m << -0.3, 0.2, 0.1, 0.2, -0.4, -0.15, 0.1, -0.15, 0.7;
+  return a * m;
+}
+
+}  // namespace
+
+// Normals from E(n) and Fourier forces: the code recovers the prescribed tensors within sampling error,
+// and that error falls as 1/sqrt(N): a component of a^c has a standard deviation ~ 2/sqrt(N), so
+// 5 sigma = 10/sqrt(N) bounds every component, at N and at 16 N, where the error must drop >= 2x.
+// One realisation's error is random, so the 1/sqrt(N) law is checked on the RMS over 8 independent sets:
+// 16x more contacts must shrink it by >= 2.5x (expected 4x).
+TEST(Analysis, RecoversFourierAnisotropies) {
+  Fourier F{general(0.5), general(0.1), general(0.4), general(0.3)};
+  double prev = 1e9;
+  for (int m : {10000, 160000}) {
+    double rms = 0;
+    const double tol = 10 / std::sqrt(double(m));
+    for (int seed = 0; seed < 8; ++seed) {
+      const Descriptors D = run_kernel(fourier_set(F, m, 100 + seed), 1.0);
+      const double ec = max_abs(to_mat(D.all.ac) - F.ac), ed = max_abs(to_mat(D.all.ad) - F.ad),
+                   en = max_abs(to_mat(D.all.an) - F.an), et = max_abs(to_mat(D.all.at) - F.at);
+      EXPECT_LT(ec, tol);
+      EXPECT_LT(ed, tol);
+      EXPECT_LT(en, tol);
+      EXPECT_LT(et, tol);
+      rms += (ec * ec + ed * ed + en * en + et * et) / 32;
+    }
+    rms = std::sqrt(rms);
+    std::printf("  N = %d: RMS of the max component errors over 8 sets %.5f (5-sigma bound per set %.4f)\n", m, rms, tol);
+    EXPECT_LT(rms, prev / 2.5);
+    prev = rms;
+  }
+}
+
+// Isotropic set: every anisotropy ~ 0 (within the 5-sigma sampling bound).
+TEST(Analysis, IsotropicSetHasNoAnisotropy) {
+  const int m = 100000;
+  const Eigen::Matrix3d zero = Eigen::Matrix3d::Zero();  // Eigen matrices are not zero-initialised
+  const Descriptors D = run_kernel(fourier_set(Fourier{zero, zero, zero, zero}, m, 3), 1.0);
+  const double tol = 10 / std::sqrt(double(m));
+  for (const Sym* s : {&D.all.ac, &D.all.ad, &D.all.an, &D.all.at}) EXPECT_LT(max_abs(to_mat(*s)), tol);
+}
+
+// All normals along +-z: phi = e_z e_z, a^c = diag(-2.5, -2.5, 5), invariant sqrt(3/2 a:a) = 7.5, positive
+// because the contacts' own stress is compression along z. With strong forces along z but most contacts
+// in the xy plane, the fabric opposes the stress deviator: the sign turns negative.
+TEST(Analysis, UniaxialSetsGiveAnalyticSignedInvariant) {
+  std::vector<HostContact> cs;
+  for (int k = 0; k < 100; ++k) cs.push_back({Eigen::Vector3d(0, 0, k % 2 ? 1 : -1), Eigen::Vector3d(0, 0, k % 2 ? 1 : -1), 1e-3, 0});
+  Descriptors D = run_kernel(cs, 1.0);
+  EXPECT_NEAR(D.all.a_c, 7.5, 1e-12);
+  EXPECT_NEAR(D.all.ac(2, 2), 5.0, 1e-12);
+  cs.clear();
+  for (int k = 0; k < 360; ++k) {  // weak contacts around the equator
+    const double t = 2 * M_PI * k / 360;
+    const Eigen::Vector3d n(std::cos(t), std::sin(t), 0);
+    cs.push_back({n, 0.01 * n, 1e-3, 0});
+  }
+  for (int k = 0; k < 20; ++k) cs.push_back({Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 10), 1e-3, 0});
+  D = run_kernel(cs, 1.0);
+  EXPECT_GT(D.sigma[2][2], D.sigma[0][0]);
+  EXPECT_LT(D.all.a_c, 0) << "fabric concentrated across the major stress must count negative";
+  EXPECT_GT(D.all.a_n, 0);
+}
+
+// Stress-force-fabric: for a Fourier set, q/p = 2/5 (a_c + a_d + a_n + 3/2 a_t) up to second-order
+// cross terms: doubling every anisotropy must scale the mismatch by ~4 (3..5 allowing sampling noise), and
+// at the smaller amplitude it stays below the square of the amplitude.
+TEST(Analysis, StressForceFabricHoldsToSecondOrder) {
+  double mismatch[2];
+  for (int k = 0; k < 2; ++k) {
+    const double s = k == 0 ? 0.1 : 0.2;
+    Fourier F{axisym(s), axisym(0.5 * s), axisym(s), axisym(0.6 * s)};
+    const Descriptors D = run_kernel(fourier_set(F, 2000000, 5), 1.0);
+    mismatch[k] = std::abs(D.q / D.p - D.sff);
+    std::printf("  amplitude %.2f: q/p = %.5f, sff = %.5f, mismatch %.2e\n", s, D.q / D.p, D.sff, mismatch[k]);
+  }
+  EXPECT_LT(mismatch[0], 0.1 * 0.1);
+  EXPECT_GT(mismatch[1] / mismatch[0], 3.0);
+  EXPECT_LT(mismatch[1] / mismatch[0], 5.0);
+}
+
+// Hand-made list: normal forces 1, 2, 3, 10 (mean 4: one strong, three weak); sliding on the 1 and the 10,
+// rolling-sliding on the 3.
+TEST(Analysis, StrongWeakSplitAndFractions) {
+  std::vector<HostContact> cs = {
+      {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 0.3, 0), 1e-3, kSliding},
+      {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 2, 0), 1e-3, 0},
+      {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 3), 1e-3, kRollingSliding},
+      {Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(0, 0, -10), 1e-3, kSliding},
+  };
+  const Descriptors D = run_kernel(cs, 1.0);
+  EXPECT_EQ(D.nc, 4);
+  EXPECT_DOUBLE_EQ(D.f_mean, 4.0);
+  EXPECT_EQ(D.strong.nc, 1);
+  EXPECT_EQ(D.weak.nc, 3);
+  EXPECT_DOUBLE_EQ(D.weak_frac, 0.75);
+  EXPECT_DOUBLE_EQ(D.sliding_frac, 0.5);
+  EXPECT_DOUBLE_EQ(D.sliding_weak_frac, 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(D.rolling_sliding_frac, 0.25);
+  EXPECT_DOUBLE_EQ(D.sigma[2][2], (3 + 10) * 1e-3);  // sum f_z d_z / V
+}
+
+// The device kernel against a plain host implementation of SPEC §7 (Eigen, contact by contact), on a
+// real consolidated packing: identical up to summation order (1e-10 relative).
+TEST(Analysis, DeviceMatchesHostReference) {
+  test::DenseScene sc = test::consolidated_scene(400, 3, 13, 0.5, 0.2, 20000);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  for (int k = 0; k < 6; ++k) {  // hold the pressure while the sample settles into equilibrium
+    eng.wall_control(k).mode = WallMode::Servo;
+    eng.wall_control(k).target_stress = 190e3;
+  }
+  eng.run(20000);
+  eng.evaluate();
+  const Descriptors D = eng.analyze();
+  // Host reference.
+  const auto x = eng.positions();
+  const auto fp = Engine::to_host(eng.pair_forces().f);
+  auto pi = Kokkos::create_mirror_view_and_copy(HostSpace(), eng.pairs().pair_i);
+  auto pj = Kokkos::create_mirror_view_and_copy(HostSpace(), eng.pairs().pair_j);
+  auto fl = Kokkos::create_mirror_view_and_copy(HostSpace(), eng.history().flags);
+  std::vector<HostContact> cs;
+  for (int p = 0; p < eng.pairs().npairs; ++p) {
+    if (!(fl(p) & kTouching)) continue;
+    Eigen::Vector3d d(x[pj(p)][0] - x[pi(p)][0], x[pj(p)][1] - x[pi(p)][1], x[pj(p)][2] - x[pi(p)][2]);
+    cs.push_back({d.normalized(), Eigen::Vector3d(fp[p][0], fp[p][1], fp[p][2]), d.norm(), fl(p)});
+  }
+  const double V = eng.box_volume();
+  Eigen::Matrix3d sigma = Eigen::Matrix3d::Zero();
+  double fsum = 0;
+  for (auto& c : cs) {
+    sigma += c.f * (c.l * c.n).transpose() / V;
+    fsum += c.f.dot(c.n);
+  }
+  const double fbar = fsum / cs.size();
+  const Eigen::Matrix3d s = dev(0.5 * (sigma + sigma.transpose()));
+  auto signed_inv = [&](const Eigen::Matrix3d& a) {
+    const double mag = std::sqrt(1.5 * (a.array() * a.array()).sum());
+    return (a.array() * s.array()).sum() < 0 ? -mag : mag;
+  };
+  for (int net = 0; net < 3; ++net) {
+    std::vector<const HostContact*> sel;
+    for (auto& c : cs) {
+      const bool strong = c.f.dot(c.n) > fbar;
+      if (net == 0 || (net == 1 && strong) || (net == 2 && !strong)) sel.push_back(&c);
+    }
+    Eigen::Matrix3d phi = Eigen::Matrix3d::Zero(), dd = phi, chn = phi, cht = phi;
+    for (auto* c : sel) phi += c->n * c->n.transpose() / sel.size();
+    const Eigen::Matrix3d ac = 7.5 * dev(phi);
+    for (auto* c : sel) {
+      const double w = 1 / (1 + c->n.dot(ac * c->n));
+      const double fn = c->f.dot(c->n);
+      const Eigen::Vector3d ft = c->f - fn * c->n;
+      dd += w * c->l * c->n * c->n.transpose() / sel.size();
+      chn += w * fn * c->n * c->n.transpose() / sel.size();
+      const Eigen::Matrix3d t = ft * c->n.transpose();
+      cht += w * 0.5 * (t + t.transpose()) / sel.size();
+    }
+    const Network& N = net == 0 ? D.all : (net == 1 ? D.strong : D.weak);
+    ASSERT_EQ(N.nc, int(sel.size()));
+    const double f0 = chn.trace();
+    const double expect[4] = {signed_inv(ac), signed_inv(7.5 * dev(dd) / dd.trace()), signed_inv(7.5 * dev(chn) / f0),
+                              signed_inv(5.0 * dev(cht) / f0)};
+    const double got[4] = {N.a_c, N.a_d, N.a_n, N.a_t};
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(got[k], expect[k], 1e-10 * (std::abs(expect[k]) + 1e-3)) << net << "," << k;
+  }
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) EXPECT_NEAR(D.sigma[a][b], sigma(a, b), 1e-10 * std::abs(sigma.trace()));
+  // Contact stress against the wall stresses (issue 3) on this consolidated sample in equilibrium:
+  // with the boundary contacts included the Love-Weber identity makes them equal up to the inertial
+  // term (KE/elastic energy < 1e-4 here): 1 %. SPEC's sphere-sphere sum misses exactly the boundary
+  // term, at most 2 r_max / L of the stress (every wall contact with the largest lever; measured 14 %
+  // here, where load at the walls goes preferentially through large spheres).
+  const double pw = (eng.wall_stress(0) + eng.wall_stress(1) + eng.wall_stress(2) + eng.wall_stress(3) +
+                     eng.wall_stress(4) + eng.wall_stress(5)) / 6;
+  double rmean = 0, rmax = 0;
+  for (double r : sc.setup.r) rmean += r / sc.setup.r.size(), rmax = std::max(rmax, r);
+  const double L = std::cbrt(eng.box_volume());
+  const Diagnostics dg = eng.diagnostics();
+  std::printf("  p: contacts %.5g Pa, contacts + boundary %.5g Pa, walls %.5g Pa (2 r/L = %.3f); z %.3f, "
+              "z_mech %.3f, KE/PE %.1e\n", D.p, D.p_walls, pw, 2 * rmean / L, D.z, D.z_mech,
+              dg.kinetic_translational / dg.potential);
+  ASSERT_LT(dg.kinetic_translational / dg.potential, 1e-4) << "sample not in equilibrium";
+  EXPECT_NEAR(D.p_walls, pw, 0.01 * pw);
+  EXPECT_LT(D.p, pw);
+  EXPECT_GT(D.p, pw * (1 - 2 * rmax / L - 0.01));
+  EXPECT_GT(D.z_mech, D.z);
+}
