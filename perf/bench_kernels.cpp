@@ -92,8 +92,25 @@ void BM_NeighborBuild(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * eng.num_particles());
 }
 
+// The SPEC §7 analysis (three passes over the pairs plus rattlers and wall moments). Its cost per call,
+// divided by the output interval (1000 steps by default), is its share of the time-step loop.
+void BM_Analysis(benchmark::State& st) {
+  Scene sc = fcc_scene(int(st.range(0)), 1);
+  Engine eng(sc.setup, bench_params(true), make_box_walls(sc.lo, sc.hi), true);
+  eng.run(20);
+  eng.evaluate();
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(eng.analyze());
+    compat::fence("grainlab::bench::kernel");
+  }
+  st.SetItemsProcessed(st.iterations() * eng.num_particles());
+  st.counters["pairs"] = eng.pairs().npairs;
+}
+
 }  // namespace
 
+BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Step)->ArgsProduct({{4000, 32000, 256000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_NeighborBuild)->Arg(4000)->Arg(32000)->Arg(256000)->Unit(benchmark::kMicrosecond)->UseRealTime();

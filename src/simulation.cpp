@@ -60,6 +60,14 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       {"sigma_x", "Pa"},       {"sigma_y", "Pa"},       {"sigma_z", "Pa"},       {"z", "-"},
       {"kinetic_energy", "J"}, {"ke_ratio", "-"},       {"ufr", "-"},            {"inertial_number", "-"},
       {"sliding_frac", "-"},   {"rolling_sliding_frac", "-"}, {"dt", "s"},       {"density_scaling", "-"},
+      // SPEC §7 descriptors (kernels/analysis.hpp)
+      {"p_contacts", "Pa"},    {"q_contacts", "Pa"},    {"p_contacts_walls", "Pa"}, {"q_p", "-"},
+      {"a_c", "-"},            {"a_d", "-"},            {"a_n", "-"},            {"a_t", "-"},
+      {"a_c_strong", "-"},     {"a_d_strong", "-"},     {"a_n_strong", "-"},     {"a_t_strong", "-"},
+      {"a_c_weak", "-"},       {"a_d_weak", "-"},       {"a_n_weak", "-"},       {"a_t_weak", "-"},
+      {"sff", "-"},            {"sff_share_c", "-"},    {"sff_share_d", "-"},    {"sff_share_n", "-"},
+      {"sff_share_t", "-"},    {"z_mech", "-"},         {"f_mean", "N"},         {"weak_frac", "-"},
+      {"sliding_weak_frac", "-"},
   };
   return cols;
 }
@@ -310,7 +318,8 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
 }
 
 std::vector<double> Laboratory::row(const StageConfig&, const Measure& m, const Diagnostics& d) {
-  const Engine& e = *eng_;
+  Engine& e = *eng_;
+  const Descriptors D = e.analyze();  // between evaluate() and advance(): one instant
   const int np = e.num_particles();
   // Inertial number I = eps_dot d_mean sqrt(rho / p') with the measured axial strain rate and the
   // (scaled) density the dynamics actually uses (SPEC §6.3 quasi-static check).
@@ -335,10 +344,35 @@ std::vector<double> Laboratory::row(const StageConfig&, const Measure& m, const 
           d.potential > 0 ? d.kinetic_translational / d.potential : 0,
           d.unbalanced_ratio,
           I,
-          d.contacts ? Real(d.sliding) / d.contacts : 0,
-          d.contacts ? Real(d.rolling_sliding) / d.contacts : 0,
+          D.sliding_frac,
+          D.rolling_sliding_frac,
           e.dt(),
-          scaling_};
+          scaling_,
+          D.p,
+          D.q,
+          D.p_walls,
+          D.p > 0 ? D.q / D.p : 0,
+          D.all.a_c,
+          D.all.a_d,
+          D.all.a_n,
+          D.all.a_t,
+          D.strong.a_c,
+          D.strong.a_d,
+          D.strong.a_n,
+          D.strong.a_t,
+          D.weak.a_c,
+          D.weak.a_d,
+          D.weak.a_n,
+          D.weak.a_t,
+          D.sff,
+          D.share[0],
+          D.share[1],
+          D.share[2],
+          D.share[3],
+          D.z_mech,
+          D.f_mean,
+          D.weak_frac,
+          D.sliding_weak_frac};
 }
 
 bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) const {
