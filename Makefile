@@ -24,7 +24,8 @@ build: configure
 
 run: build
 	$(BUILD)/grainlab run $(CONFIG) --out $(RUN_DIR)
-	@ln -sfn $(notdir $(RUN_DIR)) runs/latest && echo "runs/latest -> $(RUN_DIR)"
+	$(BUILD)/grainlab plot $(RUN_DIR)
+	@ln -sfn $(notdir $(RUN_DIR)) runs/latest && echo "runs/latest -> $(RUN_DIR) (figures in $(RUN_DIR)/figures)"
 
 # Tests declare their own thread counts (OMP_NUM_THREADS per test, see tests/CMakeLists.txt);
 # --parallel lets CTest pack them onto the cores using each test's PROCESSORS property.

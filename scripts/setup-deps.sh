@@ -15,8 +15,8 @@ KOKKOS_PREFIX="$DEPS_DIR/kokkos-3.4.01-$KOKKOS_VARIANT"
 say() { printf '[setup] %s\n' "$*" >&2; }
 
 # ---- 1. Debian packages ----------------------------------------------------------------------
-PKGS=(cmake g++ make libeigen3-dev libhdf5-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev
-      dpkg-dev xz-utils)
+PKGS=(cmake g++ make libeigen3-dev libhdf5-dev hdf5-tools libyaml-cpp-dev libgtest-dev libbenchmark-dev
+      dpkg-dev xz-utils python3 python3-numpy python3-matplotlib python3-h5py)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -59,6 +59,7 @@ if [ ! -f "$KOKKOS_SRC/CMakeLists.txt" ]; then
   APTOPT=(-o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$APTDIR"
           -o Dir::State::Lists="$APTDIR/lists" -o Dir::Cache="$APTDIR/cache")
   say "fetching Debian's trilinos source package (~166 MB, once)"
+  APTOPT+=(-o APT::Sandbox::User=root)  # the private lists directory is root's
   apt-get "${APTOPT[@]}" update -qq
   ( cd "$SRC_DIR" && apt-get "${APTOPT[@]}" source --download-only -qq trilinos >&2 )
   tarball=$(ls "$SRC_DIR"/trilinos_*.orig.tar.* | head -n1)

@@ -3,6 +3,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
+
+#include <unistd.h>
 
 #include "simulation.hpp"
 
@@ -11,6 +14,8 @@ int usage(FILE* f) {
   std::fprintf(f,
                "usage: grainlab run CONFIG.yaml [--out DIR] [--threads N] [--resume] [--quiet]\n"
                "       grainlab validate CONFIG.yaml\n"
+               "       grainlab plot RUN_DIR [RUN_DIR...] [--out DIR]     figures (PNG + PDF)\n"
+               "       grainlab csl RUN_DIR [RUN_DIR...] [--out DIR]      critical-state lines per mu_r\n"
                "       grainlab version\n");
   return f == stderr ? 2 : 0;
 }
@@ -23,6 +28,20 @@ int main(int argc, char** argv) {
   if (cmd == "version") {
     std::printf("grainlab %s (Kokkos %d)\n", GRAINLAB_VERSION, KOKKOS_VERSION);
     return 0;
+  }
+  if (cmd == "plot" || cmd == "csl") {
+    // The figures are matplotlib's: hand over to the script shipped with the sources. The interpreter is
+    // $GRAINLAB_PYTHON, else Debian's /usr/bin/python3 (where scripts/setup-deps.sh installs matplotlib),
+    // else python3 from PATH.
+    const char* env = std::getenv("GRAINLAB_PYTHON");
+    std::string py = env && *env ? env : (access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
+    std::string script = GRAINLAB_SOURCE_DIR "/scripts/grainlab_plot.py";
+    std::vector<char*> args{const_cast<char*>(py.c_str()), const_cast<char*>(script.c_str())};
+    for (int a = 1; a < argc; ++a) args.push_back(argv[a]);
+    args.push_back(nullptr);
+    execvp(py.c_str(), args.data());
+    std::fprintf(stderr, "grainlab: cannot run %s %s\n", py.c_str(), script.c_str());
+    return 1;
   }
   if ((cmd != "run" && cmd != "validate") || argc < 3) return usage(stderr);
   const std::string config = argv[2];

@@ -67,7 +67,7 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       {"a_c_weak", "-"},       {"a_d_weak", "-"},       {"a_n_weak", "-"},       {"a_t_weak", "-"},
       {"sff", "-"},            {"sff_share_c", "-"},    {"sff_share_d", "-"},    {"sff_share_n", "-"},
       {"sff_share_t", "-"},    {"z_mech", "-"},         {"f_mean", "N"},         {"weak_frac", "-"},
-      {"sliding_weak_frac", "-"},
+      {"sliding_weak_frac", "-"}, {"mu", "-"},          {"mu_r", "-"},          {"stage_type", "-"},
   };
   return cols;
 }
@@ -317,7 +317,7 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
   return m;
 }
 
-std::vector<double> Laboratory::row(const StageConfig&, const Measure& m, const Diagnostics& d) {
+std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, const Diagnostics& d) {
   Engine& e = *eng_;
   const Descriptors D = e.analyze();  // between evaluate() and advance(): one instant
   const int np = e.num_particles();
@@ -372,7 +372,11 @@ std::vector<double> Laboratory::row(const StageConfig&, const Measure& m, const 
           D.z_mech,
           D.f_mean,
           D.weak_frac,
-          D.sliding_weak_frac};
+          D.sliding_weak_frac,
+          e.params().contact.mu,
+          e.params().contact.mu_r,
+          // 0 isotropic, 1 triaxial undrained, 2 triaxial drained
+          sc.type == StageType::Isotropic ? 0.0 : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0)};
 }
 
 bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) const {
