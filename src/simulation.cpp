@@ -876,7 +876,7 @@ RunResult Laboratory::run() {
   if (!opt_.quiet) {
     std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g\n",
                 build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_);
-    std::printf("output: %s\n", out_.c_str());
+    std::printf("output: %s\nresolved config:\n%s", out_.c_str(), resolved_config_yaml(cfg_).c_str());
   }
   if (!opt_.resume) write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
   for (; lab_.stage < int(cfg_.stages.size()); ++lab_.stage) {

@@ -258,3 +258,20 @@ TEST(Lab, TruncatedCheckpointFallsBackToOlder) {
   ASSERT_FALSE(run(ref.cfg, out, -1, true).interrupted);
   EXPECT_EQ(slurp(out + "/series.csv"), slurp(ref.out + "/series.csv"));
 }
+
+// Every checkpoint damaged: --resume refuses with one clear error, and touches nothing.
+TEST(Lab, AllCheckpointsCorruptIsAClearError) {
+  const Reference& ref = reference();
+  const std::string out = tmpdir("allcorrupt");
+  ASSERT_TRUE(run(ref.cfg, out, 4000).interrupted);
+  for (auto& f : fs::directory_iterator(out + "/checkpoints")) fs::resize_file(f.path(), 100);
+  const std::string series = slurp(out + "/series.csv");
+  std::string e;
+  try {
+    run(ref.cfg, out, -1, true);
+  } catch (const std::exception& ex) {
+    e = ex.what();
+  }
+  EXPECT_NE(e.find("no readable checkpoint"), std::string::npos) << e;
+  EXPECT_EQ(slurp(out + "/series.csv"), series);
+}
