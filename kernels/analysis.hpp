@@ -60,8 +60,13 @@ Real signed_invariant(const Sym& a, const Sym& s_dev);
 // fabric: sum n n; wd, wn, wt: weighted sums of |d| n n, f_n n n, sym(f_t n).
 void finish_network(Network& net, const Sym& fabric_sum, const Sym& wd, const Sym& wn, const Sym& wt, const Sym& s_dev);
 
+// Contacts are visited row by row: row r holds the contacts [offsets(r), offsets(r+1)) (the engine's
+// rows are its particles' half-list rows). Sums are taken per row in row order, then over fixed chunks of
+// rows, so they depend only on the set of touching pairs, not on which non-touching pairs a neighbour
+// list happens to hold: the same bits after a restart or a different rebuild schedule.
 template <class Src>
-Descriptors compute_descriptors(const Src& src, int npairs, int nparticles, Real volume, DeterministicSum& red);
+Descriptors compute_descriptors(const Src& src, const IntView& offsets, int nrows, int nparticles, Real volume,
+                                DeterministicSum& red);
 
 // The engine's contacts at the current evaluation (positions, pair forces, flags of the same step).
 struct EngineContacts {

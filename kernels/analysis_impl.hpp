@@ -21,16 +21,18 @@ KOKKOS_INLINE_FUNCTION Real nn_contract(const Real* a, const Vec3& n) {  // a:nn
 }  // namespace detail
 
 template <class Src>
-Descriptors compute_descriptors(const Src& src, int npairs, int nparticles, Real volume, DeterministicSum& red) {
+Descriptors compute_descriptors(const Src& src, const IntView& off, int nrows, int nparticles, Real volume,
+                                DeterministicSum& red) {
   Descriptors D;
   D.np = nparticles;
   // Pass 1: counts, mean normal force, Christoffersen stress (full 3x3: sum f_i d_j).
   Real s1[14] = {};
   red.run(
-      "grainlab::analysis::stress", npairs, 14,
-      KOKKOS_LAMBDA(int p, Real* acc) {
+      "grainlab::analysis::stress", nrows, 14,
+      KOKKOS_LAMBDA(int row, Real* acc) {
+        for (int p = off(row); p < off(row + 1); ++p) {
         Contact c;
-        if (!src(p, c)) return;
+        if (!src(p, c)) continue;
         const Real fn = dot(c.f, c.n);
         acc[0] += 1;
         acc[1] += fn;
@@ -39,6 +41,7 @@ Descriptors compute_descriptors(const Src& src, int npairs, int nparticles, Real
         const Vec3 d = c.l * c.n;
         for (int a = 0; a < 3; ++a)
           for (int b = 0; b < 3; ++b) acc[4 + 3 * a + b] += c.f[a] * d[b];
+        }
       },
       s1);
   D.nc = int(s1[0]);
@@ -62,15 +65,17 @@ Descriptors compute_descriptors(const Src& src, int npairs, int nparticles, Real
   const Real fbar = D.f_mean;
   Real s2[21] = {};
   red.run(
-      "grainlab::analysis::fabric", npairs, 21,
-      KOKKOS_LAMBDA(int p, Real* acc) {
+      "grainlab::analysis::fabric", nrows, 21,
+      KOKKOS_LAMBDA(int row, Real* acc) {
+        for (int p = off(row); p < off(row + 1); ++p) {
         Contact c;
-        if (!src(p, c)) return;
+        if (!src(p, c)) continue;
         const int which[2] = {0, dot(c.f, c.n) > fbar ? 1 : 2};  // the whole network and its subnetwork
         for (int m = 0; m < 2; ++m) {
           const int k = which[m];
           acc[7 * k] += 1;
           detail::add_sym(acc + 7 * k + 1, c.n, c.n, 1);
+        }
         }
       },
       s2);
@@ -91,10 +96,11 @@ Descriptors compute_descriptors(const Src& src, int npairs, int nparticles, Real
   const Real a1[6] = {acn[1][0], acn[1][1], acn[1][2], acn[1][3], acn[1][4], acn[1][5]};
   const Real a2[6] = {acn[2][0], acn[2][1], acn[2][2], acn[2][3], acn[2][4], acn[2][5]};
   red.run(
-      "grainlab::analysis::weighted", npairs, 58,
-      KOKKOS_LAMBDA(int p, Real* acc) {
+      "grainlab::analysis::weighted", nrows, 58,
+      KOKKOS_LAMBDA(int row, Real* acc) {
+        for (int p = off(row); p < off(row + 1); ++p) {
         Contact c;
-        if (!src(p, c)) return;
+        if (!src(p, c)) continue;
         const Real fn = dot(c.f, c.n);
         const Vec3 ft = c.f - fn * c.n;
         const int net = fn > fbar ? 1 : 2;
@@ -111,6 +117,7 @@ Descriptors compute_descriptors(const Src& src, int npairs, int nparticles, Real
         if (net == 2) {
           acc[54] += 1;
           acc[55] += (c.flags & kSliding) ? 1 : 0;
+        }
         }
       },
       s3);

@@ -85,6 +85,7 @@ namespace grainlab::test {
 // is rebuilt. Returns the final state (x, v, w, then the six wall offsets) as raw doubles.
 struct ShearRun {
   std::vector<Vec3d> state;
+  std::vector<double> measures;  // diagnostics and descriptors at the end (must be as reproducible)
   int rebuilds = 0, contacts = 0, sliding = 0, rolling_sliding = 0;
 };
 
@@ -126,6 +127,15 @@ inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int sh
     }
   }
   Engine& eng_end = resumed ? *resumed : eng;
+  {
+    eng_end.evaluate();  // measure at one instant, then finish the step
+    const Diagnostics d = eng_end.diagnostics();
+    const Descriptors D = eng_end.analyze();
+    out.measures = {d.kinetic, d.potential, d.unbalanced_ratio, d.mean_contact_force, D.p, D.q, D.p_walls,
+                    D.all.a_c, D.all.a_d, D.all.a_n, D.all.a_t, D.strong.a_n, D.weak.a_t, D.sff, D.share[3], D.f_mean,
+                    D.z_mech};
+    eng_end.advance();
+  }
   out.contacts = eng_end.diagnostics().contacts;
   out.rebuilds = eng.rebuild_count() + (resumed ? resumed->rebuild_count() : 0);
   auto x = eng_end.positions(), v = eng_end.velocities(), w = eng_end.angular_velocities();

@@ -49,8 +49,10 @@ Descriptors run_kernel(const std::vector<HostContact>& cs, double volume) {
   Kokkos::deep_copy(a.f, hf);
   Kokkos::deep_copy(a.l, hl);
   Kokkos::deep_copy(a.flags, hfl);
+  IntView rows("rows", m + 1);  // one contact per row
+  Kokkos::parallel_for("test::rows", Kokkos::RangePolicy<ExecSpace>(0, m + 1), KOKKOS_LAMBDA(int r) { rows(r) = r; });
   DeterministicSum red;
-  return compute_descriptors(a, m, 1000, volume, red);
+  return compute_descriptors(a, rows, m, 1000, volume, red);
 }
 
 Eigen::Matrix3d dev(const Eigen::Matrix3d& a) { return a - a.trace() / 3 * Eigen::Matrix3d::Identity(); }

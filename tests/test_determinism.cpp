@@ -35,6 +35,9 @@ TEST(Determinism, SkinDoesNotChangeTheTrajectory) {
   std::printf("  skin 20 um: %d rebuilds, skin 60 um: %d rebuilds\n", a.rebuilds, b.rebuilds);
   ASSERT_NE(a.rebuilds, b.rebuilds);
   EXPECT_TRUE(test::bitwise_equal(a.state, b.state));
+  // Measurements too: their sums run per particle over touching pairs, whatever else the list holds.
+  ASSERT_EQ(a.measures.size(), b.measures.size());
+  EXPECT_EQ(0, std::memcmp(a.measures.data(), b.measures.data(), a.measures.size() * sizeof(double)));
 }
 
 // A capture restored into a fresh engine (new list built at the restored positions, history carried by
@@ -43,4 +46,6 @@ TEST(Determinism, CaptureRestoreContinuesBitwise) {
   const test::ShearRun straight = test::sheared_scene(false);
   const test::ShearRun restarted = test::sheared_scene(false, 20e-6, 2000, 1000);
   EXPECT_TRUE(test::bitwise_equal(straight.state, restarted.state));
+  EXPECT_EQ(0, std::memcmp(straight.measures.data(), restarted.measures.data(),
+                           straight.measures.size() * sizeof(double)));
 }
