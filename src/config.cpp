@@ -190,6 +190,8 @@ RunConfig load_run_config(const std::string& path) {
   c.engine.skin = n.real("skin", 0.1e-3, 0, 1, true);
   c.engine.damping = n.real("damping", 0.7, 0, 1);
   c.engine.servo_max_step = n.real("servo_max_step", 1e-3, 0, 1, true);
+  c.health.max_overlap = n.real("max_overlap", 0.2, 0, 10, true);
+  c.health.max_step_move = n.real("max_step_move", 0.5, 0, 100, true);
   n.finish();
 
   YAML::Node st = top.raw("stages");
@@ -266,7 +268,9 @@ std::string resolved_config_yaml(const RunConfig& c) {
     << c.engine.dt_factor;
   if (cp.dt > 0) e << YAML::Key << "dt" << YAML::Value << cp.dt;
   e << YAML::Key << "skin" << YAML::Value << c.engine.skin << YAML::Key << "damping" << YAML::Value
-    << c.engine.damping << YAML::Key << "servo_max_step" << YAML::Value << c.engine.servo_max_step << YAML::EndMap;
+    << c.engine.damping << YAML::Key << "servo_max_step" << YAML::Value << c.engine.servo_max_step << YAML::Key << "max_overlap"
+    << YAML::Value << c.health.max_overlap << YAML::Key << "max_step_move" << YAML::Value << c.health.max_step_move
+    << YAML::EndMap;
   e << YAML::Key << "stages" << YAML::Value << YAML::BeginSeq;
   for (const StageConfig& sc : c.stages) {
     e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sc.name << YAML::Key << "type" << YAML::Value

@@ -53,6 +53,7 @@ struct RunConfig {
   long checkpoint_every = 100000;  // steps between checkpoints (0: off)
   Real checkpoint_minutes = 10;    // wall-clock minutes between checkpoints (0: off)
   int keep_checkpoints = 2;
+  HealthLimits health;             // blow-up detection limits (numerics.max_overlap, max_step_move)
 };
 
 RunConfig load_run_config(const std::string& path);

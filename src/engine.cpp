@@ -295,6 +295,128 @@ Diagnostics Engine::diagnostics() {
   return d;
 }
 
+HealthReport Engine::check_health(const HealthLimits& lim) const {
+  HealthReport rep;
+  const int n = P_.n;
+  auto x = P_.x;
+  auto v = P_.v;
+  auto w = P_.w;
+  auto r = P_.r;
+  const Real dt = params_.contact.dt;
+  const Real half_dt_suggest = 0.5 * dt;
+  auto fail = [&](const std::string& m, const std::string& cause) {
+    std::ostringstream os;
+    os << "numerical blow-up at step " << step_ << ": " << m << "; " << cause << "; suggested: dt <= "
+       << half_dt_suggest << " s (half the current " << dt << " s, via numerics.dt or numerics.dt_factor)";
+    rep.ok = false;
+    rep.what = os.str();
+    return rep;
+  };
+  const std::string unstable = "the integration is unstable";
+  // 1. Non-finite state: the first particle (lowest index) with a NaN or Inf.
+  int bad = n;
+  Kokkos::parallel_reduce(
+      "grainlab::health::finite", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int i, int& m) {
+        bool fin = true;
+        for (int k = 0; k < 3; ++k)
+          fin = fin && math::isfinite(x(i, k)) && math::isfinite(v(i, k)) && math::isfinite(w(i, k));
+        if (!fin && i < m) m = i;
+      },
+      Kokkos::Min<int>(bad));
+  if (bad < n) {
+    const auto hx = positions(), hv = velocities();
+    std::ostringstream os;
+    os << "particle " << bad << " has a non-finite state (x = " << hx[bad][0] << ", " << hx[bad][1] << ", "
+       << hx[bad][2] << "; v = " << hv[bad][0] << ", " << hv[bad][1] << ", " << hv[bad][2] << ")";
+    return fail(os.str(), unstable);
+  }
+  // 2. Tunnelling speed: a particle moving more than max_step_move radii (or radians) per step.
+  {
+    const Real rmin = r_min_;
+    Kokkos::MaxLoc<Real, int>::value_type mv;
+    Kokkos::parallel_reduce(
+        "grainlab::health::speed", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i, Kokkos::MaxLoc<Real, int>::value_type& m) {
+          const Real a = norm(load(v, i)) * dt / rmin, b = norm(load(w, i)) * dt;
+          const Real q = a > b ? a : b;
+          if (q > m.val || (q == m.val && i < m.loc)) {
+            m.val = q;
+            m.loc = i;
+          }
+        },
+        Kokkos::MaxLoc<Real, int>(mv));
+    if (n > 0 && mv.val > lim.max_step_move) {
+      std::ostringstream os;
+      os << "particle " << mv.loc << " moves " << mv.val << " r_min (or rad) per step (limit " << lim.max_step_move
+         << "): kinetic energy is exploding";
+      return fail(os.str(), unstable);
+    }
+  }
+  // 3. Escape (a centre beyond a wall by more than its radius) or a wall overlap above the limit.
+  {
+    const WallSet ws = walls_;
+    const Real lim_ov = lim.max_overlap;
+    int esc = n, deep = n;
+    Kokkos::parallel_reduce(
+        "grainlab::health::escape", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i, int& m) {
+          for (int k = 0; k < ws.count; ++k)
+            if (dot(ws.w[k].n, load(x, i)) - ws.w[k].offset < -r(i) && i < m) m = i;
+        },
+        Kokkos::Min<int>(esc));
+    Kokkos::parallel_reduce(
+        "grainlab::health::wall_overlap", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i, int& m) {
+          for (int k = 0; k < ws.count; ++k)
+            if (WallLaw::overlap(ws.w[k], load(x, i), r(i)) > lim_ov * r(i) && i < m) m = i;
+        },
+        Kokkos::Min<int>(deep));
+    if (esc == n && deep < n) {
+      std::ostringstream os;
+      os << "particle " << deep << " overlaps a wall by more than " << lim.max_overlap << " of its radius";
+      return fail(os.str(), "the walls are too soft for the load (raise material.E_wall or lower the pressure)");
+    }
+    if (esc < n) {
+      const auto hx = positions();
+      std::ostringstream os;
+      os << "particle " << esc << " escaped through a wall (centre at " << hx[esc][0] << ", " << hx[esc][1] << ", "
+         << hx[esc][2] << ")";
+      return fail(os.str(), "a wall moved too fast for the time step (lower the strain rate or servo_max_step)");
+    }
+  }
+  // 4. Overlaps: the largest delta / min(r_i, r_j) over the listed pairs.
+  {
+    const PairList& L = lists_[cur_];
+    auto pi = L.pair_i;
+    auto pj = L.pair_j;
+    Kokkos::MaxLoc<Real, int>::value_type mo;
+    Kokkos::parallel_reduce(
+        "grainlab::health::overlap", Kokkos::RangePolicy<ExecSpace>(0, L.npairs),
+        KOKKOS_LAMBDA(int p, Kokkos::MaxLoc<Real, int>::value_type& m) {
+          const int i = pi(p), j = pj(p);
+          const Real d = r(i) + r(j) - norm(load(x, j) - load(x, i));
+          const Real q = d / (r(i) < r(j) ? r(i) : r(j));
+          if (q > m.val || (q == m.val && p < m.loc)) {
+            m.val = q;
+            m.loc = p;
+          }
+        },
+        Kokkos::MaxLoc<Real, int>(mo));
+    if (L.npairs > 0 && mo.val > lim.max_overlap) {
+      int hi = 0, hj = 0;
+      Kokkos::deep_copy(hi, Kokkos::subview(L.pair_i, mo.loc));
+      Kokkos::deep_copy(hj, Kokkos::subview(L.pair_j, mo.loc));
+      std::ostringstream os;
+      os << "particles " << hi << " and " << hj << " overlap by " << mo.val << " of the smaller radius (limit "
+         << lim.max_overlap << ")";
+      return fail(os.str(), "the contacts are too soft for the load (raise material.E or lower the pressure), "
+                            "or impacts are too fast for the time step");
+    }
+  }
+  return rep;
+}
+
 Descriptors Engine::analyze(Real volume) {
   const PairList& L = lists_[cur_];
   const EngineContacts src{P_.x, pf_.f, L.pair_i, L.pair_j, hist_[cur_].flags};

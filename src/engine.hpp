@@ -72,6 +72,16 @@ struct EngineState {
   bool walls_are_box = false;
 };
 
+// Numerical blow-up detection (issue 7): what is checked and the limits.
+struct HealthLimits {
+  Real max_overlap = 0.2;    // delta / min(r_i, r_j) of any pair, or delta / r against a wall
+  Real max_step_move = 0.5;  // |v| dt / r_min and |w| dt (rad): beyond this contacts are tunnelled
+};
+struct HealthReport {
+  bool ok = true;
+  std::string what;  // one line: step, particle ids, offending quantity, suggested dt
+};
+
 // Thrown for a parameter outside its valid range; the message says which, the range, and a fix.
 struct ParameterError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
@@ -123,6 +133,8 @@ class Engine {
   Real box_volume() const;
 
   Diagnostics diagnostics();
+  // Checks the current state for NaN/Inf, excessive overlaps, escaped particles and tunnelling speeds.
+  HealthReport check_health(const HealthLimits& lim) const;
   // SPEC §7 descriptors of the current evaluation (call between evaluate() and advance() for
   // positions and forces of one instant). Volume: the box's, or `volume` when given.
   Descriptors analyze(Real volume = 0);

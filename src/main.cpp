@@ -86,6 +86,9 @@ int main(int argc, char** argv) {
   try {
     const grainlab::RunResult r = grainlab::run_simulation(cfg, opt);
     if (r.interrupted) rc = 130;  // like a shell's Ctrl-C, but with a checkpoint written
+  } catch (const grainlab::BlowUpError& e) {
+    std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), e.what());
+    rc = 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), e.what());
     rc = 1;

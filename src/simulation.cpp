@@ -1,6 +1,11 @@
 #include "simulation.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <algorithm>
 #include <chrono>
@@ -208,6 +213,7 @@ class Laboratory {
   Measure measure(const StageConfig& sc) const;
   std::vector<double> row(const StageConfig& sc, const Measure& m, const Diagnostics& d);
   bool isotropic_done(const StageConfig& sc, const Diagnostics& d) const;
+  void assert_healthy();
   void place_lateral_walls();
   // Runs the stage from lab_.stage_step; returns false when interrupted.
   bool run_stage(const StageConfig& sc);
@@ -235,12 +241,36 @@ class Laboratory {
   std::chrono::steady_clock::time_point stage_t0_ = std::chrono::steady_clock::now();
   long stage_step0_ = 0;
   bool tty_ = ::isatty(STDOUT_FILENO);
+  int lock_fd_ = -1;
+
+ public:
+  ~Laboratory() {
+    if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the flock
+  }
 };
 
 void Laboratory::prepare_output_dir() {
   std::error_code ec;
   fs::create_directories(out_ + "/checkpoints", ec);
   if (ec) throw std::runtime_error(out_ + ": cannot create the output directory (" + ec.message() + ")");
+  // One process per run directory: a second one would interleave checkpoints and outputs.
+  lock_fd_ = ::open((out_ + "/.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  if (lock_fd_ < 0) throw std::runtime_error(out_ + ": cannot create the lock file (" + std::strerror(errno) + ")");
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0)
+    throw std::runtime_error(out_ + ": in use by another grainlab process (lock held on " + out_ + "/.lock)");
+  // Temporary files of writers that were killed mid-write (the lock says none is running now).
+  for (const std::string& d : {out_, out_ + "/checkpoints", out_ + "/snapshots"}) {
+    if (!fs::is_directory(d)) continue;
+    for (auto& f : fs::directory_iterator(d))
+      if (f.path().filename().string().find(".tmp.") != std::string::npos) fs::remove(f.path(), ec);
+  }
+  const bool has_run = fs::exists(out_ + "/series.csv") || fs::exists(out_ + "/run.h5") ||
+                       !fs::is_empty(out_ + "/checkpoints");
+  if (opt_.resume && !has_run) {
+    // Killed before its first checkpoint (or never started): nothing to lose, start afresh.
+    if (!opt_.quiet) std::printf("%s: nothing to resume yet; starting the run\n", out_.c_str());
+    opt_.resume = false;
+  }
   if (!opt_.resume) {
     for (const char* f : {"series.csv", "run.h5"})
       if (fs::exists(out_ + "/" + f))
@@ -586,7 +616,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
           rows_since_flush = 0;
         }
       }
-      if (check) done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : m.eps_a >= sc.max_axial_strain;
+      if (check) {
+        assert_healthy();
+        done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : m.eps_a >= sc.max_axial_strain;
+      }
       if (snap) {
         snapshot(sc.name + "_eps" + std::to_string(lab_.snapshots));
         while (lab_.next_snap_eps <= m.eps_a) lab_.next_snap_eps += cfg_.snapshot_strain;
@@ -751,7 +784,28 @@ void Laboratory::save_sample(const StageConfig& sc) {
   if (!opt_.quiet) std::printf("sample: %s (reuse it with sample: {file: ...})\n", path.c_str());
 }
 
+void Laboratory::assert_healthy() {
+  const HealthReport h = eng_->check_health(cfg_.health);
+  if (h.ok) return;
+  std::string last = "none";
+  if (fs::is_directory(out_ + "/checkpoints")) {
+    std::vector<std::string> all;
+    for (auto& f : fs::directory_iterator(out_ + "/checkpoints"))
+      if (f.path().extension() == ".h5") all.push_back(f.path());
+    std::sort(all.begin(), all.end());
+    if (!all.empty()) last = all.back();
+  }
+  const std::string msg = h.what + "; the last good checkpoint is " + last;
+  try {
+    write_file_atomic(out_ + "/blowup.txt", msg + "\n");
+    flush_outputs();  // the series up to the event, for the post-mortem
+  } catch (const std::exception&) {
+  }
+  throw BlowUpError(msg);
+}
+
 std::string Laboratory::write_checkpoint(const EngineState* state_override) {
+  if (!state_override) assert_healthy();  // never replace a good checkpoint by a broken state
   const EngineState s = state_override ? *state_override : eng_->capture();
   char name[64];
   std::snprintf(name, sizeof(name), "/checkpoints/ckpt_%012ld.h5", eng_->step_count());
@@ -878,7 +932,10 @@ RunResult Laboratory::run() {
                 build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_);
     std::printf("output: %s\nresolved config:\n%s", out_.c_str(), resolved_config_yaml(cfg_).c_str());
   }
-  if (!opt_.resume) write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
+  if (!opt_.resume) {
+    write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
+    write_checkpoint();  // step 0: from now on a kill at any moment leaves something to resume
+  }
   for (; lab_.stage < int(cfg_.stages.size()); ++lab_.stage) {
     const StageConfig& sc = cfg_.stages[lab_.stage];
     if (!lab_.started) start_stage(sc);

@@ -24,6 +24,12 @@ struct StageResult {
   Real mu = 0;             // friction used (the search result when target_e0 is set)
 };
 
+// A numerical blow-up stopped the run: the message names step, particles, quantity and a suggested dt;
+// the newest checkpoint (written before the event) is kept.
+struct BlowUpError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct RunResult {
   bool interrupted = false;  // stopped by a signal (or stop_after_steps): a checkpoint was written
   std::string checkpoint;    // the checkpoint written at the interruption
