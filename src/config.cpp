@@ -3,7 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -135,12 +137,54 @@ RunConfig load_run_config(const std::string& path) {
   c.path = path;
   YAML::Node root;
   {
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw ConfigError(path + ": cannot open the file for reading");
+    // Screen the raw text before the parser sees it: yaml-cpp recurses once per nesting level without
+    // a limit, so a hostile file could overflow the stack (issue 7: fuzzed configs must never crash).
+    constexpr size_t kMaxBytes = 4 << 20;
+    constexpr int kMaxDepth = 64;
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.size() > kMaxBytes) throw ConfigError(path + ": larger than 4 MiB: not a grainlab config");
+    if (text.find('\0') != std::string::npos) throw ConfigError(path + ": contains NUL bytes: not a text file");
+    int depth = 0, max_depth = 0;
+    size_t indent = 0, max_indent = 0;
+    bool line_start = true;
+    char quote = 0;
+    for (char ch : text) {
+      if (ch == '\n') {
+        line_start = true;
+        indent = 0;
+        quote = 0;
+        continue;
+      }
+      if (line_start && ch == ' ') {
+        max_indent = std::max(max_indent, ++indent);
+        continue;
+      }
+      line_start = false;
+      if (quote) {
+        if (ch == quote) quote = 0;
+      } else if (ch == '"' || ch == '\'') {
+        quote = ch;
+      } else if (ch == '#') {
+        quote = '\n';  // comment: ignore to the end of the line
+      } else if (ch == '[' || ch == '{') {
+        max_depth = std::max(max_depth, ++depth);
+      } else if (ch == ']' || ch == '}') {
+        --depth;
+      }
+    }
+    if (max_depth > kMaxDepth || max_indent > size_t(2 * kMaxDepth))
+      throw ConfigError(path + ": nested deeper than " + std::to_string(kMaxDepth) + " levels: not a grainlab config");
     try {
-      root = YAML::Load(in);
+      root = YAML::Load(text);
     } catch (const YAML::Exception& e) {
-      throw ConfigError(path + ": not valid YAML: " + e.what());
+      std::string what = e.what();
+      for (char& ch : what)
+        if (ch == '\n') ch = ' ';
+      throw ConfigError(path + ": not valid YAML: " + what);
+    } catch (const std::exception& e) {
+      throw ConfigError(path + ": cannot parse: " + e.what());
     }
   }
   if (!root || root.IsNull()) throw ConfigError(path + ": the file is empty");
@@ -166,7 +210,8 @@ RunConfig load_run_config(const std::string& path) {
   c.packing.r_max = s.real("r_max", 0.6e-3, 0, 1, true);
   if (c.packing.r_max < c.packing.r_min)
     s.fail("sample.r_max", "= " + fmt(c.packing.r_max) + " must be >= sample.r_min = " + fmt(c.packing.r_min));
-  c.packing.seed = std::uint64_t(s.integer("seed", 1, 0, std::numeric_limits<long>::max()));
+  // Seeds up to 2^53: every such integer is exact in the double the YAML number is read as.
+  c.packing.seed = std::uint64_t(s.integer("seed", 1, 0, 1L << 53));
   c.packing.solid_fraction = s.real("initial_solid_fraction", 0.3, 0, 0.45, true);
   c.density = s.real("density", 2650, 0, 1e6, true);
   c.density_scaling = s.real("density_scaling", 1, 1, 1e12);
