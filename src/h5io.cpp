@@ -71,20 +71,52 @@ std::vector<T> read_raw(const std::string& path, hid_t file, const std::string& 
 
 }  // namespace
 
+// The file is built in memory (core driver, no backing store) and written out by close() with our own
+// checked I/O. HDF5 never touches the disk: when a write fails (disk full, read-only, quota) HDF5 has
+// nothing half-closed to trip over at exit, and the error is one clear line of ours.
 H5Writer::H5Writer(const std::string& path) : path_(path) {
   silence();
-  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_ < 0) fail(path, "cannot create the file (directory missing or not writable?)");
+  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fapl_core(fapl, 1 << 20, 0);
+  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
+  if (file_ < 0) fail(path, "cannot create the HDF5 file in memory");
 }
 H5Writer::~H5Writer() {
   if (file_ >= 0) H5Fclose(hid_t(file_));
 }
 void H5Writer::close() {
   if (file_ < 0) return;
-  const herr_t a = H5Fflush(hid_t(file_), H5F_SCOPE_GLOBAL);
-  const herr_t b = H5Fclose(hid_t(file_));
+  std::vector<char> image;
+  bool ok = H5Fflush(hid_t(file_), H5F_SCOPE_GLOBAL) >= 0;
+  const ssize_t size = ok ? H5Fget_file_image(hid_t(file_), nullptr, 0) : -1;
+  if (size > 0) {
+    image.resize(size_t(size));
+    ok = H5Fget_file_image(hid_t(file_), image.data(), image.size()) == size;
+  } else {
+    ok = false;
+  }
+  H5Fclose(hid_t(file_));
   file_ = -1;
-  if (a < 0 || b < 0) fail(path_, "cannot flush the file (disk full?)");
+  if (!ok) fail(path_, "cannot assemble the HDF5 image (out of memory?)");
+  const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) fail(path_, std::string("cannot create the file (") + std::strerror(errno) + ")");
+  size_t done = 0;
+  while (done < image.size()) {
+    const ssize_t w = ::write(fd, image.data() + done, image.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      const int e = errno;
+      ::close(fd);
+      std::remove(path_.c_str());
+      fail(path_, std::string("cannot write the file (") + std::strerror(e) + "; disk full?)");
+    }
+    done += size_t(w);
+  }
+  if (::close(fd) != 0) {
+    std::remove(path_.c_str());
+    fail(path_, std::string("cannot close the file (") + std::strerror(errno) + "; disk full?)");
+  }
 }
 void H5Writer::group(const std::string& name) {
   const hid_t g = H5Gcreate2(hid_t(file_), name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
