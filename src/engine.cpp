@@ -234,23 +234,33 @@ Diagnostics Engine::diagnostics() {
   auto I = P_.inertia;
   const WallSet ws = walls_;
   const Real Ew = params_.E_wall;
+  const PairList& L = lists_[cur_];
+  const PairHistory& H = hist_[cur_];
+  auto off0 = L.offsets;
+  auto toff = L.t_offsets;
+  auto tp = L.t_pairs;
+  auto fl0 = H.flags;
   Real pa[4] = {};
   red_.run(
       "grainlab::diag::particles", P_.n, 4,
       KOKKOS_LAMBDA(int i, Real* acc) {
         const Real kt = 0.5 * m(i) * norm2(load(v, i));
         acc[0] += kt + 0.5 * I(i) * norm2(load(w, i));
-        acc[3] += kt;
         acc[1] += norm(load(f, i));
         const Vec3 xi = load(x, i);
+        int touching = 0;
         for (int k = 0; k < ws.count; ++k) {
           const Real dw = WallLaw::overlap(ws.w[k], xi, r(i));
-          if (dw > 0) acc[2] += 0.5 * WallLaw::stiffness(Ew, r(i)) * dw * dw;
+          if (dw > 0) {
+            acc[2] += 0.5 * WallLaw::stiffness(Ew, r(i)) * dw * dw;
+            ++touching;
+          }
         }
+        for (int p = off0(i); p < off0(i + 1) && !touching; ++p) touching += (fl0(p) & kTouching) ? 1 : 0;
+        for (int k = toff(i); k < toff(i + 1) && !touching; ++k) touching += (fl0(tp(k)) & kTouching) ? 1 : 0;
+        if (touching) acc[3] += kt;  // the load-bearing skeleton's translational kinetic energy
       },
       pa);
-  const PairList& L = lists_[cur_];
-  const PairHistory& H = hist_[cur_];
   auto pi = L.pair_i;
   auto pj = L.pair_j;
   auto fl = H.flags;
@@ -285,7 +295,7 @@ Diagnostics Engine::diagnostics() {
       },
       ca);
   d.kinetic = pa[0];
-  d.kinetic_translational = pa[3];
+  d.kinetic_skeleton = pa[3];
   d.contacts = int(ca[0]);
   d.sliding = int(ca[1]);
   d.rolling_sliding = int(ca[2]);

@@ -44,9 +44,9 @@ struct EngineParams {
 
 struct Diagnostics {
   Real kinetic = 0;        // translational + rotational (half-step velocities)   [J]
-  Real kinetic_translational = 0;  // translational only: the equilibrium measure, since a rattler's
-                                   // free spin cannot be damped (Cundall damping acts on forces) and
-                                   // carries no stress                                 [J]
+  Real kinetic_skeleton = 0;  // translational KE of particles touching something (sphere or wall): the
+                              // equilibrium measure. A rattler's free flight and any free spin cannot
+                              // be damped (Cundall damping acts on forces) and carry no stress  [J]
   Real potential = 0;      // normal + tangential + rolling + wall springs        [J]
   int contacts = 0;        // touching sphere-sphere pairs
   int sliding = 0;         // of which at the Coulomb cap

@@ -371,7 +371,7 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           m.sz,
           np ? 2.0 * d.contacts / np : 0,
           d.kinetic,
-          d.potential > 0 ? d.kinetic_translational / d.potential : 0,
+          d.potential > 0 ? d.kinetic_skeleton / d.potential : 0,
           d.unbalanced_ratio,
           I,
           D.sliding_frac,
@@ -413,7 +413,7 @@ bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) con
   // SPEC §6.2: every wall within the pressure tolerance, and equilibrium (unbalanced force, kinetic energy).
   for (int k = 0; k < 6; ++k)
     if (std::abs(eng_->wall_stress(k) - sc.pressure) > sc.pressure_tolerance * sc.pressure) return false;
-  return d.unbalanced_ratio < sc.ufr_tolerance && d.kinetic_translational < sc.ke_tolerance * d.potential;
+  return d.contacts > 0 && d.unbalanced_ratio < sc.ufr_tolerance && d.kinetic_skeleton < sc.ke_tolerance * d.potential;
 }
 
 void Laboratory::start_stage(const StageConfig& sc) {
