@@ -174,7 +174,7 @@ RunConfig load_run_config(const std::string& path) {
         --depth;
       }
     }
-    if (max_depth > kMaxDepth || max_indent > size_t(2 * kMaxDepth))
+    if (max_depth > kMaxDepth || max_indent > size_t(2) * kMaxDepth)
       throw ConfigError(path + ": nested deeper than " + std::to_string(kMaxDepth) + " levels: not a grainlab config");
     try {
       root = YAML::Load(text);

@@ -271,7 +271,7 @@ EngineState read_state(const H5Reader& r) {
   s.mr = r.vec3("/state/mr");
   s.flags = r.bytes("/state/flags");
   const auto walls = r.doubles("/state/walls");
-  if (walls.size() != size_t(12 * kMaxWalls) || s.walls.count < 0 || s.walls.count > kMaxWalls)
+  if (walls.size() != size_t(12) * kMaxWalls || s.walls.count < 0 || s.walls.count > kMaxWalls)
     throw H5Error("state walls have the wrong length (corrupt file?)");
   for (int k = 0; k < kMaxWalls; ++k) {
     const double* q = &walls[12 * k];

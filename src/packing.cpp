@@ -17,7 +17,7 @@ std::uint64_t splitmix64(std::uint64_t& s) {
 std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 }  // namespace
 
-Rng::Rng(std::uint64_t seed) {
+Rng::Rng(std::uint64_t seed) : s_{} {
   for (auto& s : s_) s = splitmix64(seed);
 }
 std::uint64_t Rng::next() {

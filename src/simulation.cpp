@@ -195,10 +195,8 @@ std::string config_fingerprint(const RunConfig& c) {
 // ------------------------------------------------------------------------------------------------
 class Laboratory {
  public:
-  Laboratory(const RunConfig& cfg, const RunOptions& opt) : cfg_(cfg), opt_(opt) {
-    out_ = opt.out_dir.empty() ? cfg.out_dir : opt.out_dir;
-    fingerprint_ = config_fingerprint(cfg);
-  }
+  Laboratory(const RunConfig& cfg, const RunOptions& opt)
+      : cfg_(cfg), opt_(opt), out_(opt.out_dir.empty() ? cfg.out_dir : opt.out_dir), fingerprint_(config_fingerprint(cfg)) {}
 
   RunResult run();
 
@@ -809,7 +807,7 @@ std::string Laboratory::write_checkpoint(const EngineState* state_override) {
   const EngineState s = state_override ? *state_override : eng_->capture();
   char name[64];
   std::snprintf(name, sizeof(name), "/checkpoints/ckpt_%012ld.h5", eng_->step_count());
-  const std::string path = out_ + name;
+  std::string path = out_ + name;
   write_h5_atomic(path, [&](H5Writer& w) {
     write_state(w, s);
     w.group("/lab");
