@@ -54,24 +54,5 @@ check: setup
 clean:
 	cmake --build $(BUILD) --target clean
 
-dist# Sanitizers and static checks (issue 7): the whole test suite under AddressSanitizer + UBSan (OpenMP
-# backend), then clang-tidy and cppcheck on src/ and kernels/. Zero findings; each suppression is an
-# inline NOLINT or cppcheck-suppress comment that says why. Takes ~15 minutes on 2 cores.
-CHECK_BUILD ?= build-check
-SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
-TIDY_CHECKS = -*,bugprone-*,-bugprone-easily-swappable-parameters,-bugprone-narrowing-conversions,-bugprone-implicit-widening-of-multiplication-result,performance-*,clang-analyzer-*,-clang-analyzer-optin.*
-check: setup
-	@prefix=$$(scripts/setup-deps.sh) && cmake -S . -B $(CHECK_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)" -DGRAINLAB_SANITIZED_CLI=OFF \
-	  -DCMAKE_EXPORT_COMPILE_COMMANDS=ON -DKokkos_ROOT="$$prefix" $(CMAKE_ARGS) >/dev/null
-	cmake --build $(CHECK_BUILD) -j $(JOBS)
-	cd $(CHECK_BUILD) && ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-	  ctest --output-on-failure --parallel $(JOBS) --timeout 1800
-	clang-tidy -p $(CHECK_BUILD) --quiet --warnings-as-errors='*' --checks='$(TIDY_CHECKS)' src/*.cpp kernels/*.cpp
-	cppcheck --quiet --error-exitcode=1 --std=c++17 --language=c++ --enable=warning,performance,portability \
-	  --inline-suppr -DKOKKOS_INLINE_FUNCTION=inline -DKOKKOS_FORCEINLINE_FUNCTION=inline -DKOKKOS_LAMBDA='[=]' \
-	  -DKOKKOS_VERSION=30401 -I kernels -I src --suppress=missingIncludeSystem --suppress=missingInclude src kernels
-	@echo "make check: sanitizers, clang-tidy and cppcheck clean"
-
-clean:
-	rm -rf $(BUILD)
+distclean:
+	rm -rf $(BUILD) $(CHECK_BUILD)
