@@ -147,9 +147,10 @@ def fig_forcechains(run, out):
     print(f"ParaView: open {os.path.join(run, 'particles.xdmf')}")
 
 
-def critical_state(s, window):
+def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     """Final state of the shear stage, and whether it is critical: over the last `window` of axial strain,
-    q/p', p' and e must each be steady: spread of q/p' < 0.05, of p'/p'_end < 5 %, of e < 0.005."""
+    q/p', p' and e must each be steady: the drift of a fitted line over the window below qp_tol (q/p'),
+    p_tol (p' relative) and e_tol (e). The reported state is the mean over the window."""
     m = s["shear"]
     if not m.any():
         return None
@@ -158,10 +159,20 @@ def critical_state(s, window):
     if ea[-1] - ea[0] < window or w.sum() < 3:
         return dict(ok=False, why="shear shorter than the window")
     qp, p, e = s["q_p"][m][w], s["p"][m][w], s["e"][m][w]
-    spread = dict(qp=np.ptp(qp), p=np.ptp(p) / max(p[-1], 1e-30), e=np.ptp(e))
-    ok = spread["qp"] < 0.05 and spread["p"] < 0.05 and spread["e"] < 0.005
-    return dict(ok=ok, why="" if ok else f"not steady: {spread}", p=p[-1], e=e[-1], a_c=s["a_c"][m][-1],
-                mu_r=s["mu_r"][m][-1], qp=qp[-1])
+    # Steady = no trend: the drift of a least-squares line over the window (slope x window), so that the
+    # fluctuations of a small sample do not count as change. p' relative to its mean.
+    x = ea[w]
+
+    def drift(y):
+        return abs(np.polyfit(x, y, 1)[0]) * (x[-1] - x[0])
+
+    spread = dict(qp=drift(qp), p=drift(p) / max(np.mean(p), 1e-30), e=drift(e))
+    ok = spread["qp"] < qp_tol and spread["p"] < p_tol and spread["e"] < e_tol
+    why = "" if ok else "drifting over the last %g of strain: q/p' by %.3f (< %g), p' by %.3f (< %g), e by %.4f (< %g)" % (
+        window, spread["qp"], qp_tol, spread["p"], p_tol, spread["e"], e_tol)
+    last = {k: s[k][m][-1] for k in ("a_c", "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n",
+                                      "sff_share_t", "q", "sff") if k in s}
+    return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), **last)
 
 
 def fit(x, y):
@@ -174,10 +185,10 @@ def fit(x, y):
     return coef[0], coef[1], math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1])
 
 
-def csl(runs, out, window):
+def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     states = []
     for run, s in runs:
-        cs = critical_state(s, window)
+        cs = critical_state(s, window, *tol)
         if cs is None:
             print(f"{run}: no shear stage")
         elif not cs["ok"]:
@@ -214,19 +225,106 @@ def csl(runs, out, window):
         a_.legend(fontsize=8)
     save(fig, out, "csl")
     text = "\n".join(lines)
-    print(text)
+    if not quiet:
+        print(text)
     with open(os.path.join(out, "csl.md"), "w") as f:
         f.write(text + "\n")
-    return results
+    return results, text, states
+
+
+def study(out):
+    """Report of a `grainlab study` directory: report.md + figures/ (stress paths, peaks, critical states,
+    critical-state lines per mu_r, stress-force-fabric shares)."""
+    import json
+
+    idx = json.load(open(os.path.join(out, "study.json")))
+    cs_cfg = idx["critical_state"]
+    tol = (cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
+    runs, missing = [], []
+    for j in idx["jobs"]:
+        d = os.path.join(out, j["dir"])
+        if os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done")):
+            runs.append((j, d, load(d)))
+        else:
+            missing.append(j["name"])
+    figs = os.path.join(out, "figures")
+    os.makedirs(figs, exist_ok=True)
+    murs = sorted({j["mu_r"] for j, _, _ in runs})
+    colors = {m: plt.cm.viridis(i / max(1, len(murs) - 1)) for i, m in enumerate(murs)}
+    fig, ax = plt.subplots(1, 3, figsize=(17, 4.8))
+    for j, d, s in runs:
+        m = s["shear"]
+        ls = "-" if j["drainage"] == "undrained" else "--"
+        lab = f"mu_r={j['mu_r']:g} {j['drainage']} p0={j['p0'] / 1e3:g}k e0={j['e0']:g}"
+        ax[0].plot(100 * s["eps_a"][m], s["q"][m] / 1e3, ls, color=colors[j["mu_r"]], label=lab)
+        ax[1].plot(s["p"][m] / 1e3, s["q"][m] / 1e3, ls, color=colors[j["mu_r"]])
+        ax[2].plot(s["p"][m] / 1e3, s["e"][m], ls, color=colors[j["mu_r"]])
+    ax[0].set(xlabel="eps_a [%]", ylabel="q [kPa]", title="deviator stress (solid undrained, dashed drained)")
+    ax[1].set(xlabel="p' [kPa]", ylabel="q [kPa]", title="stress paths")
+    ax[2].set(xlabel="p' [kPa]", ylabel="e", title="e - p'")
+    for a in ax:
+        a.grid(alpha=0.3)
+    ax[0].legend(fontsize=6)
+    save(fig, figs, "stress_paths")
+    # Peaks and critical states.
+    peak_rows, cs_rows, share_rows = [], [], []
+    for j, d, s in runs:
+        m = s["shear"]
+        k = int(np.argmax(s["q"][m]))
+        peak_rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {s['q'][m][k] / 1e3:.1f} | "
+                         f"{100 * s['eps_a'][m][k]:.2f} | {s['q_p'][m][k]:.3f} |")
+        c = critical_state(s, cs_cfg["window"], *tol)
+        if c is None:
+            continue
+        if c["ok"]:
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | {c['e']:.4f} | "
+                           f"{c['qp']:.3f} | {c['a_c']:.3f} |")
+            share_rows.append(f"| {j['name']} | {j['mu_r']:g} | {c['sff_share_c']:.2f} | {c['sff_share_d']:.2f} | "
+                              f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
+        else:
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | no: {c['why']} | | | | | |")
+    results, csl_text, states = csl([(d, s) for _, d, s in runs], figs, cs_cfg["window"], tol, quiet=True)
+    # Shares at critical state, per mu_r (mean over its critical states).
+    if states:
+        fig, ax = plt.subplots(figsize=(7, 4))
+        bottom = np.zeros(len(murs))
+        for key, lab in zip("cdnt", ["a_c", "a_d", "a_n", "3/2 a_t"]):
+            vals = []
+            for mu in murs:
+                g = [c["sff_share_" + key] for _, c in states if c["mu_r"] == mu]
+                vals.append(np.mean(g) if g else 0)
+            ax.bar([f"{mu:g}" for mu in murs], vals, bottom=bottom, label=lab)
+            bottom += np.array(vals)
+        ax.set(xlabel="mu_r", ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)", title="stress-force-fabric shares at critical state")
+        ax.legend(fontsize=8)
+        save(fig, figs, "sff_shares")
+    lines = [f"# Study report: {idx['study']}", "",
+             f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
+             "", "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`.", "",
+             "## Peak states", "", "| test | mu_r | drainage | q_peak [kPa] | eps_a at peak [%] | q/p' at peak |",
+             "|---|---|---|---|---|---|", *peak_rows, "",
+             "## Critical states", "",
+             f"A test is at critical state when, over the last {cs_cfg['window']:g} of axial strain, the drift of q/p' (slope of a least-squares line times the window) is below "
+             f"{tol[0]:g}, of p'/p'_end below {tol[1]:g} and of e below {tol[2]:g}; other tests are listed but not fitted.", "",
+             "| test | mu_r | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | a_c |", "|---|---|---|---|---|---|---|---|",
+             *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
+             "## Stress-force-fabric shares at critical state", "",
+             "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, ""]
+    with open(os.path.join(out, "report.md"), "w") as f:
+        f.write("\n".join(lines))
+    print(os.path.join(out, "report.md"))
 
 
 def main():
     ap = argparse.ArgumentParser(prog="grainlab")
-    ap.add_argument("cmd", choices=["plot", "csl"])
+    ap.add_argument("cmd", choices=["plot", "csl", "study"])
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--out", default=None, help="figure directory (default: the first run's figures/)")
     ap.add_argument("--window", type=float, default=0.05, help="csl: axial-strain window of the steadiness test")
     a = ap.parse_args()
+    if a.cmd == "study":
+        study(a.runs[0])
+        return
     runs = []
     for r in a.runs:
         if not os.path.isfile(os.path.join(r, "series.csv")):

@@ -132,9 +132,7 @@ class Section {
 
 }  // namespace
 
-RunConfig load_run_config(const std::string& path) {
-  RunConfig c;
-  c.path = path;
+YAML::Node load_yaml_screened(const std::string& path) {
   YAML::Node root;
   {
     std::ifstream in(path, std::ios::binary);
@@ -187,6 +185,22 @@ RunConfig load_run_config(const std::string& path) {
       throw ConfigError(path + ": cannot parse: " + e.what());
     }
   }
+  return root;
+}
+
+bool is_study_file(const std::string& path) {
+  try {
+    const YAML::Node n = load_yaml_screened(path);
+    return n.IsMap() && n["base"];
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+RunConfig load_run_config(const std::string& path) {
+  RunConfig c;
+  c.path = path;
+  YAML::Node root = load_yaml_screened(path);
   if (!root || root.IsNull()) throw ConfigError(path + ": the file is empty");
   Section top(root, "", &path);
 

@@ -1,6 +1,8 @@
 #pragma once
 // Run configuration (YAML). Every error names the file, the key and the allowed range; unknown keys
 // are errors too (a typo must not silently fall back to a default).
+#include <yaml-cpp/yaml.h>
+
 #include <string>
 #include <vector>
 
@@ -57,6 +59,10 @@ struct RunConfig {
 };
 
 RunConfig load_run_config(const std::string& path);
+// Reads a YAML file after screening it (size, NUL bytes, nesting depth); errors name the file.
+YAML::Node load_yaml_screened(const std::string& path);
+// A study file (top-level `base:`) rather than a run config.
+bool is_study_file(const std::string& path);
 // The configuration with every default filled in, as YAML (stored in every run's files).
 std::string resolved_config_yaml(const RunConfig& c);
 

@@ -1,6 +1,7 @@
 // grainlab command line: run and validate configs.
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -8,14 +9,22 @@
 #include <unistd.h>
 
 #include "simulation.hpp"
+#include "study.hpp"
 
 namespace {
+// Error lines are one line whatever a message contains (a YAML value may hold newlines).
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
 int usage(FILE* f) {
   std::fprintf(f,
                "usage: grainlab run CONFIG.yaml [--out DIR] [--threads N] [--resume] [--quiet]\n"
                "       grainlab validate CONFIG.yaml\n"
                "       grainlab plot RUN_DIR [RUN_DIR...] [--out DIR]     figures (PNG + PDF)\n"
                "       grainlab csl RUN_DIR [RUN_DIR...] [--out DIR]      critical-state lines per mu_r\n"
+               "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab version\n");
   return f == stderr ? 2 : 0;
 }
@@ -42,6 +51,30 @@ int main(int argc, char** argv) {
     execvp(py.c_str(), args.data());
     std::fprintf(stderr, "grainlab: cannot run %s %s\n", py.c_str(), script.c_str());
     return 1;
+  }
+  if (cmd == "study") {
+    if (argc < 3) return usage(stderr);
+    grainlab::StudyOptions so;
+    char self[4096];
+    const ssize_t len = readlink("/proc/self/exe", self, sizeof(self) - 1);
+    so.self_exe = len > 0 ? std::string(self, size_t(len)) : std::string(argv[0]);
+    for (int a = 3; a < argc; ++a) {
+      const std::string s = argv[a];
+      if (s == "--out" && a + 1 < argc) so.out_dir = argv[++a];
+      else if (s == "--jobs" && a + 1 < argc) so.jobs = std::max(1, std::atoi(argv[++a]));
+      else if (s == "--threads" && a + 1 < argc) so.threads = std::max(1, std::atoi(argv[++a]));
+      else if (s == "--quiet") so.quiet = true;
+      else {
+        std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
+        return usage(stderr);
+      }
+    }
+    try {
+      return grainlab::run_study(grainlab::load_study(argv[2]), so);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
+      return 1;
+    }
   }
   if ((cmd != "run" && cmd != "validate") || argc < 3) return usage(stderr);
   const std::string config = argv[2];
@@ -70,11 +103,21 @@ int main(int argc, char** argv) {
       return usage(stderr);
     }
   }
+  if (cmd == "validate" && grainlab::is_study_file(config)) {
+    try {
+      const grainlab::Study st = grainlab::load_study(config);
+      std::printf("%s: ok (study: %zu samples, %zu shear tests)\n", config.c_str(), st.samples.size(), st.shears.size());
+      return 0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
+      return 1;
+    }
+  }
   grainlab::RunConfig cfg;
   try {
     cfg = grainlab::load_run_config(config);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "grainlab: error: %s\n", e.what());
+    std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
     return 1;
   }
   if (cmd == "validate") {
@@ -87,10 +130,10 @@ int main(int argc, char** argv) {
     const grainlab::RunResult r = grainlab::run_simulation(cfg, opt);
     if (r.interrupted) rc = 130;  // like a shell's Ctrl-C, but with a checkpoint written
   } catch (const grainlab::BlowUpError& e) {
-    std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), e.what());
+    std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), one_line(e.what()).c_str());
     rc = 3;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), e.what());
+    std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), one_line(e.what()).c_str());
     rc = 1;
   }
   Kokkos::finalize();

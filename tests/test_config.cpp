@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "src/config.hpp"
+#include "src/study.hpp"
 
 using namespace grainlab;
 namespace fs = std::filesystem;
@@ -31,7 +32,8 @@ TEST(Config, ShippedConfigsValidate) {
   for (auto& e : fs::recursive_directory_iterator(GRAINLAB_SOURCE_DIR "/configs")) {
     if (e.path().extension() != ".yaml") continue;
     SCOPED_TRACE(e.path().string());
-    EXPECT_NO_THROW(load_run_config(e.path().string()));
+    if (is_study_file(e.path().string())) EXPECT_NO_THROW(load_study(e.path().string()));
+    else EXPECT_NO_THROW(load_run_config(e.path().string()));
     ++n;
   }
   EXPECT_GE(n, 1);

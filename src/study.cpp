@@ -1,0 +1,348 @@
+#include "study.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "config.hpp"
+#include "simulation.hpp"
+
+namespace grainlab {
+namespace fs = std::filesystem;
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& key, const std::string& msg) {
+  throw ConfigError(path + ": " + key + ": " + msg);
+}
+
+std::vector<double> numbers(const YAML::Node& n, const std::string& path, const std::string& key) {
+  std::vector<double> out;
+  if (!n) return out;
+  const YAML::Node seq = n.IsSequence() ? n : YAML::Node(std::vector<YAML::Node>{n});
+  for (auto v : seq) {
+    double x = 0;
+    try {
+      x = v.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(path, key, "must be a number or a list of numbers");
+    }
+    if (!std::isfinite(x) || x < 0) fail(path, key, "values must be finite and >= 0");
+    out.push_back(x);
+  }
+  return out;
+}
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+// The base config with the study's values applied (YAML node surgery, then validated by the loader).
+YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only, const std::string& sample_file) {
+  YAML::Node c = YAML::Clone(base);
+  if (shear_only) {
+    c["sample"] = YAML::Node(YAML::NodeType::Map);
+    c["sample"]["file"] = sample_file;
+  } else {
+    if (j.seed > 0) c["sample"]["seed"] = j.seed;
+    if (j.count > 0) c["sample"]["count"] = j.count;
+  }
+  c["material"]["mu_r"] = j.mu_r;
+  YAML::Node stages(YAML::NodeType::Sequence);
+  bool first_iso = true;
+  for (auto st : base["stages"]) {
+    YAML::Node s = YAML::Clone(st);
+    const std::string type = s["type"] ? s["type"].as<std::string>() : "isotropic";
+    s["mu_r"] = j.mu_r;
+    if (type == "isotropic") {
+      if (shear_only) continue;
+      if (j.p0 > 0) s["pressure"] = j.p0;
+      if (first_iso && j.e0 > 0) s["target_e0"] = j.e0;
+      first_iso = false;
+      s["save_sample"] = true;
+    } else {
+      if (!shear_only) continue;
+      s["drainage"] = j.drainage;
+    }
+    stages.push_back(s);
+  }
+  c["stages"] = stages;
+  if (c["output"]) c["output"].remove("dir");
+  return c;
+}
+
+}  // namespace
+
+Study load_study_unchecked(const std::string& path);
+
+Study load_study(const std::string& path) {
+  try {
+    return load_study_unchecked(path);
+  } catch (const YAML::Exception& e) {  // a wrong type somewhere: still one line naming the file
+    std::string what = e.what();
+    for (char& ch : what)
+      if (ch == '\n') ch = ' ';
+    throw ConfigError(path + ": " + what);
+  }
+}
+
+Study load_study_unchecked(const std::string& path) {
+  Study s;
+  s.path = path;
+  const YAML::Node root = load_yaml_screened(path);
+  if (!root.IsMap()) throw ConfigError(path + ": (top level): must be a mapping");
+  const std::set<std::string> known = {"base", "axes", "extra", "critical_state"};
+  for (auto it : root)
+    if (!known.count(it.first.as<std::string>()))
+      fail(path, it.first.as<std::string>(), "unknown key (known: base, axes, extra, critical_state)");
+  if (!root["base"]) fail(path, "base", "is required (a run config whose stages prepare and shear a sample)");
+  s.base = root["base"].as<std::string>();
+  if (s.base[0] != '/') s.base = (fs::path(path).parent_path() / s.base).string();
+  RunConfig base_cfg;
+  YAML::Node base;
+  try {
+    base_cfg = load_run_config(s.base);  // the base must be a valid config on its own
+    base = load_yaml_screened(s.base);
+  } catch (const std::exception& e) {
+    fail(path, "base", e.what());
+  }
+  bool has_iso = false, has_tri = false;
+  for (auto& st : base_cfg.stages) (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
+  if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial stage");
+  if (const YAML::Node cs = root["critical_state"]) {
+    for (auto it : cs) {
+      const std::string k = it.first.as<std::string>();
+      const double v = it.second.as<double>();
+      if (!(v > 0 && v < 1)) fail(path, "critical_state." + k, "must be in (0, 1)");
+      if (k == "window") s.window = v;
+      else if (k == "qp_tol") s.qp_tol = v;
+      else if (k == "p_tol") s.p_tol = v;
+      else if (k == "e_tol") s.e_tol = v;
+      else fail(path, "critical_state." + k, "unknown key (known: window, qp_tol, p_tol, e_tol)");
+    }
+  }
+  // Axes: the full grid; each axis defaults to the base config's value.
+  const YAML::Node ax = root["axes"];
+  auto axis = [&](const char* k, std::vector<double> def) {
+    auto v = numbers(ax ? ax[k] : YAML::Node(), path, std::string("axes.") + k);
+    return v.empty() ? def : v;
+  };
+  if (ax)
+    for (auto it : ax) {
+      const std::string k = it.first.as<std::string>();
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "seed", "count"}.count(k))
+        fail(path, "axes." + k, "unknown axis (known: mu_r, e0, p0, drainage, seed, count)");
+    }
+  std::vector<std::string> drain;
+  if (ax && ax["drainage"])
+    for (auto v : (ax["drainage"].IsSequence() ? ax["drainage"] : YAML::Node(std::vector<YAML::Node>{ax["drainage"]}))) {
+      const std::string d = v.as<std::string>();
+      if (d != "drained" && d != "undrained") fail(path, "axes.drainage", "'" + d + "' is not drained or undrained");
+      drain.push_back(d);
+    }
+  if (drain.empty()) drain = {"undrained"};
+  struct Point {
+    double mu_r, e0, p0;
+    long seed, count;
+    std::string drainage;
+  };
+  std::vector<Point> points;
+  if (ax || !root["extra"]) {
+    for (double mur : axis("mu_r", {base_cfg.engine.contact.mu_r}))
+      for (double e0 : axis("e0", {0}))
+        for (double p0 : axis("p0", {0}))
+          for (double seed : axis("seed", {double(base_cfg.packing.seed)}))
+            for (double count : axis("count", {double(base_cfg.packing.count)}))
+              for (auto& d : drain) points.push_back({mur, e0, p0, long(seed), long(count), d});
+  }
+  if (const YAML::Node ex = root["extra"]) {
+    if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
+    for (size_t k = 0; k < ex.size(); ++k) {
+      const std::string key = "extra[" + std::to_string(k) + "]";
+      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), "undrained"};
+      for (auto it : ex[k]) {
+        const std::string f = it.first.as<std::string>();
+        if (f == "drainage") {
+          pt.drainage = it.second.as<std::string>();
+          if (pt.drainage != "drained" && pt.drainage != "undrained") fail(path, key + ".drainage", "drained or undrained");
+          continue;
+        }
+        const double v = numbers(it.second, path, key + "." + f).at(0);
+        if (f == "mu_r") pt.mu_r = v;
+        else if (f == "e0") pt.e0 = v;
+        else if (f == "p0") pt.p0 = v;
+        else if (f == "seed") pt.seed = long(v);
+        else if (f == "count") pt.count = long(v);
+        else fail(path, key + "." + f, "unknown key (known: mu_r, e0, p0, drainage, seed, count)");
+      }
+      points.push_back(pt);
+    }
+  }
+  // Distinct samples, each prepared once.
+  std::map<std::string, size_t> sample_index;
+  for (const Point& pt : points) {
+    std::ostringstream sn;
+    sn << "sample_mur" << fmt(pt.mu_r) << "_e" << (pt.e0 > 0 ? fmt(pt.e0) : "base") << "_p"
+       << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base") << "_s" << pt.seed << "_n" << pt.count;
+    if (!sample_index.count(sn.str())) {
+      StudyJob j;
+      j.name = sn.str();
+      j.is_sample = true;
+      j.mu_r = pt.mu_r;
+      j.e0 = pt.e0;
+      j.p0 = pt.p0;
+      j.seed = pt.seed;
+      j.count = pt.count;
+      j.config_yaml = YAML::Dump(job_config(base, j, false, ""));
+      sample_index[j.name] = s.samples.size();
+      s.samples.push_back(j);
+    }
+    StudyJob sh = s.samples[sample_index[sn.str()]];
+    sh.is_sample = false;
+    sh.sample_name = sn.str();
+    sh.drainage = pt.drainage;
+    sh.name = "shear_" + pt.drainage + "_" + sn.str().substr(7);
+    bool dup = false;
+    for (auto& o : s.shears) dup = dup || o.name == sh.name;
+    if (!dup) s.shears.push_back(sh);
+  }
+  return s;
+}
+
+namespace {
+struct Running {
+  pid_t pid;
+  const StudyJob* job;
+};
+}  // namespace
+
+int run_study(const Study& s, const StudyOptions& o) {
+  const fs::path out = o.out_dir.empty() ? fs::path("runs") / fs::path(s.path).stem() : fs::path(o.out_dir);
+  fs::create_directories(out / "jobs");
+  const int per_job_threads = std::max(1, (o.threads > 0 ? o.threads : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)))) /
+                                              std::max(1, o.jobs));
+  // Write every job's config first: a bad one fails now, not hours in.
+  auto cfg_path = [&](const StudyJob& j) { return out / "jobs" / j.name / "job.yaml"; };
+  auto sample_file = [&](const StudyJob& sample) {
+    std::string last_iso;
+    for (auto st : YAML::Load(sample.config_yaml)["stages"]) last_iso = st["name"] ? st["name"].as<std::string>() : "";
+    return (out / "jobs" / sample.name / "run" / ("sample_" + last_iso + ".h5")).string();
+  };
+  std::map<std::string, const StudyJob*> by_name;
+  for (const StudyJob& j : s.samples) by_name[j.name] = &j;
+  const YAML::Node base = YAML::LoadFile(s.base);
+  for (auto* list : {&s.samples, &s.shears})
+    for (const StudyJob& j : *list) {
+      fs::create_directories(out / "jobs" / j.name);
+      const std::string text =
+          j.is_sample ? j.config_yaml : YAML::Dump(job_config(base, j, true, sample_file(*by_name.at(j.sample_name))));
+      write_file_atomic(cfg_path(j).string(), "# generated by grainlab study from " + s.path + "\n" + text + "\n");
+      load_run_config(cfg_path(j).string());  // every job validates now (a sample file is opened only at run)
+      if (!j.is_sample) by_name[j.name] = &j;
+    }
+  // Study index for the report.
+  {
+    std::ostringstream js;
+    js << "{\n  \"study\": \"" << s.path << "\",\n  \"critical_state\": {\"window\": " << s.window
+       << ", \"qp_tol\": " << s.qp_tol << ", \"p_tol\": " << s.p_tol << ", \"e_tol\": " << s.e_tol << "},\n  \"jobs\": [\n";
+    for (size_t k = 0; k < s.shears.size(); ++k) {
+      const StudyJob& j = s.shears[k];
+      js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name
+         << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
+         << j.drainage << "\", \"seed\": " << j.seed << ", \"count\": " << j.count << "}"
+         << (k + 1 < s.shears.size() ? "," : "") << "\n";
+    }
+    js << "  ]\n}\n";
+    write_file_atomic((out / "study.json").string(), js.str());
+  }
+  auto done = [&](const StudyJob& j) { return fs::exists(out / "jobs" / j.name / "done"); };
+  auto launch = [&](const StudyJob& j) -> pid_t {
+    const std::string log = (out / "jobs" / j.name / "log.txt").string();
+    const pid_t pid = fork();
+    if (pid == 0) {
+      if (!freopen(log.c_str(), "a", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(2);
+      const std::string cfg = cfg_path(j).string(), dir = (out / "jobs" / j.name / "run").string(),
+                        th = std::to_string(per_job_threads);
+      execl(o.self_exe.c_str(), o.self_exe.c_str(), "run", cfg.c_str(), "--out", dir.c_str(), "--resume", "--threads",
+            th.c_str(), "--quiet", (char*)nullptr);
+      _exit(127);
+    }
+    return pid;
+  };
+  std::vector<const StudyJob*> queue;
+  for (auto& j : s.samples)
+    if (!done(j)) queue.push_back(&j);
+  for (auto& j : s.shears)
+    if (!done(j)) queue.push_back(&j);
+  const size_t total = s.samples.size() + s.shears.size();
+  if (!o.quiet)
+    std::printf("study %s: %zu samples, %zu shears; %zu to run, %d at a time x %d threads; output %s\n", s.path.c_str(),
+                s.samples.size(), s.shears.size(), queue.size(), o.jobs, per_job_threads, out.c_str());
+  std::vector<Running> running;
+  int failures = 0;
+  size_t finished = total - queue.size();
+  while (!queue.empty() || !running.empty()) {
+    // Start what can start: samples any time, shears once their sample is done.
+    for (auto it = queue.begin(); it != queue.end() && int(running.size()) < o.jobs;) {
+      const StudyJob* j = *it;
+      if (!j->is_sample && !done(*by_name[j->sample_name])) {
+        bool sample_failed = true;
+        for (auto& r : running) sample_failed = sample_failed && r.job->name != j->sample_name;
+        for (auto* q : queue) sample_failed = sample_failed && q->name != j->sample_name;
+        if (!sample_failed) {
+          ++it;
+          continue;
+        }
+        std::fprintf(stderr, "grainlab study: %s skipped: its sample %s failed\n", j->name.c_str(), j->sample_name.c_str());
+        ++failures;
+        it = queue.erase(it);
+        continue;
+      }
+      running.push_back({launch(*j), j});
+      it = queue.erase(it);
+    }
+    int status = 0;
+    const pid_t pid = wait(&status);
+    if (pid < 0) break;
+    for (auto it = running.begin(); it != running.end(); ++it) {
+      if (it->pid != pid) continue;
+      const StudyJob& j = *it->job;
+      ++finished;
+      if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
+        if (!o.quiet) std::printf("[%zu/%zu] %s done\n", finished, total, j.name.c_str());
+      } else {
+        ++failures;
+        std::fprintf(stderr, "grainlab study: %s failed (exit %d); see %s; rerun the study to resume it\n", j.name.c_str(),
+                     WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status),
+                     (out / "jobs" / j.name / "log.txt").c_str());
+      }
+      running.erase(it);
+      break;
+    }
+  }
+  if (failures) {
+    std::fprintf(stderr, "grainlab study: %d job(s) failed or were skipped; the report covers the finished ones\n", failures);
+  }
+  // Report: figures, tables and critical-state lines (scripts/grainlab_plot.py study).
+  const char* env = std::getenv("GRAINLAB_PYTHON");
+  const std::string py = env && *env ? env : (access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
+  const std::string cmd = py + " '" GRAINLAB_SOURCE_DIR "/scripts/grainlab_plot.py' study '" + out.string() + "'";
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) {
+    std::fprintf(stderr, "grainlab study: the report could not be written (%s)\n", cmd.c_str());
+    return 1;
+  }
+  return failures ? 1 : 0;
+}
+
+}  // namespace grainlab

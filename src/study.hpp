@@ -1,0 +1,37 @@
+#pragma once
+// Parameter studies (issue 8): one YAML names a base run config and the axes to sweep; each distinct
+// sample is prepared once and reused by every shear that needs it; jobs are resumable (finished ones
+// are skipped, interrupted ones resumed); the report is written by scripts/grainlab_plot.py.
+#include <string>
+#include <vector>
+
+namespace grainlab {
+
+struct StudyJob {
+  std::string name;         // directory name under jobs/
+  std::string sample_name;  // preparation job this shear uses
+  bool is_sample = false;
+  double mu_r = 0, e0 = 0, p0 = 0;  // e0 = 0: the base config's preparation without a target
+  long seed = 0, count = 0;
+  std::string drainage;
+  std::string config_yaml;  // the generated run config
+};
+
+struct Study {
+  std::string path, base;
+  std::vector<StudyJob> samples, shears;
+  double window = 0.05, qp_tol = 0.05, p_tol = 0.05, e_tol = 0.005;  // critical-state detection
+};
+
+Study load_study(const std::string& path);
+
+struct StudyOptions {
+  std::string out_dir, self_exe;
+  int jobs = 1, threads = 0;
+  bool quiet = false;
+};
+
+// Runs every job (resumably) and writes the report; returns the process exit code.
+int run_study(const Study& s, const StudyOptions& o);
+
+}  // namespace grainlab
