@@ -10,12 +10,12 @@
 set -euo pipefail
 
 DEPS_DIR="${GRAINLAB_DEPS:-${XDG_CACHE_HOME:-$HOME/.cache}/grainlab}"
-KOKKOS_VARIANT="${KOKKOS_VARIANT:-openmp}"          # openmp | cuda (issue 6)
+KOKKOS_VARIANT="${KOKKOS_VARIANT:-openmp}"          # openmp | cuda (make gpu)
 KOKKOS_PREFIX="$DEPS_DIR/kokkos-3.4.01-$KOKKOS_VARIANT"
 say() { printf '[setup] %s\n' "$*" >&2; }
 
 # ---- 1. Debian packages ----------------------------------------------------------------------
-PKGS=(cmake g++ make libeigen3-dev libhdf5-dev hdf5-tools libyaml-cpp-dev libgtest-dev libbenchmark-dev
+PKGS=(cmake g++ make patch libeigen3-dev libhdf5-dev hdf5-tools libyaml-cpp-dev libgtest-dev libbenchmark-dev
       dpkg-dev xz-utils python3 python3-numpy python3-matplotlib python3-h5py)
 missing=()
 for p in "${PKGS[@]}"; do
@@ -72,14 +72,26 @@ if [ ! -f "$KOKKOS_SRC/CMakeLists.txt" ]; then
 fi
 
 EXTRA=()
+SRC_USE="$KOKKOS_SRC"
 case "$KOKKOS_VARIANT" in
   openmp) EXTRA=(-DKokkos_ENABLE_OPENMP=ON) ;;
-  *) say "error: KOKKOS_VARIANT=$KOKKOS_VARIANT is not supported by this script (allowed: openmp)"; exit 1 ;;
+  cuda)
+    # CUDA 13 + Kokkos 3.4.01 on Ampere/Hopper needs four small source fixes (../shared/DEPENDENCIES.md),
+    # kept as patches in patches/kokkos-3.4.01-cuda13/ and applied to a private copy of the source.
+    command -v nvcc >/dev/null || { say "error: nvcc not found (the CUDA build needs the CUDA toolkit)"; exit 1; }
+    SRC_USE="$SRC_DIR/kokkos-3.4.01-cuda13"
+    rm -rf "$SRC_USE"; cp -r "$KOKKOS_SRC" "$SRC_USE"
+    for p in "$(cd "$(dirname "$0")/.." && pwd)"/patches/kokkos-3.4.01-cuda13/*.patch; do
+      patch -s -p1 -d "$SRC_USE" < "$p" || { say "error: patch $p does not apply"; exit 1; }
+    done
+    EXTRA=(-DKokkos_ENABLE_CUDA=ON -DKokkos_ENABLE_CUDA_LAMBDA=ON -DKokkos_ARCH_AMPERE80=ON
+           -DCMAKE_CXX_COMPILER="$SRC_USE/bin/nvcc_wrapper" -DCMAKE_POLICY_VERSION_MINIMUM=3.5) ;;
+  *) say "error: KOKKOS_VARIANT=$KOKKOS_VARIANT is not supported (allowed: openmp, cuda)"; exit 1 ;;
 esac
 BUILD="$DEPS_DIR/build-kokkos-$KOKKOS_VARIANT"
 rm -rf "$BUILD" "$KOKKOS_PREFIX"
 say "building Kokkos 3.4.01 ($KOKKOS_VARIANT + Serial) into $KOKKOS_PREFIX"
-cmake -S "$KOKKOS_SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$KOKKOS_PREFIX" \
+cmake -S "$SRC_USE" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$KOKKOS_PREFIX" \
   -DCMAKE_CXX_STANDARD=17 -DKokkos_CXX_STANDARD=17 -DKokkos_ENABLE_SERIAL=ON "${EXTRA[@]}" \
   -DKokkos_ENABLE_TESTS=OFF -DBUILD_SHARED_LIBS=OFF -DCMAKE_POSITION_INDEPENDENT_CODE=ON >/dev/null
 cmake --build "$BUILD" -j "$(nproc)" >/dev/null

@@ -41,10 +41,6 @@ class Section {
     if (!has(k)) return def;
     return real_node(k, lo, hi, lo_open);
   }
-  Real real_required(const std::string& k, Real lo, Real hi, bool lo_open = false) {
-    if (!has(k)) fail(key_path(k), "is required (" + range(lo, hi, lo_open) + ")");
-    return real_node(k, lo, hi, lo_open);
-  }
   long integer(const std::string& k, long def, long lo, long hi) {
     if (!has(k)) return def;
     const Real v = real_node(k, Real(lo), Real(hi), false);
