@@ -1,6 +1,8 @@
 #pragma once
 // The per-step DEM kernels (SPEC §2-4) over the structure-of-arrays state. Host code in src/ decides
 // when to call them; nothing here allocates except the grow-only history buffers at rebuilds.
+#include <utility>
+
 #include "contact_law.hpp"
 #include "neighbor.hpp"
 
@@ -71,7 +73,8 @@ class DeterministicSum {
           for (int c = 0; c < nchunks; ++c) s += partial(c, k);
           result(k) = s;
         });
-    Kokkos::deep_copy(host_, result_);
+    // Only the nv values in use cross to the host.
+    Kokkos::deep_copy(Kokkos::subview(host_, std::make_pair(0, nv)), Kokkos::subview(result_, std::make_pair(0, nv)));
     for (int k = 0; k < nv; ++k) out[k] = host_(k);
   }
 

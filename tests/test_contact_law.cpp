@@ -232,7 +232,38 @@ TEST(ContactLaw, RigidSpinDoesNotLoadSprings) {
   EXPECT_LT(norm(h.mr - h0.mr), kRoundoff * slip_scale * s.ri);
 }
 
-// The law compiled for the execution space gives the host's answers (same source, one law).
+// The law compiled for the execution space gives the host's answers (same source, one law). The device part
+// lives in free functions: CUDA forbids device lambdas inside a gtest body (a private member function).
+namespace grainlab_test {
+using namespace grainlab;
+using Inputs = Kokkos::View<Real* [12], MemSpace>;
+using Outputs = Kokkos::View<Real* [15], MemSpace>;
+
+template <class V>
+KOKKOS_INLINE_FUNCTION void law_case(const ContactParams& p, const V& src, int k, Real* o) {
+  const Real ri = 0.3e-3, rj = 0.4e-3;
+  const Vec3 d = Vec3(1 + 0.1 * src(k, 0), 0.1 * src(k, 1), 0.1 * src(k, 2)) * (ri + rj - 2e-6);
+  ContactHistory h;
+  h.ft = Vec3(src(k, 9), src(k, 10), src(k, 11)) * 1e-3;
+  h.mr = Vec3(src(k, 10), src(k, 11), src(k, 9)) * 1e-9;
+  const ContactResult c = LinearRollingContact<true, true>::evaluate(
+      p, ri, rj, 1e-7, 2e-7, d, norm(d), Vec3(src(k, 3), 0, 0) * 0.01, Vec3(0, src(k, 4), 0) * 0.01,
+      Vec3(src(k, 5), src(k, 6), 0) * 10, Vec3(0, src(k, 7), src(k, 8)) * 10, h);
+  const Vec3 all[5] = {c.f, c.ti, c.tj, h.ft, h.mr};
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 3; ++b) o[3 * a + b] = all[a][b];
+}
+
+void law_on_device(const ContactParams& P, const Inputs& din, const Outputs& dout) {
+  Kokkos::parallel_for(
+      "test::law_on_device", Kokkos::RangePolicy<ExecSpace>(0, int(din.extent(0))), KOKKOS_LAMBDA(int k) {
+        Real o[15];
+        law_case(P, din, k, o);
+        for (int c = 0; c < 15; ++c) dout(k, c) = o[c];
+      });
+}
+}  // namespace grainlab_test
+
 TEST(ContactLaw, DeviceMatchesHost) {
   ContactParams P = test::reference_contact();
   P.dt = 1e-7;
@@ -245,30 +276,12 @@ TEST(ContactLaw, DeviceMatchesHost) {
   for (int k = 0; k < n; ++k)
     for (int c = 0; c < 12; ++c) in(k, c) = U(g);
   auto din = Kokkos::create_mirror_view_and_copy(MemSpace(), in);
-  Kokkos::View<Real* [15], MemSpace> dout("out", n);
-  auto run_one = [](const ContactParams& p, const auto& src, int k, Real* o) {
-    const Real ri = 0.3e-3, rj = 0.4e-3;
-    const Vec3 d = Vec3(1 + 0.1 * src(k, 0), 0.1 * src(k, 1), 0.1 * src(k, 2)) * ((ri + rj - 2e-6) / 1.0);
-    ContactHistory h;
-    h.ft = Vec3(src(k, 9), src(k, 10), src(k, 11)) * 1e-3;
-    h.mr = Vec3(src(k, 10), src(k, 11), src(k, 9)) * 1e-9;
-    const ContactResult c = LinearRollingContact<true, true>::evaluate(
-        p, ri, rj, 1e-7, 2e-7, d, norm(d), Vec3(src(k, 3), 0, 0) * 0.01, Vec3(0, src(k, 4), 0) * 0.01,
-        Vec3(src(k, 5), src(k, 6), 0) * 10, Vec3(0, src(k, 7), src(k, 8)) * 10, h);
-    const Vec3 all[5] = {c.f, c.ti, c.tj, h.ft, h.mr};
-    for (int a = 0; a < 5; ++a)
-      for (int b = 0; b < 3; ++b) o[3 * a + b] = all[a][b];
-  };
-  Kokkos::parallel_for(
-      "test::law_on_device", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int k) {
-        Real o[15];
-        run_one(P, din, k, o);
-        for (int c = 0; c < 15; ++c) dout(k, c) = o[c];
-      });
+  grainlab_test::Outputs dout("out", n);
+  grainlab_test::law_on_device(P, din, dout);
   auto hout = Kokkos::create_mirror_view_and_copy(HostSpace(), dout);
   for (int k = 0; k < n; ++k) {
     Real o[15];
-    run_one(P, in, k, o);
+    grainlab_test::law_case(P, in, k, o);
     // Bitwise on a CPU backend; a GPU compiler may contract a*b+c into an FMA: 1e-12 relative covers it.
     for (int c = 0; c < 15; ++c) EXPECT_NEAR(hout(k, c), o[c], 1e-12 * (std::abs(o[c]) + 1e-300)) << k << "," << c;
   }
