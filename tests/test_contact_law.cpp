@@ -236,7 +236,6 @@ TEST(ContactLaw, RigidSpinDoesNotLoadSprings) {
 // lives in free functions: CUDA forbids device lambdas inside a gtest body (a private member function).
 namespace grainlab_test {
 using namespace grainlab;
-using Inputs = Kokkos::View<Real* [12], MemSpace>;
 using Outputs = Kokkos::View<Real* [15], MemSpace>;
 
 template <class V>
@@ -254,6 +253,7 @@ KOKKOS_INLINE_FUNCTION void law_case(const ContactParams& p, const V& src, int k
     for (int b = 0; b < 3; ++b) o[3 * a + b] = all[a][b];
 }
 
+template <class Inputs>  // any layout: the host view's mirror keeps the host layout
 void law_on_device(const ContactParams& P, const Inputs& din, const Outputs& dout) {
   Kokkos::parallel_for(
       "test::law_on_device", Kokkos::RangePolicy<ExecSpace>(0, int(din.extent(0))), KOKKOS_LAMBDA(int k) {
