@@ -24,6 +24,23 @@ Sym Sym::scaled(Real s) const {
   return r;
 }
 
+Sym Sym::symmetric_part(const Real (&m)[3][3]) {
+  Sym r;
+  r.v[0] = m[0][0];
+  r.v[1] = m[1][1];
+  r.v[2] = m[2][2];
+  r.v[3] = 0.5 * (m[0][1] + m[1][0]);
+  r.v[4] = 0.5 * (m[1][2] + m[2][1]);
+  r.v[5] = 0.5 * (m[2][0] + m[0][2]);
+  return r;
+}
+
+void stress_invariants(const Sym& sigma, Real& p, Real& q) {
+  p = sigma.trace() / 3;
+  const Sym d = sigma.deviator();
+  q = std::sqrt(1.5 * d.ddot(d));
+}
+
 Real signed_invariant(const Sym& a, const Sym& s_dev) {
   const Real aa = a.ddot(a);
   const Real mag = std::sqrt(1.5 * aa);
@@ -48,17 +65,12 @@ void finish_network(Network& net, const Sym& fabric_sum, const Sym& wd, const Sy
 
 void count_rattlers(const Particles& P, const PairList& L, const PairHistory& H, DeterministicSum& red, int& n0,
                     int& n1) {
-  auto off = L.offsets;
-  auto toff = L.t_offsets;
-  auto tp = L.t_pairs;
-  auto fl = H.flags;
+  const TouchCounter touch{L.offsets, L.t_offsets, L.t_pairs, H.flags};
   Real out[2] = {};
   red.run(
       "grainlab::analysis::rattlers", P.n, 2,
       KOKKOS_LAMBDA(int i, Real* acc) {
-        int c = 0;
-        for (int p = off(i); p < off(i + 1); ++p) c += (fl(p) & kTouching) ? 1 : 0;
-        for (int k = toff(i); k < toff(i + 1); ++k) c += (fl(tp(k)) & kTouching) ? 1 : 0;
+        const int c = touch(i, 2);
         if (c == 0) acc[0] += 1;
         if (c == 1) acc[1] += 1;
       },

@@ -26,7 +26,11 @@ struct Sym {
   Sym deviator() const;
   Real ddot(const Sym& o) const;  // a:b
   Sym scaled(Real s) const;
+  static Sym symmetric_part(const Real (&m)[3][3]);
 };
+
+// p = tr/3 and q = sqrt(3/2 s:s) of a stress tensor (compression positive).
+void stress_invariants(const Sym& sigma, Real& p, Real& q);
 
 struct Network {
   int nc = 0;

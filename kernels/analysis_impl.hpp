@@ -50,16 +50,9 @@ Descriptors compute_descriptors(const Src& src, const IntView& off, int nrows, i
   D.f_mean = D.nc ? s1[1] / D.nc : 0;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) D.sigma[a][b] = volume > 0 ? s1[4 + 3 * a + b] / volume : 0;
-  Sym sig;
-  sig.v[0] = D.sigma[0][0];
-  sig.v[1] = D.sigma[1][1];
-  sig.v[2] = D.sigma[2][2];
-  sig.v[3] = 0.5 * (D.sigma[0][1] + D.sigma[1][0]);
-  sig.v[4] = 0.5 * (D.sigma[1][2] + D.sigma[2][1]);
-  sig.v[5] = 0.5 * (D.sigma[2][0] + D.sigma[0][2]);
+  const Sym sig = Sym::symmetric_part(D.sigma);
   const Sym s_dev = sig.deviator();
-  D.p = sig.trace() / 3;
-  D.q = std::sqrt(1.5 * s_dev.ddot(s_dev));
+  stress_invariants(sig, D.p, D.q);
 
   // Pass 2: per network (0 all, 1 strong f_n > mean, 2 weak) the count and the fabric sum n n.
   const Real fbar = D.f_mean;

@@ -84,6 +84,19 @@ class DeterministicSum {
   typename Kokkos::View<Real[kMaxValues], MemSpace>::HostMirror host_;
 };
 
+// Touching contacts of particle i (its row and its transposed row), counting up to `limit` (callers only
+// need to know 0, 1 or more).
+struct TouchCounter {
+  IntView off, toff, tpairs;
+  FlagView flags;
+  KOKKOS_INLINE_FUNCTION int operator()(int i, int limit) const {
+    int c = 0;
+    for (int p = off(i); p < off(i + 1) && c < limit; ++p) c += (flags(p) & kTouching) ? 1 : 0;
+    for (int k = toff(i); k < toff(i + 1) && c < limit; ++k) c += (flags(tpairs(k)) & kTouching) ? 1 : 0;
+    return c;
+  }
+};
+
 struct ContactFeatures {
   bool rolling = false;  // mu_r > 0
   bool viscous = false;  // normal_damping > 0

@@ -236,10 +236,7 @@ Diagnostics Engine::diagnostics() {
   const Real Ew = params_.E_wall;
   const PairList& L = lists_[cur_];
   const PairHistory& H = hist_[cur_];
-  auto off0 = L.offsets;
-  auto toff = L.t_offsets;
-  auto tp = L.t_pairs;
-  auto fl0 = H.flags;
+  const TouchCounter touch{L.offsets, L.t_offsets, L.t_pairs, H.flags};
   Real pa[4] = {};
   red_.run(
       "grainlab::diag::particles", P_.n, 4,
@@ -256,8 +253,7 @@ Diagnostics Engine::diagnostics() {
             ++touching;
           }
         }
-        for (int p = off0(i); p < off0(i + 1) && !touching; ++p) touching += (fl0(p) & kTouching) ? 1 : 0;
-        for (int k = toff(i); k < toff(i + 1) && !touching; ++k) touching += (fl0(tp(k)) & kTouching) ? 1 : 0;
+        if (!touching) touching = touch(i, 1);
         if (touching) acc[3] += kt;  // the load-bearing skeleton's translational kinetic energy
       },
       pa);
@@ -457,16 +453,7 @@ Descriptors Engine::analyze(Real volume) {
         for (int k = 0; k < nw; ++k) t += mom[k] * walls_.w[k].n[a] * walls_.w[k].n[b];
         D.sigma_walls[a][b] = D.sigma[a][b] + (V > 0 ? t / V : 0);
       }
-    Sym sw;
-    sw.v[0] = D.sigma_walls[0][0];
-    sw.v[1] = D.sigma_walls[1][1];
-    sw.v[2] = D.sigma_walls[2][2];
-    sw.v[3] = 0.5 * (D.sigma_walls[0][1] + D.sigma_walls[1][0]);
-    sw.v[4] = 0.5 * (D.sigma_walls[1][2] + D.sigma_walls[2][1]);
-    sw.v[5] = 0.5 * (D.sigma_walls[2][0] + D.sigma_walls[0][2]);
-    D.p_walls = sw.trace() / 3;
-    const Sym sd = sw.deviator();
-    D.q_walls = std::sqrt(1.5 * sd.ddot(sd));
+    stress_invariants(Sym::symmetric_part(D.sigma_walls), D.p_walls, D.q_walls);
   }
   // Mechanical coordination (Thornton 2000): rattlers with fewer than 2 contacts removed.
   const int active = P_.n - D.rattlers0 - D.rattlers1;
