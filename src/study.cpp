@@ -132,7 +132,7 @@ Study load_study_unchecked(const std::string& path) {
   }
   // Axes: the full grid; each axis defaults to the base config's value.
   const YAML::Node ax = root["axes"];
-  auto axis = [&](const char* k, std::vector<double> def) {
+  auto axis = [&](const char* k, const std::vector<double>& def) {
     auto v = numbers(ax ? ax[k] : YAML::Node(), path, std::string("axes.") + k);
     return v.empty() ? def : v;
   };
@@ -176,13 +176,15 @@ Study load_study_unchecked(const std::string& path) {
           if (pt.drainage != "drained" && pt.drainage != "undrained") fail(path, key + ".drainage", "drained or undrained");
           continue;
         }
-        const double v = numbers(it.second, path, key + "." + f).at(0);
+        std::string field = key;
+        field.append(".").append(f);
+        const double v = numbers(it.second, path, field).at(0);
         if (f == "mu_r") pt.mu_r = v;
         else if (f == "e0") pt.e0 = v;
         else if (f == "p0") pt.p0 = v;
         else if (f == "seed") pt.seed = long(v);
         else if (f == "count") pt.count = long(v);
-        else fail(path, key + "." + f, "unknown key (known: mu_r, e0, p0, drainage, seed, count)");
+        else fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, seed, count)");
       }
       points.push_back(pt);
     }
