@@ -158,11 +158,10 @@ class Engine {
   // Restores a captured state of the same particle set (same count and radii); throws otherwise.
   void restore(const EngineState& s);
 
-  // Re-evaluates contact forces at the current positions without integrating (used after a state is
-  // set by hand, e.g. at start).
-  void evaluate_forces();
-
  private:
+  // Contact forces and wall loads at the start positions without advancing history (dt = 0), so the
+  // first servo move and diagnostics have loads to read.
+  void evaluate_forces();
   void rebuild();
   void move_walls();
 

@@ -220,7 +220,7 @@ class Laboratory {
   void snapshot(const std::string& tag);
   void write_xdmf();
   void save_sample(const StageConfig& sc);
-  std::string write_checkpoint(const EngineState* state_override = nullptr);
+  std::string write_checkpoint();
   bool load_newest_checkpoint();
   void flush_outputs();
   void progress(const std::string& line, bool final = false);
@@ -802,9 +802,9 @@ void Laboratory::assert_healthy() {
   throw BlowUpError(msg);
 }
 
-std::string Laboratory::write_checkpoint(const EngineState* state_override) {
-  if (!state_override) assert_healthy();  // never replace a good checkpoint by a broken state
-  const EngineState s = state_override ? *state_override : eng_->capture();
+std::string Laboratory::write_checkpoint() {
+  assert_healthy();  // never replace a good checkpoint by a broken state
+  const EngineState s = eng_->capture();
   char name[64];
   std::snprintf(name, sizeof(name), "/checkpoints/ckpt_%012ld.h5", eng_->step_count());
   std::string path = out_ + name;
