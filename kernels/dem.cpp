@@ -24,47 +24,58 @@ void pair_forces_impl(const Particles& P, const PairList& L, const PairHistory& 
   auto w = P.w;
   auto r = P.r;
   auto m = P.m;
-  auto pi = L.pair_i;
+  auto off = L.offsets;
   auto pj = L.pair_j;
   auto ft = H.ft;
   auto mr = H.mr;
   auto flags = H.flags;
   auto fo = F.f;
-  auto ti = F.ti;
-  auto tj = F.tj;
+  auto tjo = F.tj;
+  auto rowf = F.row_f;
+  auto rowt = F.row_t;
   const char* label = Rolling ? "grainlab::contact::rolling" : "grainlab::contact::sliding";
+  // One work item per row i (a few pairs each): i's state is loaded once and its share summed in
+  // registers, in row order, so the result does not depend on the thread count (no atomics).
   Kokkos::parallel_for(
-      label, Kokkos::RangePolicy<ExecSpace>(0, L.npairs), KOKKOS_LAMBDA(int p) {
-        const int i = pi(p), j = pj(p);
-        const Vec3 d = load(x, j) - load(x, i);
-        const Real ri = r(i), rj = r(j);
-        const Real dist2 = norm2(d);
-        const Real sum = ri + rj;
-        if (dist2 >= sum * sum) {  // separated: the pair loses its history (SPEC §2)
-          store(ft, p, Vec3());
-          if (Rolling) store(mr, p, Vec3());
-          flags(p) = 0;
-          store(fo, p, Vec3());
-          store(ti, p, Vec3());
-          store(tj, p, Vec3());
-          return;
+      label, Kokkos::RangePolicy<ExecSpace>(0, P.n), KOKKOS_LAMBDA(int i) {
+        const Vec3 xi = load(x, i), vi = load(v, i), wi = load(w, i);
+        const Real ri = r(i), mi = m(i);
+        Vec3 fi, ti;
+        for (int p = off(i); p < off(i + 1); ++p) {
+          const int j = pj(p);
+          const Vec3 d = load(x, j) - xi;
+          const Real rj = r(j);
+          const Real dist2 = norm2(d);
+          const Real sum = ri + rj;
+          if (dist2 >= sum * sum) {  // separated: the pair loses its history (SPEC §2)
+            if (flags(p)) {  // history is non-zero only on pairs flagged touching (capture/restore too)
+              store(ft, p, Vec3());
+              store(mr, p, Vec3());
+              flags(p) = 0;
+            }
+            continue;
+          }
+          ContactHistory h;
+          h.ft = load(ft, p);
+          if (Rolling) h.mr = load(mr, p);
+          const ContactResult c =
+              Law::evaluate(cp, ri, rj, mi, m(j), d, math::sqrt(dist2), vi, load(v, j), wi, load(w, j), h);
+          store(ft, p, h.ft);
+          if (Rolling) store(mr, p, h.mr);
+          flags(p) = c.flags;
+          store(fo, p, c.f);
+          store(tjo, p, c.tj);
+          fi -= c.f;
+          ti += c.ti;
         }
-        ContactHistory h;
-        h.ft = load(ft, p);
-        if (Rolling) h.mr = load(mr, p);
-        const ContactResult c = Law::evaluate(cp, ri, rj, m(i), m(j), d, math::sqrt(dist2), load(v, i), load(v, j),
-                                              load(w, i), load(w, j), h);
-        store(ft, p, h.ft);
-        if (Rolling) store(mr, p, h.mr);
-        flags(p) = c.flags;
-        store(fo, p, c.f);
-        store(ti, p, c.ti);
-        store(tj, p, c.tj);
+        store(rowf, i, fi);
+        store(rowt, i, ti);
       });
 }
 
 template <bool Damped>
-Real integrate_impl(const Particles& P, const PairList& L, const PairForces& F, const WallSet& walls, Real E_wall,
+Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
+                    const WallSet& walls, Real E_wall,
                     Real alpha, Real dt) {
   auto x = P.x;
   auto v = P.v;
@@ -75,24 +86,23 @@ Real integrate_impl(const Particles& P, const PairList& L, const PairForces& F, 
   auto r = P.r;
   auto m = P.m;
   auto I = P.inertia;
-  auto off = L.offsets;
   auto toff = L.t_offsets;
   auto tpairs = L.t_pairs;
   auto fc = F.f;
-  auto tci = F.ti;
   auto tcj = F.tj;
+  auto rowf = F.row_f;
+  auto rowt = F.row_t;
   const WallSet ws = walls;
   Real maxd2 = 0;
   Kokkos::parallel_reduce(
       Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free", Kokkos::RangePolicy<ExecSpace>(0, P.n),
       KOKKOS_LAMBDA(int i, Real& mx) {
-        Vec3 f, t;
-        for (int p = off(i); p < off(i + 1); ++p) {  // i is the first particle: force -F
-          f -= load(fc, p);
-          t += load(tci, p);
-        }
-        for (int k = toff(i); k < toff(i + 1); ++k) {  // i is the second particle: force +F
+        // Row share (i first: -F, summed by the contact kernel), then the transposed pairs in ascending
+        // pair order (i second: +F): a fixed order, so bitwise the same on any thread count.
+        Vec3 f = load(rowf, i), t = load(rowt, i);
+        for (int k = toff(i); k < toff(i + 1); ++k) {
           const int p = tpairs(k);
+          if (!(flags(p) & kTouching)) continue;
           f += load(fc, p);
           t += load(tcj, p);
         }
@@ -139,10 +149,11 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
   }
 }
 
-Real gather_and_integrate(const Particles& P, const PairList& L, const PairForces& F, const WallSet& walls,
+Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
+                          const WallSet& walls,
                           Real E_wall, Real alpha, Real dt) {
-  return alpha > 0 ? integrate_impl<true>(P, L, F, walls, E_wall, alpha, dt)
-                   : integrate_impl<false>(P, L, F, walls, E_wall, alpha, dt);
+  return alpha > 0 ? integrate_impl<true>(P, L, flags, F, walls, E_wall, alpha, dt)
+                   : integrate_impl<false>(P, L, flags, F, walls, E_wall, alpha, dt);
 }
 
 WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red) {
@@ -224,10 +235,11 @@ void ensure_pair_arrays(PairHistory& h, int n) {
   grow(h.mr, "grainlab::history::mr", n);
   grow(h.flags, "grainlab::history::flags", n);
 }
-void ensure_pair_arrays(PairForces& f, int n) {
+void ensure_pair_arrays(PairForces& f, int n, int nparticles) {
   grow(f.f, "grainlab::pair::f", n);
-  grow(f.ti, "grainlab::pair::ti", n);
   grow(f.tj, "grainlab::pair::tj", n);
+  grow(f.row_f, "grainlab::pair::row_f", nparticles);
+  grow(f.row_t, "grainlab::pair::row_t", nparticles);
 }
 
 }  // namespace grainlab

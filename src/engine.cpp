@@ -20,6 +20,12 @@ WallSet make_box_walls(const Vec3d& lo, const Vec3d& hi) {
   return ws;
 }
 
+std::vector<Vec3d> Engine::contact_forces() const {
+  auto out = to_host(pf_.f);
+  out.resize(size_t(lists_[cur_].npairs));  // the View has grow-only slack
+  return out;
+}
+
 std::vector<Vec3d> Engine::to_host(const VecView& v) {
   auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), v);
   std::vector<Vec3d> out(v.extent(0));
@@ -126,6 +132,9 @@ void Engine::set_friction(Real mu, Real mu_r) {
     throw ParameterError(os.str());
   }
   dt_crit_ = stable_dt(mu_r > 0);
+  // Turning rolling resistance off drops the stored moments: the kernel without rolling neither reads
+  // nor clears them, and a stale moment must not come back if a later stage turns rolling on again.
+  if (params_.contact.mu_r > 0 && !(mu_r > 0)) Kokkos::deep_copy(hist_[cur_].mr, Real(0));
   params_.contact.mu = mu;
   params_.contact.mu_r = mu_r;
 }
@@ -134,7 +143,7 @@ void Engine::rebuild() {
   const int next = 1 - cur_;
   nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, 2 * r_max_ + params_.skin, grid_, lists_[next]);
   ensure_pair_arrays(hist_[next], lists_[next].npairs);
-  ensure_pair_arrays(pf_, lists_[next].npairs);
+  ensure_pair_arrays(pf_, lists_[next].npairs, P_.n);
   transfer_history(lists_[cur_], hist_[cur_], lists_[next], hist_[next]);
   cur_ = next;
   Kokkos::deep_copy(P_.x_ref, P_.x);
@@ -167,7 +176,7 @@ void Engine::advance() {
   evaluated_ = false;
   const ContactParams& cp = params_.contact;
   // 3. Gather, damp, kick, drift: x(t + dt), v(t + dt/2).
-  const Real maxd2 = gather_and_integrate(P_, lists_[cur_], pf_, walls_, params_.E_wall, params_.damping, cp.dt);
+  const Real maxd2 = gather_and_integrate(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.damping, cp.dt);
   time_ += cp.dt;
   ++step_;
   // 4. Walls to t + dt from the loads measured at t.
@@ -579,7 +588,7 @@ void Engine::restore(const EngineState& s) {
   const int next = 1 - cur_;
   nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, 2 * r_max_ + params_.skin, grid_, lists_[next]);
   ensure_pair_arrays(hist_[next], lists_[next].npairs);
-  ensure_pair_arrays(pf_, lists_[next].npairs);
+  ensure_pair_arrays(pf_, lists_[next].npairs, P_.n);
   transfer_history(old, oh, lists_[next], hist_[next]);
   cur_ = next;
   Kokkos::deep_copy(P_.x_ref, P_.x);

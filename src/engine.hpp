@@ -153,6 +153,8 @@ class Engine {
   std::vector<Vec3d> forces() const { return to_host(P_.f); }
   std::vector<Vec3d> torques() const { return to_host(P_.t); }
   static std::vector<Vec3d> to_host(const VecView& v);
+  // Force on j of every listed pair; meaningful where the pair's flags have kTouching.
+  std::vector<Vec3d> contact_forces() const;
 
   EngineState capture() const;
   // Restores a captured state of the same particle set (same count and radii); throws otherwise.

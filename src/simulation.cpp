@@ -670,7 +670,7 @@ void Laboratory::snapshot(const std::string& tag) {
   std::snprintf(name, sizeof(name), "snapshots/snap_%05d.h5", lab_.snapshots);
   const EngineState s = e.capture();
   // Contacts: normal from the current positions; f_n and f_t from the pair force of this evaluation.
-  const auto fpair = Engine::to_host(e.pair_forces().f);
+  const auto fpair = e.contact_forces();
   auto pi = Kokkos::create_mirror_view_and_copy(HostSpace(), e.pairs().pair_i);
   auto pj = Kokkos::create_mirror_view_and_copy(HostSpace(), e.pairs().pair_j);
   auto fl = Kokkos::create_mirror_view_and_copy(HostSpace(), e.history().flags);

@@ -8,8 +8,11 @@ bin=$1; cfg=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"
 "$bin" run "$cfg" --out "$work/ref" --quiet || { echo "reference run failed"; exit 1; }
 trap '' XFSZ
-# 120 blocks of 512 B = 60 KiB: the step-0 checkpoint (~53 KB) fits, a later, larger file does not.
-err=$( (ulimit -f 120; "$bin" run "$cfg" --out "$work/full" --quiet) 2>&1 >/dev/null ); rc=$?
+# A limit just above the reference's step-0 checkpoint: that file fits, the later, larger ones (sample,
+# later checkpoints) do not. bash counts ulimit -f in 1024-byte blocks.
+ck0=$(stat -c %s "$work"/ref/checkpoints/ckpt_000000000000.h5) || { echo "reference has no step-0 checkpoint"; exit 1; }
+blocks=$(( (ck0 + 2048 + 1023) / 1024 ))
+err=$( (ulimit -f "$blocks"; "$bin" run "$cfg" --out "$work/full" --quiet) 2>&1 >/dev/null ); rc=$?
 trap - XFSZ
 echo "exit $rc: $err"
 [ "$rc" -eq 1 ] || { echo "expected exit 1 (a clean error) when the disk is full, got $rc"; exit 1; }

@@ -210,7 +210,7 @@ TEST(Analysis, DeviceMatchesHostReference) {
   const Descriptors D = eng.analyze();
   // Host reference.
   const auto x = eng.positions();
-  const auto fp = Engine::to_host(eng.pair_forces().f);
+  const auto fp = eng.contact_forces();
   auto pi = Kokkos::create_mirror_view_and_copy(HostSpace(), eng.pairs().pair_i);
   auto pj = Kokkos::create_mirror_view_and_copy(HostSpace(), eng.pairs().pair_j);
   auto fl = Kokkos::create_mirror_view_and_copy(HostSpace(), eng.history().flags);

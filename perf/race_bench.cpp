@@ -1,0 +1,230 @@
+// The shared peer race (../shared/bench/peers/RESULTS.md §3) on grainlab: the same scene, material,
+// walls, dt and step counts as the LAMMPS/LIGGGHTS/YADE inputs, timed the same way (warm-up run,
+// then a fenced timed run; reading the scene and building the engine are not timed).
+//
+//   race_bench --scene scene_32k.txt --box scene_32k_box.txt [--rolling 1] [--warmup 200] [--steps 2000]
+//              [--tile K] [--generate N]
+//
+// Prints one line: `particle_steps_per_s=<rate> ...` with the wall time, the contact count at the end
+// (Z = 2 Nc / N, comparable with the peers' table) and the kinetic energy.
+//
+// Stiffness (the issue lets us choose, we say which): grainlab's contact law is SPEC §2's k_n = E r̄. The
+// race uses k_n = k_t = 2e4 N/m for every pair; we set E = 2e4 / <r̄>, with <r̄> the mean pair radius of
+// the scene's touching pairs, so the mean pair stiffness is the peers' (spread over the size ratio 3:
+// 0.7-2.1x). Rolling: the peers' k_r = k_t R*^2 and M <= 0.1 R* |F_n| (R* = r_i r_j/(r_i+r_j)); ours is
+// k_r = k_t r̄^2 and M <= mu_r l |F_n| with l = roll_arm r̄; mu_r = 0.1 and roll_arm = 0.5 give the peers'
+// limit for equal spheres (R* = r̄/2). Normal damping: the peers' gamma_n = 4e4 1/s is a damping ratio
+// of ~0.06 for a mean pair; ours is the ratio form, beta = 0.06. Walls: frictionless, k_w = E_w r with
+// E_w = 2e4 / <r>. No Cundall damping, no gravity. The work per step is the same as the peers'
+// (one contact law evaluation per listed pair, history carried, six walls); the constants differ within
+// the factors above.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "src/engine.hpp"
+#include "src/packing.hpp"
+
+using namespace grainlab;
+
+namespace {
+
+struct Args {
+  std::string scene, box;
+  int rolling = 1;
+  long warmup = 200, steps = 2000;
+  int tile = 1;        // K^3 copies of the scene side by side (weak scaling)
+  int generate = 0;    // no scene file: a generated dense packing of about this many spheres (CI smoke)
+  int reps = 1;
+};
+
+[[noreturn]] void usage(const std::string& why) {
+  std::cerr << "race_bench: " << why
+            << "\nusage: race_bench --scene FILE --box FILE [--rolling 0|1] [--warmup N] [--steps N] [--tile K]"
+               " [--reps R]\n       race_bench --generate N [...]\n";
+  std::exit(2);
+}
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (i + 1 >= argc) usage("missing value after " + k);
+    const std::string v = argv[++i];
+    try {
+      if (k == "--scene") a.scene = v;
+      else if (k == "--box") a.box = v;
+      else if (k == "--rolling") a.rolling = std::stoi(v);
+      else if (k == "--warmup") a.warmup = std::stol(v);
+      else if (k == "--steps") a.steps = std::stol(v);
+      else if (k == "--tile") a.tile = std::stoi(v);
+      else if (k == "--generate") a.generate = std::stoi(v);
+      else if (k == "--reps") a.reps = std::stoi(v);
+      else usage("unknown option " + k);
+    } catch (const std::logic_error&) {
+      usage("bad value '" + v + "' for " + k);
+    }
+  }
+  if (a.scene.empty() != a.box.empty()) usage("--scene and --box go together");
+  if (a.scene.empty() && a.generate <= 0) usage("give --scene/--box or --generate N");
+  if (a.tile < 1 || a.steps < 1 || a.warmup < 0 || a.reps < 1) usage("--tile, --steps, --reps >= 1, --warmup >= 0");
+  return a;
+}
+
+struct Scene {
+  ParticleSetup s;
+  Vec3d lo{}, hi{};
+};
+
+Scene read_scene(const Args& a) {
+  Scene sc;
+  std::ifstream bf(a.box);
+  if (!bf) usage("cannot read " + a.box);
+  Real b[6];
+  for (Real& x : b)
+    if (!(bf >> x)) usage(a.box + ": expected six numbers xlo xhi ylo yhi zlo zhi");
+  std::ifstream f(a.scene);
+  if (!f) usage("cannot read " + a.scene);
+  std::vector<std::array<Real, 4>> base;
+  std::string line;
+  long ln = 0;
+  while (std::getline(f, line)) {
+    ++ln;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream is(line);
+    std::array<Real, 4> p{};
+    if (!(is >> p[0] >> p[1] >> p[2] >> p[3]) || !(p[3] > 0))
+      usage(a.scene + ":" + std::to_string(ln) + ": expected 'x y z r' with r > 0");
+    base.push_back(p);
+  }
+  const Real L[3] = {b[1] - b[0], b[3] - b[2], b[5] - b[4]};
+  // Tiling: K^3 copies shifted by the box edge. The copies touch across the old faces only where the
+  // original spheres touched the walls (those overlaps are the wall overlaps, < 1.3 % of r).
+  for (int tz = 0; tz < a.tile; ++tz)
+    for (int ty = 0; ty < a.tile; ++ty)
+      for (int tx = 0; tx < a.tile; ++tx)
+        for (const auto& p : base) {
+          sc.s.x.push_back({p[0] + tx * L[0], p[1] + ty * L[1], p[2] + tz * L[2]});
+          sc.s.r.push_back(p[3]);
+        }
+  sc.lo = {b[0], b[2], b[4]};
+  sc.hi = {b[0] + a.tile * L[0], b[2] + a.tile * L[1], b[4] + a.tile * L[2]};
+  return sc;
+}
+
+// Without the shared scene (CI): an FCC lattice with the scene's radius range, slightly overlapping.
+Scene generated_scene(int n) {
+  Scene sc;
+  const int c = std::max(1, int(std::cbrt(n / 4.0) + 0.5));
+  const Real a = 1.0e-3;
+  Rng rng(7);
+  const Real basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  for (int z = 0; z < c; ++z)
+    for (int y = 0; y < c; ++y)
+      for (int x = 0; x < c; ++x)
+        for (auto& bb : basis) {
+          sc.s.x.push_back({(x + bb[0] + 0.25) * a, (y + bb[1] + 0.25) * a, (z + bb[2] + 0.25) * a});
+          sc.s.r.push_back(a / std::sqrt(2.0) / 2 * (0.96 + 0.05 * rng.uniform()));
+        }
+  sc.hi = {c * a, c * a, c * a};
+  return sc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args a = parse(argc, argv);
+  compat::initialize(0);
+  int rc = 0;
+  {
+    Scene sc = a.scene.empty() ? generated_scene(a.generate) : read_scene(a);
+    sc.s.density = 2650;
+    if (std::getenv("RACE_SORT")) {
+      const double h = std::atof(std::getenv("RACE_SORT"));
+      std::vector<std::pair<long, int>> key;
+      for (size_t i = 0; i < sc.s.r.size(); ++i) {
+        long c[3];
+        for (int k = 0; k < 3; ++k) c[k] = long((sc.s.x[i][k] - sc.lo[k]) / h);
+        long m = 0;
+        for (int b = 0; b < 20; ++b)
+          for (int k = 0; k < 3; ++k) m |= ((c[k] >> b) & 1L) << (3 * b + k);
+        key.push_back({m, int(i)});
+      }
+      std::sort(key.begin(), key.end());
+      ParticleSetup t = sc.s;
+      for (size_t i = 0; i < key.size(); ++i) { t.x[i] = sc.s.x[key[i].second]; t.r[i] = sc.s.r[key[i].second]; }
+      sc.s = t;
+    }
+    const int n = int(sc.s.r.size());
+    // <r̄> over the scene's touching pairs (brute force would be N^2: the engine's list does it).
+    EngineParams p;
+    p.contact.E = 1;  // placeholder for the pair census below
+    p.skin = 1e-4;
+    p.dt_factor = 1;
+    Real rbar_mean = 0, r_mean = 0;
+    for (Real r : sc.s.r) r_mean += r / n;
+    {
+      Engine probe(sc.s, p, make_box_walls(sc.lo, sc.hi), true);
+      const PairList& L = probe.pairs();
+      auto hi = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_i);
+      auto hj = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_j);
+      long touching = 0;
+      for (int q = 0; q < L.npairs; ++q) {
+        const int i = hi(q), j = hj(q);
+        Real d2 = 0;
+        for (int k = 0; k < 3; ++k) d2 += (sc.s.x[j][k] - sc.s.x[i][k]) * (sc.s.x[j][k] - sc.s.x[i][k]);
+        const Real sum = sc.s.r[i] + sc.s.r[j];
+        if (d2 < sum * sum) {
+          rbar_mean += 0.5 * sum;
+          ++touching;
+        }
+      }
+      rbar_mean = touching ? rbar_mean / touching : r_mean;
+    }
+    const Real k = 2.0e4;
+    p.contact.E = k / rbar_mean;
+    p.contact.kappa = 1;
+    p.contact.mu = 0.5;
+    p.contact.mu_r = a.rolling ? 0.1 : 0.0;
+    p.contact.roll_arm = 0.5;
+    p.contact.normal_damping = 0.06;
+    p.contact.dt = 1e-7;
+    p.E_wall = k / r_mean;
+    p.damping = 0;
+    p.skin = 1e-4;
+    for (int rep = 0; rep < a.reps; ++rep) {
+      Engine eng(sc.s, p, make_box_walls(sc.lo, sc.hi), true);
+      eng.wall_control(4) = WallControl{WallMode::Velocity, 0.01};  // bottom, inward
+      eng.wall_control(5) = WallControl{WallMode::Velocity, 0.01};  // top, inward
+      eng.run(a.warmup);
+      const int builds0 = eng.rebuild_count();
+      compat::fence("grainlab::race::before");
+      const auto t0 = std::chrono::steady_clock::now();
+      eng.run(a.steps);
+      compat::fence("grainlab::race::after");
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const Diagnostics dg = eng.diagnostics();
+      const HealthReport h = eng.check_health(HealthLimits{});
+      if (!h.ok) {
+        std::cerr << "race_bench: unhealthy state: " << h.what << "\n";
+        rc = 3;
+      }
+      std::printf(
+          "particle_steps_per_s=%.4g wall_s=%.4f particles=%d steps=%ld rolling=%d threads=%d Z=%.3f "
+          "kinetic_J=%.5g listed_pairs=%d rebuilds_timed=%d E=%.5g E_wall=%.5g\n",
+          double(n) * double(a.steps) / wall, wall, n, a.steps, a.rolling, ExecSpace().concurrency(),
+          2.0 * dg.contacts / n, dg.kinetic, eng.pairs().npairs, eng.rebuild_count() - builds0, p.contact.E,
+          p.E_wall);
+      std::fflush(stdout);
+    }
+  }
+  Kokkos::finalize();
+  return rc;
+}
