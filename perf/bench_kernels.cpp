@@ -108,12 +108,88 @@ void BM_Analysis(benchmark::State& st) {
   st.counters["pairs"] = eng.pairs().npairs;
 }
 
+// Compulsory memory traffic of one step, from the step's own arrays (each byte counted once, as if every
+// neighbour read hit cache): particles x, v, w read + written, x_ref, r, m, I read, f, t written, the row
+// sums written + read; per listed pair the index, the transposed index and the flag; per touching pair the
+// history (ft, mr) read + written and the pair output (f, tj) written + read. Divided by the step time it
+// is the bandwidth the step would need if it were memory bound; set against the measured copy
+// bandwidth (BM_Copy) it says how far from the memory floor the step runs.
+double step_bytes(Engine& eng) {
+  const Diagnostics d = eng.diagnostics();
+  const double per_particle = 6 * 24 + 24 + 3 * 8 + 2 * 24 + 4 * 24 + 2 * 4;
+  const double per_pair = 4 + 4 + 2;
+  const double per_touching = 4 * 24 + 4 * 24;
+  return per_particle * eng.num_particles() + per_pair * eng.pairs().npairs + per_touching * d.contacts;
+}
+
+// The integration alone (gather of the pair outputs, walls, damping, leapfrog).
+void BM_Integrate(benchmark::State& st) {
+  Scene sc = fcc_scene(int(st.range(0)), 1);
+  Engine eng(sc.setup, bench_params(true), make_box_walls(sc.lo, sc.hi), true);
+  eng.run(20);
+  eng.evaluate();
+  const Particles P = eng.particles();
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) {
+    // dt = 0: the state does not move, so every iteration does the same work
+    benchmark::DoNotOptimize(gather_and_integrate(P, eng.pairs(), eng.history().flags, eng.pair_forces(), eng.walls(),
+                                                  eng.params().E_wall, 0.7, 0.0));
+    compat::fence("grainlab::bench::kernel");
+  }
+  st.SetItemsProcessed(st.iterations() * eng.num_particles());
+}
+
+// Sphere-wall contacts: the per-wall deterministic load sums that feed the servo.
+void BM_WallLoads(benchmark::State& st) {
+  Scene sc = fcc_scene(int(st.range(0)), 1);
+  Engine eng(sc.setup, bench_params(true), make_box_walls(sc.lo, sc.hi), true);
+  DeterministicSum red;
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) benchmark::DoNotOptimize(reduce_wall_loads(eng.particles(), eng.walls(), eng.params().E_wall, red));
+  compat::fence("grainlab::bench::after");
+  st.SetItemsProcessed(st.iterations() * eng.num_particles());
+}
+
+// Memory bandwidth of this machine: a device copy of 2 x 128 MB (read + write counted).
+void BM_Copy(benchmark::State& st) {
+  const long n = 16L << 20;
+  RealView a(Kokkos::view_alloc("grainlab::bench::a", Kokkos::WithoutInitializing), n);
+  RealView b("grainlab::bench::b", n);
+  Kokkos::deep_copy(a, 1.0);
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) {
+    Kokkos::parallel_for(
+        "grainlab::bench::copy", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(long i) { b(i) = a(i); });
+    compat::fence("grainlab::bench::kernel");
+  }
+  st.SetBytesProcessed(st.iterations() * 2 * n * long(sizeof(Real)));
+}
+
+// The full step with its traffic estimate and memory per particle (device bytes of the engine's arrays).
+void BM_StepTraffic(benchmark::State& st) {
+  Scene sc = fcc_scene(int(st.range(0)), 1);
+  Engine eng(sc.setup, bench_params(true), make_box_walls(sc.lo, sc.hi), true);
+  eng.run(20);
+  const double bytes = step_bytes(eng);
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) eng.step();
+  compat::fence("grainlab::bench::after");
+  st.SetItemsProcessed(st.iterations() * eng.num_particles());
+  st.SetBytesProcessed(int64_t(st.iterations() * bytes));
+  st.counters["bytes_per_particle_step"] = bytes / eng.num_particles();
+  st.counters["pairs_per_particle"] = double(eng.pairs().npairs) / eng.num_particles();
+}
+
 }  // namespace
 
-BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_Step)->ArgsProduct({{4000, 32000, 256000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_NeighborBuild)->Arg(4000)->Arg(32000)->Arg(256000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Copy)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepTraffic)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Integrate)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_WallLoads)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Step)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_NeighborBuild)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 int main(int argc, char** argv) {
   compat::initialize(0);

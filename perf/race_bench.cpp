@@ -3,7 +3,7 @@
 // then a fenced timed run; reading the scene and building the engine are not timed).
 //
 //   race_bench --scene scene_32k.txt --box scene_32k_box.txt [--rolling 1] [--warmup 200] [--steps 2000]
-//              [--tile K] [--generate N]
+//              [--tile K] [--crop F] [--generate N] [--reps R] [--sort 0|1]
 //
 // Prints one line: `particle_steps_per_s=<rate> ...` with the wall time, the contact count at the end
 // (Z = 2 Nc / N, comparable with the peers' table) and the kinetic energy.
@@ -29,26 +29,23 @@
 #include <stdexcept>
 #include <string>
 
-#include "src/engine.hpp"
-#include "src/packing.hpp"
+#include "scene.hpp"
 
 using namespace grainlab;
 
 namespace {
 
 struct Args {
-  std::string scene, box;
+  perf::SceneArgs scene;
   int rolling = 1;
   long warmup = 200, steps = 2000;
-  int tile = 1;        // K^3 copies of the scene side by side (weak scaling)
-  int generate = 0;    // no scene file: a generated dense packing of about this many spheres (CI smoke)
   int reps = 1;
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "race_bench: " << why
-            << "\nusage: race_bench --scene FILE --box FILE [--rolling 0|1] [--warmup N] [--steps N] [--tile K]"
-               " [--reps R]\n       race_bench --generate N [...]\n";
+            << "\nusage: race_bench --scene FILE --box FILE [--rolling 0|1] [--warmup N] [--steps N] [--reps R]"
+               " [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
   std::exit(2);
 }
 
@@ -59,82 +56,28 @@ Args parse(int argc, char** argv) {
     if (i + 1 >= argc) usage("missing value after " + k);
     const std::string v = argv[++i];
     try {
-      if (k == "--scene") a.scene = v;
-      else if (k == "--box") a.box = v;
-      else if (k == "--rolling") a.rolling = std::stoi(v);
+      if (a.scene.parse(k, v)) continue;
+      if (k == "--rolling") a.rolling = std::stoi(v);
       else if (k == "--warmup") a.warmup = std::stol(v);
       else if (k == "--steps") a.steps = std::stol(v);
-      else if (k == "--tile") a.tile = std::stoi(v);
-      else if (k == "--generate") a.generate = std::stoi(v);
       else if (k == "--reps") a.reps = std::stoi(v);
       else usage("unknown option " + k);
     } catch (const std::logic_error&) {
       usage("bad value '" + v + "' for " + k);
     }
   }
-  if (a.scene.empty() != a.box.empty()) usage("--scene and --box go together");
-  if (a.scene.empty() && a.generate <= 0) usage("give --scene/--box or --generate N");
-  if (a.tile < 1 || a.steps < 1 || a.warmup < 0 || a.reps < 1) usage("--tile, --steps, --reps >= 1, --warmup >= 0");
+  if (a.steps < 1 || a.warmup < 0 || a.reps < 1) usage("--steps, --reps >= 1, --warmup >= 0");
   return a;
 }
 
-struct Scene {
-  ParticleSetup s;
-  Vec3d lo{}, hi{};
-};
-
-Scene read_scene(const Args& a) {
-  Scene sc;
-  std::ifstream bf(a.box);
-  if (!bf) usage("cannot read " + a.box);
-  Real b[6];
-  for (Real& x : b)
-    if (!(bf >> x)) usage(a.box + ": expected six numbers xlo xhi ylo yhi zlo zhi");
-  std::ifstream f(a.scene);
-  if (!f) usage("cannot read " + a.scene);
-  std::vector<std::array<Real, 4>> base;
+// Resident set size of the process (/proc/self/status VmRSS): engine arrays, the scene read from the file
+// and the runtime; per particle it is an upper bound of the engine's memory per particle.
+double resident_bytes() {
+  std::ifstream f("/proc/self/status");
   std::string line;
-  long ln = 0;
-  while (std::getline(f, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream is(line);
-    std::array<Real, 4> p{};
-    if (!(is >> p[0] >> p[1] >> p[2] >> p[3]) || !(p[3] > 0))
-      usage(a.scene + ":" + std::to_string(ln) + ": expected 'x y z r' with r > 0");
-    base.push_back(p);
-  }
-  const Real L[3] = {b[1] - b[0], b[3] - b[2], b[5] - b[4]};
-  // Tiling: K^3 copies shifted by the box edge. The copies touch across the old faces only where the
-  // original spheres touched the walls (those overlaps are the wall overlaps, < 1.3 % of r).
-  for (int tz = 0; tz < a.tile; ++tz)
-    for (int ty = 0; ty < a.tile; ++ty)
-      for (int tx = 0; tx < a.tile; ++tx)
-        for (const auto& p : base) {
-          sc.s.x.push_back({p[0] + tx * L[0], p[1] + ty * L[1], p[2] + tz * L[2]});
-          sc.s.r.push_back(p[3]);
-        }
-  sc.lo = {b[0], b[2], b[4]};
-  sc.hi = {b[0] + a.tile * L[0], b[2] + a.tile * L[1], b[4] + a.tile * L[2]};
-  return sc;
-}
-
-// Without the shared scene (CI): an FCC lattice with the scene's radius range, slightly overlapping.
-Scene generated_scene(int n) {
-  Scene sc;
-  const int c = std::max(1, int(std::cbrt(n / 4.0) + 0.5));
-  const Real a = 1.0e-3;
-  Rng rng(7);
-  const Real basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  for (int z = 0; z < c; ++z)
-    for (int y = 0; y < c; ++y)
-      for (int x = 0; x < c; ++x)
-        for (auto& bb : basis) {
-          sc.s.x.push_back({(x + bb[0] + 0.25) * a, (y + bb[1] + 0.25) * a, (z + bb[2] + 0.25) * a});
-          sc.s.r.push_back(a / std::sqrt(2.0) / 2 * (0.96 + 0.05 * rng.uniform()));
-        }
-  sc.hi = {c * a, c * a, c * a};
-  return sc;
+  while (std::getline(f, line))
+    if (line.rfind("VmRSS:", 0) == 0) return 1024.0 * std::stod(line.substr(6));
+  return 0;
 }
 
 }  // namespace
@@ -144,24 +87,7 @@ int main(int argc, char** argv) {
   compat::initialize(0);
   int rc = 0;
   {
-    Scene sc = a.scene.empty() ? generated_scene(a.generate) : read_scene(a);
-    sc.s.density = 2650;
-    if (std::getenv("RACE_SORT")) {
-      const double h = std::atof(std::getenv("RACE_SORT"));
-      std::vector<std::pair<long, int>> key;
-      for (size_t i = 0; i < sc.s.r.size(); ++i) {
-        long c[3];
-        for (int k = 0; k < 3; ++k) c[k] = long((sc.s.x[i][k] - sc.lo[k]) / h);
-        long m = 0;
-        for (int b = 0; b < 20; ++b)
-          for (int k = 0; k < 3; ++k) m |= ((c[k] >> b) & 1L) << (3 * b + k);
-        key.push_back({m, int(i)});
-      }
-      std::sort(key.begin(), key.end());
-      ParticleSetup t = sc.s;
-      for (size_t i = 0; i < key.size(); ++i) { t.x[i] = sc.s.x[key[i].second]; t.r[i] = sc.s.r[key[i].second]; }
-      sc.s = t;
-    }
+    perf::Scene sc = perf::load_scene(a.scene);
     const int n = int(sc.s.r.size());
     // <r̄> over the scene's touching pairs (brute force would be N^2: the engine's list does it).
     EngineParams p;
@@ -218,10 +144,10 @@ int main(int argc, char** argv) {
       }
       std::printf(
           "particle_steps_per_s=%.4g wall_s=%.4f particles=%d steps=%ld rolling=%d threads=%d Z=%.3f "
-          "kinetic_J=%.5g listed_pairs=%d rebuilds_timed=%d E=%.5g E_wall=%.5g\n",
+          "kinetic_J=%.5g listed_pairs=%d rebuilds_timed=%d E=%.5g E_wall=%.5g rss_bytes_per_particle=%.0f\n",
           double(n) * double(a.steps) / wall, wall, n, a.steps, a.rolling, ExecSpace().concurrency(),
           2.0 * dg.contacts / n, dg.kinetic, eng.pairs().npairs, eng.rebuild_count() - builds0, p.contact.E,
-          p.E_wall);
+          p.E_wall, resident_bytes() / n);
       std::fflush(stdout);
     }
   }

@@ -116,4 +116,31 @@ Packing generate_packing(const PackingSpec& s) {
   return q;
 }
 
+std::vector<int> spatial_order(const std::vector<Vec3d>& x, Real cell) {
+  if (!(cell > 0)) throw ParameterError("spatial_order: cell edge must be > 0");
+  Vec3d lo = x.empty() ? Vec3d{0, 0, 0} : x[0];
+  for (const auto& p : x)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]);
+  // Interleave the bits of the three 21-bit cell coordinates.
+  auto spread = [](std::uint64_t v) {
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  std::vector<std::uint64_t> key(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    std::uint64_t c[3];
+    for (int k = 0; k < 3; ++k) c[k] = std::uint64_t(std::min((x[i][k] - lo[k]) / cell, Real(0x1fffff)));
+    key[i] = spread(c[0]) | spread(c[1]) << 1 | spread(c[2]) << 2;
+  }
+  std::vector<int> order(x.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+  return order;
+}
+
 }  // namespace grainlab

@@ -36,6 +36,12 @@ class Rng {
 // Inverse CDF of p(r) ~ r^-D on [a, b] (D != 1).
 Real power_law_radius(Real u, Real D, Real a, Real b);
 
+// Permutation that puts particles in Morton (Z-curve) order of cubic cells of edge `cell`: spatial
+// neighbours end up close in memory, which the contact kernel's neighbour reads need (perf/NOTES.md:
+// 1.6x on the race scene, whose file order is random). order[k] = old index of new particle k; ties keep
+// the old order, so the result is a pure function of the positions.
+std::vector<int> spatial_order(const std::vector<Vec3d>& x, Real cell);
+
 // Throws ParameterError when the spec is invalid or the cube cannot hold the spheres at that fraction.
 Packing generate_packing(const PackingSpec& spec);
 

@@ -1,0 +1,138 @@
+#!/usr/bin/env bash
+# The shared peer race (../shared/bench/peers, RESULTS.md §3): grainlab and the peers from Debian, one
+# after another, on the same scene and the same timed work (200 warm-up + 2000 timed steps).
+#
+#   perf/race.sh                      grainlab + LIGGGHTS + LAMMPS (granular), rolling on and off,
+#                                     1 and 2 threads/ranks, REPS=3, medians
+#   PEERS=liggghts perf/race.sh       only these peers (liggghts lammps lammpsclassic yade; "" = none)
+#   REPS=5 ROLLS="1" MODES="2" NSTEPS=2000 NWARM=200 PEERS_DIR=... BUILD=build
+#
+# Peers missing on the machine are installed from Debian (apt-get, as root) unless SKIP_INSTALL=1.
+# The last line is `speedup_vs_fastest_peer=X.XX`: grainlab at 2 threads with rolling on against the
+# fastest peer at 2 processes with rolling on (medians). Logs and a table go to $OUT (default
+# perf/race-out/).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+PEERS_DIR=${PEERS_DIR:-$ROOT/../shared/bench/peers}
+PEERS=${PEERS-"liggghts lammps"}
+REPS=${REPS:-3}
+ROLLS=${ROLLS:-"1 0"}
+MODES=${MODES:-"1 2"}
+NSTEPS=${NSTEPS:-2000}
+NWARM=${NWARM:-200}
+BUILD=${BUILD:-$ROOT/build}
+OUT=${OUT:-$ROOT/perf/race-out}
+PY=/usr/bin/python3
+MPI2="mpirun -np 2 --allow-run-as-root --oversubscribe"
+
+[ -s "$PEERS_DIR/scene_32k.txt" ] || { echo "race.sh: no scene at $PEERS_DIR/scene_32k.txt (set PEERS_DIR)"; exit 1; }
+[ -x "$BUILD/perf/race_bench" ] || { echo "race.sh: $BUILD/perf/race_bench missing: run 'make build' first"; exit 1; }
+mkdir -p "$OUT"
+rm -f "$OUT"/*.log
+
+# ---- peers from Debian, on demand
+need=""
+for p in $PEERS; do
+  case $p in
+    liggghts) command -v liggghts >/dev/null || need="$need liggghts openmpi-bin" ;;
+    lammps|lammpsclassic) command -v lmp >/dev/null || need="$need lammps openmpi-bin" ;;
+    yade) command -v yade >/dev/null || need="$need yade" ;;
+    *) echo "race.sh: unknown peer '$p' (liggghts lammps lammpsclassic yade)"; exit 1 ;;
+  esac
+done
+if [ -n "$need" ]; then
+  [ "${SKIP_INSTALL:-0}" = 1 ] && { echo "race.sh: missing peers ($need) and SKIP_INSTALL=1"; exit 1; }
+  echo ">>> installing from Debian:$need"
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
+  { $SUDO apt-get update && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y $need python3-numpy; } \
+    > "$OUT/apt.log" 2>&1 || { echo "race.sh: apt-get failed, see $OUT/apt.log"; exit 1; }
+fi
+
+# ---- the peers' work dir (data file, wall planes, STL meshes), as their run_all.sh makes it
+WORK="$OUT/work"
+if [ -n "$PEERS" ]; then
+  mkdir -p "$WORK"
+  cp "$PEERS_DIR/scene_32k.txt" "$PEERS_DIR/scene_32k_box.txt" "$WORK/"
+  ( cd "$WORK" && $PY "$PEERS_DIR/tools/scene_to_data.py" >/dev/null && $PY "$PEERS_DIR/tools/make_stl.py" >/dev/null )
+fi
+
+run_one() {  # code roll mode rep -> log
+  local code=$1 roll=$2 mode=$3 rep=$4 log
+  log="$OUT/${code}_roll${roll}_p${mode}_rep${rep}.log"
+  case "$code" in
+    grainlab)
+      OMP_NUM_THREADS=$mode OMP_PROC_BIND=spread OMP_PLACES=threads "$BUILD/perf/race_bench" \
+        --scene "$PEERS_DIR/scene_32k.txt" --box "$PEERS_DIR/scene_32k_box.txt" --rolling "$roll" \
+        --warmup "$NWARM" --steps "$NSTEPS" > "$log" 2>&1 ;;
+    liggghts|lammps|lammpsclassic)
+      local exe=lmp in="$PEERS_DIR/lammps/bench.in" extra=""
+      [ "$code" = liggghts ] && { exe=liggghts; in="$PEERS_DIR/liggghts/bench.in"; }
+      [ "$code" = lammpsclassic ] && extra="-var classic 1"
+      local launch=""; [ "$mode" = 2 ] && launch=$MPI2
+      ( cd "$WORK" && OMP_NUM_THREADS=1 timeout 900 $launch $exe -in "$in" -log none -var roll "$roll" $extra \
+          -var nwarm "$NWARM" -var nsteps "$NSTEPS" ) > "$log" 2>&1 ;;
+    yade)
+      ( cd "$WORK" && timeout 1800 yade -n -x -j"$mode" "$PEERS_DIR/yade/bench.py" "$roll" "$NWARM" "$NSTEPS" ) \
+        > "$log" 2>&1 ;;
+  esac || echo "!!! $code roll=$roll p=$mode rep=$rep failed, see $log"
+}
+
+for rep in $(seq 1 "$REPS"); do
+  for code in grainlab $PEERS; do
+    for roll in $ROLLS; do
+      [ "$code" = lammpsclassic ] && [ "$roll" = 1 ] && continue  # no rolling model there
+      for mode in $MODES; do
+        echo ">>> $code rolling=$roll processes/threads=$mode rep=$rep"
+        run_one "$code" "$roll" "$mode" "$rep"
+      done
+    done
+  done
+done
+
+$PY - "$OUT" "$NSTEPS" <<'PY'
+import glob, os, re, statistics, sys
+out, nsteps = sys.argv[1], int(sys.argv[2])
+N = 32000
+runs = {}
+for fn in glob.glob(os.path.join(out, "*.log")):
+    m = re.match(r"(\w+?)_roll(\d)_p(\d)_rep(\d+)\.log$", os.path.basename(fn))
+    if not m:
+        continue
+    code, roll, p = m.group(1), int(m.group(2)), int(m.group(3))
+    txt = open(fn, errors="replace").read()
+    rate = None
+    if code == "grainlab":
+        mm = re.search(r"particle_steps_per_s=([0-9.eE+-]+)", txt)
+        rate = float(mm.group(1)) if mm else None
+    elif code == "yade":
+        mm = re.search(r"YADE_RESULT .*?steps=(\d+) wall_s=([0-9.]+)", txt)
+        rate = N * int(mm.group(1)) / float(mm.group(2)) if mm else None
+    else:
+        loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps", txt)
+        if len(loops) >= 2 and "BENCH_DONE" in txt:
+            rate = N * int(loops[-1][2]) / float(loops[-1][0])
+    if rate:
+        runs.setdefault((code, roll, p), []).append(rate)
+med = {k: statistics.median(v) for k, v in runs.items()}
+lines = ["| code | rolling | threads/ranks | runs | particle-steps/s (median) | min-max | grainlab / this |",
+         "|---|---|---|---|---|---|---|"]
+for k in sorted(med, key=lambda k: (k[1] == 0, k[2], -med[k])):
+    code, roll, p = k
+    g = med.get(("grainlab", roll, p))
+    ratio = f"{g / med[k]:.2f}" if g else "-"
+    lines.append(f"| {code} | {'on' if roll else 'off'} | {p} | {len(runs[k])} | {med[k]:.3g} | "
+                 f"{min(runs[k]):.3g}-{max(runs[k]):.3g} | {ratio} |")
+table = "\n".join(lines)
+open(os.path.join(out, "table.md"), "w").write(table + "\n")
+print(table)
+peers2 = [v for (c, r, p), v in med.items() if c != "grainlab" and r == 1 and p == 2]
+peers1 = [v for (c, r, p), v in med.items() if c != "grainlab" and r == 1 and p == 1]
+g2, g1 = med.get(("grainlab", 1, 2)), med.get(("grainlab", 1, 1))
+if g1 and peers1:
+    print(f"speedup_vs_fastest_peer_1proc={g1 / max(peers1):.2f}")
+if g2 and peers2:
+    print(f"speedup_vs_fastest_peer={g2 / max(peers2):.2f}")
+elif g2:
+    print("no peer ran at 2 processes with rolling on")
+    print("speedup_vs_fastest_peer=nan")
+PY

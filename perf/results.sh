@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# Regenerates perf/RESULTS.md: every number a median of REPS (default 3) runs, machine and commit named.
+#   perf/results.sh                  race (grainlab + PEERS, default "liggghts lammps"), scaling 1e4..~1e6,
+#                                    kernel benchmarks (Google Benchmark, 3 repetitions, medians)
+#   PEERS="" perf/results.sh         grainlab only (the peers' medians from ../shared/bench/peers/RESULTS.md)
+# Needs `make build` first. Takes ~15 min on 2 cores with the peers.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD=${BUILD:-$ROOT/build}
+REPS=${REPS:-3}
+PEERS_DIR=${PEERS_DIR:-$ROOT/../shared/bench/peers}
+OUT=${OUT:-$ROOT/perf/race-out}
+export PEERS=${PEERS-"liggghts lammps"} REPS BUILD PEERS_DIR OUT
+export OMP_PROC_BIND=spread OMP_PLACES=threads
+mkdir -p "$OUT"
+
+echo ">>> race"
+"$ROOT/perf/race.sh" | tee "$OUT/race.txt"
+
+echo ">>> scaling (rolling on, 2 threads, 200 timed steps)"
+: > "$OUT/scaling.txt"
+for spec in "--crop 0.68" "--tile 1" "--tile 2" "--tile 3"; do
+  # shellcheck disable=SC2086
+  OMP_NUM_THREADS=2 "$BUILD/perf/race_bench" --scene "$PEERS_DIR/scene_32k.txt" --box "$PEERS_DIR/scene_32k_box.txt" \
+    $spec --warmup 20 --steps 200 --reps "$REPS" | sed "s/^/$spec /" | tee -a "$OUT/scaling.txt"
+done
+
+echo ">>> kernel benchmarks"
+OMP_NUM_THREADS=2 "$BUILD/perf/bench_kernels" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
+  --benchmark_format=json > "$OUT/kernels.json"
+
+/usr/bin/python3 - "$ROOT" "$OUT" "$REPS" <<'PY'
+import json, os, re, statistics, subprocess, sys
+root, out, reps = sys.argv[1], sys.argv[2], sys.argv[3]
+commit = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+cpu = [l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")][0]
+ncpu = os.cpu_count()
+race = open(os.path.join(out, "race.txt")).read()
+table = open(os.path.join(out, "table.md")).read().strip()
+speed = re.findall(r"^(speedup_vs_fastest_peer\S*)=(\S+)", race, re.M)
+
+# scaling: medians per spec
+groups = {}
+for line in open(os.path.join(out, "scaling.txt")):
+    m = re.match(r"(--\w+ \S+) .*particle_steps_per_s=(\S+) .*particles=(\d+).*listed_pairs=(\d+).*rss_bytes_per_particle=(\d+)", line)
+    if m:
+        g = groups.setdefault(m.group(1), dict(rates=[], n=int(m.group(3)), pairs=int(m.group(4)), rss=[]))
+        g["rates"].append(float(m.group(2)))
+        g["rss"].append(float(m.group(5)))
+scal = ["| scene | particles | listed pairs / particle | particle-steps/s (median) | ns per particle-step | vs 32k | RSS bytes / particle |",
+        "|---|---|---|---|---|---|---|"]
+ref = None
+for spec, g in groups.items():
+    if spec == "--tile 1":
+        ref = statistics.median(g["rates"])
+for spec, g in sorted(groups.items(), key=lambda kv: kv[1]["n"]):
+    r = statistics.median(g["rates"])
+    scal.append(f"| `{spec}` | {g['n']} | {g['pairs'] / g['n']:.2f} | {r:.3g} | {1e9 / r:.0f} | "
+                f"{(ref / r if ref else float('nan')):.2f} | {statistics.median(g['rss']):.0f} |")
+
+k = json.load(open(os.path.join(out, "kernels.json")))
+copy_bw = None
+rows = ["| benchmark | median time | particle-steps/s (or items/s) | notes |", "|---|---|---|---|"]
+for b in k["benchmarks"]:
+    if b.get("aggregate_name") != "median":
+        continue
+    name = b["run_name"]
+    t = f"{b['real_time']:.4g} {b['time_unit']}"
+    rate = b.get("items_per_second")
+    note = ""
+    if "bytes_per_particle_step" in b:
+        note = f"{b['bytes_per_particle_step']:.0f} B/particle-step compulsory, {b['bytes_per_second'] / 1e9:.1f} GB/s"
+    if name.startswith("BM_Copy"):
+        copy_bw = b["bytes_per_second"]
+        note = f"copy bandwidth {copy_bw / 1e9:.1f} GB/s (read + write)"
+    rate_s = f"{rate:.3g}" if rate else "-"
+    rows.append(f"| {name} | {t} | {rate_s} | {note} |")
+
+md = f"""# Performance results
+
+Regenerate with `perf/results.sh` (this file; ~15 min on 2 cores). Machine: {cpu}, {ncpu} cores (a shared VM),
+Kokkos 3.4.01 OpenMP, GCC 12 `-O3`, commit `{commit}`. Every number is the median of {reps} runs. Threads:
+`OMP_NUM_THREADS` as stated, `OMP_PROC_BIND=spread OMP_PLACES=threads`.
+
+## The shared race (`perf/race.sh`, ../shared/bench/peers)
+
+32 000 spheres, 200 warm-up + 2 000 timed steps, dt = 1e-7 s, walls approaching at 0.01 m/s, mu = 0.5,
+mu_r = 0.1 (rolling on) or 0. grainlab: `build/perf/race_bench` (stiffness E r̄ with E set so the mean pair
+stiffness is the peers' 2e4 N/m; the constants are listed at the top of perf/race_bench.cpp). Peers: the
+Debian packages, MPI ranks, run by the same script right before or after.
+
+{table}
+
+{chr(10).join(f"`{a}={b}`  " for a, b in speed)}
+
+## Scaling with N (`race_bench`, rolling on, 2 threads, 200 timed steps)
+
+The scene cropped to a corner (`--crop`) or tiled K^3 times (`--tile`). Time per particle-step must stay
+within 20 % from 1e4 to ~1e6 (O(N): cell binning, CSR lists, no sort per step).
+
+{chr(10).join(scal)}
+
+## Kernel benchmarks (`build/perf/bench_kernels`, FCC packings, 12 contacts per sphere, 2 threads)
+
+Arguments: particle count, then rolling off/on (0/1). Rates are particle-steps/s (items/s).
+
+{chr(10).join(rows)}
+"""
+open(os.path.join(root, "perf", "RESULTS.md"), "w").write(md)
+print("wrote perf/RESULTS.md")
+PY
