@@ -14,20 +14,25 @@ export PEERS=${PEERS-"liggghts lammps"} REPS BUILD PEERS_DIR OUT
 export OMP_PROC_BIND=spread OMP_PLACES=threads
 mkdir -p "$OUT"
 
-echo ">>> race"
-"$ROOT/perf/race.sh" | tee "$OUT/race.txt"
+if [ "${SKIP_RACE:-0}" != 1 ]; then  # SKIP_RACE=1: reuse $OUT/race.txt and $OUT/table.md
+  echo ">>> race"
+  "$ROOT/perf/race.sh" | tee "$OUT/race.txt"
+fi
 
-echo ">>> scaling (rolling on, 2 threads, 200 timed steps)"
-: > "$OUT/scaling.txt"
-for spec in "--crop 0.68" "--tile 1" "--tile 2" "--tile 3"; do
-  # shellcheck disable=SC2086
-  OMP_NUM_THREADS=2 "$BUILD/perf/race_bench" --scene "$PEERS_DIR/scene_32k.txt" --box "$PEERS_DIR/scene_32k_box.txt" \
-    $spec --warmup 20 --steps 200 --reps "$REPS" | sed "s/^/$spec /" | tee -a "$OUT/scaling.txt"
-done
+if [ "${SKIP_SCALING:-0}" != 1 ]; then  # SKIP_SCALING=1: reuse $OUT/scaling.txt
+  echo ">>> scaling (rolling on, 2 threads, 200 timed steps)"
+  : > "$OUT/scaling.txt"
+  for spec in "--crop 0.68" "--tile 1" "--tile 2" "--tile 3"; do
+    # shellcheck disable=SC2086
+    OMP_NUM_THREADS=2 "$BUILD/perf/race_bench" --scene "$PEERS_DIR/scene_32k.txt" --box "$PEERS_DIR/scene_32k_box.txt" \
+      $spec --warmup 20 --steps 200 --reps "$REPS" | sed "s/^/$spec /" | tee -a "$OUT/scaling.txt"
+  done
+fi
 
 echo ">>> kernel benchmarks"
+# KERNEL_FILTER: a --benchmark_filter regex (default: all sizes up to 1M)
 OMP_NUM_THREADS=2 "$BUILD/perf/bench_kernels" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
-  --benchmark_format=json > "$OUT/kernels.json"
+  --benchmark_filter="${KERNEL_FILTER:-.}" --benchmark_format=json > "$OUT/kernels.json"
 
 /usr/bin/python3 - "$ROOT" "$OUT" "$REPS" <<'PY'
 import json, os, re, statistics, subprocess, sys
