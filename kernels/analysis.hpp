@@ -74,7 +74,8 @@ Descriptors compute_descriptors(const Src& src, const IntView& offsets, int nrow
 
 // The engine's contacts at the current evaluation (positions, pair forces, flags of the same step).
 struct EngineContacts {
-  VecView x, f;
+  VecView x;
+  PairVecView f;
   IntView pi, pj;
   FlagView flags;
   KOKKOS_INLINE_FUNCTION bool operator()(int p, Contact& c) const {

@@ -19,7 +19,7 @@ struct Particles {
 
 // Per-pair state aligned with a PairList (index p).
 struct PairHistory {
-  VecView ft, mr;
+  PairVecView ft, mr;
   FlagView flags;
 };
 // Output of the contact kernel. It walks row i of the half list with particle i in registers, so i's
@@ -30,8 +30,8 @@ struct PairHistory {
 // (perf/NOTES.md attempt 5: writing j's share straight into transposed order, for a contiguous gather,
 // measured 4 % slower: scattered stores cost more than the gather's scattered loads.)
 struct PairForces {
-  VecView f;             // per pair: force on j (force on i is -f); valid where flags has kTouching
-  VecView tj;            // per pair: torque on j
+  PairVecView f;         // per pair: force on j (force on i is -f); valid where flags has kTouching
+  PairVecView tj;        // per pair: torque on j
   VecView row_f, row_t;  // per particle: sum of i's shares over its row
 };
 

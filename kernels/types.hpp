@@ -24,6 +24,19 @@ using RealView = Kokkos::View<Real*, MemSpace>;
 using IntView = Kokkos::View<int*, MemSpace>;
 using FlagView = Kokkos::View<std::uint8_t*, MemSpace>;
 
+// Storage precision of the per-pair arrays (tangential and rolling history, per-pair force and torque on
+// j): CMake option GRAINLAB_PAIR_FLOAT (default OFF = double). Arithmetic stays in Real: values are loaded
+// into a double Vec3 and rounded only when stored, i.e. "float storage with double accumulation". The
+// per-pair arrays are the largest ones (12 values per listed pair, ~7 listed pairs per particle), so float
+// halves most of the memory per particle and of the contact kernel's traffic; the price is a relative
+// rounding of 6e-8 of the history per step (measured in perf/SPEED_VS_ERROR.md).
+#ifdef GRAINLAB_PAIR_FLOAT
+using PairReal = float;
+#else
+using PairReal = double;
+#endif
+using PairVecView = Kokkos::View<PairReal* [3], VecLayout, MemSpace>;
+
 struct Vec3 {
   Real x, y, z;
   KOKKOS_FORCEINLINE_FUNCTION Vec3() : x(0), y(0), z(0) {}
@@ -48,7 +61,12 @@ KOKKOS_FORCEINLINE_FUNCTION Real norm(const Vec3& a) { return math::sqrt(dot(a, 
 template <class V>
 KOKKOS_FORCEINLINE_FUNCTION Vec3 load(const V& v, int i) { return Vec3(v(i, 0), v(i, 1), v(i, 2)); }
 template <class V>
-KOKKOS_FORCEINLINE_FUNCTION void store(const V& v, int i, const Vec3& a) { v(i, 0) = a.x; v(i, 1) = a.y; v(i, 2) = a.z; }
+KOKKOS_FORCEINLINE_FUNCTION void store(const V& v, int i, const Vec3& a) {
+  using T = typename V::non_const_value_type;  // rounds explicitly where the View stores PairReal = float
+  v(i, 0) = T(a.x);
+  v(i, 1) = T(a.y);
+  v(i, 2) = T(a.z);
+}
 
 KOKKOS_FORCEINLINE_FUNCTION Real sign0(Real a) { return a > 0 ? Real(1) : (a < 0 ? Real(-1) : Real(0)); }
 

@@ -118,7 +118,8 @@ double step_bytes(Engine& eng) {
   const Diagnostics d = eng.diagnostics();
   const double per_particle = 6 * 24 + 24 + 3 * 8 + 2 * 24 + 4 * 24 + 2 * 4;
   const double per_pair = 4 + 4 + 2;
-  const double per_touching = 4 * 24 + 4 * 24;
+  const double pv = 3 * double(sizeof(PairReal));  // one per-pair vector: 24 B in double, 12 B in float
+  const double per_touching = 4 * pv + 4 * pv;
   return per_particle * eng.num_particles() + per_pair * eng.pairs().npairs + per_touching * d.contacts;
 }
 

@@ -34,6 +34,14 @@ echo ">>> kernel benchmarks"
 OMP_NUM_THREADS=2 "$BUILD/perf/bench_kernels" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
   --benchmark_filter="${KERNEL_FILTER:-.}" --benchmark_format=json > "$OUT/kernels.json"
 
+if [ "${SKIP_FLOAT:-0}" != 1 ]; then  # the same contact/step kernels with float per-pair storage
+  echo ">>> kernel benchmarks, float per-pair storage (build-float)"
+  "$ROOT/perf/build_float.sh" bench_kernels
+  OMP_NUM_THREADS=2 "${BUILD_FLOAT:-$ROOT/build-float}/perf/bench_kernels" --benchmark_repetitions="$REPS" \
+    --benchmark_report_aggregates_only=true --benchmark_filter="${KERNEL_FILTER_FLOAT:-BM_(Step|ContactForces|StepTraffic)/}" \
+    --benchmark_format=json > "$OUT/kernels_float.json"
+fi
+
 /usr/bin/python3 - "$ROOT" "$OUT" "$REPS" <<'PY'
 import json, os, re, statistics, subprocess, sys
 root, out, reps = sys.argv[1], sys.argv[2], sys.argv[3]
@@ -64,9 +72,13 @@ for spec, g in sorted(groups.items(), key=lambda kv: kv[1]["n"]):
                 f"{(ref / r if ref else float('nan')):.2f} | {statistics.median(g['rss']):.0f} |")
 
 k = json.load(open(os.path.join(out, "kernels.json")))
+benches = [(b, "double") for b in k["benchmarks"]]
+fpath = os.path.join(out, "kernels_float.json")
+if os.path.exists(fpath):
+    benches += [(b, "float") for b in json.load(open(fpath))["benchmarks"]]
 copy_bw = None
-rows = ["| benchmark | median time | particle-steps/s (or items/s) | notes |", "|---|---|---|---|"]
-for b in k["benchmarks"]:
+rows = ["| benchmark | per-pair storage | median time | particle-steps/s (or items/s) | notes |", "|---|---|---|---|---|"]
+for b, prec in benches:
     if b.get("aggregate_name") != "median":
         continue
     name = b["run_name"]
@@ -79,7 +91,7 @@ for b in k["benchmarks"]:
         copy_bw = b["bytes_per_second"]
         note = f"copy bandwidth {copy_bw / 1e9:.1f} GB/s (read + write)"
     rate_s = f"{rate:.3g}" if rate else "-"
-    rows.append(f"| {name} | {t} | {rate_s} | {note} |")
+    rows.append(f"| {name} | {prec} | {t} | {rate_s} | {note} |")
 
 md = f"""# Performance results
 
@@ -107,7 +119,9 @@ within 20 % from 1e4 to ~1e6 (O(N): cell binning, CSR lists, no sort per step).
 
 ## Kernel benchmarks (`build/perf/bench_kernels`, FCC packings, 12 contacts per sphere, 2 threads)
 
-Arguments: particle count, then rolling off/on (0/1). Rates are particle-steps/s (items/s).
+Arguments: particle count, then rolling off/on (0/1). Rates are particle-steps/s (items/s). "float" rows:
+the same benchmark built with `-DGRAINLAB_PAIR_FLOAT=ON` (per-pair history and forces stored in float,
+arithmetic in double; `perf/build_float.sh`).
 
 {chr(10).join(rows)}
 """

@@ -3,7 +3,9 @@
 
     perf/speed_vs_error            (the wrapper: builds nothing, needs `make build` first)
 
-For dt safety factor f in {0.05, 0.1, 0.2, 0.3, 0.5} and skin in {0.05, 0.1, 0.2} mm:
+For dt safety factor f in {0.05, 0.1, 0.2, 0.3, 0.5}, skin in {0.05, 0.1, 0.2} mm (double) and float storage of
+the per-pair history and forces (CMake GRAINLAB_PAIR_FLOAT, skin 0.1 mm; configured and built in BUILD_FLOAT
+incrementally by perf/build_float.sh):
   1. undrained triaxial test on a small sample (800 spheres, mu_r = 0.1, p'_0 = 190 kPa) to 5 % axial
      strain with `grainlab run`: error = max |q - q_ref| / p'_0 over the strain range, against a run at
      f = 0.02 (skin 0.1 mm), q_ref interpolated at the same axial strains; rate = particle-steps/s of
@@ -11,7 +13,7 @@ For dt safety factor f in {0.05, 0.1, 0.2, 0.3, 0.5} and skin in {0.05, 0.1, 0.2
   2. energy drift over 1e4 steps of a frictionless undamped packing (perf/energy_drift: a corner of the
      race scene, E = 100 MPa): |<E> last tenth - <E> first tenth| / E_0, and the rate of step() alone.
 The sample is prepared once (consolidation at f = 0.2) and shared by every shear.
-Environment: BUILD (default build), OMP_NUM_THREADS (default 2), SVE_OUT (work dir, default /tmp/grainlab-sve).
+Environment: BUILD (default build), BUILD_FLOAT (default build-float), OMP_NUM_THREADS (default 2), SVE_OUT (work dir, default /tmp/grainlab-sve).
 """
 import csv
 import os
@@ -24,6 +26,7 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = os.environ.get("BUILD", os.path.join(ROOT, "build"))
+BUILD_FLOAT = os.environ.get("BUILD_FLOAT", os.path.join(ROOT, "build-float"))
 GRAINLAB = os.path.join(BUILD, "grainlab")
 DRIFT = os.path.join(BUILD, "perf", "energy_drift")
 WORK = os.environ.get("SVE_OUT", "/tmp/grainlab-sve")
@@ -102,8 +105,20 @@ def series(path):
     return eps, q, p, step
 
 
-def shear(sample, f, skin, n):
-    tag = f"f{f}_s{skin * 1e3:g}"
+def exes(precision):
+    b = BUILD if precision == "double" else BUILD_FLOAT
+    return os.path.join(b, "grainlab"), os.path.join(b, "perf", "energy_drift")
+
+
+def build_float():
+    """The float-storage build next to the default one (same Kokkos, same flags, one option more); an
+    incremental build, so it is never stale."""
+    print("building the float-storage variant in", BUILD_FLOAT, flush=True)
+    run([os.path.join(ROOT, "perf", "build_float.sh"), "grainlab", "energy_drift"])
+
+
+def shear(sample, f, skin, n, precision="double"):
+    tag = f"f{f}_s{skin * 1e3:g}_{precision}"
     d = os.path.join(WORK, tag)
     cfg = os.path.join(WORK, tag + ".yaml")
     # ~200 rows per test whatever f is: every = steps / 200 with steps ~ 55 000 x 0.2 / f
@@ -112,15 +127,15 @@ def shear(sample, f, skin, n):
         fh.write(SHEAR.format(sample=sample, f=f, skin=skin, every=every))
     subprocess.run(["rm", "-rf", d])
     t0 = time.monotonic()
-    run([GRAINLAB, "run", cfg, "--out", d, "--quiet"])
+    run([exes(precision)[0], "run", cfg, "--out", d, "--quiet"])
     wall = time.monotonic() - t0
     eps, q, p, step = series(os.path.join(d, "series.csv"))
     steps = step[-1] - step[0]
     return dict(eps=eps, q=q, p=p, rate=n * steps / wall, wall=wall, steps=steps)
 
 
-def drift(f, skin):
-    r = run([DRIFT, "--scene", os.path.join(PEERS, "scene_32k.txt"), "--box", os.path.join(PEERS, "scene_32k_box.txt"),
+def drift(f, skin, precision="double"):
+    r = run([exes(precision)[1], "--scene", os.path.join(PEERS, "scene_32k.txt"), "--box", os.path.join(PEERS, "scene_32k_box.txt"),
              "--crop", "0.5", "--dt-factor", str(f), "--skin", str(skin), "--steps", "10000"])
     m = dict(re.findall(r"(\w+)=([0-9.eE+-]+)", r.stdout))
     return float(m["drift"]), float(m["band"]), float(m["particle_steps_per_s"])
@@ -133,6 +148,7 @@ def main():
     if not os.path.exists(os.path.join(PEERS, "scene_32k.txt")):
         sys.exit(f"speed_vs_error: no race scene under {PEERS} (set PEERS_DIR)")
     os.makedirs(WORK, exist_ok=True)
+    build_float()
     prep = os.path.join(WORK, "prep")
     sample = os.path.join(prep, "sample_consolidate.h5")
     if not os.path.exists(sample):
@@ -145,19 +161,19 @@ def main():
     ref = shear(sample, F_REF, 0.1e-3, n)
     p0 = ref["p"][0]
     rows = []
-    for skin in SKINS:
-        for f in FACTORS:
-            s = shear(sample, f, skin, n)
+    cases = [(skin, f, "double") for skin in SKINS for f in FACTORS] + [(0.1e-3, f, "float") for f in FACTORS]
+    for skin, f, prec in cases:
+            s = shear(sample, f, skin, n, prec)
             lo, hi = max(s["eps"][0], ref["eps"][0]), min(s["eps"][-1], ref["eps"][-1])
             keep = (s["eps"] >= lo) & (s["eps"] <= hi)
             dq = np.abs(s["q"][keep] - np.interp(s["eps"][keep], ref["eps"], ref["q"])) / p0
             err = float(np.max(dq))
             early = s["eps"][keep] - s["eps"][0] <= 0.01
             err1 = float(np.max(dq[early])) if early.any() else float("nan")
-            d, band, drate = drift(f, skin)
-            rows.append(dict(f=f, skin=skin, q_err=err, q_err1=err1, q_rate=s["rate"], steps=s["steps"], drift=d, band=band,
+            d, band, drate = drift(f, skin, prec)
+            rows.append(dict(f=f, skin=skin, prec=prec, q_err=err, q_err1=err1, q_rate=s["rate"], steps=s["steps"], drift=d, band=band,
                              d_rate=drate))
-            print(f"f={f:<5} skin={skin * 1e3:.2f} mm  q error {err:.2e} p'0 (first 1 %: {err1:.2e})  shear {s['rate']:.3g} p-steps/s"
+            print(f"f={f:<5} skin={skin * 1e3:.2f} mm {prec:6s} q error {err:.2e} p'0 (first 1 %: {err1:.2e})  shear {s['rate']:.3g} p-steps/s"
                   f"  drift {d:.2e}  band {band:.2e}  step() {drate:.3g} p-steps/s", flush=True)
     write_report(rows, ref, p0)
 
@@ -184,18 +200,21 @@ def write_report(rows, ref, p0):
         "- **energy drift**: frictionless, undamped packing (3 650 spheres of the race scene's corner, E = 100 MPa,"
         " random 0.01 m/s velocities) over 10^4 steps: |<E> of the last tenth - <E> of the first tenth| / E_0;"
         " band = (max - min) / E_0. Rate: step() alone, fenced.",
-        "- **precision**: double only. Float storage of the per-pair history and forces (double accumulation) is"
-        " not implemented yet (issue 5 note); every row is double.",
+        "- **precision**: double, or float storage of the per-pair history and per-pair forces with every"
+        " operation in double (`-DGRAINLAB_PAIR_FLOAT=ON`, kernels/types.hpp), skin 0.1 mm. The reference is"
+        " always double.",
         "",
-        "| f | skin mm | q error / p'_0, 5 % | q error / p'_0, 1 % | shear rate (p-steps/s) | steps | energy drift | energy band | step rate (p-steps/s) |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| f | skin mm | precision | q error / p'_0, 5 % | q error / p'_0, 1 % | shear rate (p-steps/s) | steps | energy drift | energy band | step rate (p-steps/s) |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        mark = " **(default)**" if (r["f"] == 0.2 and abs(r["skin"] - 0.1e-3) < 1e-9) else ""
-        lines.append(f"| {r['f']}{mark} | {r['skin'] * 1e3:g} | {r['q_err']:.2e} | {r['q_err1']:.2e} | {r['q_rate']:.3g} | {int(r['steps'])} |"
+        mark = " **(default)**" if (r["f"] == 0.2 and abs(r["skin"] - 0.1e-3) < 1e-9 and r["prec"] == "double") else ""
+        lines.append(f"| {r['f']}{mark} | {r['skin'] * 1e3:g} | {r['prec']} | {r['q_err']:.2e} | {r['q_err1']:.2e} | {r['q_rate']:.3g} | {int(r['steps'])} |"
                      f" {r['drift']:.2e} | {r['band']:.2e} | {r['d_rate']:.3g} |")
     lines += ["", "![speed against error](speed_vs_error.png)", ""]
-    default = [r for r in rows if r["f"] == 0.2 and abs(r["skin"] - 0.1e-3) < 1e-9][0]
+    default = [r for r in rows if r["f"] == 0.2 and abs(r["skin"] - 0.1e-3) < 1e-9 and r["prec"] == "double"][0]
+    fl = {r["f"]: r for r in rows if r["prec"] == "float"}
+    db = {r["f"]: r for r in rows if r["prec"] == "double" and abs(r["skin"] - 0.1e-3) < 1e-9}
     lines += [
         "## Reading the table",
         "",
@@ -208,6 +227,11 @@ def write_report(rows, ref, p0):
         " different, equally valid trajectory after a fraction of a percent of strain, and the 5 % column measures that sample-level scatter (flat in f), not the truncation error. The"
         " 1 % column is closer to the deterministic regime. Statistical answers (peak and critical-state q/p',"
         " fabric) must be judged across seeds, not against one reference trajectory.",
+        "",
+        "- Float storage against double at the same f and skin: energy drift"
+        + ", ".join(f" {fl[f]['drift']:.1e} vs {db[f]['drift']:.1e} (f = {f})" for f in FACTORS if f in fl)
+        + "; step() rate" + ", ".join(f" {fl[f]['d_rate'] / db[f]['d_rate']:.2f}x" for f in FACTORS if f in fl)
+        + " of double (single runs). The q error column is again chaotic scatter.",
         "",
         "## The default and why",
         "",
@@ -226,12 +250,12 @@ def write_report(rows, ref, p0):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
-        for skin in SKINS:
-            rs = [r for r in rows if r["skin"] == skin]
+        for skin, prec in [(s_, "double") for s_ in SKINS] + [(0.1e-3, "float")]:
+            rs = [r for r in rows if r["skin"] == skin and r["prec"] == prec]
             ax[0].loglog([r["q_rate"] for r in rs], [max(r["q_err"], 1e-16) for r in rs], "o-",
-                         label=f"skin {skin * 1e3:g} mm")
+                         label=f"skin {skin * 1e3:g} mm, {prec}")
             ax[1].loglog([r["d_rate"] for r in rs], [max(r["drift"], 1e-16) for r in rs], "o-",
-                         label=f"skin {skin * 1e3:g} mm")
+                         label=f"skin {skin * 1e3:g} mm, {prec}")
             for r in rs:
                 ax[0].annotate(f"f={r['f']}", (r["q_rate"], max(r["q_err"], 1e-16)), fontsize=7)
         ax[0].set_xlabel("undrained shear: particle-steps/s")

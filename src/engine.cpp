@@ -20,16 +20,17 @@ WallSet make_box_walls(const Vec3d& lo, const Vec3d& hi) {
   return ws;
 }
 
-std::vector<Vec3d> Engine::contact_forces() const {
-  auto out = to_host(pf_.f);
-  out.resize(size_t(lists_[cur_].npairs));  // the View has grow-only slack
-  return out;
-}
-
-std::vector<Vec3d> Engine::to_host(const VecView& v) {
+template <class V>
+std::vector<Vec3d> Engine::to_host(const V& v) {
   auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), v);
   std::vector<Vec3d> out(v.extent(0));
   for (size_t i = 0; i < out.size(); ++i) out[i] = {h(i, 0), h(i, 1), h(i, 2)};
+  return out;
+}
+
+std::vector<Vec3d> Engine::contact_forces() const {
+  auto out = to_host(pf_.f);
+  out.resize(size_t(lists_[cur_].npairs));  // the View has grow-only slack
   return out;
 }
 
@@ -555,8 +556,8 @@ void Engine::restore(const EngineState& s) {
     // NOLINTBEGIN(clang-analyzer-cplusplus.NewDeleteLeaks)
     old.offsets = IntView("grainlab::restore::offsets", n + 1);
     old.pair_j = IntView("grainlab::restore::j", std::max<size_t>(m, 1));
-    oh.ft = VecView("grainlab::restore::ft", std::max<size_t>(m, 1));
-    oh.mr = VecView("grainlab::restore::mr", std::max<size_t>(m, 1));
+    oh.ft = PairVecView("grainlab::restore::ft", std::max<size_t>(m, 1));
+    oh.mr = PairVecView("grainlab::restore::mr", std::max<size_t>(m, 1));
     oh.flags = FlagView("grainlab::restore::flags", std::max<size_t>(m, 1));
     auto ho = Kokkos::create_mirror_view(old.offsets);
     auto hj = Kokkos::create_mirror_view(old.pair_j);

@@ -152,7 +152,8 @@ class Engine {
   std::vector<Vec3d> angular_velocities() const { return to_host(P_.w); }
   std::vector<Vec3d> forces() const { return to_host(P_.f); }
   std::vector<Vec3d> torques() const { return to_host(P_.t); }
-  static std::vector<Vec3d> to_host(const VecView& v);
+  template <class V>
+  static std::vector<Vec3d> to_host(const V& v);  // VecView or PairVecView
   // Force on j of every listed pair; meaningful where the pair's flags have kTouching.
   std::vector<Vec3d> contact_forces() const;
 

@@ -942,9 +942,9 @@ RunResult Laboratory::run() {
       result.interrupted = true;
       // Searching: the checkpoint holds the stage-start state; otherwise the current step boundary.
       result.checkpoint = write_checkpoint();
-      if (!opt_.quiet)
-        std::printf("interrupted at step %ld: checkpoint %s; continue with --resume\n", eng_->step_count(),
-                    result.checkpoint.c_str());
+      // Even with --quiet (which silences progress, not news): a stopped run says where it can resume.
+      std::fprintf(stderr, "interrupted at step %ld: checkpoint %s; continue with --resume\n", eng_->step_count(),
+                   result.checkpoint.c_str());
       result.stages = lab_.results;
       return result;
     }

@@ -1,10 +1,12 @@
 #include "study.hpp"
 
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -269,8 +271,14 @@ int run_study(const Study& s, const StudyOptions& o) {
   auto done = [&](const StudyJob& j) { return fs::exists(out / "jobs" / j.name / "done"); };
   auto launch = [&](const StudyJob& j) -> pid_t {
     const std::string log = (out / "jobs" / j.name / "log.txt").string();
+    const pid_t parent = getpid();
     const pid_t pid = fork();
     if (pid == 0) {
+      // A study stopped by SIGTERM or SIGKILL must not leave its jobs running unattended (a rerun would
+      // start a second writer on the same run directory): the job gets SIGTERM when the study dies and
+      // stops at a checkpoint like a Ctrl-C'd run, which the rerun resumes.
+      prctl(PR_SET_PDEATHSIG, SIGTERM);
+      if (getppid() != parent) _exit(3);  // the study died before prctl took effect
       if (!freopen(log.c_str(), "a", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(2);
       const std::string cfg = cfg_path(j).string(), dir = (out / "jobs" / j.name / "run").string(),
                         th = std::to_string(per_job_threads);

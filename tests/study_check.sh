@@ -1,10 +1,24 @@
 #!/usr/bin/env bash
 # configs/quick-study.yaml end to end: every sample prepared exactly once and reused by its shear; the report
-# has its sections and a critical-state verdict for every test; a rerun skips every finished job.
+# has its sections and a critical-state verdict for every test, each mu_r's critical-state lines are
+# fitted from at least three critical states; a rerun skips every finished job.
 set -u
 bin=$1; study=$2; work=$3
 rm -rf "$work"
+# Stop the study with SIGTERM while its first jobs run: no job may outlive it (a rerun would otherwise add a
+# second writer to the same run directory), and the rerun must resume the interrupted jobs.
+"$bin" study "$study" --out "$work" --jobs 2 --quiet > /dev/null 2>&1 &
+sid=$!
+sleep 4
+kill -TERM "$sid"
+wait "$sid" 2> /dev/null
+for _ in $(seq 1 60); do pgrep -f -- "--out $work/jobs/" > /dev/null || break; sleep 0.5; done
+if pgrep -f -- "--out $work/jobs/" > /dev/null; then
+  echo "jobs still running 30 s after the study was stopped:"; pgrep -fa -- "--out $work/jobs/"; exit 1
+fi
+ls "$work"/jobs/*/done > /dev/null 2>&1 && { echo "a job finished within 4 s: the interruption test tested nothing"; exit 1; }
 "$bin" study "$study" --out "$work" --jobs 2 --quiet || { echo "study failed"; exit 1; }
+grep -l "interrupted at step" "$work"/jobs/*/log.txt > /dev/null || { echo "no job said it was interrupted"; exit 1; }
 n_samples=$(ls -d "$work"/jobs/sample_* | wc -l)
 n_shears=$(ls -d "$work"/jobs/shear_* | wc -l)
 [ "$n_samples" -eq 6 ] && [ "$n_shears" -eq 6 ] || { echo "expected 6 samples and 6 shears"; exit 1; }
@@ -18,6 +32,15 @@ for sec in "## Peak states" "## Critical states" "## Critical-state lines" "## S
 done
 verdicts=$(grep -cE '^\| shear_.* \| (yes|no: )' "$work/report.md")
 [ "$verdicts" -eq 6 ] || { echo "expected a critical-state verdict for each of 6 tests, got $verdicts"; exit 1; }
+# Critical-state lines: one fitted row per mu_r, each from at least three critical states, with the e_c - p'
+# slope negative (a CSL that rises with p' would mean the steadiness test or the fit is broken).
+lines=$(sed -n '/^## Critical-state lines/,/^## /p' "$work/report.md" | grep -E '^\| [0-9.]+ \| [0-9]+ \|')
+[ "$(printf '%s\n' "$lines" | grep -c .)" -eq 2 ] || { echo "expected a critical-state line row for each of 2 mu_r: $lines"; exit 1; }
+printf '%s\n' "$lines" | awk -F'|' '{
+  n = $3 + 0
+  if (n < 3 || $4 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = -[0-9.e+-]+ ±/ || $5 !~ /c = [-0-9.e+]+ ± /) {
+    print "critical-state line not fitted from >= 3 critical states (or e_c rises with p\x27): " $0; bad = 1 }
+} END { exit bad }' || exit 1
 [ -f "$work/figures/stress_paths.png" ] || { echo "no stress-path figure"; exit 1; }
 out=$("$bin" study "$study" --out "$work" --jobs 2 2>&1)
 printf '%s\n' "$out" | grep -q "; 0 to run" || { echo "rerun did not skip finished jobs: $out"; exit 1; }
