@@ -266,6 +266,7 @@ RunConfig load_run_config(const std::string& path) {
     sc.servo_gain = g.real("servo_gain", 0.5, 0, 1, true);
     if (sc.type == StageType::Isotropic) {
       sc.pressure_tolerance = g.real("pressure_tolerance", 0.01, 0, 1, true);
+      sc.pressure_ramp_steps = g.integer("pressure_ramp_steps", 0, 0, 1000000000000L);
       sc.ufr_tolerance = g.real("ufr_tolerance", 0.01, 0, 1, true);
       sc.ke_tolerance = g.real("ke_tolerance", 1e-4, 0, 1, true);
       sc.target_e0 = g.real("target_e0", 0, 0, 10);
@@ -334,8 +335,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
       << YAML::Key << "max_steps" << YAML::Value << sc.max_steps << YAML::Key << "check_every" << YAML::Value
       << sc.check_every << YAML::Key << "servo_gain" << YAML::Value << sc.servo_gain;
     if (sc.type == StageType::Isotropic) {
-      e << YAML::Key << "pressure" << YAML::Value << sc.pressure << YAML::Key << "pressure_tolerance" << YAML::Value
-        << sc.pressure_tolerance << YAML::Key << "ufr_tolerance" << YAML::Value << sc.ufr_tolerance << YAML::Key
+      e << YAML::Key << "pressure" << YAML::Value << sc.pressure << YAML::Key << "pressure_ramp_steps" << YAML::Value
+        << sc.pressure_ramp_steps << YAML::Key << "pressure_tolerance" << YAML::Value << sc.pressure_tolerance << YAML::Key << "ufr_tolerance" << YAML::Value << sc.ufr_tolerance << YAML::Key
         << "ke_tolerance" << YAML::Value << sc.ke_tolerance << YAML::Key << "save_sample" << YAML::Value
         << sc.save_sample;
       if (sc.target_e0 > 0)

@@ -25,6 +25,8 @@ struct StageConfig {
   // isotropic consolidation (SPEC §6.2)
   Real pressure = 190e3;           // p'_0 target                                   [Pa]
   Real pressure_tolerance = 0.01;  // |p - p0| / p0                                  [-]
+  long pressure_ramp_steps = 0;    // servo target rises linearly from 0 to `pressure` over this many
+                                   // steps of the stage (0 = the full target from the first step)
   Real ufr_tolerance = 0.01;       // unbalanced-force ratio                         [-]
   Real ke_tolerance = 1e-4;        // kinetic / elastic energy                       [-]
   Real servo_gain = 0.5;           // see WallControl::gain                          [-]
