@@ -6,7 +6,7 @@ RUN_DIR ?= runs/$(basename $(notdir $(CONFIG)))-$(shell date +%Y%m%d-%H%M%S)
 JOBS   ?= $(shell nproc)
 CMAKE_ARGS ?=
 
-.PHONY: all setup configure build run test check gpu gpu-check clean distclean
+.PHONY: all setup configure build run test check float-check gpu gpu-check clean distclean
 
 all: build
 
@@ -31,6 +31,11 @@ run: build
 # --parallel lets CTest pack them onto the cores using each test's PROCESSORS property.
 test: build
 	cd $(BUILD) && ctest --output-on-failure --parallel $(JOBS)
+
+# The float per-pair storage variant (GRAINLAB_PAIR_FLOAT) builds, runs and stays within its stated
+# tolerance of the double build (tests/float_check.sh); run by .ci/run.
+float-check: build
+	tests/float_check.sh
 
 # Sanitizers and static checks (issue 7): the whole test suite under AddressSanitizer + UBSan (OpenMP
 # backend), then clang-tidy and cppcheck on src/ and kernels/. Zero findings; each suppression is an

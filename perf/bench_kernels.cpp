@@ -34,6 +34,18 @@ Scene fcc_scene(int n_target, std::uint64_t seed) {
         }
   s.lo = {0, 0, 0};
   s.hi = {c * a, c * a, c * a};
+  // Morton order, as the engine's users get from generation/loading (perf/scene.hpp does the same for the
+  // race scene): lattice order puts a sphere's y and z neighbours c and c^2 rows away in memory, which
+  // at 1M spheres measured the cache, not the kernels (step 1.35x slower per particle than at 32k).
+  const std::vector<int> order = spatial_order(s.setup.x, 2 * rn);
+  std::vector<Vec3d> x(order.size());
+  std::vector<Real> r(order.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    x[k] = s.setup.x[size_t(order[k])];
+    r[k] = s.setup.r[size_t(order[k])];
+  }
+  s.setup.x = x;
+  s.setup.r = r;
   return s;
 }
 

@@ -29,12 +29,14 @@ if [ "${SKIP_SCALING:-0}" != 1 ]; then  # SKIP_SCALING=1: reuse $OUT/scaling.txt
   done
 fi
 
-echo ">>> kernel benchmarks"
-# KERNEL_FILTER: a --benchmark_filter regex (default: all sizes up to 1M)
-OMP_NUM_THREADS=2 "$BUILD/perf/bench_kernels" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
-  --benchmark_filter="${KERNEL_FILTER:-.}" --benchmark_format=json > "$OUT/kernels.json"
+if [ "${SKIP_KERNELS:-0}" != 1 ]; then  # SKIP_KERNELS=1: reuse $OUT/kernels.json
+  echo ">>> kernel benchmarks"
+  # KERNEL_FILTER: a --benchmark_filter regex (default: all sizes up to 1M)
+  OMP_NUM_THREADS=2 "$BUILD/perf/bench_kernels" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
+    --benchmark_filter="${KERNEL_FILTER:-.}" --benchmark_format=json > "$OUT/kernels.json"
+fi
 
-if [ "${SKIP_FLOAT:-0}" != 1 ]; then  # the same contact/step kernels with float per-pair storage
+if [ "${SKIP_FLOAT:-0}" != 1 ]; then  # the same contact/step kernels with float per-pair storage (SKIP_FLOAT=1: reuse)
   echo ">>> kernel benchmarks, float per-pair storage (build-float)"
   "$ROOT/perf/build_float.sh" bench_kernels
   OMP_NUM_THREADS=2 "${BUILD_FLOAT:-$ROOT/build-float}/perf/bench_kernels" --benchmark_repetitions="$REPS" \
