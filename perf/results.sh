@@ -89,6 +89,8 @@ for b, prec in benches:
     note = ""
     if "bytes_per_particle_step" in b:
         note = f"{b['bytes_per_particle_step']:.0f} B/particle-step compulsory, {b['bytes_per_second'] / 1e9:.1f} GB/s"
+    if "rebuilds_per_100_steps" in b:
+        note = (note + "; " if note else "") + f"{b['rebuilds_per_100_steps']:.1f} neighbour rebuilds per 100 steps"
     if name.startswith("BM_Copy"):
         copy_bw = b["bytes_per_second"]
         note = f"copy bandwidth {copy_bw / 1e9:.1f} GB/s (read + write)"
