@@ -336,7 +336,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
       << sc.check_every << YAML::Key << "servo_gain" << YAML::Value << sc.servo_gain;
     if (sc.type == StageType::Isotropic) {
       e << YAML::Key << "pressure" << YAML::Value << sc.pressure << YAML::Key << "pressure_ramp_steps" << YAML::Value
-        << sc.pressure_ramp_steps << YAML::Key << "pressure_tolerance" << YAML::Value << sc.pressure_tolerance << YAML::Key << "ufr_tolerance" << YAML::Value << sc.ufr_tolerance << YAML::Key
+        << sc.pressure_ramp_steps << YAML::Key << "pressure_tolerance" << YAML::Value << sc.pressure_tolerance
+        << YAML::Key << "ufr_tolerance" << YAML::Value << sc.ufr_tolerance << YAML::Key
         << "ke_tolerance" << YAML::Value << sc.ke_tolerance << YAML::Key << "save_sample" << YAML::Value
         << sc.save_sample;
       if (sc.target_e0 > 0)

@@ -11,7 +11,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD=${BUILD:-$ROOT/build}
 BUILD_FLOAT=${BUILD_FLOAT:-$ROOT/build-float}
-work=${1:-$(mktemp -d)}
+if [ $# -ge 1 ]; then work=$1; else work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi
 "$ROOT/perf/build_float.sh" grainlab
 rm -rf "$work/prep" "$work/double" "$work/float"
 OMP_NUM_THREADS=2 "$BUILD/grainlab" run "$ROOT/tests/data/smoke.yaml" --out "$work/prep" --quiet
