@@ -8,6 +8,7 @@
 
 #include "src/engine.hpp"
 #include "src/packing.hpp"
+#include "perf/scene.hpp"
 
 using namespace grainlab;
 
@@ -19,33 +20,18 @@ struct Scene {
 };
 
 Scene fcc_scene(int n_target, std::uint64_t seed) {
-  const int c = std::max(1, int(std::cbrt(n_target / 4.0) + 0.5));
   const Real a = 1.6e-3;                         // cell edge: nearest neighbours at a / sqrt(2) = 1.13 mm
   const Real rn = a / std::sqrt(2.0) / 2 * 1.01;  // mean radius: 1 % overlap
   Rng rng(seed);
   Scene s;
-  const Real basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  for (int z = 0; z < c; ++z)
-    for (int y = 0; y < c; ++y)
-      for (int x = 0; x < c; ++x)
-        for (auto& b : basis) {
-          s.setup.x.push_back({(x + b[0] + 0.25) * a, (y + b[1] + 0.25) * a, (z + b[2] + 0.25) * a});
-          s.setup.r.push_back(rn * (0.98 + 0.04 * rng.uniform()));
-        }
+  const int c = perf::fcc_lattice(n_target, a, [&] { return rn * (0.98 + 0.04 * rng.uniform()); }, s.setup.x, s.setup.r);
   s.lo = {0, 0, 0};
   s.hi = {c * a, c * a, c * a};
-  // Morton order, as the engine's users get from generation/loading (perf/scene.hpp does the same for the
-  // race scene): lattice order puts a sphere's y and z neighbours c and c^2 rows away in memory, which
-  // at 1M spheres measured the cache, not the kernels (step 1.35x slower per particle than at 32k).
-  const std::vector<int> order = spatial_order(s.setup.x, 2 * rn);
-  std::vector<Vec3d> x(order.size());
-  std::vector<Real> r(order.size());
-  for (size_t k = 0; k < order.size(); ++k) {
-    x[k] = s.setup.x[size_t(order[k])];
-    r[k] = s.setup.r[size_t(order[k])];
-  }
-  s.setup.x = x;
-  s.setup.r = r;
+  // Morton order, as race_bench gives the race scene (perf/scene.hpp): lattice order puts a sphere's y and
+  // z neighbours c and c^2 rows away in memory, which at 1M spheres measured the cache, not the kernels
+  // (step 1.35x slower per particle than at 32k). (The engine itself does not reorder: generated packings
+  // come in the generator's cell order, loaded samples in their saved order.)
+  perf::morton_sort(s.setup.x, s.setup.r, 2 * rn);
   return s;
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "scene.hpp"
+#include "src/energy_tally.hpp"
 
 using namespace grainlab;
 
@@ -51,9 +52,7 @@ int main(int argc, char** argv) {
     p.dt_factor = f;
     p.skin = skin;
     Engine eng(sc.s, p, make_box_walls(sc.lo, sc.hi), true);
-    Real ke_prev = eng.diagnostics().kinetic;
-    Real e0 = 0, emax = -1e300, emin = 1e300, first = 0, last = 0;
-    const long window = std::max(1L, steps / 10);
+    EnergyTally tally(steps, eng.diagnostics().kinetic);
     double stepping = 0;  // time inside step() only (the energy sums are diagnostics, not timed)
     for (long k = 0; k < steps; ++k) {
       const Real pe = eng.diagnostics().potential;
@@ -62,17 +61,10 @@ int main(int argc, char** argv) {
       eng.step();
       compat::fence("grainlab::drift::after");
       stepping += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const Real ke = eng.diagnostics().kinetic;
-      const Real e = pe + 0.5 * (ke_prev + ke);
-      ke_prev = ke;
-      if (k == 0) e0 = e;
-      emax = std::max(emax, e);
-      emin = std::min(emin, e);
-      if (k < window) first += e / Real(window);
-      if (k >= steps - window) last += e / Real(window);
+      tally.add(pe, eng.diagnostics().kinetic);
     }
     std::printf("drift=%.4e band=%.4e particle_steps_per_s=%.4g dt=%.4e rebuilds=%d particles=%d steps=%ld\n",
-                std::abs(last - first) / e0, (emax - emin) / e0, double(eng.num_particles()) * steps / stepping,
+                tally.drift(), tally.band(), double(eng.num_particles()) * steps / stepping,
                 eng.dt(), eng.rebuild_count(), eng.num_particles(), steps);
   }
   Kokkos::finalize();

@@ -92,20 +92,42 @@ inline Scene read_scene(const SceneArgs& a) {
   return sc;
 }
 
-// Without the shared scene (CI): an FCC lattice with the scene's radius range, slightly overlapping.
-inline Scene generated_scene(int n) {
-  Scene sc;
+// An FCC lattice of about n spheres (4 per cubic cell of edge a, c^3 cells), in lattice order, with
+// radius() drawn per sphere in that order; returns c (the box is [0, c a]^3).
+template <class Radius>
+int fcc_lattice(int n, Real a, Radius radius, std::vector<Vec3d>& x, std::vector<Real>& r) {
   const int c = std::max(1, int(std::cbrt(n / 4.0) + 0.5));
-  const Real a = 1.0e-3;
-  Rng rng(7);
   const Real basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
   for (int z = 0; z < c; ++z)
     for (int y = 0; y < c; ++y)
-      for (int x = 0; x < c; ++x)
+      for (int i = 0; i < c; ++i)
         for (auto& bb : basis) {
-          sc.s.x.push_back({(x + bb[0] + 0.25) * a, (y + bb[1] + 0.25) * a, (z + bb[2] + 0.25) * a});
-          sc.s.r.push_back(a / std::sqrt(2.0) / 2 * (0.96 + 0.05 * rng.uniform()));
+          x.push_back({(i + bb[0] + 0.25) * a, (y + bb[1] + 0.25) * a, (z + bb[2] + 0.25) * a});
+          r.push_back(radius());
         }
+  return c;
+}
+
+// Morton order of the spheres (perf/NOTES.md attempt 3a), cell edge `cell`; not timed by any benchmark,
+// as a reader of a file would do it before building the engine.
+inline void morton_sort(std::vector<Vec3d>& x, std::vector<Real>& r, Real cell) {
+  const std::vector<int> order = spatial_order(x, cell);
+  std::vector<Vec3d> xs(order.size());
+  std::vector<Real> rs(order.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    xs[k] = x[size_t(order[k])];
+    rs[k] = r[size_t(order[k])];
+  }
+  x.swap(xs);
+  r.swap(rs);
+}
+
+// Without the shared scene (CI): an FCC lattice with the scene's radius range, slightly overlapping.
+inline Scene generated_scene(int n) {
+  Scene sc;
+  const Real a = 1.0e-3;
+  Rng rng(7);
+  const int c = fcc_lattice(n, a, [&] { return a / std::sqrt(2.0) / 2 * (0.96 + 0.05 * rng.uniform()); }, sc.s.x, sc.s.r);
   sc.hi = {c * a, c * a, c * a};
   return sc;
 }
@@ -116,16 +138,10 @@ inline Scene load_scene(const SceneArgs& a) {
   if (a.tile < 1) scene_error("--tile must be >= 1");
   if (!(a.crop > 0.2 && a.crop <= 1)) scene_error("--crop must be in (0.2, 1]");
   Scene sc = a.scene.empty() ? generated_scene(a.generate) : read_scene(a);
-  if (a.sort) {  // not timed: done before the engine is built, as a reader of the file would
+  if (a.sort) {
     Real rmean = 0;
     for (Real r : sc.s.r) rmean += r / Real(sc.s.r.size());
-    const std::vector<int> order = spatial_order(sc.s.x, 2 * rmean);
-    ParticleSetup t = sc.s;
-    for (size_t k = 0; k < order.size(); ++k) {
-      t.x[k] = sc.s.x[order[k]];
-      t.r[k] = sc.s.r[order[k]];
-    }
-    sc.s = t;
+    morton_sort(sc.s.x, sc.s.r, 2 * rmean);
   }
   sc.s.density = 2650;
   return sc;

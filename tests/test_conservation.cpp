@@ -4,6 +4,7 @@
 #include <random>
 
 #include "helpers.hpp"
+#include "src/energy_tally.hpp"
 
 using namespace grainlab;
 
@@ -83,23 +84,15 @@ EnergyRun energy_run(const test::DenseScene& base, Real f, int nsteps) {
   Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
   EnergyRun out;
   out.contacts0 = eng.diagnostics().contacts;
-  Real ke_prev = eng.diagnostics().kinetic;
-  Real e0 = 0, emax = -1e300, emin = 1e300, first = 0, last = 0;
-  const int window = nsteps / 10;
+  EnergyTally tally(nsteps, eng.diagnostics().kinetic);
   for (int k = 0; k < nsteps; ++k) {
     const Real pe = eng.diagnostics().potential;
     eng.step();
-    const Real ke = eng.diagnostics().kinetic;
-    const Real e = pe + 0.5 * (ke_prev + ke);
-    ke_prev = ke;
-    if (k == 0) e0 = e;
-    emax = std::max(emax, e);
-    emin = std::min(emin, e);
-    if (k < window) first += e / window;
-    if (k >= nsteps - window) last += e / window;
+    tally.add(pe, eng.diagnostics().kinetic);
   }
-  out.band = (emax - emin) / e0;
-  out.drift = std::abs(last - first) / e0;
+  const Real e0 = tally.e0();
+  out.band = tally.band();
+  out.drift = tally.drift();
   out.rebuilds = eng.rebuild_count();
   std::printf("  f = %g, %d steps: E0 = %.4e J, band %.3e, drift %.3e, contacts %d -> %d, rebuilds %d\n", f, nsteps, e0,
               out.band, out.drift, out.contacts0, eng.diagnostics().contacts, out.rebuilds);
