@@ -28,8 +28,8 @@ using FlagView = Kokkos::View<std::uint8_t*, MemSpace>;
 // j): CMake option GRAINLAB_PAIR_FLOAT (default OFF = double). Arithmetic stays in Real: values are loaded
 // into a double Vec3 and rounded only when stored, i.e. "float storage with double accumulation". The
 // per-pair arrays are the largest ones (12 values per listed pair, 4.5 listed pairs per particle on the
-// race scene): float cuts its memory per particle by 23 % (926 -> 709 B) and runs 1.09x faster
-// (perf/NOTES.md attempt 8); the price is a relative rounding of 6e-8 of the history per step (errors in
+// race scene): float cuts its memory per particle by 23 % (926 -> 709 B) and runs 1.05x faster
+// (perf/NOTES.md attempt 8, perf/ab.sh); the price is a relative rounding of 6e-8 of the history per step (errors in
 // perf/SPEED_VS_ERROR.md).
 #ifdef GRAINLAB_PAIR_FLOAT
 using PairReal = float;

@@ -100,7 +100,8 @@ for b, prec in benches:
 md = f"""# Performance results
 
 Regenerate with `perf/results.sh` (this file; ~15 min on 2 cores). Machine: {cpu}, {ncpu} cores (a shared VM),
-Kokkos 3.4.01 OpenMP, GCC 12 `-O3`, commit `{commit}`. Every number is the median of {reps} runs. Threads:
+Kokkos 3.4.01 OpenMP, GCC 12 `-O3 -march=native -ffp-contract=off` (the default build,
+GRAINLAB_NATIVE=ON; the Debian peers are generic x86-64 builds), commit `{commit}`. Every number is the median of {reps} runs. Threads:
 `OMP_NUM_THREADS` as stated, `OMP_PROC_BIND=spread OMP_PLACES=threads`.
 
 ## The shared race (`perf/race.sh`, ../shared/bench/peers)
