@@ -233,8 +233,8 @@ def write_report(rows, ref, p0):
         + ". Rounding the stored history and pair forces to 24 bits each step adds a random walk to the"
         " energy that stays below the truncation error at the default f (and at f = 0.05, 0.1); compare"
         " f = 0.3 and 0.5 across rows. The rates in this table are single short runs and swing by 1.5x on"
-        " this VM; the interleaved A/B of the two builds on the race scene (perf/NOTES.md, attempt 8) gives"
-        " float 1.09x faster and 23 % less memory per particle. The q columns are again chaotic scatter"
+        " this VM; the concurrent A/B of the two builds on the race scene (`perf/ab.sh`, perf/NOTES.md attempt 8)"
+        " gives float 1.05x faster and 23 % less memory per particle. The q columns are again chaotic scatter"
         " (the float rows' 1 % errors are the double rows' size). Default: double (bitwise-reproducible"
         " restarts and the tested oracles are double); float halves the per-pair memory, which matters most for 10^7-sphere runs in a GPU's memory (not measured here: no GPU).",
         "",
