@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Regenerates perf/RESULTS.md: every number a median of REPS (default 3) runs, machine and commit named.
+# Regenerates perf/RESULTS.md: every number a median of REPS (default 3) runs (the scaling table: SCALING_REPS,
+# default 5, round robin), machine and commit named.
 #   perf/results.sh                  race (grainlab + PEERS, default "liggghts lammps"), scaling 1e4..~1e6,
 #                                    kernel benchmarks (Google Benchmark, 3 repetitions, medians)
 #   PEERS="" perf/results.sh         grainlab only (the peers' medians from ../shared/bench/peers/RESULTS.md)
@@ -115,7 +116,7 @@ md = f"""# Performance results
 
 Regenerate with `perf/results.sh` (this file; ~30 min on 2 cores). Machine: {cpu}, {ncpu} cores (a shared VM),
 Kokkos 3.4.01 OpenMP, GCC 12 `-O3 -march=native -ffp-contract=off` (the default build,
-GRAINLAB_NATIVE=ON; the Debian peers are generic x86-64 builds), commit `{commit}`. Every number is the median of {reps} runs. Threads:
+GRAINLAB_NATIVE=ON; the Debian peers are generic x86-64 builds), commit `{commit}`. Every number is the median of {reps} runs (the scaling table: of the runs it lists). Threads:
 `OMP_NUM_THREADS` as stated, `OMP_PROC_BIND=spread OMP_PLACES=threads`.
 
 ## The shared race (`perf/race.sh`, ../shared/bench/peers)
