@@ -45,6 +45,36 @@ int exclusive_scan(const IntView& counts, const IntView& offsets, int n) {
   return total;
 }
 
+// Transposed index for the gather: pairs grouped by j, ascending pair index within a row (the sort
+// makes it independent of which thread inserted first).
+void build_transpose(PairList& list, int n) {
+  const int np = list.npairs;
+  ensure(list.t_pairs, "grainlab::pairs::t_pairs", np);
+  ensure(list.t_offsets, "grainlab::pairs::t_offsets", n + 1);
+  auto counts = list.counts;
+  auto pj = list.pair_j;
+  auto toff = list.t_offsets;
+  auto tp = list.t_pairs;
+  Kokkos::parallel_for(
+      "grainlab::neighbor::zero_tcounts", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int i) { counts(i) = 0; });
+  Kokkos::parallel_for(
+      "grainlab::neighbor::count_transpose", Kokkos::RangePolicy<ExecSpace>(0, np),
+      KOKKOS_LAMBDA(int p) { Kokkos::atomic_fetch_add(&counts(pj(p)), 1); });
+  exclusive_scan(counts, toff, n);
+  Kokkos::parallel_for(
+      "grainlab::neighbor::cursor_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int i) { counts(i) = toff(i); });
+  Kokkos::parallel_for(
+      "grainlab::neighbor::fill_transpose", Kokkos::RangePolicy<ExecSpace>(0, np), KOKKOS_LAMBDA(int p) {
+        const int slot = Kokkos::atomic_fetch_add(&counts(pj(p)), 1);
+        tp(slot) = p;
+      });
+  Kokkos::parallel_for(
+      "grainlab::neighbor::sort_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int j) { sort_segment(tp, toff(j), toff(j + 1)); });
+}
+
 // Count-then-fill pair search over the 27 neighbouring cells (Cabana VerletList style tagged functor).
 struct PairSearch {
   struct Count {};
@@ -102,10 +132,46 @@ struct PairSearch {
   }
 };
 
+// Count-then-fill filter of a sorted CSR list (the inner list of Engine, perf/NOTES.md attempt 18): a row's
+// kept pairs stay in their order, so the inner rows are sorted by j like the Verlet rows.
+struct PairFilter {
+  struct Count {};
+  struct Fill {};
+  VecView x;
+  RealView r;
+  IntView outer_offsets, outer_j, counts, offsets, pair_i, pair_j;
+  Real margin;
+
+  KOKKOS_INLINE_FUNCTION bool keep(const Vec3& xi, Real ri, int j) const {
+    const Vec3 d = load(x, j) - xi;
+    const Real cut = ri + r(j) + margin;
+    return norm2(d) < cut * cut;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(Count, int i) const {
+    const Vec3 xi = load(x, i);
+    const Real ri = r(i);
+    int c = 0;
+    for (int p = outer_offsets(i); p < outer_offsets(i + 1); ++p) c += keep(xi, ri, outer_j(p)) ? 1 : 0;
+    counts(i) = c;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(Fill, int i) const {
+    const Vec3 xi = load(x, i);
+    const Real ri = r(i);
+    int q = offsets(i);
+    for (int p = outer_offsets(i); p < outer_offsets(i + 1); ++p) {
+      const int j = outer_j(p);
+      if (!keep(xi, ri, j)) continue;
+      pair_i(q) = i;
+      pair_j(q) = j;
+      ++q;
+    }
+  }
+};
+
 }  // namespace
 
 NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, Real cell_min, CellGrid& grid,
-                                  PairList& list) {
+                                  PairList& list, bool transposed) {
   const int n = int(x.extent(0));
   NeighborStats st;
 
@@ -206,39 +272,13 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
   const int np = exclusive_scan(list.counts, list.offsets, n);
   ensure(list.pair_i, "grainlab::pairs::i", np);
   ensure(list.pair_j, "grainlab::pairs::j", np);
-  ensure(list.t_pairs, "grainlab::pairs::t_pairs", np);
-  ensure(list.t_offsets, "grainlab::pairs::t_offsets", n + 1);
   ps.pair_i = list.pair_i;
   ps.pair_j = list.pair_j;
   Kokkos::parallel_for("grainlab::neighbor::fill_pairs", Kokkos::RangePolicy<ExecSpace, PairSearch::Fill>(0, n), ps);
   list.npairs = np;
   st.npairs = np;
 
-  // Transposed index for the gather: pairs grouped by j, ascending pair index within a row.
-  {
-    auto counts = list.counts;
-    auto pj = list.pair_j;
-    auto toff = list.t_offsets;
-    auto tp = list.t_pairs;
-    Kokkos::parallel_for(
-        "grainlab::neighbor::zero_tcounts", Kokkos::RangePolicy<ExecSpace>(0, n),
-        KOKKOS_LAMBDA(int i) { counts(i) = 0; });
-    Kokkos::parallel_for(
-        "grainlab::neighbor::count_transpose", Kokkos::RangePolicy<ExecSpace>(0, np),
-        KOKKOS_LAMBDA(int p) { Kokkos::atomic_fetch_add(&counts(pj(p)), 1); });
-    exclusive_scan(counts, toff, n);
-    Kokkos::parallel_for(
-        "grainlab::neighbor::cursor_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
-        KOKKOS_LAMBDA(int i) { counts(i) = toff(i); });
-    Kokkos::parallel_for(
-        "grainlab::neighbor::fill_transpose", Kokkos::RangePolicy<ExecSpace>(0, np), KOKKOS_LAMBDA(int p) {
-          const int slot = Kokkos::atomic_fetch_add(&counts(pj(p)), 1);
-          tp(slot) = p;
-        });
-    Kokkos::parallel_for(
-        "grainlab::neighbor::sort_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
-        KOKKOS_LAMBDA(int j) { sort_segment(tp, toff(j), toff(j + 1)); });
-  }
+  if (transposed) build_transpose(list, n);
   {
     auto off = list.offsets;
     int mr = 0;
@@ -252,6 +292,23 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
     st.max_row = n > 0 ? mr : 0;
   }
   return st;
+}
+
+int filter_pair_list(const VecView& x, const RealView& r, Real margin, const PairList& outer, PairList& inner) {
+  const int n = int(x.extent(0));
+  ensure(inner.offsets, "grainlab::inner::offsets", n + 1);
+  ensure(inner.counts, "grainlab::inner::counts", n);
+  PairFilter pf{x, r, outer.offsets, outer.pair_j, inner.counts, inner.offsets, inner.pair_i, inner.pair_j, margin};
+  Kokkos::parallel_for("grainlab::neighbor::count_inner", Kokkos::RangePolicy<ExecSpace, PairFilter::Count>(0, n), pf);
+  const int np = exclusive_scan(inner.counts, inner.offsets, n);
+  ensure(inner.pair_i, "grainlab::inner::i", np);
+  ensure(inner.pair_j, "grainlab::inner::j", np);
+  pf.pair_i = inner.pair_i;
+  pf.pair_j = inner.pair_j;
+  Kokkos::parallel_for("grainlab::neighbor::fill_inner", Kokkos::RangePolicy<ExecSpace, PairFilter::Fill>(0, n), pf);
+  inner.npairs = np;
+  build_transpose(inner, n);
+  return np;
 }
 
 void brute_force_pairs(const VecView& x, const RealView& r, Real skin, std::vector<std::pair<int, int>>& out) {

@@ -41,9 +41,15 @@ struct NeighborStats {
 };
 
 // Bins particles into cells of edge >= cell_min and rebuilds the pair list for cutoff r_i + r_j + skin.
-// The list only grows its storage (25 % slack), so a steady state allocates nothing.
+// The list only grows its storage (25 % slack), so a steady state allocates nothing. Without `transposed`
+// the transposed index is left empty (a list that is only filtered, never gathered over).
 NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, Real cell_min, CellGrid& grid,
-                                  PairList& list);
+                                  PairList& list, bool transposed = true);
+
+// Inner list: the pairs of the sorted list `outer` closer than r_i + r_j + margin, in the same order, with
+// their transposed index. O(pairs), no cell search: the cheap half of a two-level Verlet scheme (Engine).
+// Returns the pair count.
+int filter_pair_list(const VecView& x, const RealView& r, Real margin, const PairList& outer, PairList& inner);
 
 // Brute-force O(N^2) reference (test oracle): the same pairs, row-major sorted, on the host.
 void brute_force_pairs(const VecView& x, const RealView& r, Real skin, std::vector<std::pair<int, int>>& out);

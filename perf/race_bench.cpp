@@ -3,7 +3,10 @@
 // then a fenced timed run; reading the scene and building the engine are not timed).
 //
 //   race_bench --scene scene_32k.txt --box scene_32k_box.txt [--rolling 1] [--warmup 200] [--steps 2000]
-//              [--tile K] [--crop F] [--generate N] [--reps R] [--sort 0|1]
+//              [--tile K] [--crop F] [--generate N] [--reps R] [--sort 0|1] [--skin M] [--inner F]
+//
+// --skin: the Verlet skin (the race fixes 1e-4 m). --inner: EngineParams::inner_skin (default: the engine's,
+// 0.1; 0 streams the Verlet list itself, the list the peers loop over; perf/race.sh runs both).
 //
 // Prints one line: `particle_steps_per_s=<rate> ...` with the wall time, the contact count at the end
 // (Z = 2 Nc / N, comparable with the peers' table) and the kinetic energy.
@@ -40,12 +43,14 @@ struct Args {
   int rolling = 1;
   long warmup = 200, steps = 2000;
   int reps = 1;
+  double skin = 1e-4;  // the race fixes 0.1 mm; other values only to study the list's cost
+  double inner = EngineParams{}.inner_skin;  // the engine's inner list (fraction of skin; 0 = off)
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "race_bench: " << why
             << "\nusage: race_bench --scene FILE --box FILE [--rolling 0|1] [--warmup N] [--steps N] [--reps R]"
-               " [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
+               " [--skin M] [--inner F] [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
   std::exit(2);
 }
 
@@ -61,12 +66,15 @@ Args parse(int argc, char** argv) {
       else if (k == "--warmup") a.warmup = std::stol(v);
       else if (k == "--steps") a.steps = std::stol(v);
       else if (k == "--reps") a.reps = std::stoi(v);
+      else if (k == "--skin") a.skin = std::stod(v);
+      else if (k == "--inner") a.inner = std::stod(v);
       else usage("unknown option " + k);
     } catch (const std::logic_error&) {
       usage("bad value '" + v + "' for " + k);
     }
   }
-  if (a.steps < 1 || a.warmup < 0 || a.reps < 1) usage("--steps, --reps >= 1, --warmup >= 0");
+  if (a.steps < 1 || a.warmup < 0 || a.reps < 1 || !(a.skin > 0) || !(a.inner >= 0 && a.inner < 1))
+    usage("--steps, --reps >= 1, --warmup >= 0, --skin > 0, 0 <= --inner < 1");
   return a;
 }
 
@@ -124,13 +132,14 @@ int main(int argc, char** argv) {
     p.contact.dt = 1e-7;
     p.E_wall = k / r_mean;
     p.damping = 0;
-    p.skin = 1e-4;
+    p.skin = a.skin;
+    p.inner_skin = a.inner;
     for (int rep = 0; rep < a.reps; ++rep) {
       Engine eng(sc.s, p, make_box_walls(sc.lo, sc.hi), true);
       eng.wall_control(4) = WallControl{WallMode::Velocity, 0.01};  // bottom, inward
       eng.wall_control(5) = WallControl{WallMode::Velocity, 0.01};  // top, inward
       eng.run(a.warmup);
-      const int builds0 = eng.rebuild_count();
+      const int builds0 = eng.rebuild_count(), filters0 = eng.refilter_count();
       compat::fence("grainlab::race::before");
       const auto t0 = std::chrono::steady_clock::now();
       eng.run(a.steps);
@@ -144,9 +153,11 @@ int main(int argc, char** argv) {
       }
       std::printf(
           "particle_steps_per_s=%.4g wall_s=%.4f particles=%d steps=%ld rolling=%d threads=%d Z=%.3f "
-          "kinetic_J=%.5g listed_pairs=%d rebuilds_timed=%d E=%.5g E_wall=%.5g rss_bytes_per_particle=%.0f\n",
+          "kinetic_J=%.17g listed_pairs=%d verlet_pairs=%d inner_skin=%g rebuilds_timed=%d refilters_timed=%d E=%.5g "
+          "E_wall=%.5g rss_bytes_per_particle=%.0f\n",
           double(n) * double(a.steps) / wall, wall, n, a.steps, a.rolling, ExecSpace().concurrency(),
-          2.0 * dg.contacts / n, dg.kinetic, eng.pairs().npairs, eng.rebuild_count() - builds0, p.contact.E,
+          2.0 * dg.contacts / n, dg.kinetic, eng.pairs().npairs, eng.verlet_pairs().npairs, p.inner_skin,
+          eng.rebuild_count() - builds0, eng.refilter_count() - filters0, p.contact.E,
           p.E_wall, resident_bytes() / n);
       std::fflush(stdout);
     }

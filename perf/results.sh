@@ -124,7 +124,11 @@ GRAINLAB_NATIVE=ON; the Debian peers are generic x86-64 builds), commit `{commit
 32 000 spheres, 200 warm-up + 2 000 timed steps, dt = 1e-7 s, walls approaching at 0.01 m/s, mu = 0.5,
 mu_r = 0.1 (rolling on) or 0. grainlab: `build/perf/race_bench` (stiffness E r̄ with E set so the mean pair
 stiffness is the peers' 2e4 N/m; the constants are listed at the top of perf/race_bench.cpp). Peers: the
-Debian packages, MPI ranks, run by the same script right before or after.
+Debian packages, MPI ranks, run by the same script right before or after. Two grainlab rows: `grainlab`
+streams the Verlet list built with the race's 0.1 mm skin (`--inner 0`), the same list the peers loop over;
+the speedup lines use it. `grainlab_inner` is the engine's default: the kernels stream an inner list filtered
+from that Verlet list (pairs closer than r_i + r_j + 0.1 skin, refiltered when a particle moved 0.05 skin;
+perf/NOTES.md attempt 18). Both end with the same kinetic energy to the last bit.
 
 {table}
 
@@ -132,7 +136,7 @@ Debian packages, MPI ranks, run by the same script right before or after.
 
 ## Scaling with N (`race_bench`, rolling on, 2 threads, 200 timed steps)
 
-The scene cropped to a corner (`--crop`) or tiled K^3 times (`--tile`). Time per particle-step must stay
+The scene cropped to a corner (`--crop`) or tiled K^3 times (`--tile`); the engine's default (inner list on). Time per particle-step must stay
 within 20 % from 1e4 to ~1e6 (O(N): cell binning, CSR lists, no sort per step).
 
 {chr(10).join(scal)}

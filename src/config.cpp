@@ -243,6 +243,8 @@ RunConfig load_run_config(const std::string& path) {
   c.engine.dt_factor = n.real("dt_factor", 0.2, 0, 1, true);
   cp.dt = n.real("dt", 0, 0, 1, true);  // 0 = automatic; a value above the stable limit is refused later
   c.engine.skin = n.real("skin", 0.1e-3, 0, 1, true);
+  c.engine.inner_skin = n.real("inner_skin", c.engine.inner_skin, 0, 1);
+  if (c.engine.inner_skin >= 1) n.fail("numerics.inner_skin", "= " + fmt(c.engine.inner_skin) + " is outside the allowed range [0, 1) (a fraction of skin; 0 = off)");
   c.engine.damping = n.real("damping", 0.7, 0, 1);
   c.engine.servo_max_step = n.real("servo_max_step", 1e-3, 0, 1, true);
   c.health.max_overlap = n.real("max_overlap", 0.2, 0, 10, true);
@@ -323,7 +325,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
   e << YAML::Key << "numerics" << YAML::Value << YAML::BeginMap << YAML::Key << "dt_factor" << YAML::Value
     << c.engine.dt_factor;
   if (cp.dt > 0) e << YAML::Key << "dt" << YAML::Value << cp.dt;
-  e << YAML::Key << "skin" << YAML::Value << c.engine.skin << YAML::Key << "damping" << YAML::Value
+  e << YAML::Key << "skin" << YAML::Value << c.engine.skin << YAML::Key << "inner_skin" << YAML::Value
+    << c.engine.inner_skin << YAML::Key << "damping" << YAML::Value
     << c.engine.damping << YAML::Key << "servo_max_step" << YAML::Value << c.engine.servo_max_step << YAML::Key << "max_overlap"
     << YAML::Value << c.health.max_overlap << YAML::Key << "max_step_move" << YAML::Value << c.health.max_step_move
     << YAML::EndMap;

@@ -120,6 +120,11 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
     throw ParameterError(os.str());
   }
   if (!(params_.skin > 0)) throw ParameterError("skin must be > 0");
+  if (!(params_.inner_skin >= 0 && params_.inner_skin < 1)) {
+    std::ostringstream os;
+    os << "numerics.inner_skin = " << params_.inner_skin << " is outside the allowed range [0, 1) (a fraction of skin)";
+    throw ParameterError(os.str());
+  }
   rebuild();
   evaluate_forces();
 }
@@ -140,15 +145,37 @@ void Engine::set_friction(Real mu, Real mu_r) {
   params_.contact.mu_r = mu_r;
 }
 
-void Engine::rebuild() {
-  const int next = 1 - cur_;
-  nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, 2 * r_max_ + params_.skin, grid_, lists_[next]);
+void Engine::build_lists(int next) {
+  const Real cell = 2 * r_max_ + params_.skin;
+  if (inner_list()) {
+    nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, cell, grid_, outer_, /*transposed=*/false);
+    filter_pair_list(P_.x, P_.r, params_.inner_skin * params_.skin, outer_, lists_[next]);
+    outer_drift_ = 0;
+  } else {
+    nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, cell, grid_, lists_[next]);
+  }
+}
+
+void Engine::install(int next, const PairList& old, const PairHistory& old_h) {
   ensure_pair_arrays(hist_[next], lists_[next].npairs);
   ensure_pair_arrays(pf_, lists_[next].npairs, P_.n);
-  transfer_history(lists_[cur_], hist_[cur_], lists_[next], hist_[next]);
+  transfer_history(old, old_h, lists_[next], hist_[next]);
   cur_ = next;
   Kokkos::deep_copy(P_.x_ref, P_.x);
+}
+
+void Engine::rebuild() {
+  const int next = 1 - cur_;
+  build_lists(next);
+  install(next, lists_[cur_], hist_[cur_]);
   ++rebuilds_;
+}
+
+void Engine::refilter() {
+  const int next = 1 - cur_;
+  filter_pair_list(P_.x, P_.r, params_.inner_skin * params_.skin, outer_, lists_[next]);
+  install(next, lists_[cur_], hist_[cur_]);
+  ++refilters_;
 }
 
 void Engine::evaluate_forces() {
@@ -182,9 +209,22 @@ void Engine::advance() {
   ++step_;
   // 4. Walls to t + dt from the loads measured at t.
   move_walls();
-  // 5. Neighbour list when any particle moved more than skin/2 since the last build (SPEC §5).
+  // 5. Neighbour list when any particle moved more than skin/2 since the last build (SPEC §5). With the
+  // inner list, maxd2 is measured from the last filter; the displacement since the Verlet build is at
+  // most outer_drift_ + sqrt(maxd2) (triangle inequality over the filter intervals), so that bound
+  // decides the Verlet rebuild, and inner_skin * skin / 2 the filter.
   const Real half = 0.5 * params_.skin;
-  if (rebuild_every_step_ || maxd2 > half * half) rebuild();
+  if (inner_list()) {
+    const Real d = std::sqrt(maxd2);
+    if (rebuild_every_step_ || outer_drift_ + d > half) {
+      rebuild();
+    } else if (d > 0.5 * params_.inner_skin * params_.skin) {
+      outer_drift_ += d;
+      refilter();
+    }
+  } else if (rebuild_every_step_ || maxd2 > half * half) {
+    rebuild();
+  }
 }
 
 Real Engine::wall_position(int k) const {
@@ -587,12 +627,8 @@ void Engine::restore(const EngineState& s) {
     // NOLINTEND(clang-analyzer-cplusplus.NewDeleteLeaks)
   }
   const int next = 1 - cur_;
-  nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, 2 * r_max_ + params_.skin, grid_, lists_[next]);
-  ensure_pair_arrays(hist_[next], lists_[next].npairs);
-  ensure_pair_arrays(pf_, lists_[next].npairs, P_.n);
-  transfer_history(old, oh, lists_[next], hist_[next]);
-  cur_ = next;
-  Kokkos::deep_copy(P_.x_ref, P_.x);
+  build_lists(next);
+  install(next, old, oh);
 }
 
 }  // namespace grainlab

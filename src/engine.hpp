@@ -39,6 +39,12 @@ struct EngineParams {
   Real E_wall = 0;            // 0: same as contact.E                                    [Pa]
   Real damping = 0.7;         // Cundall alpha                                           [-]
   Real skin = 1e-4;           // Verlet skin                                             [m]
+  // Two-level list (choice, beyond SPEC §5; perf/NOTES.md attempt 18): the kernels stream an inner list
+  // of the Verlet pairs closer than r_i + r_j + inner_skin * skin, filtered from the Verlet list (no cell
+  // search) whenever a particle moved more than inner_skin * skin / 2 since the last filter. The Verlet
+  // list itself keeps SPEC's skin and rebuild rule. 0 = off: the kernels stream the Verlet list. Either
+  // way the dynamics are the same bits (the list holds every touching pair; rows are sorted).
+  Real inner_skin = 0.1;      // fraction of skin, [0, 1)                                [-]
   Real servo_max_step = 1e-3; // a servoed wall moves at most this fraction of r_min per step (SPEC §3)
 };
 
@@ -143,7 +149,11 @@ class Engine {
   const PairList& pairs() const { return lists_[cur_]; }
   const PairHistory& history() const { return hist_[cur_]; }
   const PairForces& pair_forces() const { return pf_; }
-  int rebuild_count() const { return rebuilds_; }
+  int rebuild_count() const { return rebuilds_; }   // Verlet list builds (cell search)
+  int refilter_count() const { return refilters_; } // inner list filters between builds
+  bool inner_list() const { return params_.inner_skin > 0; }
+  // The list built with SPEC §5's skin (pairs() is the inner list when inner_skin > 0).
+  const PairList& verlet_pairs() const { return inner_list() ? outer_ : lists_[cur_]; }
   const NeighborStats& last_build() const { return nstats_; }
 
   // Host copies of the state (tests and output).
@@ -165,12 +175,18 @@ class Engine {
   // Contact forces and wall loads at the start positions without advancing history (dt = 0), so the
   // first servo move and diagnostics have loads to read.
   void evaluate_forces();
-  void rebuild();
+  void rebuild();   // Verlet list (and inner list) from the current positions, history carried over
+  void refilter();  // inner list only, from the current Verlet list
+  // Builds the kernels' next list into lists_[next] from the current positions.
+  void build_lists(int next);
+  // Makes lists_[next] current: history carried over from (old, old_h) by pair identity, x_ref = x.
+  void install(int next, const PairList& old, const PairHistory& old_h);
   void move_walls();
 
   EngineParams params_;
   Particles P_;
-  PairList lists_[2];
+  PairList lists_[2];  // the kernels' list (current and next); the inner list when inner_skin > 0
+  PairList outer_;     // the Verlet list when inner_skin > 0 (no transposed index, no history)
   PairHistory hist_[2];
   PairForces pf_;
   int cur_ = 0;
@@ -184,6 +200,9 @@ class Engine {
   bool rebuild_every_step_ = false;
   bool evaluated_ = false;
   int rebuilds_ = 0;
+  int refilters_ = 0;
+  Real outer_drift_ = 0;  // bound on any displacement since the Verlet build, from the finished filter
+                          // intervals (the sum of their maximum displacements)               [m]
   Real r_min_ = 0, r_max_ = 0, dt_crit_ = 0, dt_trans_ = 0, dt_roll_ = 0, time_ = 0;
   long step_ = 0;
 };

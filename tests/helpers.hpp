@@ -86,17 +86,18 @@ namespace grainlab::test {
 struct ShearRun {
   std::vector<Vec3d> state;
   std::vector<double> measures;  // diagnostics and descriptors at the end (must be as reproducible)
-  int rebuilds = 0, contacts = 0, sliding = 0, rolling_sliding = 0;
+  int rebuilds = 0, refilters = 0, contacts = 0, sliding = 0, rolling_sliding = 0;
 };
 
 inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int shear_steps = 2000,
-                              int restart_at = -1) {
+                              int restart_at = -1, Real inner_skin = EngineParams{}.inner_skin) {
   static const DenseScene base = consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
   DenseScene sc = base;
   sc.params.contact.mu = 0.5;
   sc.params.contact.mu_r = 0.3;
   sc.params.damping = 0.2;
   sc.params.skin = skin;
+  sc.params.inner_skin = inner_skin;
   Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
   eng.set_rebuild_every_step(rebuild_every_step);
   const Real H = sc.hi[2] - sc.lo[2];
@@ -138,6 +139,7 @@ inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int sh
   }
   out.contacts = eng_end.diagnostics().contacts;
   out.rebuilds = eng.rebuild_count() + (resumed ? resumed->rebuild_count() : 0);
+  out.refilters = eng.refilter_count() + (resumed ? resumed->refilter_count() : 0);
   auto x = eng_end.positions(), v = eng_end.velocities(), w = eng_end.angular_velocities();
   out.state.insert(out.state.end(), x.begin(), x.end());
   out.state.insert(out.state.end(), v.begin(), v.end());

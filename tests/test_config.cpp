@@ -47,6 +47,7 @@ TEST(Config, DefaultsAreSpecReferenceValues) {
   EXPECT_EQ(c.packing.D, 3.63);
   EXPECT_EQ(c.density, 2650);
   EXPECT_EQ(c.engine.dt_factor, 0.2);
+  EXPECT_EQ(c.engine.inner_skin, EngineParams{}.inner_skin);
   EXPECT_EQ(c.stages.at(0).pressure, 190e3);
 }
 
@@ -76,6 +77,8 @@ TEST(Config, RejectsBadInputClearly) {
       {"yaml", "stages: [\n", "not valid YAML"},
       {"notmap", "- 1\n- 2\n", "must be a mapping"},
       {"dtfactor", std::string("numerics: {dt_factor: 1.5}\n") + kMinimal, "numerics.dt_factor"},
+      {"inner1", std::string("numerics: {inner_skin: 1}\n") + kMinimal, "numerics.inner_skin: = 1 is outside the allowed range [0, 1)"},
+      {"inner-", std::string("numerics: {inner_skin: -0.1}\n") + kMinimal, "numerics.inner_skin"},
   };
   for (const Case& c : cases) {
     const std::string e = error_of(write_tmp(c.name, c.text));

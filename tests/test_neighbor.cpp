@@ -11,8 +11,7 @@ using namespace grainlab;
 
 namespace {
 
-std::vector<std::pair<int, int>> listed_pairs(const Engine& eng) {
-  const PairList& L = eng.pairs();
+std::vector<std::pair<int, int>> listed_pairs(const PairList& L) {
   auto pi = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_i);
   auto pj = Kokkos::create_mirror_view_and_copy(HostSpace(), L.pair_j);
   std::vector<std::pair<int, int>> out;
@@ -20,8 +19,12 @@ std::vector<std::pair<int, int>> listed_pairs(const Engine& eng) {
   return out;
 }
 
-// A granular gas in a box with collisions: particles cross cells, the list is rebuilt often.
-void check_against_oracle(Real size_ratio, std::uint64_t seed) {
+std::vector<std::pair<int, int>> listed_pairs(const Engine& eng) { return listed_pairs(eng.pairs()); }
+
+// A granular gas in a box with collisions: particles cross cells, the list is rebuilt often. With
+// inner_skin > 0 the kernels' list is the inner list: after every Verlet build or filter it must equal
+// the oracle for the inner margin (so the Verlet list held every pair the filter needed).
+void check_against_oracle(Real size_ratio, std::uint64_t seed, Real inner_skin) {
   PackingSpec ps;
   ps.count = 600;
   ps.r_max = 0.6e-3;
@@ -37,6 +40,7 @@ void check_against_oracle(Real size_ratio, std::uint64_t seed) {
   p.contact = test::reference_contact();
   p.damping = 0;
   p.skin = 0.1 * ps.r_max;
+  p.inner_skin = inner_skin;
   // Speeds such that the fastest particles cross skin/2 in ~20 steps: many rebuilds in a short run.
   const Real dt = Engine(s, p, make_box_walls(pk.lo, pk.hi), true).dt();
   const Real V = 0.5 * p.skin / (20 * dt);
@@ -44,17 +48,26 @@ void check_against_oracle(Real size_ratio, std::uint64_t seed) {
   std::uniform_real_distribution<Real> U(-1, 1);
   for (size_t i = 0; i < s.r.size(); ++i) s.v.push_back({V * U(g), V * U(g), V * U(g)});
   Engine eng(s, p, make_box_walls(pk.lo, pk.hi), true);
-  int checked_builds = 0, last_builds = eng.rebuild_count();
+  int checked_builds = 0, checked_filters = 0, last_builds = eng.rebuild_count(), last_filters = eng.refilter_count();
   std::vector<std::pair<int, int>> oracle;
   for (int k = 0; k < 1500; ++k) {
     eng.step();
-    if (eng.rebuild_count() != last_builds) {
+    const bool built = eng.rebuild_count() != last_builds, filtered = eng.refilter_count() != last_filters;
+    if (built) {
       // Just rebuilt at the current positions: the list must equal the oracle, pair for pair, in order.
       last_builds = eng.rebuild_count();
       brute_force_pairs(eng.particles().x, eng.particles().r, p.skin, oracle);
-      ASSERT_EQ(listed_pairs(eng), oracle) << "after rebuild " << last_builds;
+      ASSERT_EQ(listed_pairs(eng.verlet_pairs()), oracle) << "after rebuild " << last_builds;
       ++checked_builds;
-    } else if (k % 10 == 0) {
+    }
+    if (filtered) {
+      last_filters = eng.refilter_count();
+      ++checked_filters;
+    }
+    if ((built || filtered) && inner_skin > 0) {
+      brute_force_pairs(eng.particles().x, eng.particles().r, inner_skin * p.skin, oracle);
+      ASSERT_EQ(listed_pairs(eng), oracle) << "inner list after rebuild " << last_builds << ", filter " << last_filters;
+    } else if (!built && k % 10 == 0) {
       // Between builds: every touching pair must be listed (the skin/2 criterion guarantees it).
       brute_force_pairs(eng.particles().x, eng.particles().r, 0, oracle);
       const auto listed = listed_pairs(eng);
@@ -62,14 +75,19 @@ void check_against_oracle(Real size_ratio, std::uint64_t seed) {
       for (auto& pr : oracle) ASSERT_TRUE(have.count(pr)) << pr.first << "," << pr.second << " touching but unlisted";
     }
   }
-  std::printf("  ratio %g: %d rebuilds checked, %d pairs listed\n", size_ratio, checked_builds, eng.pairs().npairs);
+  std::printf("  ratio %g, inner %g: %d rebuilds and %d filters checked, %d pairs listed (Verlet %d)\n", size_ratio,
+              inner_skin, checked_builds, checked_filters, eng.pairs().npairs, eng.verlet_pairs().npairs);
   EXPECT_GT(checked_builds, 20);
+  if (inner_skin > 0) EXPECT_GT(checked_filters, 20);
+  else EXPECT_EQ(checked_filters, 0);
 }
 
 }  // namespace
 
-TEST(Neighbor, MatchesBruteForceSizeRatio3) { check_against_oracle(3, 21); }
-TEST(Neighbor, MatchesBruteForceSizeRatio10) { check_against_oracle(10, 22); }
+TEST(Neighbor, MatchesBruteForceSizeRatio3) { check_against_oracle(3, 21, 0); }
+TEST(Neighbor, MatchesBruteForceSizeRatio10) { check_against_oracle(10, 22, 0); }
+TEST(Neighbor, InnerListMatchesBruteForceSizeRatio3) { check_against_oracle(3, 23, 0.3); }
+TEST(Neighbor, InnerListMatchesBruteForceSizeRatio10) { check_against_oracle(10, 24, 0.3); }
 
 // A particle far outside the rest must not blow up the cell grid (memory stays O(N)).
 TEST(Neighbor, StrayParticleKeepsGridSmall) {
@@ -83,5 +101,5 @@ TEST(Neighbor, StrayParticleKeepsGridSmall) {
   EXPECT_LE(eng.last_build().ncells, 8L * 101 + 27);
   std::vector<std::pair<int, int>> oracle;
   brute_force_pairs(eng.particles().x, eng.particles().r, p.skin, oracle);
-  EXPECT_EQ(listed_pairs(eng), oracle);
+  EXPECT_EQ(listed_pairs(eng.verlet_pairs()), oracle);
 }
