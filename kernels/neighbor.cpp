@@ -45,34 +45,36 @@ int exclusive_scan(const IntView& counts, const IntView& offsets, int n) {
   return total;
 }
 
-// Transposed index for the gather: pairs grouped by j, ascending pair index within a row (the sort
-// makes it independent of which thread inserted first).
-void build_transpose(PairList& list, int n) {
-  const int np = list.npairs;
-  ensure(list.t_pairs, "grainlab::pairs::t_pairs", np);
-  ensure(list.t_offsets, "grainlab::pairs::t_offsets", n + 1);
-  auto counts = list.counts;
-  auto pj = list.pair_j;
-  auto toff = list.t_offsets;
-  auto tp = list.t_pairs;
+// Counting sort of the items 0..nitems-1 by key(item) in [0, nkeys): items(start(k)) .. items(start(k+1)-1)
+// are the items with key k, ascending. The atomic counts are exact integers; the per-bucket sort makes the
+// order independent of which thread inserted first. Used for the cell bins and the transposed pair index.
+void group_by_key(const IntView& key, int nitems, int nkeys, const IntView& cursor, const IntView& start,
+                  const IntView& items) {
   Kokkos::parallel_for(
-      "grainlab::neighbor::zero_tcounts", Kokkos::RangePolicy<ExecSpace>(0, n),
-      KOKKOS_LAMBDA(int i) { counts(i) = 0; });
+      "grainlab::neighbor::group_zero", Kokkos::RangePolicy<ExecSpace>(0, nkeys),
+      KOKKOS_LAMBDA(int k) { cursor(k) = 0; });
   Kokkos::parallel_for(
-      "grainlab::neighbor::count_transpose", Kokkos::RangePolicy<ExecSpace>(0, np),
-      KOKKOS_LAMBDA(int p) { Kokkos::atomic_fetch_add(&counts(pj(p)), 1); });
-  exclusive_scan(counts, toff, n);
+      "grainlab::neighbor::group_count", Kokkos::RangePolicy<ExecSpace>(0, nitems),
+      KOKKOS_LAMBDA(int i) { Kokkos::atomic_fetch_add(&cursor(key(i)), 1); });
+  exclusive_scan(cursor, start, nkeys);
   Kokkos::parallel_for(
-      "grainlab::neighbor::cursor_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
-      KOKKOS_LAMBDA(int i) { counts(i) = toff(i); });
+      "grainlab::neighbor::group_cursor", Kokkos::RangePolicy<ExecSpace>(0, nkeys),
+      KOKKOS_LAMBDA(int k) { cursor(k) = start(k); });
   Kokkos::parallel_for(
-      "grainlab::neighbor::fill_transpose", Kokkos::RangePolicy<ExecSpace>(0, np), KOKKOS_LAMBDA(int p) {
-        const int slot = Kokkos::atomic_fetch_add(&counts(pj(p)), 1);
-        tp(slot) = p;
+      "grainlab::neighbor::group_fill", Kokkos::RangePolicy<ExecSpace>(0, nitems), KOKKOS_LAMBDA(int i) {
+        const int slot = Kokkos::atomic_fetch_add(&cursor(key(i)), 1);
+        items(slot) = i;
       });
   Kokkos::parallel_for(
-      "grainlab::neighbor::sort_transpose", Kokkos::RangePolicy<ExecSpace>(0, n),
-      KOKKOS_LAMBDA(int j) { sort_segment(tp, toff(j), toff(j + 1)); });
+      "grainlab::neighbor::group_sort", Kokkos::RangePolicy<ExecSpace>(0, nkeys),
+      KOKKOS_LAMBDA(int k) { sort_segment(items, start(k), start(k + 1)); });
+}
+
+// Transposed index for the gather: pairs grouped by j, ascending pair index within a row.
+void build_transpose(PairList& list, int n) {
+  ensure(list.t_pairs, "grainlab::pairs::t_pairs", list.npairs);
+  ensure(list.t_offsets, "grainlab::pairs::t_offsets", n + 1);
+  group_by_key(list.pair_j, list.npairs, n, list.counts, list.t_offsets, list.t_pairs);
 }
 
 // Count-then-fill pair search over the 27 neighbouring cells (Cabana VerletList style tagged functor).
@@ -209,41 +211,21 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
   ensure(grid.cell_of, "grainlab::cells::of", n);
   ensure(grid.cursor, "grainlab::cells::cursor", std::max(n, nc + 1));
 
-  // Bin: count (atomic counts are exact integers), scan, fill, then sort each cell so the order of
-  // particles in a cell does not depend on which thread inserted first.
+  // Bin: the cell of each particle, then the particles grouped by cell (ascending within a cell).
   {
     auto cell_of = grid.cell_of;
-    auto cursor = grid.cursor;
-    auto cell_start = grid.cell_start;
-    auto cell_particles = grid.cell_particles;
     const int n0 = grid.nc[0], n1 = grid.nc[1], n2 = grid.nc[2];
     const Real l0 = grid.lo[0], l1 = grid.lo[1], l2 = grid.lo[2];
     const Real i0 = grid.inv_h[0], i1 = grid.inv_h[1], i2 = grid.inv_h[2];
-    Kokkos::parallel_for(
-        "grainlab::neighbor::zero_cells", Kokkos::RangePolicy<ExecSpace>(0, nc + 1),
-        KOKKOS_LAMBDA(int c) { cursor(c) = 0; });
     Kokkos::parallel_for(
         "grainlab::neighbor::bin", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           auto cc = [](Real v, Real l, Real ih, int m) {
             int c = int((v - l) * ih);
             return c < 0 ? 0 : (c >= m ? m - 1 : c);
           };
-          const int c = (cc(x(i, 2), l2, i2, n2) * n1 + cc(x(i, 1), l1, i1, n1)) * n0 + cc(x(i, 0), l0, i0, n0);
-          cell_of(i) = c;
-          Kokkos::atomic_fetch_add(&cursor(c), 1);
+          cell_of(i) = (cc(x(i, 2), l2, i2, n2) * n1 + cc(x(i, 1), l1, i1, n1)) * n0 + cc(x(i, 0), l0, i0, n0);
         });
-    exclusive_scan(cursor, cell_start, nc);
-    Kokkos::parallel_for(
-        "grainlab::neighbor::zero_cursor", Kokkos::RangePolicy<ExecSpace>(0, nc),
-        KOKKOS_LAMBDA(int c) { cursor(c) = cell_start(c); });
-    Kokkos::parallel_for(
-        "grainlab::neighbor::fill_cells", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          const int slot = Kokkos::atomic_fetch_add(&cursor(cell_of(i)), 1);
-          cell_particles(slot) = i;
-        });
-    Kokkos::parallel_for(
-        "grainlab::neighbor::sort_cells", Kokkos::RangePolicy<ExecSpace>(0, nc),
-        KOKKOS_LAMBDA(int c) { sort_segment(cell_particles, cell_start(c), cell_start(c + 1)); });
+    group_by_key(cell_of, n, nc, grid.cursor, grid.cell_start, grid.cell_particles);
   }
 
   // Pairs: count, scan, fill (rows sorted by j).
