@@ -170,6 +170,25 @@ struct PairFilter {
   }
 };
 
+// Runs a row functor with Count and Fill tags (PairSearch, PairFilter) into `list`: counts per row, scan
+// into offsets, then each row fills its own slots (no atomics, so the rows' order is the functor's).
+template <class F>
+int count_then_fill(F f, int n, PairList& list, const char* count_label, const char* fill_label) {
+  ensure(list.offsets, "grainlab::pairs::offsets", n + 1);
+  ensure(list.counts, "grainlab::pairs::counts", n);
+  f.counts = list.counts;
+  f.offsets = list.offsets;
+  Kokkos::parallel_for(count_label, Kokkos::RangePolicy<ExecSpace, typename F::Count>(0, n), f);
+  const int np = exclusive_scan(list.counts, list.offsets, n);
+  ensure(list.pair_i, "grainlab::pairs::i", np);
+  ensure(list.pair_j, "grainlab::pairs::j", np);
+  f.pair_i = list.pair_i;
+  f.pair_j = list.pair_j;
+  Kokkos::parallel_for(fill_label, Kokkos::RangePolicy<ExecSpace, typename F::Fill>(0, n), f);
+  list.npairs = np;
+  return np;
+}
+
 }  // namespace
 
 NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, Real cell_min, CellGrid& grid,
@@ -229,16 +248,14 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
   }
 
   // Pairs: count, scan, fill (rows sorted by j).
-  ensure(list.offsets, "grainlab::pairs::offsets", n + 1);
-  ensure(list.counts, "grainlab::pairs::counts", n);
   PairSearch ps{x,
                 r,
                 grid.cell_start,
                 grid.cell_particles,
-                list.counts,
-                list.offsets,
-                list.pair_i,
-                list.pair_j,
+                {},
+                {},
+                {},
+                {},
                 grid.nc[0],
                 grid.nc[1],
                 grid.nc[2],
@@ -249,16 +266,7 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
                 grid.inv_h[1],
                 grid.inv_h[2],
                 skin};
-  Kokkos::parallel_for("grainlab::neighbor::count_pairs", Kokkos::RangePolicy<ExecSpace, PairSearch::Count>(0, n),
-                       ps);
-  const int np = exclusive_scan(list.counts, list.offsets, n);
-  ensure(list.pair_i, "grainlab::pairs::i", np);
-  ensure(list.pair_j, "grainlab::pairs::j", np);
-  ps.pair_i = list.pair_i;
-  ps.pair_j = list.pair_j;
-  Kokkos::parallel_for("grainlab::neighbor::fill_pairs", Kokkos::RangePolicy<ExecSpace, PairSearch::Fill>(0, n), ps);
-  list.npairs = np;
-  st.npairs = np;
+  st.npairs = count_then_fill(ps, n, list, "grainlab::neighbor::count_pairs", "grainlab::neighbor::fill_pairs");
 
   if (transposed) build_transpose(list, n);
   {
@@ -278,17 +286,8 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
 
 int filter_pair_list(const VecView& x, const RealView& r, Real margin, const PairList& outer, PairList& inner) {
   const int n = int(x.extent(0));
-  ensure(inner.offsets, "grainlab::inner::offsets", n + 1);
-  ensure(inner.counts, "grainlab::inner::counts", n);
-  PairFilter pf{x, r, outer.offsets, outer.pair_j, inner.counts, inner.offsets, inner.pair_i, inner.pair_j, margin};
-  Kokkos::parallel_for("grainlab::neighbor::count_inner", Kokkos::RangePolicy<ExecSpace, PairFilter::Count>(0, n), pf);
-  const int np = exclusive_scan(inner.counts, inner.offsets, n);
-  ensure(inner.pair_i, "grainlab::inner::i", np);
-  ensure(inner.pair_j, "grainlab::inner::j", np);
-  pf.pair_i = inner.pair_i;
-  pf.pair_j = inner.pair_j;
-  Kokkos::parallel_for("grainlab::neighbor::fill_inner", Kokkos::RangePolicy<ExecSpace, PairFilter::Fill>(0, n), pf);
-  inner.npairs = np;
+  PairFilter pf{x, r, outer.offsets, outer.pair_j, {}, {}, {}, {}, margin};
+  const int np = count_then_fill(pf, n, inner, "grainlab::neighbor::count_inner", "grainlab::neighbor::fill_inner");
   build_transpose(inner, n);
   return np;
 }
