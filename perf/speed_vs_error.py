@@ -203,6 +203,8 @@ def write_report(rows, ref, p0):
         "- **precision**: double, or float storage of the per-pair history and per-pair forces with every"
         " operation in double (`-DGRAINLAB_PAIR_FLOAT=ON`, kernels/types.hpp), skin 0.1 mm. The reference is"
         " always double.",
+        "- **lists**: every run uses the engine's default inner list (`numerics.inner_skin` = 0.1 of the skin,"
+        " perf/NOTES.md attempt 18): it changes no error (the same bits with it off), only the rate.",
         "",
         "| f | skin mm | precision | q error / p'_0, 5 % | q error / p'_0, 1 % | shear rate (p-steps/s) | steps | energy drift | energy band | step rate (p-steps/s) |",
         "|---|---|---|---|---|---|---|---|---|---|",
@@ -245,7 +247,9 @@ def write_report(rows, ref, p0):
         " q within the chaotic scatter of the smaller f, at a cost per simulated second"
         " 4x below f = 0.05. f = 0.5 loses about two orders of magnitude in energy accuracy and sits near the stability"
         " edge of the rolling spring; below 0.2 the gain in accuracy is invisible in q. The 0.1 mm skin"
-        " (~0.35 of the mean radius) balances the rebuild frequency against the listed-pair count.",
+        " (~0.35 of the mean radius) sets how often the Verlet list is rebuilt by a cell search; the force kernel"
+        " streams the inner list filtered from it, so the skin no longer sets how many non-touching pairs the"
+        " kernel visits.",
         "",
     ]
     with open(os.path.join(ROOT, "perf", "SPEED_VS_ERROR.md"), "w") as fh:
