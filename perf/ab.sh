@@ -3,6 +3,8 @@
 #
 #   perf/ab.sh A/perf/race_bench B/perf/race_bench [PAIRS=4] [race_bench options...]
 #   e.g. perf/ab.sh build-float/perf/race_bench build/perf/race_bench 4 --steps 1000
+#   A_ARGS / B_ARGS: options for one side only (one binary, two settings), e.g.
+#   A_ARGS="--inner 0.1" B_ARGS="--inner 0" perf/ab.sh build/perf/race_bench build/perf/race_bench 4 --steps 1000
 #
 # Why concurrent: this project's VM is a shared host whose speed drifts by up to 20 % from minute to
 # minute, so two builds timed one after the other differ by more than the effects we measure (5-15 %).
@@ -13,7 +15,7 @@
 # kinetic energy (a speed-up that changes the dynamics is reported as such).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-[ $# -ge 2 ] || { sed -n 2,5p "$0"; exit 2; }
+[ $# -ge 2 ] || { sed -n 2,7p "$0"; exit 2; }
 A=$1 B=$2
 shift 2
 PAIRS=4
@@ -29,9 +31,11 @@ field() { grep -oE "$1=[^ ]+" "$2" | cut -d= -f2; }
 ratios=()
 for ((k = 0; k < PAIRS; ++k)); do
   ca=$((k % 2)) cb=$((1 - k % 2))
-  OMP_NUM_THREADS=1 OMP_PROC_BIND=false taskset -c "$ca" "$A" "${args[@]}" > "$tmp/a" &
+  # shellcheck disable=SC2086
+  OMP_NUM_THREADS=1 OMP_PROC_BIND=false taskset -c "$ca" "$A" "${args[@]}" ${A_ARGS:-} > "$tmp/a" &
   pa=$!
-  OMP_NUM_THREADS=1 OMP_PROC_BIND=false taskset -c "$cb" "$B" "${args[@]}" > "$tmp/b" &
+  # shellcheck disable=SC2086
+  OMP_NUM_THREADS=1 OMP_PROC_BIND=false taskset -c "$cb" "$B" "${args[@]}" ${B_ARGS:-} > "$tmp/b" &
   pb=$!
   wait "$pa" "$pb"
   ra=$(field particle_steps_per_s "$tmp/a") rb=$(field particle_steps_per_s "$tmp/b")
