@@ -99,6 +99,26 @@ void BM_NeighborBuild(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * eng.num_particles());
 }
 
+// The inner-list filter (EngineParams::inner_skin, perf/NOTES.md attempt 18): one pass over the Verlet
+// list's rows plus the inner list's transposed index, no binning. What a filter costs against a full
+// build (BM_NeighborBuild) is what the two-level list saves at each filter.
+void BM_InnerFilter(benchmark::State& st) {
+  Scene sc = fcc_scene(int(st.range(0)), 1);
+  Engine eng(sc.setup, bench_params(false), make_box_walls(sc.lo, sc.hi), true);
+  CellGrid grid;
+  PairList outer, inner;
+  const Real skin = eng.params().skin;
+  build_neighbor_list(eng.particles().x, eng.particles().r, skin, 2 * eng.r_max() + skin, grid, outer, false);
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) {
+    filter_pair_list(eng.particles().x, eng.particles().r, 0.1 * skin, outer, inner);
+    compat::fence("grainlab::bench::kernel");
+  }
+  st.counters["verlet_pairs"] = outer.npairs;
+  st.counters["inner_pairs"] = inner.npairs;
+  st.SetItemsProcessed(st.iterations() * eng.num_particles());
+}
+
 // The SPEC §7 analysis (three passes over the pairs plus rattlers and wall moments). Its cost per call,
 // divided by the output interval (1000 steps by default), is its share of the time-step loop.
 void BM_Analysis(benchmark::State& st) {
@@ -198,6 +218,7 @@ BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(b
 BENCHMARK(BM_Step)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_NeighborBuild)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_InnerFilter)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 int main(int argc, char** argv) {
   compat::initialize(0);
