@@ -9,6 +9,7 @@
 #include "src/engine.hpp"
 #include "src/packing.hpp"
 #include "perf/scene.hpp"
+#include "perf/traffic.hpp"
 
 using namespace grainlab;
 
@@ -135,21 +136,6 @@ void BM_Analysis(benchmark::State& st) {
   st.counters["pairs"] = eng.pairs().npairs;
 }
 
-// Compulsory memory traffic of one step, from the step's own arrays (each byte counted once, as if every
-// neighbour read hit cache): particles x, v, w read + written, x_ref, r, m, I read, f, t written, the row
-// sums written + read; per listed pair the index, the transposed index and the flag; per touching pair the
-// history (ft, mr) read + written and the pair output (f, tj) written + read. Divided by the step time it
-// is the bandwidth the step would need if it were memory bound; set against the measured copy
-// bandwidth (BM_Copy) it says how far from the memory floor the step runs.
-double step_bytes(Engine& eng) {
-  const Diagnostics d = eng.diagnostics();
-  const double per_particle = 6 * 24 + 24 + 3 * 8 + 2 * 24 + 4 * 24 + 2 * 4;
-  const double per_pair = 4 + 4 + 2;
-  const double pv = 3 * double(sizeof(PairReal));  // one per-pair vector: 24 B in double, 12 B in float
-  const double per_touching = 4 * pv + 4 * pv;
-  return per_particle * eng.num_particles() + per_pair * eng.pairs().npairs + per_touching * d.contacts;
-}
-
 // The integration alone (gather of the pair outputs, walls, damping, leapfrog).
 void BM_Integrate(benchmark::State& st) {
   Scene sc = fcc_scene(int(st.range(0)), 1);
@@ -198,7 +184,7 @@ void BM_StepTraffic(benchmark::State& st) {
   Scene sc = fcc_scene(int(st.range(0)), 1);
   Engine eng(sc.setup, bench_params(true), make_box_walls(sc.lo, sc.hi), true);
   eng.run(20);
-  const double bytes = step_bytes(eng);
+  const double bytes = perf::step_bytes(eng);
   compat::fence("grainlab::bench::before");
   for (auto _ : st) eng.run(kSteps);  // kSteps per iteration: rebuilds at their average rate (BM_Step)
   compat::fence("grainlab::bench::after");

@@ -3,13 +3,15 @@
 // then a fenced timed run; reading the scene and building the engine are not timed).
 //
 //   race_bench --scene scene_32k.txt --box scene_32k_box.txt [--rolling 1] [--warmup 200] [--steps 2000]
-//              [--tile K] [--crop F] [--generate N] [--reps R] [--sort 0|1] [--skin M] [--inner F]
+//              [--tile K] [--crop F] [--generate N] [--reps R] [--sort 0|1] [--skin M] [--inner F] [--copy 1]
 //
 // --skin: the Verlet skin (the race fixes 1e-4 m). --inner: EngineParams::inner_skin (default: the engine's,
 // 0.1; 0 streams the Verlet list itself, the list the peers loop over; perf/race.sh runs both).
 //
-// Prints one line: `particle_steps_per_s=<rate> ...` with the wall time, the contact count at the end
-// (Z = 2 Nc / N, comparable with the peers' table) and the kinetic energy.
+// Prints one line per rep: `particle_steps_per_s=<rate> ...` with the wall time, the contact count at the
+// end (Z = 2 Nc / N, comparable with the peers' table), the kinetic energy and the step's compulsory
+// traffic (perf/traffic.hpp). --copy 1 first prints the device's copy bandwidth (2 x 256 MB, median of 20),
+// so that a GPU run reports bytes per particle-step against the floor measured in the same process.
 //
 // Stiffness (the issue lets us choose, we say which): grainlab's contact law is SPEC §2's k_n = E r̄. The
 // race uses k_n = k_t = 2e4 N/m for every pair; we set E = 2e4 / <r̄>, with <r̄> the mean pair radius of
@@ -33,6 +35,7 @@
 #include <string>
 
 #include "scene.hpp"
+#include "traffic.hpp"
 
 using namespace grainlab;
 
@@ -45,6 +48,7 @@ struct Args {
   int reps = 1;
   double skin = 1e-4;  // the race fixes 0.1 mm; other values only to study the list's cost
   double inner = EngineParams{}.inner_skin;  // the engine's inner list (fraction of skin; 0 = off)
+  int copy = 0;  // 1: first measure the device's copy bandwidth (the floor for bytes_per_particle_step)
 };
 
 [[noreturn]] void usage(const std::string& why) {
@@ -68,6 +72,7 @@ Args parse(int argc, char** argv) {
       else if (k == "--reps") a.reps = std::stoi(v);
       else if (k == "--skin") a.skin = std::stod(v);
       else if (k == "--inner") a.inner = std::stod(v);
+      else if (k == "--copy") a.copy = std::stoi(v);
       else usage("unknown option " + k);
     } catch (const std::logic_error&) {
       usage("bad value '" + v + "' for " + k);
@@ -75,6 +80,7 @@ Args parse(int argc, char** argv) {
   }
   if (a.steps < 1 || a.warmup < 0 || a.reps < 1 || !(a.skin > 0) || !(a.inner >= 0 && a.inner < 1))
     usage("--steps, --reps >= 1, --warmup >= 0, --skin > 0, 0 <= --inner < 1");
+  if (a.copy != 0 && a.copy != 1) usage("--copy is 0 or 1");
   return a;
 }
 
@@ -95,6 +101,13 @@ int main(int argc, char** argv) {
   compat::initialize(0);
   int rc = 0;
   {
+    if (a.copy) {
+      const long n = 32L << 20;  // 256 MB per view: far beyond any cache (H100 L2 50 MB, EPYC L3 32 MB)
+      const perf::CopyBandwidth bw = perf::copy_bandwidth(n, 20);
+      std::printf("copy_kernel_bytes_per_s=%.4g deep_copy_bytes_per_s=%.4g backend=%s\n", bw.kernel, bw.deep_copy,
+                  ExecSpace::name());
+      std::fflush(stdout);
+    }
     perf::Scene sc = perf::load_scene(a.scene);
     const int n = int(sc.s.r.size());
     // <r̄> over the scene's touching pairs (brute force would be N^2: the engine's list does it).
@@ -154,11 +167,11 @@ int main(int argc, char** argv) {
       std::printf(
           "particle_steps_per_s=%.4g wall_s=%.4f particles=%d steps=%ld rolling=%d threads=%d Z=%.3f "
           "kinetic_J=%.17g listed_pairs=%d verlet_pairs=%d inner_skin=%g rebuilds_timed=%d refilters_timed=%d E=%.5g "
-          "E_wall=%.5g rss_bytes_per_particle=%.0f\n",
+          "E_wall=%.5g rss_bytes_per_particle=%.0f bytes_per_particle_step=%.0f backend=%s\n",
           double(n) * double(a.steps) / wall, wall, n, a.steps, a.rolling, ExecSpace().concurrency(),
           2.0 * dg.contacts / n, dg.kinetic, eng.pairs().npairs, eng.verlet_pairs().npairs, p.inner_skin,
           eng.rebuild_count() - builds0, eng.refilter_count() - filters0, p.contact.E,
-          p.E_wall, resident_bytes() / n);
+          p.E_wall, resident_bytes() / n, perf::step_bytes(eng) / n, ExecSpace::name());
       std::fflush(stdout);
     }
   }

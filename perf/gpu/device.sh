@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Runs on the lent GPU machine over a copy of the working tree with .gpucarry/ (perf/gpu/pack.sh) carried.
+# Everything it measures lands in $OUT (the tool's result folder; ./gpu-out elsewhere).
+#   perf/gpu/device.sh tests           the whole CTest suite on the CUDA backend
+#   perf/gpu/device.sh bench [REPS]    copy bandwidth + race scene 32k .. 11M, rolling on/off (perf/RESULTS.md)
+#   perf/gpu/device.sh ur1 [SECONDS]   configs/paper/UR1.yaml end to end (stopped after SECONDS, default 540)
+# Several verbs run in order: perf/gpu/device.sh tests bench
+set -uo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+C="$ROOT/.gpucarry"
+OUT=${OUT:-$ROOT/gpu-out}
+mkdir -p "$OUT"
+cd "$ROOT"
+[ -f "$C/build-gpu.tar.xz" ] || { echo "device.sh: $C/build-gpu.tar.xz missing: run perf/gpu/pack.sh and carry .gpucarry" >&2; exit 1; }
+[ -x build-gpu/grainlab ] || tar -xJf "$C/build-gpu.tar.xz"
+# Only the libraries this machine lacks go on the path (pack.sh's comment says why).
+mkdir -p /tmp/gpucarry-lib
+for lib in "$C"/lib/*; do
+  ldconfig -p | grep -q "^[[:space:]]*$(basename "$lib") " || ln -sf "$lib" /tmp/gpucarry-lib/
+done
+export LD_LIBRARY_PATH=/tmp/gpucarry-lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+# The CTest files name the paths of the machine that built them.
+old_root=$(sed -n 's/^# Source directory: //p' build-gpu/CTestTestfile.cmake)
+for f in $(find build-gpu -name CTestTestfile.cmake); do
+  sed -i -e "s#$old_root#$ROOT#g" -e "s#\"/usr/bin/cmake\"#\"$(command -v cmake)\"#g" \
+         -e "s#\"[^\"]*/python3\"#\"$(command -v python3)\"#g" "$f"
+done
+nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv | tee "$OUT/device.txt"
+echo "carried libraries used: $(ls /tmp/gpucarry-lib | tr '\n' ' ')" | tee -a "$OUT/device.txt"
+git -C "$ROOT" rev-parse --short HEAD 2>/dev/null | sed 's/^/commit /' | tee -a "$OUT/device.txt"
+
+S="$C/scene"
+status=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    tests)
+      # -j 4: the tests are small; four share the GPU (and its 16 host cores) without timing anything.
+      (cd build-gpu && ctest --output-on-failure -j 4 --timeout 400) > "$OUT/ctest.log" 2>&1 || status=1
+      tail -n 25 "$OUT/ctest.log" ;;
+    bench)
+      reps=${2:-3}; [[ "${2:-}" =~ ^[0-9]+$ ]] && shift
+      # Sizes: the race scene tiled K^3 (32k x K^3): 32k, 256k, 2.05M, 11.0M. Rolling on and off, double
+      # precision, the race's 200 warm-up + 2 000 timed steps, the engine's default lists.
+      build-gpu/perf/race_bench --generate 2000 --copy 1 --warmup 0 --steps 1 | tee "$OUT/bench.txt"
+      for tile in 1 2 4 7; do
+        for rolling in 1 0; do
+          build-gpu/perf/race_bench --scene "$S/scene_32k.txt" --box "$S/scene_32k_box.txt" --tile $tile \
+            --rolling $rolling --reps "$reps" | sed "s/^/tile=$tile /" | tee -a "$OUT/bench.txt" || status=1
+        done
+      done
+      # The Verlet list itself (--inner 0), the list the CPU race's headline row streams, at 32k and 2M.
+      for tile in 1 4; do
+        build-gpu/perf/race_bench --scene "$S/scene_32k.txt" --box "$S/scene_32k_box.txt" --tile $tile \
+          --rolling 1 --inner 0 --reps "$reps" | sed "s/^/tile=$tile /" | tee -a "$OUT/bench.txt" || status=1
+      done ;;
+    ur1)
+      secs=${2:-540}; [[ "${2:-}" =~ ^[0-9]+$ ]] && shift
+      rm -rf /tmp/ur1
+      start=$(date +%s.%N)
+      timeout --signal=INT "$secs" build-gpu/grainlab run configs/paper/UR1.yaml --out /tmp/ur1 > "$OUT/ur1.log" 2>&1
+      rc=$?
+      end=$(date +%s.%N)
+      echo "ur1 rc=$rc wall_s=$(echo "$end - $start" | bc -l 2>/dev/null || python3 -c "print($end-$start)")" | tee -a "$OUT/ur1.log"
+      cp /tmp/ur1/series.csv "$OUT/ur1_series.csv" 2>/dev/null
+      ls -la /tmp/ur1 >> "$OUT/ur1.log"
+      tail -n 15 "$OUT/ur1.log" ;;
+    *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], ur1 [SECONDS])" >&2; exit 2 ;;
+  esac
+  shift
+done
+exit $status
