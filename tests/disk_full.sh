@@ -20,7 +20,7 @@ echo "exit $rc: $err"
 printf '%s\n' "$err" | grep -qE "disk full" || { echo "unclear message"; exit 1; }
 ls "$work"/full/checkpoints/ckpt_*.h5 >/dev/null 2>&1 || { echo "no checkpoint survived"; exit 1; }
 ls "$work"/full/*.tmp.* "$work"/full/checkpoints/*.tmp.* 2>/dev/null && { echo "temporary files left behind"; exit 1; }
-/usr/bin/python3 - "$work/full" <<'PY' || exit 1
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" - "$work/full" <<'PY' || exit 1
 import glob, sys, h5py
 for f in glob.glob(sys.argv[1] + "/checkpoints/ckpt_*.h5"):
     with h5py.File(f, "r") as h:

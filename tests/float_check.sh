@@ -24,7 +24,7 @@ output: {every: 200}
 EOF2
 OMP_NUM_THREADS=2 "$BUILD/grainlab" run "$work/shear.yaml" --out "$work/double" --quiet
 OMP_NUM_THREADS=2 "$BUILD_FLOAT/grainlab" run "$work/shear.yaml" --out "$work/float" --quiet
-/usr/bin/python3 - "$work" <<'PY'
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" - "$work" <<'PY'
 import csv, sys
 def last(run):
     rows = list(csv.DictReader(open(f"{sys.argv[1]}/{run}/series.csv")))

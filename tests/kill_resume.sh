@@ -19,7 +19,7 @@ echo "killed $killed of $trials attempts"
 [ "$killed" -ge "$trials" ] || { echo "the run finished before all kills: make the config longer"; exit 1; }
 "$bin" run "$cfg" --out "$work/int" --resume --quiet || { echo "final resume failed"; exit 1; }
 cmp "$work/ref/series.csv" "$work/int/series.csv" || { echo "series differ"; exit 1; }
-/usr/bin/python3 - "$work" <<'PY' || exit 1
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" - "$work" <<'PY' || exit 1
 import glob, sys, h5py, numpy as np
 w = sys.argv[1]
 a = h5py.File(sorted(glob.glob(w + "/ref/checkpoints/ckpt_*.h5"))[-1], "r")

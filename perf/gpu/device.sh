@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs on the lent GPU machine over a copy of the working tree with .gpucarry/ (perf/gpu/pack.sh) carried.
 # Everything it measures lands in $OUT (the tool's result folder; ./gpu-out elsewhere).
-#   perf/gpu/device.sh tests           the whole CTest suite on the CUDA backend
+#   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects)
 #   perf/gpu/device.sh bench [REPS]    copy bandwidth + race scene 32k .. 11M, rolling on/off (perf/RESULTS.md)
 #   perf/gpu/device.sh ur1 [SECONDS]   configs/paper/UR1.yaml end to end (stopped after SECONDS, default 540)
 # Several verbs run in order: perf/gpu/device.sh tests bench
@@ -19,11 +19,18 @@ for lib in "$C"/lib/*; do
   ldconfig -p | grep -q "^[[:space:]]*$(basename "$lib") " || ln -sf "$lib" /tmp/gpucarry-lib/
 done
 export LD_LIBRARY_PATH=/tmp/gpucarry-lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+# A Python with numpy, h5py and matplotlib for the CLI's plots and the tests' checks (the GPU image keeps
+# them in its PyTorch environment; its /usr/bin/python3 has none): GRAINLAB_PYTHON is honoured by the
+# program (src/main.cpp) and by the test scripts.
+for py in "${GRAINLAB_PYTHON:-}" /opt/torch/.venv/bin/python3 "$(command -v python3)" /usr/bin/python3; do
+  [ -n "$py" ] && [ -x "$py" ] && "$py" -c "import numpy, h5py, matplotlib" 2>/dev/null && { export GRAINLAB_PYTHON=$py; break; }
+done
+echo "python: ${GRAINLAB_PYTHON:-none with numpy, h5py and matplotlib}"
 # The CTest files name the paths of the machine that built them.
 old_root=$(sed -n 's/^# Source directory: //p' build-gpu/CTestTestfile.cmake)
 for f in $(find build-gpu -name CTestTestfile.cmake); do
   sed -i -e "s#$old_root#$ROOT#g" -e "s#\"/usr/bin/cmake\"#\"$(command -v cmake)\"#g" \
-         -e "s#\"[^\"]*/python3\"#\"$(command -v python3)\"#g" "$f"
+         -e "s#\"[^\"]*/python3\"#\"${GRAINLAB_PYTHON:-python3}\"#g" "$f"
 done
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv | tee "$OUT/device.txt"
 echo "carried libraries used: $(ls /tmp/gpucarry-lib | tr '\n' ' ')" | tee -a "$OUT/device.txt"
@@ -33,9 +40,10 @@ S="$C/scene"
 status=0
 while [ $# -gt 0 ]; do
   case "$1" in
-    tests)
-      # -j 4: the tests are small; four share the GPU (and its 16 host cores) without timing anything.
-      (cd build-gpu && ctest --output-on-failure -j 4 --timeout 400) > "$OUT/ctest.log" 2>&1 || status=1
+    tests)  # tests [REGEX]: all of them, or those CTest's -R selects
+      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != ur1 ]]; then regex=$2; shift; fi
+      # -j 6: the tests are small; several share the GPU (and its 16 host cores) and none is timed.
+      (cd build-gpu && ctest --output-on-failure -j 6 --timeout 500 ${regex:+-R "$regex"}) > "$OUT/ctest.log" 2>&1 || status=1
       tail -n 25 "$OUT/ctest.log" ;;
     bench)
       reps=${2:-3}; [[ "${2:-}" =~ ^[0-9]+$ ]] && shift
