@@ -156,28 +156,30 @@ Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView&
                    : integrate_impl<false>(P, L, flags, F, walls, E_wall, alpha, dt);
 }
 
-WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red) {
+WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red, bool team) {
   auto x = P.x;
   auto r = P.r;
   const WallSet ws = walls;
   const int nw = ws.count;
   Real out[DeterministicSum::kMaxValues] = {};
-  red.run(
-      "grainlab::walls::loads", P.n, 3 * nw,
-      KOKKOS_LAMBDA(int i, Real* acc) {
-        const Vec3 xi = load(x, i);
-        const Real ri = r(i);
-        for (int k = 0; k < nw; ++k) {
-          const Real dw = WallLaw::overlap(ws.w[k], xi, ri);
-          if (dw > 0) {
-            const Real kw = WallLaw::stiffness(E_wall, ri);
-            acc[3 * k] += kw * dw;
-            acc[3 * k + 1] += kw;
-            acc[3 * k + 2] += 1;
-          }
-        }
-      },
-      out);
+  // One term per value per particle (a particle touches wall k once): run_one_term's condition.
+  auto loads = KOKKOS_LAMBDA(int i, Real* acc) {
+    const Vec3 xi = load(x, i);
+    const Real ri = r(i);
+    for (int k = 0; k < nw; ++k) {
+      const Real dw = WallLaw::overlap(ws.w[k], xi, ri);
+      if (dw > 0) {
+        const Real kw = WallLaw::stiffness(E_wall, ri);
+        acc[3 * k] += kw * dw;
+        acc[3 * k + 1] += kw;
+        acc[3 * k + 2] += 1;
+      }
+    }
+  };
+  if (team)
+    red.run_one_term<true>("grainlab::walls::loads", P.n, 3 * nw, loads, out);
+  else
+    red.run_one_term<false>("grainlab::walls::loads", P.n, 3 * nw, loads, out);
   WallLoads wl;
   for (int k = 0; k < nw; ++k) {
     wl.force[k] = out[3 * k];

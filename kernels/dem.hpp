@@ -58,15 +58,8 @@ class DeterministicSum {
   // f(i, acc) adds particle/pair i's contributions to acc[0..nv).
   template <class F>
   void run(const char* label, int n, int nv, const F& f, Real* out) {
-    const int nchunks = (n + kChunk - 1) / kChunk;
-    if (int(partial_.extent(0)) < nchunks)
-      partial_ = Kokkos::View<Real* [kMaxValues], MemSpace>("grainlab::reduce::partial", nchunks + 16);
-    if (result_.data() == nullptr) {
-      result_ = Kokkos::View<Real[kMaxValues], MemSpace>("grainlab::reduce::result");
-      host_ = Kokkos::create_mirror_view(result_);
-    }
+    const int nchunks = prepare(n);
     auto partial = partial_;
-    auto result = result_;
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<ExecSpace>(0, nchunks), KOKKOS_LAMBDA(int c) {
           Real acc[kMaxValues];
@@ -75,12 +68,112 @@ class DeterministicSum {
           for (int i = c * kChunk; i < end; ++i) f(i, acc);
           for (int k = 0; k < kMaxValues; ++k) partial(c, k) = acc[k];
         });
-    Kokkos::parallel_for(
-        "grainlab::reduce::chunks", Kokkos::RangePolicy<ExecSpace>(0, nv), KOKKOS_LAMBDA(int k) {
-          Real s = 0;
-          for (int c = 0; c < nchunks; ++c) s += partial(c, k);
-          result(k) = s;
-        });
+    finish(nchunks, nv, out);
+  }
+
+  // run()'s sums, bitwise, for an f that adds at most one term to each value per item (the wall loads).
+  // run() gives each chunk to one thread: on a GPU that is a serial loop of 256 global-memory latencies
+  // per step at any N (with the serial chunk sum below, ~200 us per step measured on an H100; perf/NOTES.md
+  // attempt 19). Here a team evaluates a chunk's items in parallel, each into its own zeroed accumulator,
+  // and one thread per value adds the items' values in item order. Item i's accumulator then holds
+  // 0 + t = t for its one term t (a -0 becomes +0), and 0 for no term; the running sum s is never -0, so
+  // s + 0 = s and s + (+0) = s + (-0): the additions are run()'s. Host backends keep run() (one pass, no
+  // scratch); Team = true takes the team path on any backend (tests compare the two on the host).
+  template <bool Team = !kHostBackend, class F>
+  void run_one_term(const char* label, int n, int nv, const F& f, Real* out) {
+    if constexpr (!Team) {
+      run(label, n, nv, f, out);
+    } else {
+      const int nchunks = prepare(n);
+      auto partial = partial_;
+      using Member = Kokkos::TeamPolicy<ExecSpace>::member_type;
+      const std::size_t bytes = ScratchMatrix::shmem_size(kPass, nv) + ScratchVector::shmem_size(nv);
+      Kokkos::parallel_for(
+          label, Kokkos::TeamPolicy<ExecSpace>(nchunks, team_size()).set_scratch_size(0, Kokkos::PerTeam(bytes)),
+          KOKKOS_LAMBDA(const Member& t) {
+            ScratchMatrix item(t.team_scratch(0), kPass, nv);  // item(q, k): value k of item q of the pass
+            ScratchVector sum(t.team_scratch(0), nv);          // the chunk's running sums
+            const int c = t.league_rank();
+            const int end = (c + 1) * kChunk < n ? (c + 1) * kChunk : n;
+            Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { sum(k) = 0; });
+            for (int h = c * kChunk; h < end; h += kPass) {
+              const int m = end - h < kPass ? end - h : kPass;
+              Kokkos::parallel_for(Kokkos::TeamThreadRange(t, m), [&](int q) {
+                Real acc[kMaxValues];
+                for (int k = 0; k < nv; ++k) acc[k] = 0;
+                f(h + q, acc);
+                for (int k = 0; k < nv; ++k) item(q, k) = acc[k];
+              });
+              t.team_barrier();
+              Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) {
+                Real s = sum(k);
+                for (int q = 0; q < m; ++q) s += item(q, k);  // item order: run()'s order
+                sum(k) = s;
+              });
+              t.team_barrier();
+            }
+            Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { partial(c, k) = sum(k); });
+          });
+      finish(nchunks, nv, out);
+    }
+  }
+
+  // Building blocks of run() and run_one_term(). Public only because nvcc refuses device lambdas in private
+  // member functions.
+  static constexpr int kPass = 128;  // items per team pass: 128 x 24 values x 8 B = 24 KB of scratch
+  using ScratchMatrix = Kokkos::View<Real**, Kokkos::LayoutRight, ExecSpace::scratch_memory_space,
+                                     Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+  using ScratchVector = Kokkos::View<Real*, ExecSpace::scratch_memory_space, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+  static int team_size() { return kHostBackend ? 1 : kPass; }
+
+  int prepare(int n) {
+    const int nchunks = (n + kChunk - 1) / kChunk;
+    if (int(partial_.extent(0)) < nchunks)
+      partial_ = Kokkos::View<Real* [kMaxValues], MemSpace>("grainlab::reduce::partial", nchunks + 16);
+    if (result_.data() == nullptr) {
+      result_ = Kokkos::View<Real[kMaxValues], MemSpace>("grainlab::reduce::result");
+      host_ = Kokkos::create_mirror_view(result_);
+    }
+    return nchunks;
+  }
+
+  // The chunk partials summed in chunk order, value by value. On a host backend one thread per value walks
+  // the chunks. On a GPU that walk is a serial chain of global loads (43 000 chunks at 11M particles), so a
+  // team per value first stages a block of partials in scratch with parallel loads and one thread then adds
+  // them in chunk order: the same additions.
+  void finish(int nchunks, int nv, Real* out) {
+    auto partial = partial_;
+    auto result = result_;
+    if constexpr (kHostBackend) {
+      Kokkos::parallel_for(
+          "grainlab::reduce::chunks", Kokkos::RangePolicy<ExecSpace>(0, nv), KOKKOS_LAMBDA(int k) {
+            Real s = 0;
+            for (int c = 0; c < nchunks; ++c) s += partial(c, k);
+            result(k) = s;
+          });
+    } else {
+      constexpr int kBlock = 1024;
+      using Member = Kokkos::TeamPolicy<ExecSpace>::member_type;
+      const std::size_t bytes = ScratchVector::shmem_size(kBlock);
+      Kokkos::parallel_for(
+          "grainlab::reduce::chunks",
+          Kokkos::TeamPolicy<ExecSpace>(nv, team_size()).set_scratch_size(0, Kokkos::PerTeam(bytes)),
+          KOKKOS_LAMBDA(const Member& t) {
+            const int k = t.league_rank();
+            ScratchVector block(t.team_scratch(0), kBlock);
+            Real s = 0;  // lives in the thread that runs the single() below: the same thread every block
+            for (int c0 = 0; c0 < nchunks; c0 += kBlock) {
+              const int m = nchunks - c0 < kBlock ? nchunks - c0 : kBlock;
+              Kokkos::parallel_for(Kokkos::TeamThreadRange(t, m), [&](int q) { block(q) = partial(c0 + q, k); });
+              t.team_barrier();
+              Kokkos::single(Kokkos::PerTeam(t), [&]() {
+                for (int q = 0; q < m; ++q) s += block(q);
+              });
+              t.team_barrier();
+            }
+            Kokkos::single(Kokkos::PerTeam(t), [&]() { result(k) = s; });
+          });
+    }
     // Only the nv values in use cross to the host.
     Kokkos::deep_copy(Kokkos::subview(host_, std::make_pair(0, nv)), Kokkos::subview(result_, std::make_pair(0, nv)));
     for (int k = 0; k < nv; ++k) out[k] = host_(k);
@@ -121,7 +214,9 @@ Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView&
                           Real E_wall, Real alpha, Real dt);
 
 // Wall loads at the current positions (SPEC §3 per-wall force reduction).
-WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red);
+// team: DeterministicSum::run_one_term's team path (default on a GPU); the same bits either way.
+WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red,
+                            bool team = !kHostBackend);
 
 // Copies history from the old list to the new one by pair identity (i, j); new pairs start at zero.
 void transfer_history(const PairList& old_list, const PairHistory& old_h, const PairList& new_list,

@@ -13,6 +13,9 @@ using Real = double;
 using ExecSpace = Kokkos::DefaultExecutionSpace;
 using MemSpace = ExecSpace::memory_space;
 using HostSpace = Kokkos::HostSpace;
+// True for the CPU backends (OpenMP, Serial), false on a GPU: selects, at compile time, the reduction
+// shape that suits the backend where two shapes compute the same bits (DeterministicSum).
+constexpr bool kHostBackend = Kokkos::SpaceAccessibility<ExecSpace, HostSpace>::accessible;
 
 // Structure of arrays at the field level (x, v, w, f, ... are separate Views). Within a vector field the
 // component layout follows the backend (perf/NOTES.md): on GPUs LayoutLeft (x, y, z each contiguous, so

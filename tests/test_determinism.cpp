@@ -2,6 +2,10 @@
 // 1-thread vs 2-thread comparison runs determinism_probe in two processes (tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <random>
+
 #include "helpers.hpp"
 
 using namespace grainlab;
@@ -63,4 +67,68 @@ TEST(Determinism, CaptureRestoreContinuesBitwise) {
   EXPECT_TRUE(test::bitwise_equal(straight.state, restarted.state));
   EXPECT_EQ(0, std::memcmp(straight.measures.data(), restarted.measures.data(),
                            straight.measures.size() * sizeof(double)));
+}
+
+namespace {
+// Outside the test body: nvcc refuses device lambdas in private member functions (gtest's TestBody).
+void sum_both_ways(const Kokkos::View<Real**, Kokkos::LayoutRight, MemSpace>& terms, Real* chunk, Real* team) {
+  const int n = int(terms.extent(0)), nv = int(terms.extent(1));
+  auto f = KOKKOS_LAMBDA(int i, Real* acc) {
+    for (int k = 0; k < nv; ++k)
+      if (terms(i, k) != 0 || (i + k) % 2) acc[k] += terms(i, k);  // some items add a zero, some add none
+  };
+  DeterministicSum red;
+  red.run("test::chunk", n, nv, f, chunk);
+  red.run_one_term<true>("test::team", n, nv, f, team);
+}
+}  // namespace
+
+// DeterministicSum::run_one_term's team path (the GPU's: items in parallel, then added in item order) must
+// give run()'s bits for any f with at most one term per value per item. Oracle: run() on the same items.
+// Terms span 12 decades with both signs and exact zeros (so any change of the addition order shows in the
+// last bits), some items add nothing, and n covers a partial chunk, one chunk, and more chunks than the
+// GPU's stage-2 block (1 024) so every path of the team code runs. On a host backend the team path runs
+// with team size 1: the same code, serial.
+TEST(Determinism, TeamReductionEqualsChunkReductionBitwise) {
+  for (const int n : {1, 255, 257, 5000, 300000}) {
+    const int nv = 17;
+    Kokkos::View<Real**, Kokkos::LayoutRight, MemSpace> terms("test::terms", n, nv);
+    auto h = Kokkos::create_mirror_view(terms);
+    std::mt19937_64 g(n);
+    std::uniform_real_distribution<double> U(0, 1);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < nv; ++k) {
+        const double u = U(g);
+        h(i, k) = u < 0.3 ? 0.0 : (u < 0.35 ? -0.0 : (U(g) < 0.5 ? -1 : 1) * std::pow(10.0, 12 * U(g) - 6));
+      }
+    Kokkos::deep_copy(terms, h);
+    Real chunk[DeterministicSum::kMaxValues] = {}, team[DeterministicSum::kMaxValues] = {};
+    sum_both_ways(terms, chunk, team);
+    EXPECT_EQ(0, std::memcmp(chunk, team, nv * sizeof(Real))) << "n = " << n;
+    // The sums are not trivially equal: a different order (pairwise halves) changes the last bits.
+    if (n == 300000) {
+      double fwd = 0, rev = 0;
+      for (int i = 0; i < n; ++i) fwd += h(i, 0);
+      for (int i = n - 1; i >= 0; --i) rev += h(i, 0);
+      EXPECT_NE(fwd, rev) << "the data must be order sensitive for this test to mean anything";
+    }
+  }
+}
+
+// The wall loads, the servo's input, through both paths on a packing pressed against its walls.
+TEST(Determinism, WallLoadsTeamPathEqualsChunkPath) {
+  test::DenseScene sc = test::consolidated_scene(2000, 3, 7, 0.3, 0.1, 1500);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  DeterministicSum red;
+  const WallLoads a = reduce_wall_loads(eng.particles(), eng.walls(), eng.params().E_wall, red, /*team=*/false);
+  const WallLoads b = reduce_wall_loads(eng.particles(), eng.walls(), eng.params().E_wall, red, /*team=*/true);
+  int touching = 0;
+  for (int k = 0; k < 6; ++k) {
+    touching += a.touching[k];
+    EXPECT_EQ(0, std::memcmp(&a.force[k], &b.force[k], sizeof(Real))) << "wall " << k;
+    EXPECT_EQ(0, std::memcmp(&a.stiffness[k], &b.stiffness[k], sizeof(Real))) << "wall " << k;
+    EXPECT_EQ(a.touching[k], b.touching[k]) << "wall " << k;
+    EXPECT_GT(a.force[k], 0) << "wall " << k << " must carry load for the comparison to mean anything";
+  }
+  std::printf("  %d sphere-wall contacts compared\n", touching);
 }
