@@ -34,7 +34,7 @@ for f in $(find build-gpu -name CTestTestfile.cmake); do
 done
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv | tee "$OUT/device.txt"
 echo "carried libraries used: $(ls /tmp/gpucarry-lib | tr '\n' ' ')" | tee -a "$OUT/device.txt"
-git -C "$ROOT" rev-parse --short HEAD 2>/dev/null | sed 's/^/commit /' | tee -a "$OUT/device.txt"
+{ sed "s/^/binaries built at commit /" "$C/commit.txt"; cp "$C/commit.txt" "$OUT/commit.txt"; } 2>/dev/null | tee -a "$OUT/device.txt"
 
 S="$C/scene"
 status=0

@@ -25,5 +25,6 @@ for e in "${exes[@]}"; do ldd "$e"; done | awk '/=> \//{print $3}' | sort -u | w
     *) cp -L "$lib" "$C/lib/" ;;
   esac
 done
+git -C "$ROOT" describe --always --dirty > "$C/commit.txt"  # the tree the binaries were built from
 cp "$PEERS_DIR/scene_32k.txt" "$PEERS_DIR/scene_32k_box.txt" "$C/scene/"
 echo "pack.sh: $(du -sh "$C" | cut -f1) in $C (${#exes[@]} executables, $(ls "$C/lib" | wc -l) libraries)"
