@@ -46,7 +46,7 @@ while [ $# -gt 0 ]; do
       (cd build-gpu && ctest --output-on-failure -j 6 --timeout 500 ${regex:+-R "$regex"}) > "$OUT/ctest.log" 2>&1 || status=1
       tail -n 25 "$OUT/ctest.log" ;;
     bench)
-      reps=${2:-3}; [[ "${2:-}" =~ ^[0-9]+$ ]] && shift
+      reps=3; if [[ "${2:-}" =~ ^[0-9]+$ ]]; then reps=$2; shift; fi
       # Sizes: the race scene tiled K^3 (32k x K^3): 32k, 256k, 2.05M, 11.0M. Rolling on and off, double
       # precision, the race's 200 warm-up + 2 000 timed steps, the engine's default lists.
       build-gpu/perf/race_bench --generate 2000 --copy 1 --warmup 0 --steps 1 | tee "$OUT/bench.txt"
@@ -62,7 +62,7 @@ while [ $# -gt 0 ]; do
           --rolling 1 --inner 0 --reps "$reps" | sed "s/^/tile=$tile /" | tee -a "$OUT/bench.txt" || status=1
       done ;;
     ur1)
-      secs=${2:-540}; [[ "${2:-}" =~ ^[0-9]+$ ]] && shift
+      secs=540; if [[ "${2:-}" =~ ^[0-9]+$ ]]; then secs=$2; shift; fi
       rm -rf /tmp/ur1
       start=$(date +%s.%N)
       timeout --signal=INT "$secs" build-gpu/grainlab run configs/paper/UR1.yaml --out /tmp/ur1 > "$OUT/ur1.log" 2>&1
