@@ -1,6 +1,8 @@
 #pragma once
 // The per-step DEM kernels (SPEC §2-4) over the structure-of-arrays state. Host code in src/ decides
 // when to call them; nothing here allocates except the grow-only history buffers at rebuilds.
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "contact_law.hpp"
@@ -84,6 +86,9 @@ class DeterministicSum {
     if constexpr (!Team) {
       run(label, n, nv, f, out);
     } else {
+      // kPass x nv values of scratch per team must fit a GPU block's 48 KB with room for Kokkos' own.
+      if (nv > kOneTermMaxValues)
+        throw std::logic_error("DeterministicSum::run_one_term: at most " + std::to_string(kOneTermMaxValues) + " values (" + std::to_string(nv) + " asked)");
       const int nchunks = prepare(n);
       auto partial = partial_;
       using Member = Kokkos::TeamPolicy<ExecSpace>::member_type;
@@ -114,13 +119,14 @@ class DeterministicSum {
             }
             Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { partial(c, k) = sum(k); });
           });
-      finish(nchunks, nv, out);
+      finish<true>(nchunks, nv, out);
     }
   }
 
   // Building blocks of run() and run_one_term(). Public only because nvcc refuses device lambdas in private
   // member functions.
   static constexpr int kPass = 128;  // items per team pass: 128 x 24 values x 8 B = 24 KB of scratch
+  static constexpr int kOneTermMaxValues = 3 * kMaxWalls;  // run_one_term: the wall loads, 3 per wall
   using ScratchMatrix = Kokkos::View<Real**, Kokkos::LayoutRight, ExecSpace::scratch_memory_space,
                                      Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
   using ScratchVector = Kokkos::View<Real*, ExecSpace::scratch_memory_space, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
@@ -140,11 +146,12 @@ class DeterministicSum {
   // The chunk partials summed in chunk order, value by value. On a host backend one thread per value walks
   // the chunks. On a GPU that walk is a serial chain of global loads (43 000 chunks at 11M particles), so a
   // team per value first stages a block of partials in scratch with parallel loads and one thread then adds
-  // them in chunk order: the same additions.
+  // them in chunk order: the same additions. Team = true takes the team path on any backend (the tests).
+  template <bool Team = !kHostBackend>
   void finish(int nchunks, int nv, Real* out) {
     auto partial = partial_;
     auto result = result_;
-    if constexpr (kHostBackend) {
+    if constexpr (!Team) {
       Kokkos::parallel_for(
           "grainlab::reduce::chunks", Kokkos::RangePolicy<ExecSpace>(0, nv), KOKKOS_LAMBDA(int k) {
             Real s = 0;

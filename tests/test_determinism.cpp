@@ -87,8 +87,8 @@ void sum_both_ways(const Kokkos::View<Real**, Kokkos::LayoutRight, MemSpace>& te
 // give run()'s bits for any f with at most one term per value per item. Oracle: run() on the same items.
 // Terms span 12 decades with both signs and exact zeros (so any change of the addition order shows in the
 // last bits), some items add nothing, and n covers a partial chunk, one chunk, and more chunks than the
-// GPU's stage-2 block (1 024) so every path of the team code runs. On a host backend the team path runs
-// with team size 1: the same code, serial.
+// GPU's stage-2 block (1 024) so every path of the team code runs, stage 2 included. On a host backend
+// the team path runs with team size 1: the same code, serial.
 TEST(Determinism, TeamReductionEqualsChunkReductionBitwise) {
   for (const int n : {1, 255, 257, 5000, 300000}) {
     const int nv = 17;
@@ -131,4 +131,11 @@ TEST(Determinism, WallLoadsTeamPathEqualsChunkPath) {
     EXPECT_GT(a.force[k], 0) << "wall " << k << " must carry load for the comparison to mean anything";
   }
   std::printf("  %d sphere-wall contacts compared\n", touching);
+}
+
+// More values than the team path's scratch holds is refused, not launched.
+TEST(Determinism, TeamReductionRefusesTooManyValues) {
+  Kokkos::View<Real**, Kokkos::LayoutRight, MemSpace> terms("test::terms", 10, DeterministicSum::kOneTermMaxValues + 1);
+  Real chunk[DeterministicSum::kMaxValues] = {}, team[DeterministicSum::kMaxValues] = {};
+  EXPECT_THROW(sum_both_ways(terms, chunk, team), std::logic_error);
 }
