@@ -32,7 +32,7 @@ struct ContactHistory {
 struct ContactResult {
   Vec3 f;         // total force on j (force on i is -f)          [N]
   Vec3 ti, tj;    // torques on i and on j, rolling moment included [N m]
-  std::uint8_t flags = 0;
+  int flags = 0;  // ContactFlag bits (int, not uint8: a byte type in the vector loop would set GCC's vectorization factor to 64)
 };
 
 // Rotate a history vector into the plane normal to n, keeping its length (SPEC §2). Projection plus
@@ -47,9 +47,19 @@ KOKKOS_FORCEINLINE_FUNCTION Vec3 to_tangent_plane(const Vec3& h, const Vec3& n) 
   const Real hn = dot(h, n);
   const Vec3 p = h - hn * n;
   const Real plen2 = norm2(p);
-  if (plen2 == Real(0)) return Vec3();  // also h = 0
-  const Real t = hn * hn / plen2;
-  return (t <= Real(1e-8) ? Real(1) + Real(0.5) * t : math::sqrt(Real(1) + t)) * p;
+  // Selects, not branches: the CPU kernel runs this law on 8 pairs side by side in vector registers,
+  // which needs a loop body without control flow. plen2 = 0 (also h = 0) gives exactly 0 as before.
+  const bool zero = plen2 == Real(0);
+  const Real t = hn * hn / (zero ? Real(1) : plen2);
+  const Real s = t <= Real(1e-8) ? Real(1) + Real(0.5) * t : math::sqrt(Real(1) + t);
+  return Vec3(zero ? Real(0) : s * p.x, zero ? Real(0) : s * p.y, zero ? Real(0) : s * p.z);
+}
+
+// v scaled to length cap when |v|^2 = len2 exceeds cap^2 (the Coulomb and rolling caps), else v.
+KOKKOS_FORCEINLINE_FUNCTION Vec3 cap_length(const Vec3& v, Real len2, Real cap, bool& capped) {
+  capped = len2 > cap * cap;
+  const Real s = cap / math::sqrt(capped ? len2 : Real(1));
+  return Vec3(capped ? s * v.x : v.x, capped ? s * v.y : v.y, capped ? s * v.z : v.z);
 }
 
 template <bool Rolling, bool Viscous>
@@ -80,7 +90,7 @@ struct LinearRollingContact {
       // Dashpot c = 2 beta sqrt(m* k_n): restitution exp(-pi beta / sqrt(1 - beta^2)) for one contact.
       const Real meff = mi * mj / (mi + mj);
       fn -= Real(2) * P.normal_damping * math::sqrt(meff * kn) * vn;
-      if (fn < Real(0)) fn = Real(0);  // (choice) no cohesion from the dashpot
+      fn = fn < Real(0) ? Real(0) : fn;  // (choice) no cohesion from the dashpot
     }
     out.flags = kTouching;
 
@@ -88,11 +98,9 @@ struct LinearRollingContact {
     const Vec3 vt = vrel - vn * n;
     Vec3 ft = to_tangent_plane(h.ft, n) - (kt * P.dt) * vt;
     const Real fmax = P.mu * fn;
-    const Real ft2 = norm2(ft);
-    if (ft2 > fmax * fmax) {
-      ft = (fmax / math::sqrt(ft2)) * ft;
-      out.flags |= kSliding;
-    }
+    bool sliding;
+    ft = cap_length(ft, norm2(ft), fmax, sliding);
+    out.flags |= sliding ? kSliding : 0;
     h.ft = ft;
 
     out.f = fn * n + ft;
@@ -106,11 +114,9 @@ struct LinearRollingContact {
       const Vec3 dtheta = (dw - dot(dw, n) * n) * P.dt;
       Vec3 mr = to_tangent_plane(h.mr, n) - (kt * rbar * rbar) * dtheta;
       const Real mmax = P.mu_r * fn * P.roll_arm * rbar;
-      const Real mr2 = norm2(mr);
-      if (mr2 > mmax * mmax) {
-        mr = (mmax / math::sqrt(mr2)) * mr;
-        out.flags |= kRollingSliding;
-      }
+      bool rolling_sliding;
+      mr = cap_length(mr, norm2(mr), mmax, rolling_sliding);
+      out.flags |= rolling_sliding ? kRollingSliding : 0;
       h.mr = mr;
       out.ti += mr;
       out.tj -= mr;

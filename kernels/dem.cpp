@@ -1,6 +1,8 @@
 #include "dem.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <type_traits>
 #include <string>
 
 namespace grainlab {
@@ -73,7 +75,121 @@ void pair_forces_impl(const Particles& P, const PairList& L, const PairHistory& 
       });
 }
 
-template <bool Damped>
+#if GRAINLAB_PAIR_LANES
+// SPEC §2 on C consecutive pairs of the CSR list at once, as one vector loop (perf/NOTES.md attempt 20).
+// The row kernel above runs the law's ~300 dependent instructions one pair at a time; here lane l of a
+// vector register holds pair p0 + l, whatever row it belongs to, so the law runs on C pairs side by side.
+// Every lane is computed, and selects zero the outputs and the history of separated pairs (branches would
+// break the vector loop). The outputs stay in CSR order at their pair's index, so the transposed gather
+// keeps the locality the row kernel gives it (attempt 17 lost its kernel gain there: slot order). i's share
+// cannot be summed in registers across lanes of different rows, so the torque on i is stored per pair (ti)
+// and the integration sums row i's pairs, in row order, from +0: the row kernel's additions, so the same
+// bits (a +0 written for a separated pair adds nothing to a sum that starts at +0, which is never -0).
+template <bool Rolling, bool Viscous>
+KOKKOS_FORCEINLINE_FUNCTION void lane_pair(int p, const ContactParams& cp, const int* __restrict PI,
+                                           const int* __restrict PJ, const Real* __restrict X,
+                                           const Real* __restrict V, const Real* __restrict W,
+                                           const Real* __restrict R, const Real* __restrict M,
+                                           PairReal* __restrict FT, PairReal* __restrict MR,
+                                           PairReal* __restrict FO, PairReal* __restrict TJ,
+                                           PairReal* __restrict TI, int& flag) {
+  using Law = LinearRollingContact<Rolling, Viscous>;
+  // LayoutRight on host backends: component q of particle / pair k at 3 k + q (checked by the caller).
+  const int i = PI[p], j = PJ[p];
+  const Vec3 xi(X[3 * i], X[3 * i + 1], X[3 * i + 2]);
+  const Vec3 d = Vec3(X[3 * j], X[3 * j + 1], X[3 * j + 2]) - xi;
+  const Real ri = R[i], rj = R[j];
+  const Real dist2 = norm2(d);
+  const Real sum = ri + rj;
+  const bool touching = !(dist2 >= sum * sum);  // the row kernel's test
+  ContactHistory h;
+  h.ft = Vec3(FT[3 * p], FT[3 * p + 1], FT[3 * p + 2]);
+  if (Rolling) h.mr = Vec3(MR[3 * p], MR[3 * p + 1], MR[3 * p + 2]);
+  // A separated lane evaluates at dist = r_i + r_j (zero overlap, finite values); its results are dropped.
+  const ContactResult c = Law::evaluate(cp, ri, rj, M[i], M[j], d, touching ? math::sqrt(dist2) : sum,
+                                        Vec3(V[3 * i], V[3 * i + 1], V[3 * i + 2]),
+                                        Vec3(V[3 * j], V[3 * j + 1], V[3 * j + 2]),
+                                        Vec3(W[3 * i], W[3 * i + 1], W[3 * i + 2]),
+                                        Vec3(W[3 * j], W[3 * j + 1], W[3 * j + 2]), h);
+  const Real z = 0;
+  FT[3 * p] = PairReal(touching ? h.ft.x : z);  // a separated pair loses its history (SPEC §2)
+  FT[3 * p + 1] = PairReal(touching ? h.ft.y : z);
+  FT[3 * p + 2] = PairReal(touching ? h.ft.z : z);
+  if (Rolling) {
+    MR[3 * p] = PairReal(touching ? h.mr.x : z);
+    MR[3 * p + 1] = PairReal(touching ? h.mr.y : z);
+    MR[3 * p + 2] = PairReal(touching ? h.mr.z : z);
+  }
+  FO[3 * p] = PairReal(touching ? c.f.x : z);
+  FO[3 * p + 1] = PairReal(touching ? c.f.y : z);
+  FO[3 * p + 2] = PairReal(touching ? c.f.z : z);
+  TJ[3 * p] = PairReal(touching ? c.tj.x : z);
+  TJ[3 * p + 1] = PairReal(touching ? c.tj.y : z);
+  TJ[3 * p + 2] = PairReal(touching ? c.tj.z : z);
+  TI[3 * p] = PairReal(touching ? c.ti.x : z);
+  TI[3 * p + 1] = PairReal(touching ? c.ti.y : z);
+  TI[3 * p + 2] = PairReal(touching ? c.ti.z : z);
+  flag = touching ? c.flags : 0;
+}
+
+template <bool Rolling, bool Viscous>
+void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
+                            const ContactParams& cp_in) {
+  constexpr int C = kPairLanesWidth;
+  static_assert(std::is_same_v<VecLayout, Kokkos::LayoutRight>, "the pair-lane kernel indexes x(i, q) as 3 i + q");
+  if (L.npairs == 0) return;
+  // Raw pointers: GCC vectorizes the gathers of x, v, w of i and j only through plain pointer arithmetic.
+  const int* PI_ = L.pair_i.data();
+  const int* PJ_ = L.pair_j.data();
+  const Real* X_ = P.x.data();
+  const Real* V_ = P.v.data();
+  const Real* W_ = P.w.data();
+  const Real* R_ = P.r.data();
+  const Real* M_ = P.m.data();
+  PairReal* FT_ = H.ft.data();
+  PairReal* MR_ = H.mr.data();
+  PairReal* FO_ = F.f.data();
+  PairReal* TJ_ = F.tj.data();
+  PairReal* TI_ = F.ti.data();
+  std::uint8_t* FL_ = H.flags.data();
+  const int npairs = L.npairs;
+  const int nblocks = (npairs + C - 1) / C;
+  const char* label = Rolling ? "grainlab::contact::rolling_lanes" : "grainlab::contact::sliding_lanes";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(0, nblocks), KOKKOS_LAMBDA(int b) {
+        // Local restrict copies: through the closure every store could alias the captured pointers, and
+        // GCC would then neither hoist the loads nor if-convert the loop.
+        const int* __restrict PI = PI_;
+        const int* __restrict PJ = PJ_;
+        const Real* __restrict X = X_;
+        const Real* __restrict V = V_;
+        const Real* __restrict W = W_;
+        const Real* __restrict R = R_;
+        const Real* __restrict M = M_;
+        PairReal* __restrict FT = FT_;
+        PairReal* __restrict MR = MR_;
+        PairReal* __restrict FO = FO_;
+        PairReal* __restrict TJ = TJ_;
+        PairReal* __restrict TI = TI_;
+        const ContactParams cp = cp_in;
+        const int p0 = b * C;
+        int fl[C];
+        if (p0 + C <= npairs) {
+#pragma GCC ivdep
+          for (int l = 0; l < C; ++l)
+            lane_pair<Rolling, Viscous>(p0 + l, cp, PI, PJ, X, V, W, R, M, FT, MR, FO, TJ, TI, fl[l]);
+          for (int l = 0; l < C; ++l) FL_[p0 + l] = std::uint8_t(fl[l]);
+        } else {  // the last, partial block
+          for (int p = p0; p < npairs; ++p) {
+            lane_pair<Rolling, Viscous>(p, cp, PI, PJ, X, V, W, R, M, FT, MR, FO, TJ, TI, fl[0]);
+            FL_[p] = std::uint8_t(fl[0]);
+          }
+        }
+      });
+}
+#endif
+
+template <bool Damped, bool RowPairs>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                     const WallSet& walls, Real E_wall,
                     Real alpha, Real dt) {
@@ -92,6 +208,8 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   auto tcj = F.tj;
   auto rowf = F.row_f;
   auto rowt = F.row_t;
+  auto off = L.offsets;
+  auto tci = F.ti;
   const WallSet ws = walls;
   Real maxd2 = 0;
   Kokkos::parallel_reduce(
@@ -99,10 +217,20 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
       KOKKOS_LAMBDA(int i, Real& mx) {
         // Row share (i first: -F, summed by the contact kernel), then the transposed pairs in ascending
         // pair order (i second: +F): a fixed order, so bitwise the same on any thread count.
-        Vec3 f = load(rowf, i), t = load(rowt, i);
+        Vec3 f, t;
+        if (RowPairs) {  // the pair-lane kernel's per-pair shares of i, summed as the row kernel sums them
+          for (int p = off(i); p < off(i + 1); ++p) {
+            f -= load(fc, p);
+            t += load(tci, p);
+          }
+        } else {
+          f = load(rowf, i);
+          t = load(rowt, i);
+        }
         for (int k = toff(i); k < toff(i + 1); ++k) {
           const int p = tpairs(k);
-          if (!(flags(p) & kTouching)) continue;
+          // The pair-lane kernel writes +0 for separated pairs, which adds nothing (see above): no flag load.
+          if (!RowPairs && !(flags(p) & kTouching)) continue;
           f += load(fc, p);
           t += load(tcj, p);
         }
@@ -138,8 +266,23 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
 }  // namespace
 
 void compute_pair_forces(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
-                         const ContactParams& cp, ContactFeatures feat) {
-  // Four instantiations chosen once per step on the host: the hot loop carries no feature branches.
+                         const ContactParams& cp, ContactFeatures feat, PairKernel kernel) {
+  // Four instantiations per kernel chosen once per step on the host: the hot loop carries no feature branches.
+  if (kernel == PairKernel::Lanes) {
+#if GRAINLAB_PAIR_LANES
+    if constexpr (kPairLanesBuilt) {
+      if (feat.rolling) {
+        if (feat.viscous) pair_forces_lanes_impl<true, true>(P, L, H, F, cp);
+        else pair_forces_lanes_impl<true, false>(P, L, H, F, cp);
+      } else {
+        if (feat.viscous) pair_forces_lanes_impl<false, true>(P, L, H, F, cp);
+        else pair_forces_lanes_impl<false, false>(P, L, H, F, cp);
+      }
+      return;
+    }
+#endif
+    throw std::logic_error("compute_pair_forces: the pair-lane kernel is not built here (kPairLanesBuilt)");
+  }
   if (feat.rolling) {
     if (feat.viscous) pair_forces_impl<true, true>(P, L, H, F, cp);
     else pair_forces_impl<true, false>(P, L, H, F, cp);
@@ -150,10 +293,15 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
 }
 
 Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
-                          const WallSet& walls,
-                          Real E_wall, Real alpha, Real dt) {
-  return alpha > 0 ? integrate_impl<true>(P, L, flags, F, walls, E_wall, alpha, dt)
-                   : integrate_impl<false>(P, L, flags, F, walls, E_wall, alpha, dt);
+                          const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel) {
+  if (kernel == PairKernel::Lanes) {
+    if constexpr (kPairLanesBuilt)
+      return alpha > 0 ? integrate_impl<true, true>(P, L, flags, F, walls, E_wall, alpha, dt)
+                       : integrate_impl<false, true>(P, L, flags, F, walls, E_wall, alpha, dt);
+    throw std::logic_error("gather_and_integrate: the pair-lane kernel is not built here (kPairLanesBuilt)");
+  }
+  return alpha > 0 ? integrate_impl<true, false>(P, L, flags, F, walls, E_wall, alpha, dt)
+                   : integrate_impl<false, false>(P, L, flags, F, walls, E_wall, alpha, dt);
 }
 
 WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red, bool team) {
@@ -237,11 +385,15 @@ void ensure_pair_arrays(PairHistory& h, int n) {
   grow(h.mr, "grainlab::history::mr", n);
   grow(h.flags, "grainlab::history::flags", n);
 }
-void ensure_pair_arrays(PairForces& f, int n, int nparticles) {
+void ensure_pair_arrays(PairForces& f, int n, int nparticles, PairKernel kernel) {
   grow(f.f, "grainlab::pair::f", n);
   grow(f.tj, "grainlab::pair::tj", n);
-  grow(f.row_f, "grainlab::pair::row_f", nparticles);
-  grow(f.row_t, "grainlab::pair::row_t", nparticles);
+  if (kernel == PairKernel::Lanes) {
+    grow(f.ti, "grainlab::pair::ti", n);
+  } else {
+    grow(f.row_f, "grainlab::pair::row_f", nparticles);
+    grow(f.row_t, "grainlab::pair::row_t", nparticles);
+  }
 }
 
 }  // namespace grainlab

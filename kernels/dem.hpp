@@ -34,8 +34,24 @@ struct PairHistory {
 struct PairForces {
   PairVecView f;         // per pair: force on j (force on i is -f); valid where flags has kTouching
   PairVecView tj;        // per pair: torque on j
-  VecView row_f, row_t;  // per particle: sum of i's shares over its row
+  VecView row_f, row_t;  // per particle: sum of i's shares over its row (row kernel)
+  PairVecView ti;        // per pair: torque on i (PairKernel::Lanes)
 };
+
+// Two contact kernels compute the same bits (perf/NOTES.md attempt 20). Row: one work item per row i of
+// the half list, i's share summed in registers (GPUs; CPUs without wide vectors). Lanes: C consecutive
+// pairs of the list side by side in vector registers, i's share stored per pair (PairForces::ti) and summed
+// by the integration in the row kernel's order. Lanes is built where CMake's GRAINLAB_PAIR_LANES is on (the
+// default) for a host backend whose target has AVX2 or AVX-512: 2-wide SSE2 vectors do not pay for the
+// gathers (attempt 11 measured 0.88x at that width).
+enum class PairKernel { Row, Lanes };
+#if GRAINLAB_PAIR_LANES && (defined(__AVX2__) || defined(__AVX512F__))
+constexpr bool kPairLanesBuilt = kHostBackend;
+#else
+constexpr bool kPairLanesBuilt = false;
+#endif
+constexpr PairKernel kDefaultPairKernel = kPairLanesBuilt ? PairKernel::Lanes : PairKernel::Row;
+constexpr int kPairLanesWidth = 8;  // 16 lanes measured the same (perf/ab.sh 1.001), 512-bit vectors too
 
 constexpr int kMaxWalls = 8;
 struct WallSet {
@@ -211,14 +227,16 @@ struct ContactFeatures {
 };
 
 // SPEC §2 on every listed pair: history update and per-pair force/torques; separated pairs lose history.
+// `kernel` must match the one given to gather_and_integrate and ensure_pair_arrays (it decides where i's
+// share goes); PairKernel::Lanes where kPairLanesBuilt is false throws std::logic_error.
 void compute_pair_forces(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
-                         const ContactParams& cp, ContactFeatures feat);
+                         const ContactParams& cp, ContactFeatures feat, PairKernel kernel = kDefaultPairKernel);
 
 // Per particle, in a fixed order: sum of pair forces (row i, then transposed row), wall forces, then
 // Cundall damping (SPEC §4) and the leapfrog kick-drift. Returns max |x - x_ref|^2 (exact reduction).
 Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
-                          const WallSet& walls,
-                          Real E_wall, Real alpha, Real dt);
+                          const WallSet& walls, Real E_wall, Real alpha, Real dt,
+                          PairKernel kernel = kDefaultPairKernel);
 
 // Wall loads at the current positions (SPEC §3 per-wall force reduction).
 // team: DeterministicSum::run_one_term's team path (default on a GPU); the same bits either way.
@@ -229,8 +247,9 @@ WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wal
 void transfer_history(const PairList& old_list, const PairHistory& old_h, const PairList& new_list,
                       const PairHistory& new_h);
 
-// Grow-only allocation of per-pair arrays for at least n pairs (and the per-particle row sums).
+// Grow-only allocation of per-pair arrays for at least n pairs (and what `kernel` needs for i's share: the
+// per-particle row sums or the per-pair torque on i).
 void ensure_pair_arrays(PairHistory& h, int n);
-void ensure_pair_arrays(PairForces& f, int n, int nparticles);
+void ensure_pair_arrays(PairForces& f, int n, int nparticles, PairKernel kernel = kDefaultPairKernel);
 
 }  // namespace grainlab

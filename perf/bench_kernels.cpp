@@ -68,17 +68,24 @@ void BM_Step(benchmark::State& st) {
   st.counters["rebuilds_per_100_steps"] = 100.0 * (eng.rebuild_count() - rebuilds0) / double(st.iterations() * kSteps);
 }
 
-// The contact kernel alone (SPEC §2), rolling on and off.
+// The contact kernel alone (SPEC §2), rolling on and off; third argument the kernel (0 row, 1 pair lanes,
+// kernels/dem.hpp). On the FCC scene every listed pair touches, the pair-lane kernel's best case.
 void BM_ContactForces(benchmark::State& st) {
   const bool rolling = st.range(1) != 0;
+  const PairKernel kernel = st.range(2) != 0 ? PairKernel::Lanes : PairKernel::Row;
+  if (kernel == PairKernel::Lanes && !kPairLanesBuilt) {
+    st.SkipWithError("the pair-lane kernel is not built here");
+    return;
+  }
   Scene sc = fcc_scene(int(st.range(0)), 1);
   EngineParams p = bench_params(rolling);
+  p.pair_kernel = kernel;
   Engine eng(sc.setup, p, make_box_walls(sc.lo, sc.hi), true);
   const ContactParams cp = eng.params().contact;
   const ContactFeatures feat{rolling, false};
   compat::fence("grainlab::bench::before");
   for (auto _ : st) {
-    compute_pair_forces(eng.particles(), eng.pairs(), eng.history(), eng.pair_forces(), cp, feat);
+    compute_pair_forces(eng.particles(), eng.pairs(), eng.history(), eng.pair_forces(), cp, feat, kernel);
     compat::fence("grainlab::bench::kernel");
   }
   st.SetItemsProcessed(st.iterations() * eng.num_particles());
@@ -202,7 +209,7 @@ BENCHMARK(BM_Integrate)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(
 BENCHMARK(BM_WallLoads)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Step)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_NeighborBuild)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_InnerFilter)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 

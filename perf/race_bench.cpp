@@ -4,9 +4,11 @@
 //
 //   race_bench --scene scene_32k.txt --box scene_32k_box.txt [--rolling 1] [--warmup 200] [--steps 2000]
 //              [--tile K] [--crop F] [--generate N] [--reps R] [--sort 0|1] [--skin M] [--inner F] [--copy 1]
+//              [--kernel row|lanes]
 //
 // --skin: the Verlet skin (the race fixes 1e-4 m). --inner: EngineParams::inner_skin (default: the engine's,
 // 0.1; 0 streams the Verlet list itself, the list the peers loop over; perf/race.sh runs both).
+// --kernel: EngineParams::pair_kernel (default: lanes where built, else row; the same bits either way).
 //
 // Prints one line per rep: `particle_steps_per_s=<rate> ...` with the wall time, the contact count at the
 // end (Z = 2 Nc / N, comparable with the peers' table), the kinetic energy and the step's compulsory
@@ -48,13 +50,14 @@ struct Args {
   int reps = 1;
   double skin = 1e-4;  // the race fixes 0.1 mm; other values only to study the list's cost
   double inner = EngineParams{}.inner_skin;  // the engine's inner list (fraction of skin; 0 = off)
+  PairKernel kernel = kDefaultPairKernel;
   int copy = 0;  // 1: first measure the device's copy bandwidth (the floor for bytes_per_particle_step)
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "race_bench: " << why
             << "\nusage: race_bench --scene FILE --box FILE [--rolling 0|1] [--warmup N] [--steps N] [--reps R]"
-               " [--skin M] [--inner F] [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
+               " [--skin M] [--inner F] [--kernel row|lanes] [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
   std::exit(2);
 }
 
@@ -73,6 +76,11 @@ Args parse(int argc, char** argv) {
       else if (k == "--skin") a.skin = std::stod(v);
       else if (k == "--inner") a.inner = std::stod(v);
       else if (k == "--copy") a.copy = std::stoi(v);
+      else if (k == "--kernel") {
+        if (v != "row" && v != "lanes") usage("--kernel is row or lanes");
+        if (v == "lanes" && !kPairLanesBuilt) usage("--kernel lanes: the pair-lane kernel is not built here");
+        a.kernel = v == "row" ? PairKernel::Row : PairKernel::Lanes;
+      }
       else usage("unknown option " + k);
     } catch (const std::logic_error&) {
       usage("bad value '" + v + "' for " + k);
@@ -147,6 +155,7 @@ int main(int argc, char** argv) {
     p.damping = 0;
     p.skin = a.skin;
     p.inner_skin = a.inner;
+    p.pair_kernel = a.kernel;
     for (int rep = 0; rep < a.reps; ++rep) {
       Engine eng(sc.s, p, make_box_walls(sc.lo, sc.hi), true);
       eng.wall_control(4) = WallControl{WallMode::Velocity, 0.01};  // bottom, inward
@@ -166,11 +175,11 @@ int main(int argc, char** argv) {
       }
       std::printf(
           "particle_steps_per_s=%.4g wall_s=%.4f particles=%d steps=%ld rolling=%d threads=%d Z=%.3f "
-          "kinetic_J=%.17g listed_pairs=%d verlet_pairs=%d inner_skin=%g rebuilds_timed=%d refilters_timed=%d E=%.5g "
+          "kinetic_J=%.17g listed_pairs=%d verlet_pairs=%d inner_skin=%g kernel=%s rebuilds_timed=%d refilters_timed=%d E=%.5g "
           "E_wall=%.5g rss_bytes_per_particle=%.0f bytes_per_particle_step=%.0f backend=%s\n",
           double(n) * double(a.steps) / wall, wall, n, a.steps, a.rolling, ExecSpace().concurrency(),
           2.0 * dg.contacts / n, dg.kinetic, eng.pairs().npairs, eng.verlet_pairs().npairs, p.inner_skin,
-          eng.rebuild_count() - builds0, eng.refilter_count() - filters0, p.contact.E,
+          p.pair_kernel == PairKernel::Lanes ? "lanes" : "row", eng.rebuild_count() - builds0, eng.refilter_count() - filters0, p.contact.E,
           p.E_wall, resident_bytes() / n, perf::step_bytes(eng) / n, ExecSpace::name());
       std::fflush(stdout);
     }

@@ -42,6 +42,8 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
   if (!(s.density_scaling >= 1)) throw ParameterError("density_scaling must be >= 1 (SPEC §1)");
   if (params_.E_wall <= 0) params_.E_wall = params_.contact.E;
   if (box_ && walls_.count != 6) throw ParameterError("a box needs exactly 6 walls");
+  if (params_.pair_kernel == PairKernel::Lanes && !kPairLanesBuilt)
+    throw ParameterError("pair_kernel Lanes is not built here (host backend with AVX2/AVX-512 and GRAINLAB_PAIR_LANES=ON)");
   P_.n = n;
   P_.x = VecView("grainlab::particles::x", n);
   P_.v = VecView("grainlab::particles::v", n);
@@ -158,7 +160,7 @@ void Engine::build_lists(int next) {
 
 void Engine::install(int next, const PairList& old, const PairHistory& old_h) {
   ensure_pair_arrays(hist_[next], lists_[next].npairs);
-  ensure_pair_arrays(pf_, lists_[next].npairs, P_.n);
+  ensure_pair_arrays(pf_, lists_[next].npairs, P_.n, params_.pair_kernel);
   transfer_history(old, old_h, lists_[next], hist_[next]);
   cur_ = next;
   Kokkos::deep_copy(P_.x_ref, P_.x);
@@ -185,7 +187,7 @@ void Engine::evaluate_forces() {
   ContactParams cp = params_.contact;
   cp.dt = 0;
   ContactFeatures feat{params_.contact.mu_r > 0, params_.contact.normal_damping > 0};
-  compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, feat);
+  compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, feat, params_.pair_kernel);
   loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_);
 }
 
@@ -193,7 +195,7 @@ void Engine::evaluate() {
   const ContactParams& cp = params_.contact;
   const ContactFeatures feat{cp.mu_r > 0, cp.normal_damping > 0};
   // 1. Pair forces at x(t) from v(t - dt/2): v dt is the slip since the last evaluation.
-  compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, feat);
+  compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, feat, params_.pair_kernel);
   // 2. Wall loads at x(t) (deterministic sums: they drive the servo).
   loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_);
   evaluated_ = true;
@@ -204,7 +206,8 @@ void Engine::advance() {
   evaluated_ = false;
   const ContactParams& cp = params_.contact;
   // 3. Gather, damp, kick, drift: x(t + dt), v(t + dt/2).
-  const Real maxd2 = gather_and_integrate(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.damping, cp.dt);
+  const Real maxd2 = gather_and_integrate(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.damping, cp.dt,
+                                         params_.pair_kernel);
   time_ += cp.dt;
   ++step_;
   // 4. Walls to t + dt from the loads measured at t.

@@ -46,6 +46,9 @@ struct EngineParams {
   // way the dynamics are the same bits (the list holds every touching pair; rows are sorted).
   Real inner_skin = 0.1;      // fraction of skin, [0, 1)                                [-]
   Real servo_max_step = 1e-3; // a servoed wall moves at most this fraction of r_min per step (SPEC §3)
+  // Which contact kernel (kernels/dem.hpp): both give the same bits, so this is a speed choice only; the
+  // tests run both. Lanes where it is built, else Row.
+  PairKernel pair_kernel = kDefaultPairKernel;
 };
 
 struct Diagnostics {

@@ -89,8 +89,10 @@ struct ShearRun {
   int rebuilds = 0, refilters = 0, contacts = 0, sliding = 0, rolling_sliding = 0;
 };
 
+// kernel, normal_damping, mu_r: the contact kernel and the law's optional terms (negative: the scene's own).
 inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int shear_steps = 2000,
-                              int restart_at = -1, Real inner_skin = EngineParams{}.inner_skin) {
+                              int restart_at = -1, Real inner_skin = EngineParams{}.inner_skin,
+                              PairKernel kernel = kDefaultPairKernel, Real normal_damping = -1, Real mu_r = -1) {
   static const DenseScene base = consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
   DenseScene sc = base;
   sc.params.contact.mu = 0.5;
@@ -98,6 +100,9 @@ inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int sh
   sc.params.damping = 0.2;
   sc.params.skin = skin;
   sc.params.inner_skin = inner_skin;
+  sc.params.pair_kernel = kernel;
+  if (normal_damping >= 0) sc.params.contact.normal_damping = normal_damping;
+  if (mu_r >= 0) sc.params.contact.mu_r = mu_r;
   Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
   eng.set_rebuild_every_step(rebuild_every_step);
   const Real H = sc.hi[2] - sc.lo[2];
