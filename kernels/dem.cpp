@@ -155,8 +155,11 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
   const int npairs = L.npairs;
   const int nblocks = (npairs + C - 1) / C;
   const char* label = Rolling ? "grainlab::contact::rolling_lanes" : "grainlab::contact::sliding_lanes";
+  // Dynamic schedule: each block writes only its own pairs, so which thread takes it changes no bit, and the
+  // threads finish together even when the cores run at different speeds (this VM's two do: 2 threads,
+  // 1.09x median of 12 alternating runs against the static schedule, perf/NOTES.md attempt 20).
   Kokkos::parallel_for(
-      label, Kokkos::RangePolicy<ExecSpace>(0, nblocks), KOKKOS_LAMBDA(int b) {
+      label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, nblocks), KOKKOS_LAMBDA(int b) {
         // Local restrict copies: through the closure every store could alias the captured pointers, and
         // GCC would then neither hoist the loads nor if-convert the loop.
         const int* __restrict PI = PI_;
@@ -212,8 +215,9 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   auto tci = F.ti;
   const WallSet ws = walls;
   Real maxd2 = 0;
+  // Dynamic schedule as in the pair-lane kernel: per-particle outputs and an exact max, so no bit depends on it.
   Kokkos::parallel_reduce(
-      Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free", Kokkos::RangePolicy<ExecSpace>(0, P.n),
+      Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free", Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, P.n),
       KOKKOS_LAMBDA(int i, Real& mx) {
         // Row share (i first: -F, summed by the contact kernel), then the transposed pairs in ascending
         // pair order (i second: +F): a fixed order, so bitwise the same on any thread count.
