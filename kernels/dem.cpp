@@ -192,10 +192,9 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
 }
 #endif
 
-template <bool Damped, bool RowPairs>
+template <bool Damped, bool RowPairs, bool Loads>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
-                    const WallSet& walls, Real E_wall,
-                    Real alpha, Real dt) {
+                    const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads) {
   auto x = P.x;
   auto v = P.v;
   auto w = P.w;
@@ -214,57 +213,80 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   auto off = L.offsets;
   auto tci = F.ti;
   const WallSet ws = walls;
-  Real maxd2 = 0;
-  // Dynamic schedule as in the pair-lane kernel: per-particle outputs and an exact max, so no bit depends on it.
-  Kokkos::parallel_reduce(
-      Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free", Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, P.n),
-      KOKKOS_LAMBDA(int i, Real& mx) {
-        // Row share (i first: -F, summed by the contact kernel), then the transposed pairs in ascending
-        // pair order (i second: +F): a fixed order, so bitwise the same on any thread count.
-        Vec3 f, t;
-        if (RowPairs) {  // the pair-lane kernel's per-pair shares of i, summed as the row kernel sums them
-          for (int p = off(i); p < off(i + 1); ++p) {
-            f -= load(fc, p);
-            t += load(tci, p);
-          }
-        } else {
-          f = load(rowf, i);
-          t = load(rowt, i);
+  // One particle: gather, walls, damping, kick, drift. With Loads it also adds its wall terms to acc in
+  // reduce_wall_loads' order (wall k: k_w delta, k_w, 1), from the same overlaps at the same x(t).
+  auto particle = KOKKOS_LAMBDA(int i, Real* acc, Real& mx) {
+    // Row share (i first: -F, summed by the contact kernel), then the transposed pairs in ascending
+    // pair order (i second: +F): a fixed order, so bitwise the same on any thread count.
+    Vec3 f, t;
+    if (RowPairs) {  // the pair-lane kernel's per-pair shares of i, summed as the row kernel sums them
+      for (int p = off(i); p < off(i + 1); ++p) {
+        f -= load(fc, p);
+        t += load(tci, p);
+      }
+    } else {
+      f = load(rowf, i);
+      t = load(rowt, i);
+    }
+    for (int k = toff(i); k < toff(i + 1); ++k) {
+      const int p = tpairs(k);
+      // The pair-lane kernel writes +0 for separated pairs, which adds nothing (see above): no flag load.
+      if (!RowPairs && !(flags(p) & kTouching)) continue;
+      f += load(fc, p);
+      t += load(tcj, p);
+    }
+    const Vec3 xi = load(x, i);
+    const Real ri = r(i);
+    for (int k = 0; k < ws.count; ++k) {
+      const Real dw = WallLaw::overlap(ws.w[k], xi, ri);
+      if (dw > 0) {
+        const Real kw = WallLaw::stiffness(E_wall, ri);
+        f += (kw * dw) * ws.w[k].n;
+        if (Loads) {
+          acc[3 * k] += kw * dw;
+          acc[3 * k + 1] += kw;
+          acc[3 * k + 2] += 1;
         }
-        for (int k = toff(i); k < toff(i + 1); ++k) {
-          const int p = tpairs(k);
-          // The pair-lane kernel writes +0 for separated pairs, which adds nothing (see above): no flag load.
-          if (!RowPairs && !(flags(p) & kTouching)) continue;
-          f += load(fc, p);
-          t += load(tcj, p);
-        }
-        const Vec3 xi = load(x, i);
-        const Real ri = r(i);
-        for (int k = 0; k < ws.count; ++k) {
-          const Real dw = WallLaw::overlap(ws.w[k], xi, ri);
-          if (dw > 0) f += (WallLaw::stiffness(E_wall, ri) * dw) * ws.w[k].n;
-        }
-        store(fp, i, f);
-        store(tp, i, t);
-        Vec3 vi = load(v, i), wi = load(w, i);
-        if (Damped) {
-          // Cundall local non-viscous damping per component, against the current (half-step) velocity.
-          f = Vec3(f.x - alpha * math::fabs(f.x) * sign0(vi.x), f.y - alpha * math::fabs(f.y) * sign0(vi.y),
-                   f.z - alpha * math::fabs(f.z) * sign0(vi.z));
-          t = Vec3(t.x - alpha * math::fabs(t.x) * sign0(wi.x), t.y - alpha * math::fabs(t.y) * sign0(wi.y),
-                   t.z - alpha * math::fabs(t.z) * sign0(wi.z));
-        }
-        vi += (dt / m(i)) * f;
-        wi += (dt / I(i)) * t;
-        const Vec3 xn = xi + dt * vi;
-        store(v, i, vi);
-        store(w, i, wi);
-        store(x, i, xn);
-        const Real d2 = norm2(xn - load(xr, i));
-        mx = d2 > mx ? d2 : mx;
-      },
-      Kokkos::Max<Real>(maxd2));
-  return P.n > 0 ? maxd2 : Real(0);
+      }
+    }
+    store(fp, i, f);
+    store(tp, i, t);
+    Vec3 vi = load(v, i), wi = load(w, i);
+    if (Damped) {
+      // Cundall local non-viscous damping per component, against the current (half-step) velocity.
+      f = Vec3(f.x - alpha * math::fabs(f.x) * sign0(vi.x), f.y - alpha * math::fabs(f.y) * sign0(vi.y),
+               f.z - alpha * math::fabs(f.z) * sign0(vi.z));
+      t = Vec3(t.x - alpha * math::fabs(t.x) * sign0(wi.x), t.y - alpha * math::fabs(t.y) * sign0(wi.y),
+               t.z - alpha * math::fabs(t.z) * sign0(wi.z));
+    }
+    vi += (dt / m(i)) * f;
+    wi += (dt / I(i)) * t;
+    const Vec3 xn = xi + dt * vi;
+    store(v, i, vi);
+    store(w, i, wi);
+    store(x, i, xn);
+    const Real d2 = norm2(xn - load(xr, i));
+    mx = d2 > mx ? d2 : mx;
+  };
+  const char* label = Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free";
+  if constexpr (Loads) {
+    Real out[DeterministicSum::kMaxValues] = {};
+    const Real maxd2 = red->run_with_max(label, P.n, 3 * ws.count, particle, out);
+    *loads = WallLoads();
+    for (int k = 0; k < ws.count; ++k) {
+      loads->force[k] = out[3 * k];
+      loads->stiffness[k] = out[3 * k + 1];
+      loads->touching[k] = int(out[3 * k + 2]);
+    }
+    return maxd2;
+  } else {
+    Real maxd2 = 0;
+    // Dynamic schedule as in the pair-lane kernel: per-particle outputs and an exact max, so no bit depends on it.
+    Kokkos::parallel_reduce(
+        label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, P.n),
+        KOKKOS_LAMBDA(int i, Real& mx) { particle(i, nullptr, mx); }, Kokkos::Max<Real>(maxd2));
+    return P.n > 0 ? maxd2 : Real(0);
+  }
 }
 
 }  // namespace
@@ -300,12 +322,29 @@ Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView&
                           const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel) {
   if (kernel == PairKernel::Lanes) {
     if constexpr (kPairLanesBuilt)
-      return alpha > 0 ? integrate_impl<true, true>(P, L, flags, F, walls, E_wall, alpha, dt)
-                       : integrate_impl<false, true>(P, L, flags, F, walls, E_wall, alpha, dt);
+      return alpha > 0 ? integrate_impl<true, true, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr)
+                       : integrate_impl<false, true, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr);
     throw std::logic_error("gather_and_integrate: the pair-lane kernel is not built here (kPairLanesBuilt)");
   }
-  return alpha > 0 ? integrate_impl<true, false>(P, L, flags, F, walls, E_wall, alpha, dt)
-                   : integrate_impl<false, false>(P, L, flags, F, walls, E_wall, alpha, dt);
+  return alpha > 0 ? integrate_impl<true, false, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr)
+                   : integrate_impl<false, false, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr);
+}
+
+Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
+                                     const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
+                                     DeterministicSum& red, WallLoads& loads) {
+  if constexpr (!kHostBackend) {
+    throw std::logic_error("gather_integrate_and_load_walls: host backends only");
+  } else {
+    if (kernel == PairKernel::Lanes) {
+      if constexpr (kPairLanesBuilt)
+        return alpha > 0 ? integrate_impl<true, true, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads)
+                         : integrate_impl<false, true, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads);
+      throw std::logic_error("gather_integrate_and_load_walls: the pair-lane kernel is not built here");
+    }
+    return alpha > 0 ? integrate_impl<true, false, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads)
+                     : integrate_impl<false, false, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads);
+  }
 }
 
 WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red, bool team) {

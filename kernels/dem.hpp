@@ -139,6 +139,27 @@ class DeterministicSum {
     }
   }
 
+  // run()'s sums, bitwise, from a kernel that does more per item than adding to acc: f(i, acc, mx) also
+  // raises mx, and the largest mx over all items is returned (an exact max, so in any order). Host backends
+  // (one chunk per work item): the integration computes the wall loads in its own pass (Engine::step).
+  template <class F>
+  Real run_with_max(const char* label, int n, int nv, const F& f, Real* out) {
+    const int nchunks = prepare(n);
+    auto partial = partial_;
+    Real mx = 0;
+    Kokkos::parallel_reduce(
+        label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, nchunks),
+        KOKKOS_LAMBDA(int c, Real& m) {
+          Real acc[kMaxValues];
+          for (int k = 0; k < nv; ++k) acc[k] = 0;
+          const int end = (c + 1) * kChunk < n ? (c + 1) * kChunk : n;
+          for (int i = c * kChunk; i < end; ++i) f(i, acc, m);
+          for (int k = 0; k < nv; ++k) partial(c, k) = acc[k];
+        },
+        Kokkos::Max<Real>(mx));
+    finish(nchunks, nv, out);
+    return n > 0 ? mx : Real(0);
+  }
   // Building blocks of run() and run_one_term(). Public only because nvcc refuses device lambdas in private
   // member functions.
   static constexpr int kPass = 128;  // items per team pass: 128 x 24 values x 8 B = 24 KB of scratch
@@ -237,6 +258,13 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
 Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                           const WallSet& walls, Real E_wall, Real alpha, Real dt,
                           PairKernel kernel = kDefaultPairKernel);
+
+// gather_and_integrate and, in the same pass, reduce_wall_loads at the positions before the drift: the same
+// bits for both (DeterministicSum's chunks and order), one pass over the particles fewer. Host backends only
+// (one 256-particle chunk per work item; a GPU keeps the two kernels, attempt 19).
+Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
+                                     const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
+                                     DeterministicSum& red, WallLoads& loads);
 
 // Wall loads at the current positions (SPEC §3 per-wall force reduction).
 // team: DeterministicSum::run_one_term's team path (default on a GPU); the same bits either way.

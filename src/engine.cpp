@@ -201,6 +201,21 @@ void Engine::evaluate() {
   evaluated_ = true;
 }
 
+void Engine::step() {
+  if constexpr (kHostBackend) {
+    const ContactParams& cp = params_.contact;
+    compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, ContactFeatures{cp.mu_r > 0, cp.normal_damping > 0},
+                        params_.pair_kernel);
+    // Steps 2 and 3 in one pass: the loads at x(t) are summed before the particle drifts (perf/NOTES.md).
+    const Real maxd2 = gather_integrate_and_load_walls(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall,
+                                                       params_.damping, cp.dt, params_.pair_kernel, red_, loads_);
+    finish_step(maxd2);
+  } else {
+    evaluate();
+    advance();
+  }
+}
+
 void Engine::advance() {
   if (!evaluated_) throw std::logic_error("Engine::advance() without evaluate()");
   evaluated_ = false;
@@ -208,6 +223,11 @@ void Engine::advance() {
   // 3. Gather, damp, kick, drift: x(t + dt), v(t + dt/2).
   const Real maxd2 = gather_and_integrate(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.damping, cp.dt,
                                          params_.pair_kernel);
+  finish_step(maxd2);
+}
+
+void Engine::finish_step(Real maxd2) {
+  const ContactParams& cp = params_.contact;
   time_ += cp.dt;
   ++step_;
   // 4. Walls to t + dt from the loads measured at t.

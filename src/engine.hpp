@@ -105,10 +105,9 @@ class Engine {
 
   // One step = evaluate() then advance(). Between the two, positions, pair forces, history and wall
   // loads all belong to the same instant t: the place to measure (analysis, snapshots).
-  void step() {
-    evaluate();
-    advance();
-  }
+  // evaluate() + advance(). On host backends the wall loads of step 2 come from the integration's own pass
+  // (gather_integrate_and_load_walls: the same bits, one pass over the particles fewer).
+  void step();
   void evaluate();
   void advance();
   void run(long nsteps) {
@@ -185,6 +184,7 @@ class Engine {
   // Makes lists_[next] current: history carried over from (old, old_h) by pair identity, x_ref = x.
   void install(int next, const PairList& old, const PairHistory& old_h);
   void move_walls();
+  void finish_step(Real maxd2);  // steps 4-5 of a step after the integration (time, walls, lists)
 
   EngineParams params_;
   Particles P_;

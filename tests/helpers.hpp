@@ -90,9 +90,11 @@ struct ShearRun {
 };
 
 // kernel, normal_damping, mu_r: the contact kernel and the law's optional terms (negative: the scene's own).
+// split_steps: evaluate() + advance() instead of step() (which fuses the wall loads into the integration).
 inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int shear_steps = 2000,
                               int restart_at = -1, Real inner_skin = EngineParams{}.inner_skin,
-                              PairKernel kernel = kDefaultPairKernel, Real normal_damping = -1, Real mu_r = -1) {
+                              PairKernel kernel = kDefaultPairKernel, Real normal_damping = -1, Real mu_r = -1,
+                              bool split_steps = false) {
   static const DenseScene base = consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
   DenseScene sc = base;
   sc.params.contact.mu = 0.5;
@@ -125,7 +127,12 @@ inline ShearRun sheared_scene(bool rebuild_every_step, Real skin = 20e-6, int sh
       resumed->restore(st);
     }
     Engine& e = resumed ? *resumed : eng;
-    e.step();
+    if (split_steps) {
+      e.evaluate();
+      e.advance();
+    } else {
+      e.step();
+    }
     if (s % 100 == 99) {
       const Diagnostics d = e.diagnostics();
       out.sliding = std::max(out.sliding, d.sliding);

@@ -88,6 +88,18 @@ TEST(Determinism, PairLaneKernelEqualsRowKernelBitwise) {
   }
 }
 
+// Engine::step() sums the wall loads inside the integration's pass on host backends; evaluate() + advance()
+// sums them in their own pass (reduce_wall_loads). Same chunks, same order: the same loads, and through the
+// servoed walls (the lateral walls follow their loads every step) the same trajectory, bit for bit.
+TEST(Determinism, FusedWallLoadsEqualSeparatePass) {
+  const test::ShearRun fused = test::sheared_scene(false, 60e-6, 1500, -1, 0.1, kDefaultPairKernel, 0.3, 0.3, false);
+  const test::ShearRun split = test::sheared_scene(false, 60e-6, 1500, -1, 0.1, kDefaultPairKernel, 0.3, 0.3, true);
+  ASSERT_GT(fused.contacts, 0);
+  EXPECT_TRUE(test::bitwise_equal(fused.state, split.state));
+  ASSERT_EQ(fused.measures.size(), split.measures.size());
+  EXPECT_EQ(0, std::memcmp(fused.measures.data(), split.measures.data(), fused.measures.size() * sizeof(double)));
+}
+
 // A capture restored into a fresh engine (new list built at the restored positions, history carried by
 // pair identity) continues bitwise like the uninterrupted run.
 TEST(Determinism, CaptureRestoreContinuesBitwise) {
