@@ -10,18 +10,24 @@
 namespace grainlab::perf {
 
 // Compulsory memory traffic of one step, from the step's own arrays (each byte counted once, as if every
-// neighbour read hit cache): particles x, v, w read + written, x_ref, r, m, I read, f, t written, the row
-// sums written + read; per listed pair the index, the transposed index and the flag; per touching pair the
-// history (ft, mr) read + written and the pair output (f, tj) written + read. Divided by the step time it
-// is the bandwidth the step would need if it were memory bound; set against the measured copy bandwidth it
-// says how far from the memory floor the step runs.
+// neighbour read hit cache), for the engine's contact kernel (kernels/dem.hpp PairKernel):
+// - both: particles x, v, w read + written, x_ref, r, m, I read, f, t written, the two offsets arrays;
+// - row kernel: the row sums written + read; per listed pair j's index, the transposed index and the flag
+//   read + written; per touching pair the history (ft, mr) read + written and the pair output (f, tj)
+//   written + read (separated pairs are skipped);
+// - pair-lane kernel: every listed pair is computed: i's and j's index, the transposed index, the flag
+//   written, the history read + written, f, tj, ti written, f read twice (row and transposed sums), tj and
+//   ti read once.
+// Divided by the step time it is the bandwidth the step would need if it were memory bound; set against the
+// measured copy bandwidth it says how far from the memory floor the step runs.
 inline double step_bytes(Engine& eng) {
   const Diagnostics d = eng.diagnostics();
-  const double per_particle = 6 * 24 + 24 + 3 * 8 + 2 * 24 + 4 * 24 + 2 * 4;
-  const double per_pair = 4 + 4 + 2;
   const double pv = 3 * double(sizeof(PairReal));  // one per-pair vector: 24 B in double, 12 B in float
-  const double per_touching = 4 * pv + 4 * pv;
-  return per_particle * eng.num_particles() + per_pair * eng.pairs().npairs + per_touching * d.contacts;
+  const double particles = eng.num_particles(), pairs = eng.pairs().npairs;
+  const double shared = 6 * 24 + 24 + 3 * 8 + 2 * 24 + 2 * 4;
+  if (eng.params().pair_kernel == PairKernel::Lanes)
+    return shared * particles + (4 + 4 + 4 + 1 + 4 * pv + 7 * pv) * pairs;
+  return (shared + 4 * 24) * particles + (4 + 4 + 2) * pairs + (4 * pv + 4 * pv) * d.contacts;
 }
 
 struct CopyBandwidth {
