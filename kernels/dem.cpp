@@ -136,6 +136,7 @@ template <bool Rolling, bool Viscous>
 void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
                             const ContactParams& cp_in) {
   constexpr int C = kPairLanesWidth;
+  constexpr int kPrefetchBlocks = 8;  // 4 measured the same (perf/ab.sh 1.006 at 32k, 1.014 at 256k)
   static_assert(std::is_same_v<VecLayout, Kokkos::LayoutRight>, "the pair-lane kernel indexes x(i, q) as 3 i + q");
   if (L.npairs == 0) return;
   // Raw pointers: GCC vectorizes the gathers of x, v, w of i and j only through plain pointer arithmetic.
@@ -177,6 +178,22 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
         const ContactParams cp = cp_in;
         const int p0 = b * C;
         int fl[C];
+        {
+          // j's state for the block kPrefetchBlocks ahead: the gathers below stalled on it (perf at 256k put
+          // ~40 % of the kernel's samples right after vgatherdpd). The lanes' j are near-random within the
+          // neighbourhood, which the hardware prefetcher cannot follow; i's rows are sequential, which it can.
+          // Measured (perf/NOTES.md attempt 23), 4 blocks ahead: 1.23x on the step at 32k, 1.35x at 256k.
+          const int q0 = p0 + kPrefetchBlocks * C;
+          const int q1 = q0 + C < npairs ? q0 + C : npairs;
+          for (int q = q0; q < q1; ++q) {
+            const int j = PJ[q];
+            __builtin_prefetch(X + 3 * j);
+            __builtin_prefetch(V + 3 * j);
+            __builtin_prefetch(W + 3 * j);
+            __builtin_prefetch(R + j);
+            __builtin_prefetch(M + j);
+          }
+        }
         if (p0 + C <= npairs) {
 #pragma GCC ivdep
           for (int l = 0; l < C; ++l)
