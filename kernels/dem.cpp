@@ -85,6 +85,14 @@ void pair_forces_impl(const Particles& P, const PairList& L, const PairHistory& 
 // cannot be summed in registers across lanes of different rows, so the torque on i is stored per pair (ti)
 // and the integration sums row i's pairs, in row order, from +0: the row kernel's additions, so the same
 // bits (a +0 written for a separated pair adds nothing to a sum that starts at +0, which is never -0).
+// a[3 p + q] = component q of v where `on`, else +0 (a select, not a branch: the loop stays one vector loop).
+KOKKOS_FORCEINLINE_FUNCTION void store_lane(PairReal* __restrict a, int p, bool on, const Vec3& v) {
+  const Real z = 0;
+  a[3 * p] = PairReal(on ? v.x : z);
+  a[3 * p + 1] = PairReal(on ? v.y : z);
+  a[3 * p + 2] = PairReal(on ? v.z : z);
+}
+
 template <bool Rolling, bool Viscous>
 KOKKOS_FORCEINLINE_FUNCTION void lane_pair(int p, const ContactParams& cp, const int* __restrict PI,
                                            const int* __restrict PJ, const Real* __restrict X,
@@ -111,24 +119,12 @@ KOKKOS_FORCEINLINE_FUNCTION void lane_pair(int p, const ContactParams& cp, const
                                         Vec3(V[3 * j], V[3 * j + 1], V[3 * j + 2]),
                                         Vec3(W[3 * i], W[3 * i + 1], W[3 * i + 2]),
                                         Vec3(W[3 * j], W[3 * j + 1], W[3 * j + 2]), h);
-  const Real z = 0;
-  FT[3 * p] = PairReal(touching ? h.ft.x : z);  // a separated pair loses its history (SPEC §2)
-  FT[3 * p + 1] = PairReal(touching ? h.ft.y : z);
-  FT[3 * p + 2] = PairReal(touching ? h.ft.z : z);
-  if (Rolling) {
-    MR[3 * p] = PairReal(touching ? h.mr.x : z);
-    MR[3 * p + 1] = PairReal(touching ? h.mr.y : z);
-    MR[3 * p + 2] = PairReal(touching ? h.mr.z : z);
-  }
-  FO[3 * p] = PairReal(touching ? c.f.x : z);
-  FO[3 * p + 1] = PairReal(touching ? c.f.y : z);
-  FO[3 * p + 2] = PairReal(touching ? c.f.z : z);
-  TJ[3 * p] = PairReal(touching ? c.tj.x : z);
-  TJ[3 * p + 1] = PairReal(touching ? c.tj.y : z);
-  TJ[3 * p + 2] = PairReal(touching ? c.tj.z : z);
-  TI[3 * p] = PairReal(touching ? c.ti.x : z);
-  TI[3 * p + 1] = PairReal(touching ? c.ti.y : z);
-  TI[3 * p + 2] = PairReal(touching ? c.ti.z : z);
+  // A separated pair loses its history (SPEC §2), and its outputs read as +0.
+  store_lane(FT, p, touching, h.ft);
+  if (Rolling) store_lane(MR, p, touching, h.mr);
+  store_lane(FO, p, touching, c.f);
+  store_lane(TJ, p, touching, c.tj);
+  store_lane(TI, p, touching, c.ti);
   flag = touching ? c.flags : 0;
 }
 
