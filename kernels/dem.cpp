@@ -205,6 +205,17 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
 }
 #endif
 
+// The per-wall sums as DeterministicSum leaves them: wall k's k_w delta, k_w and count at 3 k, 3 k + 1, 3 k + 2.
+WallLoads unpack_wall_loads(const Real* out, int nw) {
+  WallLoads wl;
+  for (int k = 0; k < nw; ++k) {
+    wl.force[k] = out[3 * k];
+    wl.stiffness[k] = out[3 * k + 1];
+    wl.touching[k] = int(out[3 * k + 2]);
+  }
+  return wl;
+}
+
 template <bool Damped, bool RowPairs, bool Loads>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                     const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads) {
@@ -285,12 +296,7 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   if constexpr (Loads) {
     Real out[DeterministicSum::kMaxValues] = {};
     const Real maxd2 = red->run_with_max(label, P.n, 3 * ws.count, particle, out);
-    *loads = WallLoads();
-    for (int k = 0; k < ws.count; ++k) {
-      loads->force[k] = out[3 * k];
-      loads->stiffness[k] = out[3 * k + 1];
-      loads->touching[k] = int(out[3 * k + 2]);
-    }
+    *loads = unpack_wall_loads(out, ws.count);
     return maxd2;
   } else {
     Real maxd2 = 0;
@@ -384,13 +390,7 @@ WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wal
     red.run_one_term<true>("grainlab::walls::loads", P.n, 3 * nw, loads, out);
   else
     red.run_one_term<false>("grainlab::walls::loads", P.n, 3 * nw, loads, out);
-  WallLoads wl;
-  for (int k = 0; k < nw; ++k) {
-    wl.force[k] = out[3 * k];
-    wl.stiffness[k] = out[3 * k + 1];
-    wl.touching[k] = int(out[3 * k + 2]);
-  }
-  return wl;
+  return unpack_wall_loads(out, nw);
 }
 
 void transfer_history(const PairList& old_list, const PairHistory& old_h, const PairList& new_list,
