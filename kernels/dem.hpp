@@ -76,17 +76,7 @@ class DeterministicSum {
   // f(i, acc) adds particle/pair i's contributions to acc[0..nv).
   template <class F>
   void run(const char* label, int n, int nv, const F& f, Real* out) {
-    const int nchunks = prepare(n);
-    auto partial = partial_;
-    Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<ExecSpace>(0, nchunks), KOKKOS_LAMBDA(int c) {
-          Real acc[kMaxValues];
-          for (int k = 0; k < kMaxValues; ++k) acc[k] = 0;
-          const int end = (c + 1) * kChunk < n ? (c + 1) * kChunk : n;
-          for (int i = c * kChunk; i < end; ++i) f(i, acc);
-          for (int k = 0; k < kMaxValues; ++k) partial(c, k) = acc[k];
-        });
-    finish(nchunks, nv, out);
+    run_with_max(label, n, nv, KOKKOS_LAMBDA(int i, Real* acc, Real&) { f(i, acc); }, out);
   }
 
   // run()'s sums, bitwise, for an f that adds at most one term to each value per item (the wall loads).
@@ -139,9 +129,10 @@ class DeterministicSum {
     }
   }
 
-  // run()'s sums, bitwise, from a kernel that does more per item than adding to acc: f(i, acc, mx) also
-  // raises mx, and the largest mx over all items is returned (an exact max, so in any order). Host backends
-  // (one chunk per work item): the integration computes the wall loads in its own pass (Engine::step).
+  // run(), from a kernel that does more per item than adding to acc: f(i, acc, mx) may also raise mx, and
+  // the largest mx over all items is returned (an exact max, so in any order). Each chunk is one work item,
+  // summed in item order; the schedule is dynamic, which no bit depends on. The host integration uses it to
+  // sum the wall loads in its own pass (Engine::step).
   template <class F>
   Real run_with_max(const char* label, int n, int nv, const F& f, Real* out) {
     const int nchunks = prepare(n);
