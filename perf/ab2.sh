@@ -5,7 +5,8 @@
 #   A_ARGS / B_ARGS: options for one side only, as in perf/ab.sh.
 #
 # perf/ab.sh runs A and B at the same time, one thread each; that cannot measure what only shows with two
-# threads (load balance, barriers). Here A and B each take both cores, one after the other, RUNS times; each
+# threads (load balance, barriers). Here A and B each take both cores, one after the other (the order swapped
+# every run), RUNS times; each
 # pair of neighbouring runs gives one ratio A/B, and the median of the ratios is printed as
 # `median_ratio=X.XXX`. This host's 2-thread speed swings by up to 1.6x within minutes, so use short runs
 # (e.g. --steps 500 --warmup 100) and >= 10 pairs. Also checks that A and B end with the same kinetic energy.
@@ -24,10 +25,14 @@ export OMP_NUM_THREADS=2 OMP_PROC_BIND=spread OMP_PLACES=threads
 field() { grep -oE "$1=[^ ]+" <<<"$2" | cut -d= -f2; }
 ratios=()
 for ((k = 1; k <= RUNS; ++k)); do
+  # A first on odd runs, B first on even ones: the order bias cancels (an A/A check of 2 runs of 100 steps
+  # with A always first gave 0.93).
   # shellcheck disable=SC2086
-  a=$("$A" "${args[@]}" ${A_ARGS:-})
-  # shellcheck disable=SC2086
-  b=$("$B" "${args[@]}" ${B_ARGS:-})
+  if ((k % 2)); then
+    a=$("$A" "${args[@]}" ${A_ARGS:-}); b=$("$B" "${args[@]}" ${B_ARGS:-})
+  else
+    b=$("$B" "${args[@]}" ${B_ARGS:-}); a=$("$A" "${args[@]}" ${A_ARGS:-})
+  fi
   ra=$(field particle_steps_per_s "$a") rb=$(field particle_steps_per_s "$b")
   ka=$(field kinetic_J "$a") kb=$(field kinetic_J "$b")
   r=$(/usr/bin/python3 -c "print('%.3f' % ($ra / $rb))")
