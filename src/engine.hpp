@@ -143,6 +143,13 @@ class Engine {
   Diagnostics diagnostics();
   // Checks the current state for NaN/Inf, excessive overlaps, escaped particles and tunnelling speeds.
   HealthReport check_health(const HealthLimits& lim) const;
+  // The deepest sphere-sphere overlap over the listed pairs, as delta / min(r_i, r_j) (the measure of
+  // numerics.max_overlap), and its pair; {0, -1, -1} without pairs. Lowest pair index on ties.
+  struct DeepestOverlap {
+    Real ratio = 0;
+    int i = -1, j = -1;
+  };
+  DeepestOverlap deepest_overlap() const;
   // SPEC §7 descriptors of the current evaluation (call between evaluate() and advance() for
   // positions and forces of one instant). Volume: the box's, or `volume` when given.
   Descriptors analyze(Real volume = 0);

@@ -73,6 +73,9 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       {"sff", "-"},            {"sff_share_c", "-"},    {"sff_share_d", "-"},    {"sff_share_n", "-"},
       {"sff_share_t", "-"},    {"z_mech", "-"},         {"f_mean", "N"},         {"weak_frac", "-"},
       {"sliding_weak_frac", "-"}, {"mu", "-"},          {"mu_r", "-"},          {"stage_type", "-"},
+      // model quality: the deepest sphere-sphere overlap, delta / min(r_i, r_j), the quantity that
+      // numerics.max_overlap bounds (a rising trend warns before the health check stops a run)
+      {"overlap_max", "-"},
   };
   return cols;
 }
@@ -405,7 +408,8 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           e.params().contact.mu,
           e.params().contact.mu_r,
           // 0 isotropic, 1 triaxial undrained, 2 triaxial drained
-          sc.type == StageType::Isotropic ? 0.0 : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0)};
+          sc.type == StageType::Isotropic ? 0.0 : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0),
+          std::max(Real(0), e.deepest_overlap().ratio)};
 }
 
 bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) const {
@@ -875,7 +879,10 @@ bool Laboratory::load_newest_checkpoint() {
       const auto flat = r.doubles("/lab/series");
       lab.series.stage = r.ints("/lab/series_stage");
       const size_t nc = series_columns().size();
-      if (flat.size() != lab.series.stage.size() * nc) throw H5Error(path + ": series has the wrong size (corrupt?)");
+      if (flat.size() != lab.series.stage.size() * nc)
+        throw H5Error(path + ": series has " + std::to_string(flat.size()) + " values for " +
+                      std::to_string(lab.series.stage.size()) + " rows, this build writes " + std::to_string(nc) +
+                      " columns per row (a checkpoint of another grainlab version, or corrupt)");
       for (size_t k = 0; k < lab.series.stage.size(); ++k)
         lab.series.rows.emplace_back(flat.begin() + k * nc, flat.begin() + (k + 1) * nc);
       const auto res = r.doubles("/lab/results");

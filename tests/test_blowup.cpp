@@ -64,9 +64,24 @@ TEST(BlowUp, EscapeIsNamed) {
 }
 
 TEST(BlowUp, OverlapAboveThresholdIsNamed) {
-  // centres ~0.45 mm apart with radii 0.3 mm: overlap ~0.15 mm = 0.5 r (particle 0 moved a little in 3 steps)
-  expect_named(health_after([](EngineState& s) { s.x[1] = {1.45e-3, 1e-3, 1e-3}; }), "overlap by 0.49",
-               "particles 0 and 1");
+  // centres ~0.45 mm apart with radii 0.3 mm: overlap ~0.15 mm = 0.5 r (particle 0 moved a little in 3 steps).
+  // An impact: particle 1 closes in at 10 % of the overlap per step, so the time step is a suspect.
+  expect_named(health_after([](EngineState& s) {
+                 s.x[1] = {1.45e-3, 1e-3, 1e-3};
+                 s.v[1] = {-0.1 * 0.15e-3 / s.dt, 0, 0};
+               }),
+               "overlap by 0.49", "particles 0 and 1");
+}
+
+TEST(BlowUp, SlowSqueezeDoesNotBlameTheTimeStep) {
+  // The same overlap at rest (closing by ~0 % per step) is a soft contact under load: the advice is the
+  // stiffness or numerics.max_overlap, and no dt, which could not help.
+  const HealthReport h = health_after([](EngineState& s) { s.x[1] = {1.45e-3, 1e-3, 1e-3}; });
+  EXPECT_FALSE(h.ok);
+  EXPECT_NE(h.what.find("overlap by 0.49"), std::string::npos) << h.what;
+  EXPECT_NE(h.what.find("a slow squeeze, not an impact"), std::string::npos) << h.what;
+  EXPECT_NE(h.what.find("numerics.max_overlap"), std::string::npos) << h.what;
+  EXPECT_EQ(h.what.find("suggested: dt"), std::string::npos) << h.what;
 }
 
 // A material far too soft for the pressure (E = 2 MPa at 190 kPa) overlaps beyond 20 %: the run stops with
