@@ -70,6 +70,8 @@ while [ $# -gt 0 ]; do
       end=$(date +%s.%N)
       echo "ur1 rc=$rc wall_s=$(echo "$end - $start" | bc -l 2>/dev/null || python3 -c "print($end-$start)")" | tee -a "$OUT/ur1.log"
       cp /tmp/ur1/series.csv "$OUT/ur1_series.csv" 2>/dev/null
+      # The small files that say what happened (the checkpoints and snapshots, ~170 MB, stay there).
+      for f in blowup.txt run.h5; do cp "/tmp/ur1/$f" "$OUT/ur1_$f" 2>/dev/null; done
       ls -la /tmp/ur1 >> "$OUT/ur1.log"
       tail -n 15 "$OUT/ur1.log" ;;
     *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], ur1 [SECONDS])" >&2; exit 2 ;;
