@@ -489,12 +489,17 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
   e.set_friction(mu, sc.mu_r);
   interrupted = false;
   for (long s = 0; s < sc.max_steps; ++s) {
-    e.evaluate();
     const bool check = ((s + 1) % sc.check_every) == 0;
     bool done = false;
-    if (check) done = isotropic_done(sc, e.diagnostics());
-    ramp_pressure(sc, s + 1);
-    e.advance();
+    if (check) {
+      e.evaluate();
+      done = isotropic_done(sc, e.diagnostics());
+      ramp_pressure(sc, s + 1);
+      e.advance();
+    } else {
+      ramp_pressure(sc, s + 1);
+      e.step();  // nothing measured between the halves: the fused step, the same bits (see run_stage)
+    }
     ++total_steps_;
     if (done) break;
     if (stop_requested()) {
@@ -600,15 +605,25 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   bool done = false;
   Measure final_m{};
   while (lab_.stage_step < sc.max_steps) {
-    e.evaluate();  // x(t), pair forces, history and wall loads now belong to the same instant
-    ++lab_.stage_step;
+    // What this step does is known before it runs: counters, and the axial strain, which comes from the
+    // wall positions that evaluate() leaves alone.
     const bool report = (e.step_count() % cfg_.output_every) == 0;
-    const bool last_step = lab_.stage_step == sc.max_steps;
-    const bool check = (lab_.stage_step % sc.check_every) == 0 || last_step;
-    Measure m{};
-    if (report || check || sc.type == StageType::Triaxial) m = measure(sc);
-    const bool snap = sc.type == StageType::Triaxial && cfg_.snapshot_strain > 0 && m.eps_a >= lab_.next_snap_eps;
-    if (report || check || snap) {
+    const bool last_step = lab_.stage_step + 1 == sc.max_steps;
+    const bool check = ((lab_.stage_step + 1) % sc.check_every) == 0 || last_step;
+    const bool triaxial = sc.type == StageType::Triaxial;
+    const Real eps_a = triaxial ? measure(sc).eps_a : 0;
+    const bool snap = triaxial && cfg_.snapshot_strain > 0 && eps_a >= lab_.next_snap_eps;
+    if (!(report || check || snap)) {
+      // An ordinary step measures nothing between its halves, so it takes the fused step(): bitwise
+      // evaluate() + advance() (test Determinism.FusedWallLoadsEqualSeparatePass), one pass fewer over
+      // the particles on host backends (perf/NOTES.md attempt 21).
+      ++lab_.stage_step;
+      ramp_pressure(sc, lab_.stage_step);  // servo targets: read when the walls move, at the step's end
+      e.step();
+    } else {
+      e.evaluate();  // x(t), pair forces, history and wall loads now belong to the same instant
+      ++lab_.stage_step;
+      const Measure m = measure(sc);
       const Diagnostics d = e.diagnostics();
       if (report) {
         lab_.series.rows.push_back(row(sc, m, d));
@@ -640,7 +655,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         snapshot(sc.name + "_eps" + std::to_string(lab_.snapshots));
         while (lab_.next_snap_eps <= m.eps_a) lab_.next_snap_eps += cfg_.snapshot_strain;
       }
-      if (sc.type == StageType::Triaxial && m.eps_a >= sc.max_axial_strain) done = true;
+      if (triaxial && m.eps_a >= sc.max_axial_strain) done = true;
       if (done || last_step) {
         // The stage's final row and snapshot, at the very instant its end criteria were evaluated.
         if (!report) {
@@ -650,9 +665,9 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         final_m = m;
         if (!snap) snapshot(sc.name + "_end");
       }
+      ramp_pressure(sc, lab_.stage_step);
+      e.advance();  // a step always completes: the history increments of evaluate() are already applied
     }
-    ramp_pressure(sc, lab_.stage_step);
-    e.advance();  // a step always completes: the history increments of evaluate() are already applied
     ++total_steps_;
     if (sc.type == StageType::Triaxial && sc.drainage == Drainage::Undrained) place_lateral_walls();
     if (done) break;
