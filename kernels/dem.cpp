@@ -216,7 +216,9 @@ WallLoads unpack_wall_loads(const Real* out, int nw) {
   return wl;
 }
 
-template <bool Damped, bool RowPairs, bool Loads>
+// Move = false: the gather alone (total force and torque at the evaluated instant into P.f, P.t), for
+// measurements between evaluate() and advance(); the same code, so the same bits as the integration's.
+template <bool Damped, bool RowPairs, bool Loads, bool Move = true>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                     const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads) {
   auto x = P.x;
@@ -275,6 +277,7 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
     }
     store(fp, i, f);
     store(tp, i, t);
+    if (!Move) return;
     Vec3 vi = load(v, i), wi = load(w, i);
     if (Damped) {
       // Cundall local non-viscous damping per component, against the current (half-step) velocity.
@@ -292,7 +295,7 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
     const Real d2 = norm2(xn - load(xr, i));
     mx = d2 > mx ? d2 : mx;
   };
-  const char* label = Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free";
+  const char* label = !Move ? "grainlab::gather::forces" : Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free";
   if constexpr (Loads) {
     Real out[DeterministicSum::kMaxValues] = {};
     const Real maxd2 = red->run_with_max(label, P.n, 3 * ws.count, particle, out);
@@ -347,6 +350,18 @@ Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView&
   }
   return alpha > 0 ? integrate_impl<true, false, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr)
                    : integrate_impl<false, false, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr);
+}
+
+void gather_forces(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
+                   const WallSet& walls, Real E_wall, PairKernel kernel) {
+  if (kernel == PairKernel::Lanes) {
+    if constexpr (kPairLanesBuilt) {
+      integrate_impl<false, true, false, false>(P, L, flags, F, walls, E_wall, 0, 0, nullptr, nullptr);
+      return;
+    }
+    throw std::logic_error("gather_forces: the pair-lane kernel is not built here (kPairLanesBuilt)");
+  }
+  integrate_impl<false, false, false, false>(P, L, flags, F, walls, E_wall, 0, 0, nullptr, nullptr);
 }
 
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,

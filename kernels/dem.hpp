@@ -250,6 +250,11 @@ Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView&
                           const WallSet& walls, Real E_wall, Real alpha, Real dt,
                           PairKernel kernel = kDefaultPairKernel);
 
+// The first half of gather_and_integrate: P.f and P.t, the total (undamped) force and torque on each
+// particle from the current pair forces and walls, with the same bits; nothing moves.
+void gather_forces(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
+                   const WallSet& walls, Real E_wall, PairKernel kernel = kDefaultPairKernel);
+
 // gather_and_integrate and, in the same pass, reduce_wall_loads at the positions before the drift: the same
 // bits for both (DeterministicSum's chunks and order), one pass over the particles fewer. Host backends only
 // (one 256-particle chunk per work item; a GPU keeps the two kernels, attempt 19).

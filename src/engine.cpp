@@ -297,6 +297,10 @@ void Engine::move_walls() {
 }
 
 Diagnostics Engine::diagnostics() {
+  // Between evaluate() and advance() P.f still holds the previous step's forces (the gather runs in
+  // advance()), so the unbalanced force would lag the contacts by one step: gather them at this instant.
+  if (evaluated_)
+    gather_forces(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.pair_kernel);
   Diagnostics d;
   auto v = P_.v;
   auto w = P_.w;

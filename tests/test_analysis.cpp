@@ -281,3 +281,30 @@ TEST(Analysis, DeviceMatchesHostReference) {
   EXPECT_GT(D.p, pw * (1 - 2 * rmax / L - 0.01));
   EXPECT_GT(D.z_mech, D.z);
 }
+
+// The unbalanced-force ratio measured between evaluate() and advance() belongs to that instant. Until
+// session 10 it read the particle forces of the previous step's gather (a one-step lag; it decides when
+// an isotropic stage ends). Oracle: advance() stores the forces gathered at the evaluated instant, and
+// mean |F_i| / mean contact force from them must be the diagnostics' ratio. Tolerance 1e-12 relative:
+// the diagnostics sum in DeterministicSum's chunk order and this test in index order (~1e-16 per term
+// over 400 terms); a one-step lag in this moving sample differs by ~1e-4 or more.
+TEST(Diagnostics, UnbalancedForceIsOfTheEvaluatedInstant) {
+  const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  // Set every sphere moving (1 mm/s, seeded), so that forces change from step to step.
+  EngineState s = eng.capture();
+  std::mt19937_64 gen(5);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  for (auto& v : s.v) v = {u(gen), u(gen), u(gen)};
+  eng.restore(s);
+  for (int k = 0; k < 20; ++k) eng.step();
+  eng.evaluate();
+  const Diagnostics d = eng.diagnostics();
+  eng.advance();
+  double sum = 0;
+  for (const auto& f : eng.forces()) sum += std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+  ASSERT_GT(d.contacts, 0);
+  const double expect = (sum / eng.num_particles()) / d.mean_contact_force;
+  std::printf("  unbalanced ratio %.6e (oracle %.6e)\n", d.unbalanced_ratio, expect);
+  EXPECT_NEAR(d.unbalanced_ratio, expect, 1e-12 * expect);
+}
