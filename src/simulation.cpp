@@ -613,7 +613,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const bool triaxial = sc.type == StageType::Triaxial;
     const Real eps_a = triaxial ? measure(sc).eps_a : 0;
     const bool snap = triaxial && cfg_.snapshot_strain > 0 && eps_a >= lab_.next_snap_eps;
-    if (!(report || check || snap)) {
+    // The end strain is caught on the first step that reaches it (it used to wait for the next check,
+    // report or snapshot step: up to check_every - 1 steps past max_axial_strain).
+    const bool strain_end = triaxial && eps_a >= sc.max_axial_strain;
+    if (!(report || check || snap || strain_end)) {
       // An ordinary step measures nothing between its halves, so it takes the fused step(): bitwise
       // evaluate() + advance() (test Determinism.FusedWallLoadsEqualSeparatePass), one pass fewer over
       // the particles on host backends (perf/NOTES.md attempt 21).

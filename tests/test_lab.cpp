@@ -126,6 +126,27 @@ TEST(Lab, ConsolidationAndUndrainedShear) {
   EXPECT_NE(r.attr_string("build").find("Kokkos"), std::string::npos);
 }
 
+// A triaxial stage ends on the first step that reaches max_axial_strain, whatever check_every and the
+// snapshot spacing (before session 10 it waited for the next check, report or snapshot step: here up to
+// 999 steps past the target). Bound: one step's axial strain, rate x dt.
+TEST(Lab, TriaxialStopsOnTheStepThatReachesTheEndStrain) {
+  const std::string cfg = write_config("endstrain", R"(
+sample: {count: 250, seed: 5, density_scaling: 1000}
+stages:
+  - {name: consolidate, type: isotropic, mu: 0.3, max_steps: 60000, ufr_tolerance: 0.02}
+  - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 1.0, max_axial_strain: 0.00317, damping: 0.2, check_every: 1000}
+output: {every: 1000, snapshot_strain: 0, checkpoint_every: 0, checkpoint_minutes: 0}
+)");
+  const std::string out = tmpdir("endstrain");
+  ASSERT_FALSE(run(cfg, out).interrupted);
+  const std::string csv = slurp(out + "/series.csv");
+  const auto eps_a = csv_column(csv, "eps_a"), dt = csv_column(csv, "dt");
+  const double last = std::stod(eps_a.back()), step_strain = 1.0 * std::stod(dt.back());
+  std::printf("  end strain %.8f, target 0.00317, one step %.3g\n", last, step_strain);
+  EXPECT_GE(last, 0.00317);
+  EXPECT_LT(last - 0.00317, step_strain);
+}
+
 // Interrupted three times (mid-consolidation, mid-shear, and once more), resumed each time: the series and
 // the final state are bitwise those of the uninterrupted run.
 TEST(Lab, ResumeIsBitwiseIdentical) {
