@@ -483,19 +483,19 @@ HealthReport Engine::check_health(const HealthLimits& lim) const {
     // (pi/2) sqrt(m_min/(2 k_max)) = 1.1/f steps: 5.6 at f = 0.2, 22 at f = 0.05), closing ~5-20 % per step.
     constexpr Real kSqueeze = 0.01;
     const auto hx = positions(), hv = velocities();
-    std::vector<Real> hr(2);
-    Kokkos::deep_copy(hr[0], Kokkos::subview(r, mo.i));
-    Kokkos::deep_copy(hr[1], Kokkos::subview(r, mo.j));
+    Real ri = 0, rj = 0;
+    Kokkos::deep_copy(ri, Kokkos::subview(r, mo.i));
+    Kokkos::deep_copy(rj, Kokkos::subview(r, mo.j));
     Vec3d dx, dv;
     for (int k = 0; k < 3; ++k) {
       dx[k] = hx[mo.j][k] - hx[mo.i][k];
       dv[k] = hv[mo.j][k] - hv[mo.i][k];
     }
     const Real dist = std::sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
-    const Real delta = hr[0] + hr[1] - dist;
+    const Real delta = ri + rj - dist;
     const Real closing = -(dv[0] * dx[0] + dv[1] * dx[1] + dv[2] * dx[2]) / dist;  // > 0 while approaching
     const Real per_step = closing * dt / delta;
-    const Real kn = params_.contact.E * 0.5 * (hr[0] + hr[1]);
+    const Real kn = params_.contact.E * 0.5 * (ri + rj);
     std::ostringstream os;
     os << "particles " << mo.i << " and " << mo.j << " overlap by " << mo.ratio << " of the smaller radius (limit "
        << lim.max_overlap << "), normal force " << kn * delta << " N, closing by " << 100 * per_step
