@@ -178,7 +178,7 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
           // j's state for the block kPrefetchBlocks ahead: the gathers below stalled on it (perf at 256k put
           // ~40 % of the kernel's samples right after vgatherdpd). The lanes' j are near-random within the
           // neighbourhood, which the hardware prefetcher cannot follow; i's rows are sequential, which it can.
-          // Measured (perf/NOTES.md attempt 23), 4 blocks ahead: 1.23x on the step at 32k, 1.35x at 256k.
+          // Measured (perf/NOTES.md attempt 23), 8 blocks ahead: 1.23x on the step at 32k, 1.35x at 256k.
           const int q0 = p0 + kPrefetchBlocks * C;
           const int q1 = q0 + C < npairs ? q0 + C : npairs;
           for (int q = q0; q < q1; ++q) {
@@ -340,28 +340,32 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
   }
 }
 
-Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
-                          const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel) {
+// The one dispatch of integrate_impl: where i's share is (kernel) and whether damping is on (alpha), at run
+// time once per call; Loads and Move are the caller's.
+template <bool Loads, bool Move>
+Real integrate_dispatch(const char* who, const Particles& P, const PairList& L, const FlagView& flags,
+                        const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
+                        DeterministicSum* red, WallLoads* loads) {
   if (kernel == PairKernel::Lanes) {
     if constexpr (kPairLanesBuilt)
-      return alpha > 0 ? integrate_impl<true, true, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr)
-                       : integrate_impl<false, true, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr);
-    throw std::logic_error("gather_and_integrate: the pair-lane kernel is not built here (kPairLanesBuilt)");
+      return alpha > 0 ? integrate_impl<true, true, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
+                       : integrate_impl<false, true, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
+    throw std::logic_error(std::string(who) + ": the pair-lane kernel is not built here (kPairLanesBuilt)");
   }
-  return alpha > 0 ? integrate_impl<true, false, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr)
-                   : integrate_impl<false, false, false>(P, L, flags, F, walls, E_wall, alpha, dt, nullptr, nullptr);
+  return alpha > 0 ? integrate_impl<true, false, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
+                   : integrate_impl<false, false, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
+}
+
+Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
+                          const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel) {
+  return integrate_dispatch<false, true>("gather_and_integrate", P, L, flags, F, walls, E_wall, alpha, dt, kernel,
+                                         nullptr, nullptr);
 }
 
 void gather_forces(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                    const WallSet& walls, Real E_wall, PairKernel kernel) {
-  if (kernel == PairKernel::Lanes) {
-    if constexpr (kPairLanesBuilt) {
-      integrate_impl<false, true, false, false>(P, L, flags, F, walls, E_wall, 0, 0, nullptr, nullptr);
-      return;
-    }
-    throw std::logic_error("gather_forces: the pair-lane kernel is not built here (kPairLanesBuilt)");
-  }
-  integrate_impl<false, false, false, false>(P, L, flags, F, walls, E_wall, 0, 0, nullptr, nullptr);
+  // alpha = 0: damping acts on the kick, which the gather alone does not do.
+  integrate_dispatch<false, false>("gather_forces", P, L, flags, F, walls, E_wall, 0, 0, kernel, nullptr, nullptr);
 }
 
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
@@ -370,14 +374,8 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
   if constexpr (!kHostBackend) {
     throw std::logic_error("gather_integrate_and_load_walls: host backends only");
   } else {
-    if (kernel == PairKernel::Lanes) {
-      if constexpr (kPairLanesBuilt)
-        return alpha > 0 ? integrate_impl<true, true, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads)
-                         : integrate_impl<false, true, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads);
-      throw std::logic_error("gather_integrate_and_load_walls: the pair-lane kernel is not built here");
-    }
-    return alpha > 0 ? integrate_impl<true, false, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads)
-                     : integrate_impl<false, false, true>(P, L, flags, F, walls, E_wall, alpha, dt, &red, &loads);
+    return integrate_dispatch<true, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall, alpha, dt,
+                                          kernel, &red, &loads);
   }
 }
 
