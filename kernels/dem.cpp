@@ -218,7 +218,9 @@ WallLoads unpack_wall_loads(const Real* out, int nw) {
 
 // Move = false: the gather alone (total force and torque at the evaluated instant into P.f, P.t), for
 // measurements between evaluate() and advance(); the same code, so the same bits as the integration's.
-template <bool Damped, bool RowPairs, bool Loads, bool Move = true>
+// Store = false: P.f and P.t are left alone. Nothing in the dynamics reads them, and on the fused step that
+// measures nothing the two stores cost 1.05-1.08x of the step (perf/NOTES.md attempt 27).
+template <bool Damped, bool RowPairs, bool Loads, bool Store, bool Move>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                     const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads) {
   auto x = P.x;
@@ -275,8 +277,10 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
         }
       }
     }
-    store(fp, i, f);
-    store(tp, i, t);
+    if (Store) {
+      store(fp, i, f);
+      store(tp, i, t);
+    }
     if (!Move) return;
     Vec3 vi = load(v, i), wi = load(w, i);
     if (Damped) {
@@ -341,31 +345,34 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
 }
 
 // The one dispatch of integrate_impl: where i's share is (kernel) and whether damping is on (alpha), at run
-// time once per call; Loads and Move are the caller's.
-template <bool Loads, bool Move>
+// time once per call; Loads, Store and Move are the caller's.
+template <bool Loads, bool Store, bool Move>
 Real integrate_dispatch(const char* who, const Particles& P, const PairList& L, const FlagView& flags,
                         const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
                         DeterministicSum* red, WallLoads* loads) {
   if (kernel == PairKernel::Lanes) {
     if constexpr (kPairLanesBuilt)
-      return alpha > 0 ? integrate_impl<true, true, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
-                       : integrate_impl<false, true, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
+      return alpha > 0 ? integrate_impl<true, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
+                       : integrate_impl<false, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
     throw std::logic_error(std::string(who) + ": the pair-lane kernel is not built here (kPairLanesBuilt)");
   }
-  return alpha > 0 ? integrate_impl<true, false, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
-                   : integrate_impl<false, false, Loads, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
+  return alpha > 0 ? integrate_impl<true, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
+                   : integrate_impl<false, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
 }
 
 Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
-                          const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel) {
-  return integrate_dispatch<false, true>("gather_and_integrate", P, L, flags, F, walls, E_wall, alpha, dt, kernel,
-                                         nullptr, nullptr);
+                          const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel, bool store_forces) {
+  if (store_forces)
+    return integrate_dispatch<false, true, true>("gather_and_integrate", P, L, flags, F, walls, E_wall, alpha, dt,
+                                                 kernel, nullptr, nullptr);
+  return integrate_dispatch<false, false, true>("gather_and_integrate", P, L, flags, F, walls, E_wall, alpha, dt,
+                                                kernel, nullptr, nullptr);
 }
 
 void gather_forces(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                    const WallSet& walls, Real E_wall, PairKernel kernel) {
   // alpha = 0: damping acts on the kick, which the gather alone does not do.
-  integrate_dispatch<false, false>("gather_forces", P, L, flags, F, walls, E_wall, 0, 0, kernel, nullptr, nullptr);
+  integrate_dispatch<false, true, false>("gather_forces", P, L, flags, F, walls, E_wall, 0, 0, kernel, nullptr, nullptr);
 }
 
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
@@ -374,7 +381,7 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
   if constexpr (!kHostBackend) {
     throw std::logic_error("gather_integrate_and_load_walls: host backends only");
   } else {
-    return integrate_dispatch<true, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall, alpha, dt,
+    return integrate_dispatch<true, false, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall, alpha, dt,
                                           kernel, &red, &loads);
   }
 }

@@ -246,16 +246,18 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
 
 // Per particle, in a fixed order: sum of pair forces (row i, then transposed row), wall forces, then
 // Cundall damping (SPEC §4) and the leapfrog kick-drift. Returns max |x - x_ref|^2 (exact reduction).
+// store_forces: the undamped sums go to P.f and P.t (for output; nothing in the dynamics reads them).
 Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                           const WallSet& walls, Real E_wall, Real alpha, Real dt,
-                          PairKernel kernel = kDefaultPairKernel);
+                          PairKernel kernel = kDefaultPairKernel, bool store_forces = true);
 
 // The first half of gather_and_integrate: P.f and P.t, the total (undamped) force and torque on each
 // particle from the current pair forces and walls, with the same bits; nothing moves.
 void gather_forces(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                    const WallSet& walls, Real E_wall, PairKernel kernel = kDefaultPairKernel);
 
-// gather_and_integrate and, in the same pass, reduce_wall_loads at the positions before the drift: the same
+// gather_and_integrate (store_forces = false: P.f and P.t are left alone) and, in the same pass,
+// reduce_wall_loads at the positions before the drift: the same
 // bits for both (DeterministicSum's chunks and order), one pass over the particles fewer. Host backends only
 // (one 256-particle chunk per work item; a GPU keeps the two kernels, attempt 19).
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,

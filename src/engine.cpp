@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace grainlab {
@@ -209,20 +210,22 @@ void Engine::step() {
     // Steps 2 and 3 in one pass: the loads at x(t) are summed before the particle drifts (perf/NOTES.md).
     const Real maxd2 = gather_integrate_and_load_walls(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall,
                                                        params_.damping, cp.dt, params_.pair_kernel, red_, loads_);
+    forces_current_ = false;
     finish_step(maxd2);
   } else {
     evaluate();
-    advance();
+    advance_impl(false);  // as the host's fused step: forces() is not updated
   }
 }
 
-void Engine::advance() {
+void Engine::advance_impl(bool store_forces) {
   if (!evaluated_) throw std::logic_error("Engine::advance() without evaluate()");
   evaluated_ = false;
   const ContactParams& cp = params_.contact;
   // 3. Gather, damp, kick, drift: x(t + dt), v(t + dt/2).
   const Real maxd2 = gather_and_integrate(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.damping, cp.dt,
-                                         params_.pair_kernel);
+                                         params_.pair_kernel, store_forces);
+  forces_current_ = store_forces;
   finish_step(maxd2);
 }
 
@@ -299,8 +302,10 @@ void Engine::move_walls() {
 Diagnostics Engine::diagnostics() {
   // Between evaluate() and advance() P.f still holds the previous step's forces (the gather runs in
   // advance()), so the unbalanced force would lag the contacts by one step: gather them at this instant.
-  if (evaluated_)
+  if (evaluated_) {
     gather_forces(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.pair_kernel);
+    forces_current_ = true;
+  }
   Diagnostics d;
   auto v = P_.v;
   auto w = P_.w;
@@ -374,7 +379,10 @@ Diagnostics Engine::diagnostics() {
   d.rolling_sliding = int(ca[2]);
   d.mean_contact_force = d.contacts ? ca[3] / d.contacts : 0;
   d.potential = pa[2] + ca[4] + ca[5];
-  d.unbalanced_ratio = (d.contacts && P_.n && ca[3] > 0) ? (pa[1] / P_.n) / (ca[3] / d.contacts) : 0;
+  // After step() (forces() not updated) the particle forces of the contacts' instant are not at hand: NaN
+  // says so rather than a ratio of two instants. The laboratory measures between the halves.
+  d.unbalanced_ratio = !forces_current_ ? std::numeric_limits<Real>::quiet_NaN()
+                       : (d.contacts && P_.n && ca[3] > 0) ? (pa[1] / P_.n) / (ca[3] / d.contacts) : 0;
   return d;
 }
 
@@ -639,6 +647,7 @@ void Engine::restore(const EngineState& s) {
   put(P_.w, s.w);
   put(P_.f, s.f);
   put(P_.t, s.t);
+  forces_current_ = false;  // the state does not say whether its f, t were current (output only)
   step_ = s.step;
   time_ = s.time;
   params_.contact.dt = s.dt;

@@ -107,9 +107,11 @@ class Engine {
   // loads all belong to the same instant t: the place to measure (analysis, snapshots).
   // evaluate() + advance(). On host backends the wall loads of step 2 come from the integration's own pass
   // (gather_integrate_and_load_walls: the same bits, one pass over the particles fewer).
+  // step() does not update forces()/torques() (they are output, not state: the fused step skips their
+  // stores, perf/NOTES.md attempt 27); advance() does, and so does diagnostics() between the halves.
   void step();
   void evaluate();
-  void advance();
+  void advance() { advance_impl(true); }
   void run(long nsteps) {
     for (long s = 0; s < nsteps; ++s) step();
   }
@@ -169,6 +171,8 @@ class Engine {
   std::vector<Vec3d> positions() const { return to_host(P_.x); }
   std::vector<Vec3d> velocities() const { return to_host(P_.v); }
   std::vector<Vec3d> angular_velocities() const { return to_host(P_.w); }
+  // Total (undamped) force and torque on each particle at the last instant that advance(), or
+  // diagnostics() between evaluate() and advance(), gathered; step() leaves them as they were.
   std::vector<Vec3d> forces() const { return to_host(P_.f); }
   std::vector<Vec3d> torques() const { return to_host(P_.t); }
   template <class V>
@@ -184,6 +188,7 @@ class Engine {
   // Contact forces and wall loads at the start positions without advancing history (dt = 0), so the
   // first servo move and diagnostics have loads to read.
   void evaluate_forces();
+  void advance_impl(bool store_forces);
   void rebuild();   // Verlet list (and inner list) from the current positions, history carried over
   void refilter();  // inner list only, from the current Verlet list
   // Builds the kernels' next list into lists_[next] from the current positions.
@@ -209,6 +214,7 @@ class Engine {
   bool box_ = false;
   bool rebuild_every_step_ = false;
   bool evaluated_ = false;
+  bool forces_current_ = false;  // P.f, P.t belong to the last evaluated instant (see forces())
   int rebuilds_ = 0;
   int refilters_ = 0;
   Real outer_drift_ = 0;  // bound on any displacement since the Verlet build, from the finished filter

@@ -308,3 +308,26 @@ TEST(Diagnostics, UnbalancedForceIsOfTheEvaluatedInstant) {
   std::printf("  unbalanced ratio %.6e (oracle %.6e)\n", d.unbalanced_ratio, expect);
   EXPECT_NEAR(d.unbalanced_ratio, expect, 1e-12 * expect);
 }
+
+// step() skips the stores of P.f and P.t (output, not state: perf/NOTES.md attempt 27), so forces() keeps
+// the last measured instant and a ratio after step() is NaN instead of mixing two instants.
+TEST(Diagnostics, StepLeavesForcesAndTheRatioSaysSo) {
+  const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  EngineState s = eng.capture();
+  std::mt19937_64 gen(7);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  for (auto& v : s.v) v = {u(gen), u(gen), u(gen)};
+  eng.restore(s);
+  eng.evaluate();
+  eng.advance();
+  const std::vector<Vec3d> f0 = eng.forces();
+  EXPECT_TRUE(std::isfinite(eng.diagnostics().unbalanced_ratio));
+  for (int k = 0; k < 10; ++k) eng.step();
+  EXPECT_EQ(eng.forces(), f0);  // the spheres move, so a gather would have changed them
+  EXPECT_TRUE(std::isnan(eng.diagnostics().unbalanced_ratio));
+  eng.evaluate();
+  eng.advance();
+  EXPECT_NE(eng.forces(), f0);
+  EXPECT_TRUE(std::isfinite(eng.diagnostics().unbalanced_ratio));
+}
