@@ -127,8 +127,8 @@ stiffness is the peers' 2e4 N/m; the constants are listed at the top of perf/rac
 Debian packages, MPI ranks, run by the same script right before or after. Two grainlab rows: `grainlab`
 streams the Verlet list built with the race's 0.1 mm skin (`--inner 0`), the same list the peers loop over;
 the speedup lines use it. `grainlab_inner` is the engine's default: the kernels stream an inner list filtered
-from that Verlet list (pairs closer than r_i + r_j + 0.1 skin, refiltered when a particle moved 0.05 skin;
-perf/NOTES.md attempt 18). Both end with the same kinetic energy to the last bit.
+from that Verlet list (pairs closer than r_i + r_j + 0.05 skin, refiltered when a particle moved 0.025 skin;
+perf/NOTES.md attempts 18 and 29). Both end with the same kinetic energy to the last bit.
 
 {table}
 

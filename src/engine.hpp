@@ -44,7 +44,10 @@ struct EngineParams {
   // search) whenever a particle moved more than inner_skin * skin / 2 since the last filter. The Verlet
   // list itself keeps SPEC's skin and rebuild rule. 0 = off: the kernels stream the Verlet list. Either
   // way the dynamics are the same bits (the list holds every touching pair; rows are sorted).
-  Real inner_skin = 0.1;      // fraction of skin, [0, 1)                                [-]
+  // 0.05 since session 11 (was 0.1): with the pair-lane kernel a listed non-touching pair costs a whole
+  // lane of the law, so the smaller list pays for more filters (race: 1.037x at 1 thread, 1.031x at 2;
+  // configs/quick.yaml, a dynamic run, the same within noise; perf/NOTES.md attempt 29).
+  Real inner_skin = 0.05;     // fraction of skin, [0, 1)                                [-]
   Real servo_max_step = 1e-3; // a servoed wall moves at most this fraction of r_min per step (SPEC §3)
   // Which contact kernel (kernels/dem.hpp): both give the same bits, so this is a speed choice only; the
   // tests run both. Lanes where it is built, else Row.
