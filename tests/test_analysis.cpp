@@ -288,15 +288,19 @@ TEST(Analysis, DeviceMatchesHostReference) {
 // mean |F_i| / mean contact force from them must be the diagnostics' ratio. Tolerance 1e-12 relative:
 // the diagnostics sum in DeterministicSum's chunk order and this test in index order (~1e-16 per term
 // over 400 terms); a one-step lag in this moving sample differs by ~1e-4 or more.
-TEST(Diagnostics, UnbalancedForceIsOfTheEvaluatedInstant) {
-  const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
-  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
-  // Set every sphere moving (1 mm/s, seeded), so that forces change from step to step.
+// Every sphere of a consolidated sample set moving (1 mm/s, seeded), so that forces change from step to step.
+static void set_moving(Engine& eng, std::uint64_t seed) {
   EngineState s = eng.capture();
-  std::mt19937_64 gen(5);
+  std::mt19937_64 gen(seed);
   std::uniform_real_distribution<double> u(-1e-3, 1e-3);
   for (auto& v : s.v) v = {u(gen), u(gen), u(gen)};
   eng.restore(s);
+}
+
+TEST(Diagnostics, UnbalancedForceIsOfTheEvaluatedInstant) {
+  const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  set_moving(eng, 5);
   for (int k = 0; k < 20; ++k) eng.step();
   eng.evaluate();
   const Diagnostics d = eng.diagnostics();
@@ -314,11 +318,7 @@ TEST(Diagnostics, UnbalancedForceIsOfTheEvaluatedInstant) {
 TEST(Diagnostics, StepLeavesForcesAndTheRatioSaysSo) {
   const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
   Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
-  EngineState s = eng.capture();
-  std::mt19937_64 gen(7);
-  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
-  for (auto& v : s.v) v = {u(gen), u(gen), u(gen)};
-  eng.restore(s);
+  set_moving(eng, 7);
   eng.evaluate();
   eng.advance();
   const std::vector<Vec3d> f0 = eng.forces();
