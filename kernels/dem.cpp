@@ -1,6 +1,7 @@
 #include "dem.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <type_traits>
 #include <string>
@@ -17,61 +18,97 @@ void grow(V& v, const char* label, int n) {
   }
 }
 
+// SPEC §2 on listed pair p of particle i, with i's position and radius given: the views it reads and writes,
+// shared by the row kernel and the one-pair-per-thread kernel, so that both run the same code (and bits).
+struct ListedPair {
+  VecView x, v, w;
+  RealView r, m;
+  IntView pj;
+  PairVecView ft, mr;
+  FlagView flags;
+  PairVecView fo, tjo;
+  ListedPair(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F)
+      : x(P.x), v(P.v), w(P.w), r(P.r), m(P.m), pj(L.pair_j), ft(H.ft), mr(H.mr), flags(H.flags), fo(F.f), tjo(F.tj) {}
+  // false: separated, and the pair loses its history (SPEC §2); nothing else is written. true: c holds the
+  // law's result; the history, flags, force on j and torque on j are stored.
+  template <bool Rolling, bool Viscous>
+  KOKKOS_INLINE_FUNCTION bool evaluate(const ContactParams& cp, int p, int i, const Vec3& xi, Real ri,
+                                       ContactResult& c) const {
+    const int j = pj(p);
+    const Vec3 d = load(x, j) - xi;
+    const Real rj = r(j);
+    const Real dist2 = norm2(d);
+    const Real sum = ri + rj;
+    if (dist2 >= sum * sum) {
+      if (flags(p)) {  // history is non-zero only on pairs flagged touching (capture/restore too)
+        store(ft, p, Vec3());
+        store(mr, p, Vec3());
+        flags(p) = 0;
+      }
+      return false;
+    }
+    ContactHistory h;
+    h.ft = load(ft, p);
+    if (Rolling) h.mr = load(mr, p);
+    c = LinearRollingContact<Rolling, Viscous>::evaluate(cp, ri, rj, m(i), m(j), d, math::sqrt(dist2), load(v, i),
+                                                         load(v, j), load(w, i), load(w, j), h);
+    store(ft, p, h.ft);
+    if (Rolling) store(mr, p, h.mr);
+    flags(p) = c.flags;
+    store(fo, p, c.f);
+    store(tjo, p, c.tj);
+    return true;
+  }
+};
+
 template <bool Rolling, bool Viscous>
 void pair_forces_impl(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
                       const ContactParams& cp) {
-  using Law = LinearRollingContact<Rolling, Viscous>;
-  auto x = P.x;
-  auto v = P.v;
-  auto w = P.w;
-  auto r = P.r;
-  auto m = P.m;
+  const ListedPair lp(P, L, H, F);
   auto off = L.offsets;
-  auto pj = L.pair_j;
-  auto ft = H.ft;
-  auto mr = H.mr;
-  auto flags = H.flags;
-  auto fo = F.f;
-  auto tjo = F.tj;
   auto rowf = F.row_f;
   auto rowt = F.row_t;
   const char* label = Rolling ? "grainlab::contact::rolling" : "grainlab::contact::sliding";
-  // One work item per row i (a few pairs each): i's state is loaded once and its share summed in
-  // registers, in row order, so the result does not depend on the thread count (no atomics).
+  // One work item per row i (a few pairs each): i's share summed in registers, in row order, so the result
+  // does not depend on the thread count (no atomics).
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(0, P.n), KOKKOS_LAMBDA(int i) {
-        const Vec3 xi = load(x, i), vi = load(v, i), wi = load(w, i);
-        const Real ri = r(i), mi = m(i);
+        const Vec3 xi = load(lp.x, i);
+        const Real ri = lp.r(i);
         Vec3 fi, ti;
         for (int p = off(i); p < off(i + 1); ++p) {
-          const int j = pj(p);
-          const Vec3 d = load(x, j) - xi;
-          const Real rj = r(j);
-          const Real dist2 = norm2(d);
-          const Real sum = ri + rj;
-          if (dist2 >= sum * sum) {  // separated: the pair loses its history (SPEC §2)
-            if (flags(p)) {  // history is non-zero only on pairs flagged touching (capture/restore too)
-              store(ft, p, Vec3());
-              store(mr, p, Vec3());
-              flags(p) = 0;
-            }
-            continue;
-          }
-          ContactHistory h;
-          h.ft = load(ft, p);
-          if (Rolling) h.mr = load(mr, p);
-          const ContactResult c =
-              Law::evaluate(cp, ri, rj, mi, m(j), d, math::sqrt(dist2), vi, load(v, j), wi, load(w, j), h);
-          store(ft, p, h.ft);
-          if (Rolling) store(mr, p, h.mr);
-          flags(p) = c.flags;
-          store(fo, p, c.f);
-          store(tjo, p, c.tj);
+          ContactResult c;
+          if (!lp.template evaluate<Rolling, Viscous>(cp, p, i, xi, ri, c)) continue;
           fi -= c.f;
           ti += c.ti;
         }
         store(rowf, i, fi);
         store(rowt, i, ti);
+      });
+}
+
+// SPEC §2 with one work item per pair of the list and the pair-lane kernel's outputs (f, tj and ti at the
+// pair's index, +0 for a separated pair), which the integration sums in the row kernel's order: the same bits
+// as both (perf/NOTES.md attempt 30). For GPUs: the row kernel runs a row's ~3 pairs as one dependent chain
+// per thread (37 us for 32k particles on an H100, one thread per particle; 14 us here).
+template <bool Rolling, bool Viscous>
+void pair_forces_pairs_impl(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
+                            const ContactParams& cp) {
+  const ListedPair lp(P, L, H, F);
+  auto pi = L.pair_i;
+  auto tio = F.ti;
+  const char* label = Rolling ? "grainlab::contact::rolling_pairs" : "grainlab::contact::sliding_pairs";
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(0, L.npairs), KOKKOS_LAMBDA(int p) {
+        const int i = pi(p);
+        ContactResult c;
+        if (lp.template evaluate<Rolling, Viscous>(cp, p, i, load(lp.x, i), lp.r(i), c)) {
+          store(tio, p, c.ti);
+        } else {  // separated: its shares read +0
+          store(lp.fo, p, Vec3());
+          store(lp.tjo, p, Vec3());
+          store(tio, p, Vec3());
+        }
       });
 }
 
@@ -216,13 +253,40 @@ WallLoads unpack_wall_loads(const Real* out, int nw) {
   return wl;
 }
 
+// Particle i's terms of the wall loads (wall k: k_w delta, k_w, 1 at 3 k, 3 k + 1, 3 k + 2), one term per value
+// per particle (a particle touches wall k once): DeterministicSum::run_one_term's condition. A named functor:
+// reduce_wall_loads and the GPU's fused step share it.
+struct WallLoadTerms {
+  VecView x;
+  RealView r;
+  WallSet ws;
+  Real E_wall;
+  KOKKOS_INLINE_FUNCTION void operator()(int i, Real* acc) const {
+    const Vec3 xi = load(x, i);
+    const Real ri = r(i);
+    for (int k = 0; k < ws.count; ++k) {
+      const Real dw = WallLaw::overlap(ws.w[k], xi, ri);
+      if (dw > 0) {
+        const Real kw = WallLaw::stiffness(E_wall, ri);
+        acc[3 * k] += kw * dw;
+        acc[3 * k + 1] += kw;
+        acc[3 * k + 2] += 1;
+      }
+    }
+  }
+};
+WallLoadTerms wall_load_terms(const Particles& P, const WallSet& walls, Real E_wall) { return {P.x, P.r, walls, E_wall}; }
+
 // Move = false: the gather alone (total force and torque at the evaluated instant into P.f, P.t), for
 // measurements between evaluate() and advance(); the same code, so the same bits as the integration's.
 // Store = false: P.f and P.t are left alone. Nothing in the dynamics reads them, and on the fused step that
 // measures nothing the two stores cost 1.05-1.08x of the step (perf/NOTES.md attempt 27).
+// device_max (with Loads = false): the max goes to that device address instead of the host (attempt 32); NaN
+// is returned.
 template <bool Damped, bool RowPairs, bool Loads, bool Store, bool Move>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
-                    const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads) {
+                    const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads,
+                    Real* device_max = nullptr) {
   auto x = P.x;
   auto v = P.v;
   auto w = P.w;
@@ -247,7 +311,7 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
     // Row share (i first: -F, summed by the contact kernel), then the transposed pairs in ascending
     // pair order (i second: +F): a fixed order, so bitwise the same on any thread count.
     Vec3 f, t;
-    if (RowPairs) {  // the pair-lane kernel's per-pair shares of i, summed as the row kernel sums them
+    if (RowPairs) {  // the per-pair shares of i (Lanes, Pairs), summed as the row kernel sums them
       for (int p = off(i); p < off(i + 1); ++p) {
         f -= load(fc, p);
         t += load(tci, p);
@@ -308,9 +372,15 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   } else {
     Real maxd2 = 0;
     // Dynamic schedule as in the pair-lane kernel: per-particle outputs and an exact max, so no bit depends on it.
-    Kokkos::parallel_reduce(
-        label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, P.n),
-        KOKKOS_LAMBDA(int i, Real& mx) { particle(i, nullptr, mx); }, Kokkos::Max<Real>(maxd2));
+    const Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>> policy(0, P.n);
+    auto body = KOKKOS_LAMBDA(int i, Real& mx) { particle(i, nullptr, mx); };
+    if (device_max) {
+      // Into device memory: the launch returns without waiting for the kernel (no copy to the host yet).
+      using Max = Kokkos::Max<Real, MemSpace>;
+      Kokkos::parallel_reduce(label, policy, body, Max(typename Max::result_view_type(device_max)));
+      return std::numeric_limits<Real>::quiet_NaN();
+    }
+    Kokkos::parallel_reduce(label, policy, body, Kokkos::Max<Real>(maxd2));
     return P.n > 0 ? maxd2 : Real(0);
   }
 }
@@ -319,28 +389,29 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
 
 void compute_pair_forces(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
                          const ContactParams& cp, ContactFeatures feat, PairKernel kernel) {
-  // Four instantiations per kernel chosen once per step on the host: the hot loop carries no feature branches.
-  if (kernel == PairKernel::Lanes) {
-#if GRAINLAB_PAIR_LANES
-    if constexpr (kPairLanesBuilt) {
-      if (feat.rolling) {
-        if (feat.viscous) pair_forces_lanes_impl<true, true>(P, L, H, F, cp);
-        else pair_forces_lanes_impl<true, false>(P, L, H, F, cp);
-      } else {
-        if (feat.viscous) pair_forces_lanes_impl<false, true>(P, L, H, F, cp);
-        else pair_forces_lanes_impl<false, false>(P, L, H, F, cp);
-      }
-      return;
-    }
-#endif
+  if (kernel == PairKernel::Lanes && !kPairLanesBuilt)
     throw std::logic_error("compute_pair_forces: the pair-lane kernel is not built here (kPairLanesBuilt)");
-  }
+  // Four instantiations per kernel chosen once per step on the host: the hot loop carries no feature branches.
+  auto run = [&](auto rolling, auto viscous) {
+    constexpr bool R = decltype(rolling)::value, V = decltype(viscous)::value;
+    if (kernel == PairKernel::Pairs) {
+      pair_forces_pairs_impl<R, V>(P, L, H, F, cp);
+    } else if (kernel == PairKernel::Lanes) {
+#if GRAINLAB_PAIR_LANES
+      if constexpr (kPairLanesBuilt) pair_forces_lanes_impl<R, V>(P, L, H, F, cp);
+#endif
+    } else {
+      pair_forces_impl<R, V>(P, L, H, F, cp);
+    }
+  };
+  using Y = std::true_type;
+  using N = std::false_type;
   if (feat.rolling) {
-    if (feat.viscous) pair_forces_impl<true, true>(P, L, H, F, cp);
-    else pair_forces_impl<true, false>(P, L, H, F, cp);
+    if (feat.viscous) run(Y{}, Y{});
+    else run(Y{}, N{});
   } else {
-    if (feat.viscous) pair_forces_impl<false, true>(P, L, H, F, cp);
-    else pair_forces_impl<false, false>(P, L, H, F, cp);
+    if (feat.viscous) run(N{}, Y{});
+    else run(N{}, N{});
   }
 }
 
@@ -349,15 +420,14 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
 template <bool Loads, bool Store, bool Move>
 Real integrate_dispatch(const char* who, const Particles& P, const PairList& L, const FlagView& flags,
                         const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
-                        DeterministicSum* red, WallLoads* loads) {
-  if (kernel == PairKernel::Lanes) {
-    if constexpr (kPairLanesBuilt)
-      return alpha > 0 ? integrate_impl<true, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
-                       : integrate_impl<false, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
+                        DeterministicSum* red, WallLoads* loads, Real* device_max = nullptr) {
+  if (kernel == PairKernel::Lanes && !kPairLanesBuilt)
     throw std::logic_error(std::string(who) + ": the pair-lane kernel is not built here (kPairLanesBuilt)");
-  }
-  return alpha > 0 ? integrate_impl<true, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads)
-                   : integrate_impl<false, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads);
+  if (per_pair_shares(kernel))
+    return alpha > 0 ? integrate_impl<true, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max)
+                     : integrate_impl<false, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max);
+  return alpha > 0 ? integrate_impl<true, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max)
+                   : integrate_impl<false, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max);
 }
 
 Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
@@ -378,34 +448,26 @@ void gather_forces(const Particles& P, const PairList& L, const FlagView& flags,
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                                      const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
                                      DeterministicSum& red, WallLoads& loads) {
-  if constexpr (!kHostBackend) {
-    throw std::logic_error("gather_integrate_and_load_walls: host backends only");
-  } else {
+  if constexpr (kHostBackend) {
     return integrate_dispatch<true, false, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall, alpha, dt,
-                                          kernel, &red, &loads);
+                                                 kernel, &red, &loads);
+  } else {
+    // The loads at x(t) into device slots 0 .. 3 nw, the max after the drift into slot 3 nw, then one copy.
+    const int nv = 3 * walls.count;
+    red.run_one_term_on_device("grainlab::walls::loads", P.n, nv, wall_load_terms(P, walls, E_wall));
+    integrate_dispatch<false, false, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall, alpha, dt,
+                                           kernel, nullptr, nullptr, red.device_slot(nv));
+    Real out[DeterministicSum::kMaxValues];
+    red.fetch(nv + 1, out);
+    loads = unpack_wall_loads(out, walls.count);
+    return P.n > 0 ? out[nv] : Real(0);
   }
 }
 
 WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red, bool team) {
-  auto x = P.x;
-  auto r = P.r;
-  const WallSet ws = walls;
-  const int nw = ws.count;
+  const int nw = walls.count;
   Real out[DeterministicSum::kMaxValues] = {};
-  // One term per value per particle (a particle touches wall k once): run_one_term's condition.
-  auto loads = KOKKOS_LAMBDA(int i, Real* acc) {
-    const Vec3 xi = load(x, i);
-    const Real ri = r(i);
-    for (int k = 0; k < nw; ++k) {
-      const Real dw = WallLaw::overlap(ws.w[k], xi, ri);
-      if (dw > 0) {
-        const Real kw = WallLaw::stiffness(E_wall, ri);
-        acc[3 * k] += kw * dw;
-        acc[3 * k + 1] += kw;
-        acc[3 * k + 2] += 1;
-      }
-    }
-  };
+  const WallLoadTerms loads = wall_load_terms(P, walls, E_wall);
   if (team)
     red.run_one_term<true>("grainlab::walls::loads", P.n, 3 * nw, loads, out);
   else
@@ -464,7 +526,7 @@ void ensure_pair_arrays(PairHistory& h, int n) {
 void ensure_pair_arrays(PairForces& f, int n, int nparticles, PairKernel kernel) {
   grow(f.f, "grainlab::pair::f", n);
   grow(f.tj, "grainlab::pair::tj", n);
-  if (kernel == PairKernel::Lanes) {
+  if (per_pair_shares(kernel)) {
     grow(f.ti, "grainlab::pair::ti", n);
   } else {
     grow(f.row_f, "grainlab::pair::row_f", nparticles);

@@ -35,22 +35,28 @@ struct PairForces {
   PairVecView f;         // per pair: force on j (force on i is -f); valid where flags has kTouching
   PairVecView tj;        // per pair: torque on j
   VecView row_f, row_t;  // per particle: sum of i's shares over its row (row kernel)
-  PairVecView ti;        // per pair: torque on i (PairKernel::Lanes)
+  PairVecView ti;        // per pair: torque on i (PairKernel::Lanes and Pairs)
 };
 
-// Two contact kernels compute the same bits (perf/NOTES.md attempt 20). Row: one work item per row i of
-// the half list, i's share summed in registers (GPUs; CPUs without wide vectors). Lanes: C consecutive
-// pairs of the list side by side in vector registers, i's share stored per pair (PairForces::ti) and summed
-// by the integration in the row kernel's order. Lanes is built where CMake's GRAINLAB_PAIR_LANES is on (the
+// Three contact kernels compute the same bits (perf/NOTES.md attempts 20 and 30). Row: one work item per row i
+// of the half list, i's share summed in registers (CPUs without wide vectors). Lanes: C consecutive pairs of
+// the list side by side in vector registers, i's share stored per pair (PairForces::ti) and summed by the
+// integration in the row kernel's order. Lanes is built where CMake's GRAINLAB_PAIR_LANES is on (the
 // default) for a host backend whose target has AVX2 or AVX-512: 2-wide SSE2 vectors do not pay for the
-// gathers (attempt 11 measured 0.88x at that width).
-enum class PairKernel { Row, Lanes };
+// gathers (attempt 11 measured 0.88x at that width). Pairs: one work item per pair with Lanes' outputs, for
+// GPUs: a row's few pairs one after another in one thread leave most of a GPU idle at small N and its pair
+// loads uncoalesced (attempt 30); built on every backend.
+enum class PairKernel { Row, Lanes, Pairs };
+// Where i's share of a pair goes: into the pair's own slots (PairForces::ti, read back by the integration)
+// or, for Row, into the per-particle row sums.
+constexpr bool per_pair_shares(PairKernel k) { return k != PairKernel::Row; }
 #if GRAINLAB_PAIR_LANES && (defined(__AVX2__) || defined(__AVX512F__))
 constexpr bool kPairLanesBuilt = kHostBackend;
 #else
 constexpr bool kPairLanesBuilt = false;
 #endif
-constexpr PairKernel kDefaultPairKernel = kPairLanesBuilt ? PairKernel::Lanes : PairKernel::Row;
+constexpr PairKernel kDefaultPairKernel =
+    kPairLanesBuilt ? PairKernel::Lanes : kHostBackend ? PairKernel::Row : PairKernel::Pairs;
 constexpr int kPairLanesWidth = 8;  // 16 lanes measured the same (perf/ab.sh 1.001), 512-bit vectors too
 
 constexpr int kMaxWalls = 8;
@@ -92,6 +98,17 @@ class DeterministicSum {
     if constexpr (!Team) {
       run(label, n, nv, f, out);
     } else {
+      run_one_term_on_device(label, n, nv, f);
+      fetch(nv, out);
+    }
+  }
+
+  // run_one_term()'s team path without the copy to the host: the sums stay in device_slot(0 .. nv), for a
+  // later fetch() that brings them over with whatever else the caller left beside them (the GPU's step puts
+  // the displacement max there, so one copy, one synchronisation per step; perf/NOTES.md attempt 32).
+  template <class F>
+  void run_one_term_on_device(const char* label, int n, int nv, const F& f) {
+    {
       // kPass x nv values of scratch per team must fit a GPU block's 48 KB with room for Kokkos' own.
       if (nv > kOneTermMaxValues)
         throw std::logic_error("DeterministicSum::run_one_term: at most " + std::to_string(kOneTermMaxValues) + " values (" + std::to_string(nv) + " asked)");
@@ -125,8 +142,16 @@ class DeterministicSum {
             }
             Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { partial(c, k) = sum(k); });
           });
-      finish<true>(nchunks, nv, out);
+      sum_chunks<true>(nchunks, nv);
     }
+  }
+
+  // Value k of the last reduction, in device memory (k < kMaxValues; a caller may write past the sums).
+  Real* device_slot(int k) { return result_.data() + k; }
+  // The first nv values of the device result to out[0 .. nv), in one copy.
+  void fetch(int nv, Real* out) {
+    Kokkos::deep_copy(Kokkos::subview(host_, std::make_pair(0, nv)), Kokkos::subview(result_, std::make_pair(0, nv)));
+    for (int k = 0; k < nv; ++k) out[k] = host_(k);
   }
 
   // run(), from a kernel that does more per item than adding to acc: f(i, acc, mx) may also raise mx, and
@@ -177,42 +202,55 @@ class DeterministicSum {
   // them in chunk order: the same additions. Team = true takes the team path on any backend (the tests).
   template <bool Team = !kHostBackend>
   void finish(int nchunks, int nv, Real* out) {
-    auto partial = partial_;
-    auto result = result_;
+    sum_chunks<Team>(nchunks, nv);
+    fetch(nv, out);
+  }
+  template <bool Team>
+  void sum_chunks(int nchunks, int nv) {
     if constexpr (!Team) {
-      Kokkos::parallel_for(
-          "grainlab::reduce::chunks", Kokkos::RangePolicy<ExecSpace>(0, nv), KOKKOS_LAMBDA(int k) {
-            Real s = 0;
-            for (int c = 0; c < nchunks; ++c) s += partial(c, k);
-            result(k) = s;
-          });
+      Kokkos::parallel_for("grainlab::reduce::chunks", Kokkos::RangePolicy<ExecSpace>(0, nv),
+                           ChunkSums{partial_, result_, nchunks});
     } else {
-      constexpr int kBlock = 1024;
-      using Member = Kokkos::TeamPolicy<ExecSpace>::member_type;
-      const std::size_t bytes = ScratchVector::shmem_size(kBlock);
       Kokkos::parallel_for(
           "grainlab::reduce::chunks",
-          Kokkos::TeamPolicy<ExecSpace>(nv, team_size()).set_scratch_size(0, Kokkos::PerTeam(bytes)),
-          KOKKOS_LAMBDA(const Member& t) {
-            const int k = t.league_rank();
-            ScratchVector block(t.team_scratch(0), kBlock);
-            Real s = 0;  // lives in the thread that runs the single() below: the same thread every block
-            for (int c0 = 0; c0 < nchunks; c0 += kBlock) {
-              const int m = nchunks - c0 < kBlock ? nchunks - c0 : kBlock;
-              Kokkos::parallel_for(Kokkos::TeamThreadRange(t, m), [&](int q) { block(q) = partial(c0 + q, k); });
-              t.team_barrier();
-              Kokkos::single(Kokkos::PerTeam(t), [&]() {
-                for (int q = 0; q < m; ++q) s += block(q);
-              });
-              t.team_barrier();
-            }
-            Kokkos::single(Kokkos::PerTeam(t), [&]() { result(k) = s; });
-          });
+          Kokkos::TeamPolicy<ExecSpace>(nv, team_size())
+              .set_scratch_size(0, Kokkos::PerTeam(ScratchVector::shmem_size(ChunkSums::kBlock))),
+          ChunkSums{partial_, result_, nchunks});
     }
-    // Only the nv values in use cross to the host.
-    Kokkos::deep_copy(Kokkos::subview(host_, std::make_pair(0, nv)), Kokkos::subview(result_, std::make_pair(0, nv)));
-    for (int k = 0; k < nv; ++k) out[k] = host_(k);
   }
+
+  // finish()'s kernels: value k summed over the chunks in chunk order. A named functor, not a lambda:
+  // finish() is the same instantiation in every translation unit that reduces, and with a lambda there
+  // nvcc's extended-lambda wrapper called a null function pointer on an H100 (race_bench, session 12, when
+  // attempt 31 changed finish()'s signature), presumably where the linker kept another unit's copy.
+  struct ChunkSums {
+    static constexpr int kBlock = 1024;
+    Kokkos::View<Real* [kMaxValues], MemSpace> partial;
+    Kokkos::View<Real[kMaxValues], MemSpace> result;
+    int nchunks;
+    // One thread per value walks the chunks (host backends).
+    KOKKOS_INLINE_FUNCTION void operator()(int k) const {
+      Real s = 0;
+      for (int c = 0; c < nchunks; ++c) s += partial(c, k);
+      result(k) = s;
+    }
+    // A team per value stages blocks of partials in scratch with parallel loads; one thread adds them.
+    KOKKOS_INLINE_FUNCTION void operator()(const Kokkos::TeamPolicy<ExecSpace>::member_type& t) const {
+      const int k = t.league_rank();
+      ScratchVector block(t.team_scratch(0), kBlock);
+      Real s = 0;  // lives in the thread that runs the single() below: the same thread every block
+      for (int c0 = 0; c0 < nchunks; c0 += kBlock) {
+        const int m = nchunks - c0 < kBlock ? nchunks - c0 : kBlock;
+        Kokkos::parallel_for(Kokkos::TeamThreadRange(t, m), [&](int q) { block(q) = partial(c0 + q, k); });
+        t.team_barrier();
+        Kokkos::single(Kokkos::PerTeam(t), [&]() {
+          for (int q = 0; q < m; ++q) s += block(q);
+        });
+        t.team_barrier();
+      }
+      Kokkos::single(Kokkos::PerTeam(t), [&]() { result(k) = s; });
+    }
+  };
 
  private:
   Kokkos::View<Real* [kMaxValues], MemSpace> partial_;
@@ -256,10 +294,11 @@ Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView&
 void gather_forces(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                    const WallSet& walls, Real E_wall, PairKernel kernel = kDefaultPairKernel);
 
-// gather_and_integrate (store_forces = false: P.f and P.t are left alone) and, in the same pass,
-// reduce_wall_loads at the positions before the drift: the same
-// bits for both (DeterministicSum's chunks and order), one pass over the particles fewer. Host backends only
-// (one 256-particle chunk per work item; a GPU keeps the two kernels, attempt 19).
+// reduce_wall_loads at the positions before the drift, then gather_and_integrate (store_forces = false: P.f
+// and P.t are left alone): the same bits for both (DeterministicSum's chunks and order). Host backends do
+// both in one pass over the particles (one 256-particle chunk per work item). A GPU keeps two kernels (inside
+// the integration the team path cost more than the pass it saves, perf/NOTES.md attempt 31), but the loads
+// and the displacement max stay on the device until one copy brings both over (attempt 32).
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                                      const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
                                      DeterministicSum& red, WallLoads& loads);

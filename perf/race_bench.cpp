@@ -57,7 +57,7 @@ struct Args {
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "race_bench: " << why
             << "\nusage: race_bench --scene FILE --box FILE [--rolling 0|1] [--warmup N] [--steps N] [--reps R]"
-               " [--skin M] [--inner F] [--kernel row|lanes] [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
+               " [--skin M] [--inner F] [--kernel row|lanes|pairs] [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
   std::exit(2);
 }
 
@@ -77,9 +77,9 @@ Args parse(int argc, char** argv) {
       else if (k == "--inner") a.inner = std::stod(v);
       else if (k == "--copy") a.copy = std::stoi(v);
       else if (k == "--kernel") {
-        if (v != "row" && v != "lanes") usage("--kernel is row or lanes");
+        if (v != "row" && v != "lanes" && v != "pairs") usage("--kernel is row, lanes or pairs");
         if (v == "lanes" && !kPairLanesBuilt) usage("--kernel lanes: the pair-lane kernel is not built here");
-        a.kernel = v == "row" ? PairKernel::Row : PairKernel::Lanes;
+        a.kernel = v == "row" ? PairKernel::Row : v == "lanes" ? PairKernel::Lanes : PairKernel::Pairs;
       }
       else usage("unknown option " + k);
     } catch (const std::logic_error&) {
@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
           "E_wall=%.5g rss_bytes_per_particle=%.0f bytes_per_particle_step=%.0f backend=%s\n",
           double(n) * double(a.steps) / wall, wall, n, a.steps, a.rolling, ExecSpace().concurrency(),
           2.0 * dg.contacts / n, dg.kinetic, eng.pairs().npairs, eng.verlet_pairs().npairs, p.inner_skin,
-          p.pair_kernel == PairKernel::Lanes ? "lanes" : "row", eng.rebuild_count() - builds0, eng.refilter_count() - filters0, p.contact.E,
+          perf::kernel_name(p.pair_kernel), eng.rebuild_count() - builds0, eng.refilter_count() - filters0, p.contact.E,
           p.E_wall, resident_bytes() / n, perf::step_bytes(eng) / n, ExecSpace::name());
       std::fflush(stdout);
     }

@@ -143,7 +143,7 @@ within 20 % from 1e4 to ~1e6 (O(N): cell binning, CSR lists, no sort per step).
 
 ## Kernel benchmarks (`build/perf/bench_kernels`, FCC packings, 12 contacts per sphere, 2 threads)
 
-Arguments: particle count, then rolling off/on (0/1); `BM_ContactForces` a third, the kernel (0 row, 1 pair lanes). Rates are particle-steps/s (items/s). "float" rows:
+Arguments: particle count, then rolling off/on (0/1); `BM_ContactForces` a third, the kernel (0 row, 1 pair lanes, 2 one pair per work item). Rates are particle-steps/s (items/s). "float" rows:
 the same benchmark built with `-DGRAINLAB_PAIR_FLOAT=ON` (per-pair history and forces stored in float,
 arithmetic in double; `perf/build_float.sh`).
 

@@ -25,9 +25,13 @@ inline double step_bytes(Engine& eng) {
   const double pv = 3 * double(sizeof(PairReal));  // one per-pair vector: 24 B in double, 12 B in float
   const double particles = eng.num_particles(), pairs = eng.pairs().npairs;
   const double shared = 6 * 24 + 24 + 3 * 8 + 2 * 24 + 2 * 4;
-  if (eng.params().pair_kernel == PairKernel::Lanes)
+  if (per_pair_shares(eng.params().pair_kernel))
     return shared * particles + (4 + 4 + 4 + 1 + 4 * pv + 7 * pv) * pairs;
   return (shared + 4 * 24) * particles + (4 + 4 + 2) * pairs + (4 * pv + 4 * pv) * d.contacts;
+}
+
+inline const char* kernel_name(PairKernel k) {
+  return k == PairKernel::Row ? "row" : k == PairKernel::Lanes ? "lanes" : "pairs";
 }
 
 struct CopyBandwidth {

@@ -59,34 +59,44 @@ TEST(Determinism, InnerListDoesNotChangeTheTrajectory) {
   EXPECT_EQ(0, std::memcmp(off.measures.data(), on.measures.data(), off.measures.size() * sizeof(double)));
 }
 
-// The two contact kernels (kernels/dem.hpp PairKernel) evaluate the same law in the same operation order,
-// and the integration sums i's share in the same order from either, so the trajectories are the same bits:
-// for each of the law's four instantiations (rolling, viscous normal damping), measurements included. The
-// pair-lane kernel also writes +0 where the row kernel skips a separated pair; the sums prove that harmless.
-// Where the lanes kernel is not built (a GPU, a CPU without AVX2) the row kernel has nothing to agree with.
+namespace {
+// `other` against the row kernel on the sheared scene, for each of the law's four instantiations (rolling,
+// viscous normal damping): the same trajectory bits and the same measurements.
+void expect_kernel_equals_row_bitwise(PairKernel other) {
+  for (const Real beta : {0.0, 0.3}) {
+    for (const Real mu_r : {0.0, 0.3}) {
+      SCOPED_TRACE("normal_damping " + std::to_string(beta) + ", mu_r " + std::to_string(mu_r));
+      const test::ShearRun row = test::sheared_scene(false, 60e-6, 1500, -1, 0.1, PairKernel::Row, beta, mu_r);
+      const test::ShearRun run = test::sheared_scene(false, 60e-6, 1500, -1, 0.1, other, beta, mu_r);
+      std::printf("  beta %g mu_r %g: %d rebuilds, %d filters, %d contacts, max sliding %d, max rolling-sliding %d\n",
+                  beta, mu_r, row.rebuilds, row.refilters, row.contacts, row.sliding, row.rolling_sliding);
+      ASSERT_GT(row.rebuilds + row.refilters, 3) << "contacts must open and close";
+      ASSERT_GT(row.sliding, 0);
+      if (mu_r > 0) {
+        ASSERT_GT(row.rolling_sliding, 0);
+      }
+      EXPECT_TRUE(test::bitwise_equal(row.state, run.state));
+      ASSERT_EQ(row.measures.size(), run.measures.size());
+      EXPECT_EQ(0, std::memcmp(row.measures.data(), run.measures.data(), row.measures.size() * sizeof(double)));
+    }
+  }
+}
+}  // namespace
+
+// The contact kernels (kernels/dem.hpp PairKernel) evaluate the same law in the same operation order, and the
+// integration sums i's share in the same order from each, so the trajectories are the same bits. The pair-lane
+// kernel also writes +0 where the row kernel skips a separated pair; the sums prove that harmless. Where the
+// lanes kernel is not built (a GPU, a CPU without AVX2) it has nothing to compare.
 TEST(Determinism, PairLaneKernelEqualsRowKernelBitwise) {
   if constexpr (!kPairLanesBuilt) {  // constexpr: no unreachable loop for nvcc to warn about
     GTEST_SKIP() << "the pair-lane kernel is not built for this target";
   } else {
-    for (const Real beta : {0.0, 0.3}) {
-      for (const Real mu_r : {0.0, 0.3}) {
-        SCOPED_TRACE("normal_damping " + std::to_string(beta) + ", mu_r " + std::to_string(mu_r));
-        const test::ShearRun row = test::sheared_scene(false, 60e-6, 1500, -1, 0.1, PairKernel::Row, beta, mu_r);
-        const test::ShearRun lanes = test::sheared_scene(false, 60e-6, 1500, -1, 0.1, PairKernel::Lanes, beta, mu_r);
-        std::printf("  beta %g mu_r %g: %d rebuilds, %d filters, %d contacts, max sliding %d, max rolling-sliding %d\n",
-                    beta, mu_r, row.rebuilds, row.refilters, row.contacts, row.sliding, row.rolling_sliding);
-        ASSERT_GT(row.rebuilds + row.refilters, 3) << "contacts must open and close";
-        ASSERT_GT(row.sliding, 0);
-        if (mu_r > 0) {
-          ASSERT_GT(row.rolling_sliding, 0);
-        }
-        EXPECT_TRUE(test::bitwise_equal(row.state, lanes.state));
-        ASSERT_EQ(row.measures.size(), lanes.measures.size());
-        EXPECT_EQ(0, std::memcmp(row.measures.data(), lanes.measures.data(), row.measures.size() * sizeof(double)));
-      }
-    }
+    expect_kernel_equals_row_bitwise(PairKernel::Lanes);
   }
 }
+
+// The one-pair-per-work-item kernel (the GPUs' default, built everywhere) with its +0 shares for separated pairs.
+TEST(Determinism, PairKernelEqualsRowKernelBitwise) { expect_kernel_equals_row_bitwise(PairKernel::Pairs); }
 
 // Engine::step() sums the wall loads inside the integration's pass on host backends; evaluate() + advance()
 // sums them in their own pass (reduce_wall_loads). Same chunks, same order: the same loads, and through the

@@ -4,6 +4,8 @@
 #   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects)
 #   perf/gpu/device.sh bench [REPS]    copy bandwidth + race scene 32k .. 11M, rolling on/off (perf/RESULTS.md)
 #   perf/gpu/device.sh ur1 [SECONDS]   configs/paper/UR1.yaml end to end (stopped after SECONDS, default 540)
+#   perf/gpu/device.sh profile [TILE]  each kernel's GPU time over 20 race steps (Nsight Compute), next to the
+#                                      step's wall time: what the per-step constant is made of (TILE 1 = 32k)
 # Several verbs run in order: perf/gpu/device.sh tests bench
 set -uo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -41,7 +43,7 @@ status=0
 while [ $# -gt 0 ]; do
   case "$1" in
     tests)  # tests [REGEX]: all of them, or those CTest's -R selects
-      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != ur1 ]]; then regex=$2; shift; fi
+      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != ur1 && "$2" != profile ]]; then regex=$2; shift; fi
       # -j 6: the tests are small; several share the GPU (and its 16 host cores) and none is timed.
       (cd build-gpu && ctest --output-on-failure -j 6 --timeout 500 ${regex:+-R "$regex"}) > "$OUT/ctest.log" 2>&1 || status=1
       tail -n 25 "$OUT/ctest.log" ;;
@@ -74,7 +76,18 @@ while [ $# -gt 0 ]; do
       for f in blowup.txt run.h5; do cp "/tmp/ur1/$f" "$OUT/ur1_$f" 2>/dev/null; done
       ls -la /tmp/ur1 >> "$OUT/ur1.log"
       tail -n 15 "$OUT/ur1.log" ;;
-    *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], ur1 [SECONDS])" >&2; exit 2 ;;
+    profile)
+      tile=1; if [[ "${2:-}" =~ ^[0-9]+$ ]]; then tile=$2; shift; fi
+      args=(--scene "$S/scene_32k.txt" --box "$S/scene_32k_box.txt" --tile "$tile" --rolling 1)
+      # The wall time per step without the profiler, then the kernels' own times (ncu serialises the
+      # launches, so only its per-kernel durations are used, never its wall time). --clock-control none
+      # leaves the GPU's clocks as they are (the device tool's METHOD.md).
+      build-gpu/perf/race_bench "${args[@]}" --reps 3 | tee "$OUT/profile_t$tile.txt" || status=1
+      ncu=$(command -v ncu || ls /opt/nvidia/nsight-compute/*/ncu 2>/dev/null | head -n 1)
+      "${ncu:-ncu}" --clock-control none --metrics gpu__time_duration.sum --csv --print-units base \
+        build-gpu/perf/race_bench "${args[@]}" --warmup 10 --steps 20 > "$OUT/ncu_t$tile.csv" 2> "$OUT/ncu_t$tile.err" || status=1
+      python3 perf/gpu/kernels.py "$OUT/ncu_t$tile.csv" 30 | tee -a "$OUT/profile_t$tile.txt" ;;
+    *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], ur1 [SECONDS], profile [TILE])" >&2; exit 2 ;;
   esac
   shift
 done
