@@ -275,7 +275,6 @@ struct WallLoadTerms {
     }
   }
 };
-WallLoadTerms wall_load_terms(const Particles& P, const WallSet& walls, Real E_wall) { return {P.x, P.r, walls, E_wall}; }
 
 // Move = false: the gather alone (total force and torque at the evaluated instant into P.f, P.t), for
 // measurements between evaluate() and advance(); the same code, so the same bits as the integration's.
@@ -454,7 +453,7 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
   } else {
     // The loads at x(t) into device slots 0 .. 3 nw, the max after the drift into slot 3 nw, then one copy.
     const int nv = 3 * walls.count;
-    red.run_one_term_on_device("grainlab::walls::loads", P.n, nv, wall_load_terms(P, walls, E_wall));
+    red.run_one_term_on_device("grainlab::walls::loads", P.n, nv, WallLoadTerms{P.x, P.r, walls, E_wall});
     integrate_dispatch<false, false, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall, alpha, dt,
                                            kernel, nullptr, nullptr, red.device_slot(nv));
     Real out[DeterministicSum::kMaxValues];
@@ -467,7 +466,7 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
 WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red, bool team) {
   const int nw = walls.count;
   Real out[DeterministicSum::kMaxValues] = {};
-  const WallLoadTerms loads = wall_load_terms(P, walls, E_wall);
+  const WallLoadTerms loads{P.x, P.r, walls, E_wall};
   if (team)
     red.run_one_term<true>("grainlab::walls::loads", P.n, 3 * nw, loads, out);
   else

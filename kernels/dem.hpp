@@ -108,42 +108,40 @@ class DeterministicSum {
   // the displacement max there, so one copy, one synchronisation per step; perf/NOTES.md attempt 32).
   template <class F>
   void run_one_term_on_device(const char* label, int n, int nv, const F& f) {
-    {
-      // kPass x nv values of scratch per team must fit a GPU block's 48 KB with room for Kokkos' own.
-      if (nv > kOneTermMaxValues)
-        throw std::logic_error("DeterministicSum::run_one_term: at most " + std::to_string(kOneTermMaxValues) + " values (" + std::to_string(nv) + " asked)");
-      const int nchunks = prepare(n);
-      auto partial = partial_;
-      using Member = Kokkos::TeamPolicy<ExecSpace>::member_type;
-      const std::size_t bytes = ScratchMatrix::shmem_size(kPass, nv) + ScratchVector::shmem_size(nv);
-      Kokkos::parallel_for(
-          label, Kokkos::TeamPolicy<ExecSpace>(nchunks, team_size()).set_scratch_size(0, Kokkos::PerTeam(bytes)),
-          KOKKOS_LAMBDA(const Member& t) {
-            ScratchMatrix item(t.team_scratch(0), kPass, nv);  // item(q, k): value k of item q of the pass
-            ScratchVector sum(t.team_scratch(0), nv);          // the chunk's running sums
-            const int c = t.league_rank();
-            const int end = (c + 1) * kChunk < n ? (c + 1) * kChunk : n;
-            Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { sum(k) = 0; });
-            for (int h = c * kChunk; h < end; h += kPass) {
-              const int m = end - h < kPass ? end - h : kPass;
-              Kokkos::parallel_for(Kokkos::TeamThreadRange(t, m), [&](int q) {
-                Real acc[kMaxValues];
-                for (int k = 0; k < nv; ++k) acc[k] = 0;
-                f(h + q, acc);
-                for (int k = 0; k < nv; ++k) item(q, k) = acc[k];
-              });
-              t.team_barrier();
-              Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) {
-                Real s = sum(k);
-                for (int q = 0; q < m; ++q) s += item(q, k);  // item order: run()'s order
-                sum(k) = s;
-              });
-              t.team_barrier();
-            }
-            Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { partial(c, k) = sum(k); });
-          });
-      sum_chunks<true>(nchunks, nv);
-    }
+    // kPass x nv values of scratch per team must fit a GPU block's 48 KB with room for Kokkos' own.
+    if (nv > kOneTermMaxValues)
+      throw std::logic_error("DeterministicSum::run_one_term: at most " + std::to_string(kOneTermMaxValues) + " values (" + std::to_string(nv) + " asked)");
+    const int nchunks = prepare(n);
+    auto partial = partial_;
+    using Member = Kokkos::TeamPolicy<ExecSpace>::member_type;
+    const std::size_t bytes = ScratchMatrix::shmem_size(kPass, nv) + ScratchVector::shmem_size(nv);
+    Kokkos::parallel_for(
+        label, Kokkos::TeamPolicy<ExecSpace>(nchunks, team_size()).set_scratch_size(0, Kokkos::PerTeam(bytes)),
+        KOKKOS_LAMBDA(const Member& t) {
+          ScratchMatrix item(t.team_scratch(0), kPass, nv);  // item(q, k): value k of item q of the pass
+          ScratchVector sum(t.team_scratch(0), nv);          // the chunk's running sums
+          const int c = t.league_rank();
+          const int end = (c + 1) * kChunk < n ? (c + 1) * kChunk : n;
+          Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { sum(k) = 0; });
+          for (int h = c * kChunk; h < end; h += kPass) {
+            const int m = end - h < kPass ? end - h : kPass;
+            Kokkos::parallel_for(Kokkos::TeamThreadRange(t, m), [&](int q) {
+              Real acc[kMaxValues];
+              for (int k = 0; k < nv; ++k) acc[k] = 0;
+              f(h + q, acc);
+              for (int k = 0; k < nv; ++k) item(q, k) = acc[k];
+            });
+            t.team_barrier();
+            Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) {
+              Real s = sum(k);
+              for (int q = 0; q < m; ++q) s += item(q, k);  // item order: run()'s order
+              sum(k) = s;
+            });
+            t.team_barrier();
+          }
+          Kokkos::parallel_for(Kokkos::TeamThreadRange(t, nv), [&](int k) { partial(c, k) = sum(k); });
+        });
+    sum_chunks<true>(nchunks, nv);
   }
 
   // Value k of the last reduction, in device memory (k < kMaxValues; a caller may write past the sums).

@@ -108,8 +108,9 @@ class Engine {
 
   // One step = evaluate() then advance(). Between the two, positions, pair forces, history and wall
   // loads all belong to the same instant t: the place to measure (analysis, snapshots).
-  // evaluate() + advance(). On host backends the wall loads of step 2 come from the integration's own pass
-  // (gather_integrate_and_load_walls: the same bits, one pass over the particles fewer).
+  // step() computes the same bits as evaluate() + advance() through gather_integrate_and_load_walls: on host
+  // backends the wall loads come from the integration's own pass (one pass over the particles fewer); on a
+  // GPU they stay on the device until one copy brings them over with the displacement max.
   // step() does not update forces()/torques() (they are output, not state: the fused step skips their
   // stores, perf/NOTES.md attempt 27); advance() does, and so does diagnostics() between the halves.
   void step();
