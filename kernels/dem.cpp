@@ -6,6 +6,10 @@
 #include <type_traits>
 #include <string>
 
+#if GRAINLAB_PAIR_LANES && defined(__AVX__)
+#include <immintrin.h>
+#endif
+
 namespace grainlab {
 namespace {
 
@@ -130,32 +134,28 @@ KOKKOS_FORCEINLINE_FUNCTION void store_lane(PairReal* __restrict a, int p, bool 
   a[3 * p + 2] = PairReal(on ? v.z : z);
 }
 
+// The state of both particles of one lane, as the law reads it.
+struct LaneState {
+  Vec3 xi, xj, vi, vj, wi, wj;
+  Real ri, rj, mi, mj;
+};
+
 template <bool Rolling, bool Viscous>
-KOKKOS_FORCEINLINE_FUNCTION void lane_pair(int p, const ContactParams& cp, const int* __restrict PI,
-                                           const int* __restrict PJ, const Real* __restrict X,
-                                           const Real* __restrict V, const Real* __restrict W,
-                                           const Real* __restrict R, const Real* __restrict M,
+KOKKOS_FORCEINLINE_FUNCTION void lane_pair(int p, const ContactParams& cp, const LaneState& s,
                                            PairReal* __restrict FT, PairReal* __restrict MR,
                                            PairReal* __restrict FO, PairReal* __restrict TJ,
                                            PairReal* __restrict TI, int& flag) {
   using Law = LinearRollingContact<Rolling, Viscous>;
-  // LayoutRight on host backends: component q of particle / pair k at 3 k + q (checked by the caller).
-  const int i = PI[p], j = PJ[p];
-  const Vec3 xi(X[3 * i], X[3 * i + 1], X[3 * i + 2]);
-  const Vec3 d = Vec3(X[3 * j], X[3 * j + 1], X[3 * j + 2]) - xi;
-  const Real ri = R[i], rj = R[j];
+  const Vec3 d = s.xj - s.xi;
   const Real dist2 = norm2(d);
-  const Real sum = ri + rj;
+  const Real sum = s.ri + s.rj;
   const bool touching = !(dist2 >= sum * sum);  // the row kernel's test
   ContactHistory h;
   h.ft = Vec3(FT[3 * p], FT[3 * p + 1], FT[3 * p + 2]);
   if (Rolling) h.mr = Vec3(MR[3 * p], MR[3 * p + 1], MR[3 * p + 2]);
   // A separated lane evaluates at dist = r_i + r_j (zero overlap, finite values); its results are dropped.
-  const ContactResult c = Law::evaluate(cp, ri, rj, M[i], M[j], d, touching ? math::sqrt(dist2) : sum,
-                                        Vec3(V[3 * i], V[3 * i + 1], V[3 * i + 2]),
-                                        Vec3(V[3 * j], V[3 * j + 1], V[3 * j + 2]),
-                                        Vec3(W[3 * i], W[3 * i + 1], W[3 * i + 2]),
-                                        Vec3(W[3 * j], W[3 * j + 1], W[3 * j + 2]), h);
+  const ContactResult c = Law::evaluate(cp, s.ri, s.rj, s.mi, s.mj, d, touching ? math::sqrt(dist2) : sum, s.vi,
+                                        s.vj, s.wi, s.wj, h);
   // A separated pair loses its history (SPEC §2), and its outputs read as +0.
   store_lane(FT, p, touching, h.ft);
   if (Rolling) store_lane(MR, p, touching, h.mr);
@@ -165,11 +165,40 @@ KOKKOS_FORCEINLINE_FUNCTION void lane_pair(int p, const ContactParams& cp, const
   flag = touching ? c.flags : 0;
 }
 
+// Lane-major staging of a 3-vector field for 4 lanes: out[q * C + k] = A[3 idx[k] + q] (LayoutRight records of
+// 3 doubles), for k = 0..3 and q = 0..2. The vector loop then reads the lanes' x, v, w with contiguous loads.
+// Until attempt 33 GCC gathered them in the loop: 36 vgatherdpd per 8-lane block for x, v, w of i and j, whose
+// stalls (seen on the kmovb after each gather) held ~25 % of the kernel's samples. Here each record is one
+// masked 256-bit load (the masked-off fourth double is not read, so the last particle is safe) and the 4 x 4
+// transpose is 7 shuffles. Only data moves: the law sees the same values, so the same bits.
+template <int C>
+KOKKOS_FORCEINLINE_FUNCTION void stage4(const Real* __restrict A, const int* __restrict idx, Real* __restrict out) {
+#if defined(__AVX__)
+  static_assert(std::is_same_v<Real, double>, "stage4 transposes doubles");
+  const __m256i m = _mm256_setr_epi64x(-1, -1, -1, 0);
+  const __m256d a = _mm256_maskload_pd(A + 3 * idx[0], m);  // ax ay az -
+  const __m256d b = _mm256_maskload_pd(A + 3 * idx[1], m);
+  const __m256d c = _mm256_maskload_pd(A + 3 * idx[2], m);
+  const __m256d d = _mm256_maskload_pd(A + 3 * idx[3], m);
+  const __m256d ab_lo = _mm256_unpacklo_pd(a, b);  // ax bx az bz
+  const __m256d ab_hi = _mm256_unpackhi_pd(a, b);  // ay by -  -
+  const __m256d cd_lo = _mm256_unpacklo_pd(c, d);  // cx dx cz dz
+  const __m256d cd_hi = _mm256_unpackhi_pd(c, d);  // cy dy -  -
+  _mm256_storeu_pd(out, _mm256_permute2f128_pd(ab_lo, cd_lo, 0x20));          // ax bx cx dx
+  _mm256_storeu_pd(out + C, _mm256_permute2f128_pd(ab_hi, cd_hi, 0x20));      // ay by cy dy
+  _mm256_storeu_pd(out + 2 * C, _mm256_permute2f128_pd(ab_lo, cd_lo, 0x31));  // az bz cz dz
+#else
+  for (int k = 0; k < 4; ++k)
+    for (int q = 0; q < 3; ++q) out[q * C + k] = A[3 * idx[k] + q];
+#endif
+}
+
 template <bool Rolling, bool Viscous>
 void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
                             const ContactParams& cp_in) {
   constexpr int C = kPairLanesWidth;
-  constexpr int kPrefetchBlocks = 8;  // 4 measured the same (perf/ab.sh 1.006 at 32k, 1.014 at 256k)
+  static_assert(C % 4 == 0, "stage4 fills the lanes four at a time");
+  constexpr int kPrefetchBlocks = 64 / C;  // 64 pairs ahead; 32 measured the same (perf/ab.sh 1.006 at 32k, 1.014 at 256k)
   static_assert(std::is_same_v<VecLayout, Kokkos::LayoutRight>, "the pair-lane kernel indexes x(i, q) as 3 i + q");
   if (L.npairs == 0) return;
   // Raw pointers: GCC vectorizes the gathers of x, v, w of i and j only through plain pointer arithmetic.
@@ -215,7 +244,7 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
           // j's state for the block kPrefetchBlocks ahead: the gathers below stalled on it (perf at 256k put
           // ~40 % of the kernel's samples right after vgatherdpd). The lanes' j are near-random within the
           // neighbourhood, which the hardware prefetcher cannot follow; i's rows are sequential, which it can.
-          // Measured (perf/NOTES.md attempt 23), 8 blocks ahead: 1.23x on the step at 32k, 1.35x at 256k.
+          // Measured (perf/NOTES.md attempt 23), 64 pairs ahead: 1.23x on the step at 32k, 1.35x at 256k.
           const int q0 = p0 + kPrefetchBlocks * C;
           const int q1 = q0 + C < npairs ? q0 + C : npairs;
           for (int q = q0; q < q1; ++q) {
@@ -228,13 +257,34 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
           }
         }
         if (p0 + C <= npairs) {
+          // x, v, w of i and j for the C lanes, lane-major: S[field][component][lane] (stage4).
+          alignas(64) Real S[6][3][C];
+          for (int g = 0; g < C; g += 4) {
+            stage4<C>(X, PI + p0 + g, &S[0][0][g]);
+            stage4<C>(X, PJ + p0 + g, &S[1][0][g]);
+            stage4<C>(V, PI + p0 + g, &S[2][0][g]);
+            stage4<C>(V, PJ + p0 + g, &S[3][0][g]);
+            stage4<C>(W, PI + p0 + g, &S[4][0][g]);
+            stage4<C>(W, PJ + p0 + g, &S[5][0][g]);
+          }
 #pragma GCC ivdep
-          for (int l = 0; l < C; ++l)
-            lane_pair<Rolling, Viscous>(p0 + l, cp, PI, PJ, X, V, W, R, M, FT, MR, FO, TJ, TI, fl[l]);
+          for (int l = 0; l < C; ++l) {
+            const int i = PI[p0 + l], j = PJ[p0 + l];
+            const LaneState s{Vec3(S[0][0][l], S[0][1][l], S[0][2][l]), Vec3(S[1][0][l], S[1][1][l], S[1][2][l]),
+                              Vec3(S[2][0][l], S[2][1][l], S[2][2][l]), Vec3(S[3][0][l], S[3][1][l], S[3][2][l]),
+                              Vec3(S[4][0][l], S[4][1][l], S[4][2][l]), Vec3(S[5][0][l], S[5][1][l], S[5][2][l]),
+                              R[i], R[j], M[i], M[j]};
+            lane_pair<Rolling, Viscous>(p0 + l, cp, s, FT, MR, FO, TJ, TI, fl[l]);
+          }
           for (int l = 0; l < C; ++l) FL_[p0 + l] = std::uint8_t(fl[l]);
-        } else {  // the last, partial block
+        } else {  // the last, partial block, straight from the particle arrays
           for (int p = p0; p < npairs; ++p) {
-            lane_pair<Rolling, Viscous>(p, cp, PI, PJ, X, V, W, R, M, FT, MR, FO, TJ, TI, fl[0]);
+            const int i = PI[p], j = PJ[p];
+            const LaneState s{Vec3(X[3 * i], X[3 * i + 1], X[3 * i + 2]), Vec3(X[3 * j], X[3 * j + 1], X[3 * j + 2]),
+                              Vec3(V[3 * i], V[3 * i + 1], V[3 * i + 2]), Vec3(V[3 * j], V[3 * j + 1], V[3 * j + 2]),
+                              Vec3(W[3 * i], W[3 * i + 1], W[3 * i + 2]), Vec3(W[3 * j], W[3 * j + 1], W[3 * j + 2]),
+                              R[i], R[j], M[i], M[j]};
+            lane_pair<Rolling, Viscous>(p, cp, s, FT, MR, FO, TJ, TI, fl[0]);
             FL_[p] = std::uint8_t(fl[0]);
           }
         }

@@ -57,7 +57,9 @@ constexpr bool kPairLanesBuilt = false;
 #endif
 constexpr PairKernel kDefaultPairKernel =
     kPairLanesBuilt ? PairKernel::Lanes : kHostBackend ? PairKernel::Row : PairKernel::Pairs;
-constexpr int kPairLanesWidth = 8;  // 16 lanes measured the same (perf/ab.sh 1.001), 512-bit vectors too
+// 16 since the staged loads (perf/NOTES.md attempt 33): against 8, 1.11x more at 2 threads; 4 lanes 0.82x, 32 lanes
+// 0.985x against 16. (With the in-loop gathers of attempt 20, 16 measured the same as 8: 1.001x.)
+constexpr int kPairLanesWidth = 16;
 
 constexpr int kMaxWalls = 8;
 struct WallSet {

@@ -6,16 +6,23 @@
 #                                     1 and 2 threads/ranks, REPS=3, medians
 #   PEERS=liggghts perf/race.sh       only these peers (liggghts lammps lammpsclassic yade; "" = none)
 #   REPS=5 ROLLS="1" MODES="2" NSTEPS=2000 NWARM=200 PEERS_DIR=... BUILD=build
+#   PEER_SKINS_UM="10 5"              the peers' extra runs at these neighbour skins (micrometres; "" = none)
 #
 # Peers missing on the machine are installed from Debian (apt-get, as root) unless SKIP_INSTALL=1.
-# The last line is `speedup_vs_fastest_peer=X.XX`: grainlab at 2 threads with rolling on against the
-# fastest peer at 2 processes with rolling on (medians). Logs and a table go to $OUT (default
-# perf/race-out/).
+# The last line is `speedup_vs_fastest_peer=X.XX`: grainlab as it runs by default, at 2 threads with rolling
+# on, against the fastest peer at 2 processes with rolling on, each peer at its fastest skin (medians). Logs
+# and a table go to $OUT (default perf/race-out/).
 #
-# Two grainlab rows: `grainlab` streams the Verlet list itself (skin 0.1 mm, --inner 0), the same list the
-# peers loop over, and is the one the speedup lines use; `grainlab_inner` is the engine's default, which
-# streams an inner list filtered from that Verlet list (EngineParams::inner_skin, perf/NOTES.md attempt 18):
-# same bits, fewer listed non-touching pairs. Its ratio is printed as `speedup_vs_fastest_peer_default`.
+# Each code at its best list setting, same physics and same timed work:
+# - `grainlab_inner` is the engine's default: the Verlet list with the race's 0.1 mm skin, and the kernels
+#   stream an inner list filtered from it (EngineParams::inner_skin, perf/NOTES.md attempt 18): the same bits
+#   as streaming the Verlet list, fewer listed non-touching pairs.
+# - The peers run at the race's 0.1 mm skin (`liggghts`, `lammps`) and, rolling on, at smaller skins
+#   (`liggghts_skin10um`, ...: the input file with its `neighbor` line changed, nothing else). A smaller skin
+#   lists fewer non-touching pairs and costs a few rebuilds (LIGGGHTS 2 ranks: 0.1 mm 7.3e6, 10 um 8.1e6
+#   particle-steps/s on this VM, perf/NOTES.md session 13): the peers' own version of what the inner list does.
+# - `grainlab` streams the Verlet list itself (--inner 0): the same list as the peers at 0.1 mm. Against those
+#   it is printed as `speedup_vs_fastest_peer_verlet` (like for like, list included).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PEERS_DIR=${PEERS_DIR:-$ROOT/../shared/bench/peers}
@@ -29,6 +36,7 @@ BUILD=${BUILD:-$ROOT/build}
 OUT=${OUT:-$ROOT/perf/race-out}
 PY=/usr/bin/python3
 MPI2="mpirun -np 2 --allow-run-as-root --oversubscribe"
+PEER_SKINS_UM=${PEER_SKINS_UM-"10 5"}
 
 [ -s "$PEERS_DIR/scene_32k.txt" ] || { echo "race.sh: no scene at $PEERS_DIR/scene_32k.txt (set PEERS_DIR)"; exit 1; }
 [ -x "$BUILD/perf/race_bench" ] || { echo "race.sh: $BUILD/perf/race_bench missing: run 'make build' first"; exit 1; }
@@ -59,6 +67,14 @@ if [ -n "$PEERS" ]; then
   mkdir -p "$WORK"
   cp "$PEERS_DIR/scene_32k.txt" "$PEERS_DIR/scene_32k_box.txt" "$WORK/"
   ( cd "$WORK" && $PY "$PEERS_DIR/tools/scene_to_data.py" >/dev/null && $PY "$PEERS_DIR/tools/make_stl.py" >/dev/null )
+  # The LAMMPS-family inputs at each extra skin: only the `neighbor SKIN bin` line differs.
+  for um in $PEER_SKINS_UM; do
+    for p in liggghts lammps; do
+      src="$PEERS_DIR/$p/bench.in" dst="$WORK/${p}_skin${um}um.in"
+      grep -q '^neighbor  *1.0e-4 bin' "$src" || { echo "race.sh: no 'neighbor 1.0e-4 bin' line in $src"; exit 1; }
+      sed "s/^neighbor  *1.0e-4 bin/neighbor        ${um}e-6 bin/" "$src" > "$dst"
+    done
+  done
 fi
 
 run_one() {  # code roll mode rep -> log
@@ -70,9 +86,13 @@ run_one() {  # code roll mode rep -> log
       OMP_NUM_THREADS=$mode OMP_PROC_BIND=spread OMP_PLACES=threads "$BUILD/perf/race_bench" \
         --scene "$PEERS_DIR/scene_32k.txt" --box "$PEERS_DIR/scene_32k_box.txt" --rolling "$roll" \
         --warmup "$NWARM" --steps "$NSTEPS" "${inner[@]}" > "$log" 2>&1 ;;
-    liggghts|lammps|lammpsclassic)
+    liggghts*|lammps*)
       local exe=lmp in="$PEERS_DIR/lammps/bench.in" extra=""
       [ "$code" = liggghts ] && { exe=liggghts; in="$PEERS_DIR/liggghts/bench.in"; }
+      case "$code" in
+        liggghts_skin*) exe=liggghts; in="$WORK/$code.in" ;;
+        lammps_skin*) in="$WORK/$code.in" ;;
+      esac
       [ "$code" = lammpsclassic ] && extra="-var classic 1"
       local launch=""; [ "$mode" = 2 ] && launch=$MPI2
       ( cd "$WORK" && OMP_NUM_THREADS=1 timeout 900 $launch $exe -in "$in" -log none -var roll "$roll" $extra \
@@ -83,10 +103,15 @@ run_one() {  # code roll mode rep -> log
   esac || echo "!!! $code roll=$roll p=$mode rep=$rep failed, see $log"
 }
 
+skinned=""  # the extra-skin runs of the peers that have a `neighbor` line (not YADE), rolling on
+for p in $PEERS; do
+  case $p in liggghts|lammps) for um in $PEER_SKINS_UM; do skinned="$skinned ${p}_skin${um}um"; done ;; esac
+done
 for rep in $(seq 1 "$REPS"); do
-  for code in grainlab grainlab_inner $PEERS; do
+  for code in grainlab grainlab_inner $PEERS $skinned; do
     for roll in $ROLLS; do
       [ "$code" = lammpsclassic ] && [ "$roll" = 1 ] && continue  # no rolling model there
+      case "$code" in *_skin*) [ "$roll" = 1 ] || continue ;; esac
       for mode in $MODES; do
         echo ">>> $code rolling=$roll processes/threads=$mode rep=$rep"
         run_one "$code" "$roll" "$mode" "$rep"
@@ -133,17 +158,22 @@ for k in sorted(med, key=lambda k: (k[1] == 0, k[2], -med[k])):
 table = "\n".join(lines)
 open(os.path.join(out, "table.md"), "w").write(table + "\n")
 print(table)
-peers2 = [v for (c, r, p), v in med.items() if not c.startswith("grainlab") and r == 1 and p == 2]
-peers1 = [v for (c, r, p), v in med.items() if not c.startswith("grainlab") and r == 1 and p == 1]
-g2, g1 = med.get(("grainlab", 1, 2)), med.get(("grainlab", 1, 1))
-d2 = med.get(("grainlab_inner", 1, 2))
-if g1 and peers1:
-    print(f"speedup_vs_fastest_peer_1proc={g1 / max(peers1):.2f}")
-if d2 and peers2:
-    print(f"speedup_vs_fastest_peer_default={d2 / max(peers2):.2f}")
-if g2 and peers2:
-    print(f"speedup_vs_fastest_peer={g2 / max(peers2):.2f}")
-elif g2:
+def peers(p, any_skin):  # the peers' medians at p processes, rolling on (any skin, or the race's 0.1 mm only)
+    return {c: v for (c, r, q), v in med.items()
+            if not c.startswith("grainlab") and r == 1 and q == p and (any_skin or "_skin" not in c)}
+def line(name, g, pool):
+    if g and pool:
+        best = max(pool, key=pool.get)
+        print(f"# {name}: grainlab {g:.3g} against {best} {pool[best]:.3g} particle-steps/s")
+        print(f"{name}={g / pool[best]:.2f}")
+# grainlab's default against each peer at its fastest skin, then like for like on the 0.1 mm Verlet list.
+line("speedup_vs_fastest_peer_1proc", med.get(("grainlab_inner", 1, 1)), peers(1, True))
+line("speedup_vs_fastest_peer_verlet_1proc", med.get(("grainlab", 1, 1)), peers(1, False))
+line("speedup_vs_fastest_peer_verlet", med.get(("grainlab", 1, 2)), peers(2, False))
+d2, p2 = med.get(("grainlab_inner", 1, 2)), peers(2, True)
+if d2 and p2:
+    line("speedup_vs_fastest_peer", d2, p2)
+elif d2:
     print("no peer ran at 2 processes with rolling on")
     print("speedup_vs_fastest_peer=nan")
 PY

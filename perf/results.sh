@@ -58,6 +58,8 @@ ncpu = os.cpu_count()
 race = open(os.path.join(out, "race.txt")).read()
 table = open(os.path.join(out, "table.md")).read().strip()
 speed = re.findall(r"^(speedup_vs_fastest_peer\S*)=(\S+)", race, re.M)
+# race.sh prints which run each ratio compares with which, on the line before it
+context = dict(re.findall(r"^# (speedup_vs_fastest_peer\S*): (.*)$", race, re.M))
 
 # scaling: medians per spec
 groups = {}
@@ -124,15 +126,21 @@ GRAINLAB_NATIVE=ON; the Debian peers are generic x86-64 builds), commit `{commit
 32 000 spheres, 200 warm-up + 2 000 timed steps, dt = 1e-7 s, walls approaching at 0.01 m/s, mu = 0.5,
 mu_r = 0.1 (rolling on) or 0. grainlab: `build/perf/race_bench` (stiffness E r̄ with E set so the mean pair
 stiffness is the peers' 2e4 N/m; the constants are listed at the top of perf/race_bench.cpp). Peers: the
-Debian packages, MPI ranks, run by the same script right before or after. Two grainlab rows: `grainlab`
-streams the Verlet list built with the race's 0.1 mm skin (`--inner 0`), the same list the peers loop over;
-the speedup lines use it. `grainlab_inner` is the engine's default: the kernels stream an inner list filtered
-from that Verlet list (pairs closer than r_i + r_j + 0.05 skin, refiltered when a particle moved 0.025 skin;
-perf/NOTES.md attempts 18 and 29). Both end with the same kinetic energy to the last bit.
+Debian packages, MPI ranks, run by the same script right before or after.
+
+Each code runs at its best list setting. `grainlab_inner` is the engine's default: the Verlet list with the
+race's 0.1 mm skin, and the kernels stream an inner list filtered from it (pairs closer than r_i + r_j + 0.05
+skin, refiltered when a particle moved 0.025 skin; perf/NOTES.md attempts 18 and 29). The peers run at the race's
+0.1 mm skin (`liggghts`, `lammps`) and, rolling on, at 10 and 5 um (`*_skin10um`, `*_skin5um`: their input with
+only the `neighbor` line changed), where they list fewer non-touching pairs for a few rebuilds: their own version
+of the inner list. `speedup_vs_fastest_peer` is `grainlab_inner` at 2 threads against the fastest peer run at 2
+processes, whatever its skin. `grainlab` streams the 0.1 mm Verlet list itself (`--inner 0`), the same list as
+the peers at 0.1 mm: `speedup_vs_fastest_peer_verlet` compares those two, like for like. `grainlab` and
+`grainlab_inner` end with the same kinetic energy to the last bit.
 
 {table}
 
-{chr(10).join(f"`{a}={b}`  " for a, b in speed)}
+{chr(10).join(f"`{a}={b}` ({context.get(a, '')})  " for a, b in speed)}
 
 ## Scaling with N (`race_bench`, rolling on, 2 threads, 200 timed steps)
 
