@@ -193,6 +193,15 @@ KOKKOS_FORCEINLINE_FUNCTION void stage4(const Real* __restrict A, const int* __r
 #endif
 }
 
+// The same for a scalar field: out[k] = A[idx[k]], k = 0..3, by scalar loads instead of a gather.
+KOKKOS_FORCEINLINE_FUNCTION void stage4_scalar(const Real* __restrict A, const int* __restrict idx, Real* __restrict out) {
+#if defined(__AVX__)
+  _mm256_storeu_pd(out, _mm256_setr_pd(A[idx[0]], A[idx[1]], A[idx[2]], A[idx[3]]));
+#else
+  for (int k = 0; k < 4; ++k) out[k] = A[idx[k]];
+#endif
+}
+
 template <bool Rolling, bool Viscous>
 void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHistory& H, const PairForces& F,
                             const ContactParams& cp_in) {
@@ -259,6 +268,7 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
         if (p0 + C <= npairs) {
           // x, v, w of i and j for the C lanes, lane-major: S[field][component][lane] (stage4).
           alignas(64) Real S[6][3][C];
+          alignas(64) Real Q[4][C];  // r_i, r_j, m_i, m_j
           for (int g = 0; g < C; g += 4) {
             stage4<C>(X, PI + p0 + g, &S[0][0][g]);
             stage4<C>(X, PJ + p0 + g, &S[1][0][g]);
@@ -266,14 +276,17 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
             stage4<C>(V, PJ + p0 + g, &S[3][0][g]);
             stage4<C>(W, PI + p0 + g, &S[4][0][g]);
             stage4<C>(W, PJ + p0 + g, &S[5][0][g]);
+            stage4_scalar(R, PI + p0 + g, &Q[0][g]);
+            stage4_scalar(R, PJ + p0 + g, &Q[1][g]);
+            stage4_scalar(M, PI + p0 + g, &Q[2][g]);
+            stage4_scalar(M, PJ + p0 + g, &Q[3][g]);
           }
 #pragma GCC ivdep
           for (int l = 0; l < C; ++l) {
-            const int i = PI[p0 + l], j = PJ[p0 + l];
             const LaneState s{Vec3(S[0][0][l], S[0][1][l], S[0][2][l]), Vec3(S[1][0][l], S[1][1][l], S[1][2][l]),
                               Vec3(S[2][0][l], S[2][1][l], S[2][2][l]), Vec3(S[3][0][l], S[3][1][l], S[3][2][l]),
                               Vec3(S[4][0][l], S[4][1][l], S[4][2][l]), Vec3(S[5][0][l], S[5][1][l], S[5][2][l]),
-                              R[i], R[j], M[i], M[j]};
+                              Q[0][l], Q[1][l], Q[2][l], Q[3][l]};
             lane_pair<Rolling, Viscous>(p0 + l, cp, s, FT, MR, FO, TJ, TI, fl[l]);
           }
           for (int l = 0; l < C; ++l) FL_[p0 + l] = std::uint8_t(fl[l]);
