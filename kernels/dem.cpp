@@ -193,7 +193,8 @@ KOKKOS_FORCEINLINE_FUNCTION void stage4(const Real* __restrict A, const int* __r
 #endif
 }
 
-// The same for a scalar field: out[k] = A[idx[k]], k = 0..3, by scalar loads instead of a gather.
+// The same for a scalar field: out[k] = A[idx[k]], k = 0..3, by scalar loads instead of a gather (r and m:
+// 1.03x on the step against gathering them in the loop, perf/NOTES.md attempt 33b).
 KOKKOS_FORCEINLINE_FUNCTION void stage4_scalar(const Real* __restrict A, const int* __restrict idx, Real* __restrict out) {
 #if defined(__AVX__)
   _mm256_storeu_pd(out, _mm256_setr_pd(A[idx[0]], A[idx[1]], A[idx[2]], A[idx[3]]));
@@ -210,7 +211,8 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
   constexpr int kPrefetchBlocks = 64 / C;  // 64 pairs ahead; 32 measured the same (perf/ab.sh 1.006 at 32k, 1.014 at 256k)
   static_assert(std::is_same_v<VecLayout, Kokkos::LayoutRight>, "the pair-lane kernel indexes x(i, q) as 3 i + q");
   if (L.npairs == 0) return;
-  // Raw pointers: GCC vectorizes the gathers of x, v, w of i and j only through plain pointer arithmetic.
+  // Raw pointers: the staging (stage4) and the vector loop index the arrays by plain pointer arithmetic, which
+  // GCC vectorizes (through a View's operator() it did not).
   const int* PI_ = L.pair_i.data();
   const int* PJ_ = L.pair_j.data();
   const Real* X_ = P.x.data();
@@ -250,8 +252,8 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
         const int p0 = b * C;
         int fl[C];
         {
-          // j's state for the block kPrefetchBlocks ahead: the gathers below stalled on it (perf at 256k put
-          // ~40 % of the kernel's samples right after vgatherdpd). The lanes' j are near-random within the
+          // j's state for the block kPrefetchBlocks ahead: the loads below stalled on it (perf at 256k put
+          // ~40 % of the kernel's samples right after the gathers that preceded the staging of attempt 33). The lanes' j are near-random within the
           // neighbourhood, which the hardware prefetcher cannot follow; i's rows are sequential, which it can.
           // Measured (perf/NOTES.md attempt 23), 64 pairs ahead: 1.23x on the step at 32k, 1.35x at 256k.
           const int q0 = p0 + kPrefetchBlocks * C;

@@ -57,8 +57,9 @@ constexpr bool kPairLanesBuilt = false;
 #endif
 constexpr PairKernel kDefaultPairKernel =
     kPairLanesBuilt ? PairKernel::Lanes : kHostBackend ? PairKernel::Row : PairKernel::Pairs;
-// 16 since the staged loads (perf/NOTES.md attempt 33): against 8, 1.11x more at 2 threads; 4 lanes 0.82x, 32 lanes
-// 0.985x against 16. (With the in-loop gathers of attempt 20, 16 measured the same as 8: 1.001x.)
+// 16 since the staged loads (perf/NOTES.md attempt 33). perf/ab2.sh against the gathering kernel at 8 lanes: staged
+// 4 lanes 0.82x, 8 lanes 1.11x, 16 lanes 1.23x; 32 lanes 0.985x against 16 (spills). With the in-loop gathers of
+// attempt 20, 16 lanes had measured the same as 8 (1.001x): the gathers bound the loop.
 constexpr int kPairLanesWidth = 16;
 
 constexpr int kMaxWalls = 8;
