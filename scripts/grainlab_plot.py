@@ -39,6 +39,7 @@ def label(run, s):
 
 
 def save(fig, out, name):
+    fig.tight_layout()  # keeps a row's axis labels off the titles of the row below
     for ext in ("png", "pdf"):
         fig.savefig(os.path.join(out, f"{name}.{ext}"), dpi=130, bbox_inches="tight")
     plt.close(fig)
