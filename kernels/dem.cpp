@@ -252,9 +252,10 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
         const int p0 = b * C;
         int fl[C];
         {
-          // j's state for the block kPrefetchBlocks ahead: the loads below stalled on it (perf at 256k put
-          // ~40 % of the kernel's samples right after the gathers that preceded the staging of attempt 33). The lanes' j are near-random within the
-          // neighbourhood, which the hardware prefetcher cannot follow; i's rows are sequential, which it can.
+          // j's state for the block kPrefetchBlocks ahead: the loads below stalled on it (perf at 256k put ~40 % of
+          // the kernel's samples right after the gathers that preceded attempt 33's staging). The lanes' j are
+          // near-random within the neighbourhood, which the hardware prefetcher cannot follow; i's rows are
+          // sequential, which it can.
           // Measured (perf/NOTES.md attempt 23), 64 pairs ahead: 1.23x on the step at 32k, 1.35x at 256k.
           const int q0 = p0 + kPrefetchBlocks * C;
           const int q1 = q0 + C < npairs ? q0 + C : npairs;

@@ -19,8 +19,8 @@
 #   as streaming the Verlet list, fewer listed non-touching pairs.
 # - The peers run at the race's 0.1 mm skin (`liggghts`, `lammps`) and, rolling on, at smaller skins
 #   (`liggghts_skin10um`, ...: the input file with its `neighbor` line changed, nothing else). A smaller skin
-#   lists fewer non-touching pairs and costs a few rebuilds (LIGGGHTS 2 ranks: 0.1 mm 7.3e6, 10 um 8.1e6
-#   particle-steps/s on this VM, perf/NOTES.md session 13): the peers' own version of what the inner list does.
+#   lists fewer non-touching pairs and costs a few rebuilds (LIGGGHTS 2 ranks, perf/RESULTS.md at 0e60db1: 0.1 mm
+#   6.56e6, 10 um 7.86e6 particle-steps/s): the peers' own version of what the inner list does.
 # - `grainlab` streams the Verlet list itself (--inner 0): the same list as the peers at 0.1 mm. Against those
 #   it is printed as `speedup_vs_fastest_peer_verlet` (like for like, list included).
 set -euo pipefail

@@ -140,7 +140,7 @@ the peers at 0.1 mm: `speedup_vs_fastest_peer_verlet` compares those two, like f
 
 {table}
 
-{chr(10).join(f"`{a}={b}` ({context.get(a, '')})  " for a, b in speed)}
+{chr(10).join(f"`{a}={b}`" + (f" ({context[a]})" if a in context else "") + "  " for a, b in speed)}
 
 ## Scaling with N (`race_bench`, rolling on, 2 threads, 200 timed steps)
 
