@@ -1,4 +1,5 @@
 #include "dem.hpp"
+#include "huge_pages.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -17,8 +18,7 @@ template <class V>
 void grow(V& v, const char* label, int n) {
   if (int(v.extent(0)) < n) {
     const int cap = std::max(n, int(1.25 * double(n)) + 16);
-    V nv(Kokkos::view_alloc(std::string(label), Kokkos::WithoutInitializing), cap);
-    v = nv;
+    v = huge_page_view<V>(label, cap, false);
   }
 }
 

@@ -1,4 +1,5 @@
 #include "neighbor.hpp"
+#include "huge_pages.hpp"
 
 #include <algorithm>
 #include <string>
@@ -11,7 +12,7 @@ namespace {
 void ensure(IntView& v, const char* label, long n) {
   if (long(v.extent(0)) < n) {
     const long cap = std::max(n, long(1.25 * double(n)) + 16);
-    v = IntView(Kokkos::view_alloc(std::string(label), Kokkos::WithoutInitializing), cap);
+    v = huge_page_view<IntView>(label, cap, false);
   }
 }
 

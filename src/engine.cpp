@@ -1,4 +1,5 @@
 #include "engine.hpp"
+#include "../kernels/huge_pages.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -46,16 +47,16 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
   if (params_.pair_kernel == PairKernel::Lanes && !kPairLanesBuilt)
     throw ParameterError("pair_kernel Lanes is not built here (host backend with AVX2/AVX-512 and GRAINLAB_PAIR_LANES=ON)");
   P_.n = n;
-  P_.x = VecView("grainlab::particles::x", n);
-  P_.v = VecView("grainlab::particles::v", n);
-  P_.w = VecView("grainlab::particles::w", n);
-  P_.f = VecView("grainlab::particles::f", n);
-  P_.t = VecView("grainlab::particles::t", n);
-  P_.x_ref = VecView("grainlab::particles::x_ref", n);
-  P_.r = RealView("grainlab::particles::r", n);
-  P_.m = RealView("grainlab::particles::m", n);
-  P_.inertia = RealView("grainlab::particles::inertia", n);
-  P_.id = IntView("grainlab::particles::id", n);
+  P_.x = huge_page_view<VecView>("grainlab::particles::x", n, true);
+  P_.v = huge_page_view<VecView>("grainlab::particles::v", n, true);
+  P_.w = huge_page_view<VecView>("grainlab::particles::w", n, true);
+  P_.f = huge_page_view<VecView>("grainlab::particles::f", n, true);
+  P_.t = huge_page_view<VecView>("grainlab::particles::t", n, true);
+  P_.x_ref = huge_page_view<VecView>("grainlab::particles::x_ref", n, true);
+  P_.r = huge_page_view<RealView>("grainlab::particles::r", n, true);
+  P_.m = huge_page_view<RealView>("grainlab::particles::m", n, true);
+  P_.inertia = huge_page_view<RealView>("grainlab::particles::inertia", n, true);
+  P_.id = huge_page_view<IntView>("grainlab::particles::id", n, true);
   auto hx = Kokkos::create_mirror_view(P_.x);
   auto hv = Kokkos::create_mirror_view(P_.v);
   auto hw = Kokkos::create_mirror_view(P_.w);
