@@ -91,9 +91,15 @@ def fig_sff(runs, out):
     ax[0].legend(fontsize=7)
     run, s = runs[0]
     m = s["shear"]
-    shares = [s["sff_share_" + k][m] for k in "cdnt"]
-    ax[1].stackplot(100 * s["eps_a"][m], *shares, labels=["a_c", "a_d", "a_n", "3/2 a_t"], alpha=0.8)
-    ax[1].set(xlabel="eps_a [%]", ylabel="share of the sum", title=f"term shares: {label(run, s)}")
+    # The shares divide by the sum, which starts near zero (isotropic state): there they spike to +-1e2 and
+    # say nothing. Only the points where the sum is at least kMeaningful of its largest magnitude are drawn.
+    kMeaningful = 0.1
+    total = s["sff"][m]
+    keep = np.abs(total) >= kMeaningful * np.max(np.abs(total)) if len(total) else np.zeros(0, bool)
+    shares = [s["sff_share_" + k][m][keep] for k in "cdnt"]
+    ax[1].stackplot(100 * s["eps_a"][m][keep], *shares, labels=["a_c", "a_d", "a_n", "3/2 a_t"], alpha=0.8)
+    ax[1].set(xlabel="eps_a [%]", ylabel="share of the sum",
+              title=f"term shares where |sum| >= {kMeaningful:g} max: {label(run, s)}")
     ax[1].legend(fontsize=8, loc="upper right")
     for a in ax:
         a.grid(alpha=0.3)
