@@ -1,7 +1,7 @@
 #pragma once
 // Transparent huge pages for the large host arrays (perf/NOTES.md attempt 39). The pair-lane kernel reads its j
 // particles, and the integration its transposed pairs, scattered over arrays of up to hundreds of MB; with 4 KiB
-// pages most of those reads also miss the TLB (its ~2k entries map 8 MiB). Linux's default THP mode on this
+// pages most of those reads also miss the TLB (its ~3k entries map ~12 MiB). Linux's default THP mode on this
 // project's machines is "madvise": only ranges marked MADV_HUGEPAGE get 2 MiB pages, and only where they are
 // touched after the mark. So the arrays are allocated without initialization, marked, then filled. Elsewhere
 // (THP off or "never", other systems, device memory) this does nothing, and nothing depends on it but speed.
