@@ -208,7 +208,9 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
                             const ContactParams& cp_in) {
   constexpr int C = kPairLanesWidth;
   static_assert(C % 4 == 0, "stage4 fills the lanes four at a time");
-  constexpr int kPrefetchBlocks = 64 / C;  // 64 pairs ahead; 32 measured the same (perf/ab.sh 1.006 at 32k, 1.014 at 256k)
+  // 64 pairs ahead. 32 measured the same with the gathers (attempt 23). Since the staging, farther is faster at 1
+  // thread (128/64 1.022x, 256/128 1.086x) but 256/64 is 0.975x at 2 threads, the headline (perf/NOTES.md attempt 40).
+  constexpr int kPrefetchBlocks = 64 / C;
   static_assert(std::is_same_v<VecLayout, Kokkos::LayoutRight>, "the pair-lane kernel indexes x(i, q) as 3 i + q");
   if (L.npairs == 0) return;
   // Raw pointers: the staging (stage4) and the vector loop index the arrays by plain pointer arithmetic, which
