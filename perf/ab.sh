@@ -5,6 +5,9 @@
 #   e.g. perf/ab.sh build-float/perf/race_bench build/perf/race_bench 4 --steps 1000
 #   A_ARGS / B_ARGS: options for one side only (one binary, two settings), e.g.
 #   A_ARGS="--inner 0.1" B_ARGS="--inner 0" perf/ab.sh build/perf/race_bench build/perf/race_bench 4 --steps 1000
+#   An environment setting for one side: a wrapper script as that side's binary, e.g. for the glibc tunable
+#   (perf/NOTES.md session 15): printf '#!/bin/sh\nGLIBC_TUNABLES=glibc.malloc.hugetlb=1 exec %s "$@"\n' \
+#   "$PWD/build/perf/race_bench" > /tmp/tun.sh; chmod +x /tmp/tun.sh; perf/ab.sh /tmp/tun.sh build/perf/race_bench 6
 #
 # Why concurrent: this project's VM is a shared host whose speed drifts by up to 20 % from minute to
 # minute, so two builds timed one after the other differ by more than the effects we measure (5-15 %).
