@@ -14,14 +14,6 @@
 namespace grainlab {
 namespace {
 
-template <class V>
-void grow(V& v, const char* label, int n) {
-  if (int(v.extent(0)) < n) {
-    const int cap = std::max(n, int(1.25 * double(n)) + 16);
-    v = huge_page_view<V>(label, cap, false);
-  }
-}
-
 // SPEC §2 on listed pair p of particle i, with i's position and radius given: the views it reads and writes,
 // shared by the row kernel and the one-pair-per-thread kernel, so that both run the same code (and bits).
 struct ListedPair {
@@ -586,18 +578,18 @@ void transfer_history(const PairList& old_list, const PairHistory& old_h, const 
 }
 
 void ensure_pair_arrays(PairHistory& h, int n) {
-  grow(h.ft, "grainlab::history::ft", n);
-  grow(h.mr, "grainlab::history::mr", n);
-  grow(h.flags, "grainlab::history::flags", n);
+  grow_view(h.ft, "grainlab::history::ft", n);
+  grow_view(h.mr, "grainlab::history::mr", n);
+  grow_view(h.flags, "grainlab::history::flags", n);
 }
 void ensure_pair_arrays(PairForces& f, int n, int nparticles, PairKernel kernel) {
-  grow(f.f, "grainlab::pair::f", n);
-  grow(f.tj, "grainlab::pair::tj", n);
+  grow_view(f.f, "grainlab::pair::f", n);
+  grow_view(f.tj, "grainlab::pair::tj", n);
   if (per_pair_shares(kernel)) {
-    grow(f.ti, "grainlab::pair::ti", n);
+    grow_view(f.ti, "grainlab::pair::ti", n);
   } else {
-    grow(f.row_f, "grainlab::pair::row_f", nparticles);
-    grow(f.row_t, "grainlab::pair::row_t", nparticles);
+    grow_view(f.row_f, "grainlab::pair::row_f", nparticles);
+    grow_view(f.row_t, "grainlab::pair::row_t", nparticles);
   }
 }
 

@@ -41,4 +41,14 @@ V huge_page_view(const std::string& label, std::size_t n, bool zero) {
   return v;
 }
 
+// Grow-only reallocation of a per-pair or per-list array (the pair list, the history, the pair outputs): at least
+// n entries, 25 % slack, so a steady pair count allocates nothing in the step loop. The contents are not kept.
+template <class V>
+void grow_view(V& v, const char* label, long n) {
+  if (long(v.extent(0)) < n) {
+    const long cap = n > long(1.25 * double(n)) + 16 ? n : long(1.25 * double(n)) + 16;
+    v = huge_page_view<V>(label, std::size_t(cap), false);
+  }
+}
+
 }  // namespace grainlab

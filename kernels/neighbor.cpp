@@ -8,14 +8,6 @@
 namespace grainlab {
 namespace {
 
-// Grow-only reallocation: keeps the step loop free of allocations once the pair count is steady.
-void ensure(IntView& v, const char* label, long n) {
-  if (long(v.extent(0)) < n) {
-    const long cap = std::max(n, long(1.25 * double(n)) + 16);
-    v = huge_page_view<IntView>(label, cap, false);
-  }
-}
-
 // Insertion sort of a short device-side segment (cells hold a few particles, rows a few tens).
 KOKKOS_INLINE_FUNCTION void sort_segment(const IntView& a, int begin, int end) {
   for (int k = begin + 1; k < end; ++k) {
@@ -73,8 +65,8 @@ void group_by_key(const IntView& key, int nitems, int nkeys, const IntView& curs
 
 // Transposed index for the gather: pairs grouped by j, ascending pair index within a row.
 void build_transpose(PairList& list, int n) {
-  ensure(list.t_pairs, "grainlab::pairs::t_pairs", list.npairs);
-  ensure(list.t_offsets, "grainlab::pairs::t_offsets", n + 1);
+  grow_view(list.t_pairs, "grainlab::pairs::t_pairs", list.npairs);
+  grow_view(list.t_offsets, "grainlab::pairs::t_offsets", n + 1);
   group_by_key(list.pair_j, list.npairs, n, list.counts, list.t_offsets, list.t_pairs);
 }
 
@@ -175,14 +167,14 @@ struct PairFilter {
 // into offsets, then each row fills its own slots (no atomics, so the rows' order is the functor's).
 template <class F>
 int count_then_fill(F f, int n, PairList& list, const char* count_label, const char* fill_label) {
-  ensure(list.offsets, "grainlab::pairs::offsets", n + 1);
-  ensure(list.counts, "grainlab::pairs::counts", n);
+  grow_view(list.offsets, "grainlab::pairs::offsets", n + 1);
+  grow_view(list.counts, "grainlab::pairs::counts", n);
   f.counts = list.counts;
   f.offsets = list.offsets;
   Kokkos::parallel_for(count_label, Kokkos::RangePolicy<ExecSpace, typename F::Count>(0, n), f);
   const int np = exclusive_scan(list.counts, list.offsets, n);
-  ensure(list.pair_i, "grainlab::pairs::i", np);
-  ensure(list.pair_j, "grainlab::pairs::j", np);
+  grow_view(list.pair_i, "grainlab::pairs::i", np);
+  grow_view(list.pair_j, "grainlab::pairs::j", np);
   f.pair_i = list.pair_i;
   f.pair_j = list.pair_j;
   Kokkos::parallel_for(fill_label, Kokkos::RangePolicy<ExecSpace, typename F::Fill>(0, n), f);
@@ -226,10 +218,10 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
   }
   const int nc = int(grid.ncells());
   st.ncells = nc;
-  ensure(grid.cell_start, "grainlab::cells::start", nc + 1);
-  ensure(grid.cell_particles, "grainlab::cells::particles", n);
-  ensure(grid.cell_of, "grainlab::cells::of", n);
-  ensure(grid.cursor, "grainlab::cells::cursor", std::max(n, nc + 1));
+  grow_view(grid.cell_start, "grainlab::cells::start", nc + 1);
+  grow_view(grid.cell_particles, "grainlab::cells::particles", n);
+  grow_view(grid.cell_of, "grainlab::cells::of", n);
+  grow_view(grid.cursor, "grainlab::cells::cursor", std::max(n, nc + 1));
 
   // Bin: the cell of each particle, then the particles grouped by cell (ascending within a cell).
   {

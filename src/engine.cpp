@@ -47,16 +47,17 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
   if (params_.pair_kernel == PairKernel::Lanes && !kPairLanesBuilt)
     throw ParameterError("pair_kernel Lanes is not built here (host backend with AVX2/AVX-512 and GRAINLAB_PAIR_LANES=ON)");
   P_.n = n;
-  P_.x = huge_page_view<VecView>("grainlab::particles::x", n, true);
-  P_.v = huge_page_view<VecView>("grainlab::particles::v", n, true);
-  P_.w = huge_page_view<VecView>("grainlab::particles::w", n, true);
+  // x, v, w, r, m, inertia and id are filled from the setup below (every entry); f, t and x_ref start at zero.
+  P_.x = huge_page_view<VecView>("grainlab::particles::x", n, false);
+  P_.v = huge_page_view<VecView>("grainlab::particles::v", n, false);
+  P_.w = huge_page_view<VecView>("grainlab::particles::w", n, false);
   P_.f = huge_page_view<VecView>("grainlab::particles::f", n, true);
   P_.t = huge_page_view<VecView>("grainlab::particles::t", n, true);
   P_.x_ref = huge_page_view<VecView>("grainlab::particles::x_ref", n, true);
-  P_.r = huge_page_view<RealView>("grainlab::particles::r", n, true);
-  P_.m = huge_page_view<RealView>("grainlab::particles::m", n, true);
-  P_.inertia = huge_page_view<RealView>("grainlab::particles::inertia", n, true);
-  P_.id = huge_page_view<IntView>("grainlab::particles::id", n, true);
+  P_.r = huge_page_view<RealView>("grainlab::particles::r", n, false);
+  P_.m = huge_page_view<RealView>("grainlab::particles::m", n, false);
+  P_.inertia = huge_page_view<RealView>("grainlab::particles::inertia", n, false);
+  P_.id = huge_page_view<IntView>("grainlab::particles::id", n, false);
   auto hx = Kokkos::create_mirror_view(P_.x);
   auto hv = Kokkos::create_mirror_view(P_.v);
   auto hw = Kokkos::create_mirror_view(P_.w);
