@@ -44,22 +44,9 @@ mkdir -p "$OUT"
 rm -f "$OUT"/*.log
 
 # ---- peers from Debian, on demand
-need=""
-for p in $PEERS; do
-  case $p in
-    liggghts) command -v liggghts >/dev/null || need="$need liggghts openmpi-bin" ;;
-    lammps|lammpsclassic) command -v lmp >/dev/null || need="$need lammps openmpi-bin" ;;
-    yade) command -v yade >/dev/null || need="$need yade" ;;
-    *) echo "race.sh: unknown peer '$p' (liggghts lammps lammpsclassic yade)"; exit 1 ;;
-  esac
-done
-if [ -n "$need" ]; then
-  [ "${SKIP_INSTALL:-0}" = 1 ] && { echo "race.sh: missing peers ($need) and SKIP_INSTALL=1"; exit 1; }
-  echo ">>> installing from Debian:$need"
-  SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
-  { $SUDO apt-get update && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y $need python3-numpy; } \
-    > "$OUT/apt.log" 2>&1 || { echo "race.sh: apt-get failed, see $OUT/apt.log"; exit 1; }
-fi
+# shellcheck source=perf/peers_install.sh
+. "$ROOT/perf/peers_install.sh"
+install_peers race.sh "$OUT" || exit 1
 
 # ---- the peers' work dir (data file, wall planes, STL meshes), as their run_all.sh makes it
 WORK="$OUT/work"

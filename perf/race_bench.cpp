@@ -5,6 +5,12 @@
 //   race_bench --scene scene_32k.txt --box scene_32k_box.txt [--rolling 1] [--warmup 200] [--steps 2000]
 //              [--tile K] [--crop F] [--generate N] [--reps R] [--sort 0|1] [--skin M] [--inner F] [--copy 1]
 //              [--kernel row|lanes]
+//   race_bench --scene ... --box ... [--tile K] [--crop F] --write-scene PREFIX
+//
+// --write-scene: writes the scene as built (cropped, tiled; `x y z r` per line, %.17g) to PREFIX.txt and its
+// walls to PREFIX_box.txt, the shared scene's two formats, and exits: the peers' inputs then run the very
+// spheres grainlab runs (perf/scaling_peers.sh). Each file goes to a temporary name first and is renamed
+// when complete.
 //
 // --skin: the Verlet skin (the race fixes 1e-4 m). --inner: EngineParams::inner_skin (default: the engine's,
 // 0.1; 0 streams the Verlet list itself, the list the peers loop over; perf/race.sh runs both).
@@ -52,12 +58,14 @@ struct Args {
   double inner = EngineParams{}.inner_skin;  // the engine's inner list (fraction of skin; 0 = off)
   PairKernel kernel = kDefaultPairKernel;
   int copy = 0;  // 1: first measure the device's copy bandwidth (the floor for bytes_per_particle_step)
+  std::string write_scene;  // non-empty: write the built scene to PREFIX.txt / PREFIX_box.txt and exit
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::cerr << "race_bench: " << why
             << "\nusage: race_bench --scene FILE --box FILE [--rolling 0|1] [--warmup N] [--steps N] [--reps R]"
-               " [--skin M] [--inner F] [--kernel row|lanes|pairs] [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n";
+               " [--skin M] [--inner F] [--kernel row|lanes|pairs] [--tile K] [--crop F] [--sort 0|1]\n       race_bench --generate N [...]\n"
+               "       race_bench --scene FILE --box FILE [--tile K] [--crop F] --write-scene PREFIX\n";
   std::exit(2);
 }
 
@@ -76,6 +84,7 @@ Args parse(int argc, char** argv) {
       else if (k == "--skin") a.skin = std::stod(v);
       else if (k == "--inner") a.inner = std::stod(v);
       else if (k == "--copy") a.copy = std::stoi(v);
+      else if (k == "--write-scene") a.write_scene = v;
       else if (k == "--kernel") {
         if (v != "row" && v != "lanes" && v != "pairs") usage("--kernel is row, lanes or pairs");
         if (v == "lanes" && !kPairLanesBuilt) usage("--kernel lanes: the pair-lane kernel is not built here");
@@ -94,6 +103,39 @@ Args parse(int argc, char** argv) {
 
 // Resident set size of the process (/proc/self/status VmRSS): engine arrays, the scene read from the file
 // and the runtime; per particle it is an upper bound of the engine's memory per particle.
+// `path` written through `path.tmp` and a rename, so that a reader never finds a half-written scene.
+void write_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    f << text;
+    f.flush();
+    if (!f) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error("race_bench: cannot write " + tmp);
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("race_bench: cannot rename " + tmp + " to " + path);
+  }
+}
+
+// The scene's spheres and walls in the shared scene's formats (scene_32k.txt, scene_32k_box.txt).
+void write_scene(const perf::Scene& sc, const std::string& prefix) {
+  std::string spheres, box;
+  char line[160];
+  for (size_t q = 0; q < sc.s.r.size(); ++q) {
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", sc.s.x[q][0], sc.s.x[q][1], sc.s.x[q][2], sc.s.r[q]);
+    spheres += line;
+  }
+  std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %.17g\n", sc.lo[0], sc.hi[0], sc.lo[1], sc.hi[1],
+                sc.lo[2], sc.hi[2]);
+  box = line;
+  write_atomically(prefix + ".txt", spheres);
+  write_atomically(prefix + "_box.txt", box);
+}
+
 double resident_bytes() {
   std::ifstream f("/proc/self/status");
   std::string line;
@@ -106,6 +148,17 @@ double resident_bytes() {
 
 int main(int argc, char** argv) {
   const Args a = parse(argc, argv);
+  if (!a.write_scene.empty()) {  // host work only: no Kokkos
+    const perf::Scene sc = perf::load_scene(a.scene);
+    try {
+      write_scene(sc, a.write_scene);
+    } catch (const std::exception& e) {
+      std::cerr << e.what() << "\n";
+      return 1;
+    }
+    std::printf("wrote %s.txt and %s_box.txt: %zu spheres\n", a.write_scene.c_str(), a.write_scene.c_str(), sc.s.r.size());
+    return 0;
+  }
   compat::initialize(0);
   int rc = 0;
   {

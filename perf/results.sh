@@ -2,9 +2,11 @@
 # Regenerates perf/RESULTS.md: every number a median of REPS (default 3) runs (the scaling table: SCALING_REPS,
 # default 5, round robin), machine and commit named.
 #   perf/results.sh                  race (grainlab + PEERS, default "liggghts lammps"), scaling 1e4..~1e6,
+#                                    the same sizes for grainlab and PEERS (perf/scaling_peers.sh),
 #                                    kernel benchmarks (Google Benchmark, 3 repetitions, medians)
 #   PEERS="" perf/results.sh         grainlab only (the peers' medians from ../shared/bench/peers/RESULTS.md)
-# Needs `make build` first. Takes ~30 min on 2 cores with the peers (race ~14 min, scaling ~4, kernels ~10).
+# Needs `make build` first. Takes ~45 min on 2 cores with the peers (race ~14 min, scaling ~4, the peers' scaling
+# ~13, kernels ~10). SKIP_RACE, SKIP_SCALING, SKIP_PEER_SCALING, SKIP_KERNELS, SKIP_FLOAT=1 reuse a part's output.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD=${BUILD:-$ROOT/build}
@@ -32,6 +34,11 @@ if [ "${SKIP_SCALING:-0}" != 1 ]; then  # SKIP_SCALING=1: reuse $OUT/scaling.txt
         $spec --warmup 20 --steps 200 --reps 1 | sed "s/^/$spec /" | tee -a "$OUT/scaling.txt"
     done
   done
+fi
+
+if [ "${SKIP_PEER_SCALING:-0}" != 1 ]; then  # SKIP_PEER_SCALING=1: reuse $OUT/scaling_peers.txt
+  echo ">>> scaling of grainlab and the peers on the same spheres (perf/scaling_peers.sh)"
+  "$ROOT/perf/scaling_peers.sh"
 fi
 
 if [ "${SKIP_KERNELS:-0}" != 1 ]; then  # SKIP_KERNELS=1: reuse $OUT/kernels.json
@@ -90,6 +97,12 @@ scal.append(f"Spread of the time per particle-step over these sizes (slowest siz
             f"shared host disturbed least: the runs of one size ranged over up to "
             f"{max(spread(g['rates']) for g in groups.values()):.2f}x in this table.")
 
+# scaling of every code on the same spheres (perf/scaling_peers.sh), when it ran
+sys.path.insert(0, os.path.join(root, "perf"))
+import scaling_peers_table
+sp_path = os.path.join(out, "scaling_peers.txt")
+peer_scaling = scaling_peers_table.table(sp_path) if os.path.exists(sp_path) else "(not run: perf/scaling_peers.sh)\n"
+
 k = json.load(open(os.path.join(out, "kernels.json")))
 benches = [(b, "double") for b in k["benchmarks"]]
 fpath = os.path.join(out, "kernels_float.json")
@@ -116,7 +129,7 @@ for b, prec in benches:
 
 md = f"""# Performance results
 
-Regenerate with `perf/results.sh` (this file; ~30 min on 2 cores). Machine: {cpu}, {ncpu} cores (a shared VM),
+Regenerate with `perf/results.sh` (this file; ~45 min on 2 cores). Machine: {cpu}, {ncpu} cores (a shared VM),
 Kokkos 3.4.01 OpenMP, GCC 12 `-O3 -march=native -ffp-contract=off` (the default build,
 GRAINLAB_NATIVE=ON; the Debian peers are generic x86-64 builds), commit `{commit}`. Every number is the median of {reps} runs (the scaling table: of the runs it lists). Threads:
 `OMP_NUM_THREADS` as stated, `OMP_PROC_BIND=spread OMP_PLACES=threads`.
@@ -149,6 +162,14 @@ within 20 % from 1e4 to ~1e6 (O(N): cell binning, CSR lists, no sort per step).
 
 {chr(10).join(scal)}
 
+## Scaling of grainlab and the peers on the same spheres (`perf/scaling_peers.sh`)
+
+Is the rise of the time per particle-step above grainlab's or this machine's? The same sizes, each code on
+the very same spheres (`race_bench --write-scene` writes the cropped or tiled scene for the peers' unchanged
+race inputs: 0.1 mm skin, six walls, rolling on), 2 threads or 2 MPI ranks, 50 warm-up + 400 timed steps,
+rounds over sizes and codes. grainlab runs its default (inner list on), as in the table above.
+
+{peer_scaling}
 ## Kernel benchmarks (`build/perf/bench_kernels`, FCC packings, 12 contacts per sphere, 2 threads)
 
 Arguments: particle count, then rolling off/on (0/1); `BM_ContactForces` a third, the kernel (0 row, 1 pair lanes, 2 one pair per work item). Rates are particle-steps/s (items/s). "float" rows:
