@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by perf/race.sh and perf/scaling_peers.sh: the peers named in $PEERS installed from Debian when
 # missing (apt-get, as root or through sudo), unless SKIP_INSTALL=1. $1: the calling script's name for
 # messages, $2: the folder for apt's log. Returns non-zero (after saying why) when a peer cannot be had.
@@ -15,7 +16,8 @@ install_peers() {
   [ "${SKIP_INSTALL:-0}" = 1 ] && { echo "$who: missing peers ($need) and SKIP_INSTALL=1"; return 1; }
   echo ">>> installing from Debian:$need"
   [ "$(id -u)" = 0 ] || SUDO=sudo
-  # apt's chatter (it names the archive hosts) goes to the log only
+  # apt's chatter (it names the archive hosts) goes to the log only; $need is a list of packages
+  # shellcheck disable=SC2086
   { $SUDO apt-get update && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y $need python3-numpy; } \
     > "$logdir/apt.log" 2>&1 || { echo "$who: apt-get failed, see $logdir/apt.log"; return 1; }
 }

@@ -71,6 +71,7 @@ for ((rep = 1; rep <= REPS; ++rep)); do
           n=$(grep -oE ' particles=[0-9]+' "$log" | cut -d= -f2) ;;
         liggghts|lammps)
           exe=lmp; [ "$code" = liggghts ] && exe=liggghts
+          # shellcheck disable=SC2086  # $MPI2 is a command line
           ( cd "$d" && OMP_NUM_THREADS=1 timeout 1800 $MPI2 $exe -in "$PEERS_DIR/$code/bench.in" -log none -var roll 1 \
               -var nwarm "$NWARM" -var nsteps "$NSTEPS" ) > "$log" 2>&1 || { echo "!!! failed, see $log"; continue; }
           # "Loop time of T on 2 procs for S steps with N atoms": the last one is the timed run
