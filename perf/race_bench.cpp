@@ -43,6 +43,7 @@
 #include <string>
 
 #include "scene.hpp"
+#include "src/h5io.hpp"
 #include "traffic.hpp"
 
 using namespace grainlab;
@@ -101,11 +102,10 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
-// Resident set size of the process (/proc/self/status VmRSS): engine arrays, the scene read from the file
-// and the runtime; per particle it is an upper bound of the engine's memory per particle.
-// `path` written through `path.tmp` and a rename, so that a reader never finds a half-written scene.
+// `path` written through the engine's atomic commit (src/h5io.hpp: a temporary name, fsync, rename), so that a
+// reader never finds a half-written scene under the final name.
 void write_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temp_name(path);
   {
     std::ofstream f(tmp, std::ios::trunc);
     f << text;
@@ -115,27 +115,25 @@ void write_atomically(const std::string& path, const std::string& text) {
       throw std::runtime_error("race_bench: cannot write " + tmp);
     }
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("race_bench: cannot rename " + tmp + " to " + path);
-  }
+  commit_atomic(tmp, path);
 }
 
 // The scene's spheres and walls in the shared scene's formats (scene_32k.txt, scene_32k_box.txt).
 void write_scene(const perf::Scene& sc, const std::string& prefix) {
-  std::string spheres, box;
+  std::string spheres;
   char line[160];
   for (size_t q = 0; q < sc.s.r.size(); ++q) {
     std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", sc.s.x[q][0], sc.s.x[q][1], sc.s.x[q][2], sc.s.r[q]);
     spheres += line;
   }
+  write_atomically(prefix + ".txt", spheres);
   std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %.17g\n", sc.lo[0], sc.hi[0], sc.lo[1], sc.hi[1],
                 sc.lo[2], sc.hi[2]);
-  box = line;
-  write_atomically(prefix + ".txt", spheres);
-  write_atomically(prefix + "_box.txt", box);
+  write_atomically(prefix + "_box.txt", line);
 }
 
+// Resident set size of the process (/proc/self/status VmRSS): engine arrays, the scene read from the file
+// and the runtime; per particle it is an upper bound of the engine's memory per particle.
 double resident_bytes() {
   std::ifstream f("/proc/self/status");
   std::string line;

@@ -24,7 +24,7 @@ ke() { grep -oE 'kinetic_J=[^ ]+' "$1" | cut -d= -f2; }
 if "$RB" --generate 2000 --write-scene "$tmp/no/such/dir/s" > /dev/null 2> "$tmp/err"; then
   fail "an unwritable prefix succeeded"
 fi
-grep -q "cannot write" "$tmp/err" || fail "no clear error: $(cat "$tmp/err")"
+grep -qE "cannot (write|commit)" "$tmp/err" || fail "no clear error: $(cat "$tmp/err")"
 [ -z "$(ls "$tmp/no" 2>/dev/null)" ] || fail "files left after a failed write"
 
 cat > "$tmp/runs.txt" <<'RUNS'
