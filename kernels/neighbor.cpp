@@ -85,8 +85,10 @@ struct PairSearch {
     return c < 0 ? 0 : (c >= nc ? nc - 1 : c);
   }
 
+  // Returns the pairs of row i; `examined` counts the candidates looked at (the 27 cells' particles), the
+  // search's work, which stays O(1) per particle for any N (test Neighbor.SearchWorkPerParticleIsIndependentOfN).
   template <bool DoFill>
-  KOKKOS_INLINE_FUNCTION int visit(int i, int out) const {
+  KOKKOS_INLINE_FUNCTION int visit(int i, int out, long& examined) const {
     const Real xi = x(i, 0), yi = x(i, 1), zi = x(i, 2), ri = r(i);
     const int cx = cell_coord(xi, lo0, ih0, nc0), cy = cell_coord(yi, lo1, ih1, nc1),
               cz = cell_coord(zi, lo2, ih2, nc2);
@@ -101,6 +103,7 @@ struct PairSearch {
           const int xx = cx + dx;
           if (xx < 0 || xx >= nc0) continue;
           const int c = (z * nc1 + y) * nc0 + xx;
+          examined += cell_start(c + 1) - cell_start(c);
           for (int k = cell_start(c); k < cell_start(c + 1); ++k) {
             const int j = cell_particles(k);
             if (j <= i) continue;
@@ -119,10 +122,13 @@ struct PairSearch {
     }
     return n;
   }
-  KOKKOS_INLINE_FUNCTION void operator()(Count, int i) const { counts(i) = visit<false>(i, 0); }
+  KOKKOS_INLINE_FUNCTION void operator()(Count, int i, long& examined) const {
+    counts(i) = visit<false>(i, 0, examined);
+  }
   KOKKOS_INLINE_FUNCTION void operator()(Fill, int i) const {
     const int begin = offsets(i);
-    visit<true>(i, begin);
+    long unused = 0;
+    visit<true>(i, begin, unused);
     sort_segment(pair_j, begin, offsets(i + 1));  // deterministic row order: ascending j
   }
 };
@@ -142,12 +148,13 @@ struct PairFilter {
     const Real cut = ri + r(j) + margin;
     return norm2(d) < cut * cut;
   }
-  KOKKOS_INLINE_FUNCTION void operator()(Count, int i) const {
+  KOKKOS_INLINE_FUNCTION void operator()(Count, int i, long& examined) const {
     const Vec3 xi = load(x, i);
     const Real ri = r(i);
     int c = 0;
     for (int p = outer_offsets(i); p < outer_offsets(i + 1); ++p) c += keep(xi, ri, outer_j(p)) ? 1 : 0;
     counts(i) = c;
+    examined += outer_offsets(i + 1) - outer_offsets(i);
   }
   KOKKOS_INLINE_FUNCTION void operator()(Fill, int i) const {
     const Vec3 xi = load(x, i);
@@ -164,14 +171,16 @@ struct PairFilter {
 };
 
 // Runs a row functor with Count and Fill tags (PairSearch, PairFilter) into `list`: counts per row, scan
-// into offsets, then each row fills its own slots (no atomics, so the rows' order is the functor's).
+// into offsets, then each row fills its own slots (no atomics, so the rows' order is the functor's). The count
+// also sums the candidates examined (an integer sum: exact, whatever the thread count) into `examined`.
 template <class F>
-int count_then_fill(F f, int n, PairList& list, const char* count_label, const char* fill_label) {
+int count_then_fill(F f, int n, PairList& list, const char* count_label, const char* fill_label, long& examined) {
   grow_view(list.offsets, "grainlab::pairs::offsets", n + 1);
   grow_view(list.counts, "grainlab::pairs::counts", n);
   f.counts = list.counts;
   f.offsets = list.offsets;
-  Kokkos::parallel_for(count_label, Kokkos::RangePolicy<ExecSpace, typename F::Count>(0, n), f);
+  examined = 0;
+  Kokkos::parallel_reduce(count_label, Kokkos::RangePolicy<ExecSpace, typename F::Count>(0, n), f, examined);
   const int np = exclusive_scan(list.counts, list.offsets, n);
   grow_view(list.pair_i, "grainlab::pairs::i", np);
   grow_view(list.pair_j, "grainlab::pairs::j", np);
@@ -259,7 +268,8 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
                 grid.inv_h[1],
                 grid.inv_h[2],
                 skin};
-  st.npairs = count_then_fill(ps, n, list, "grainlab::neighbor::count_pairs", "grainlab::neighbor::fill_pairs");
+  st.npairs = count_then_fill(ps, n, list, "grainlab::neighbor::count_pairs", "grainlab::neighbor::fill_pairs",
+                              st.examined);
 
   if (transposed) build_transpose(list, n);
   {
@@ -280,7 +290,9 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
 int filter_pair_list(const VecView& x, const RealView& r, Real margin, const PairList& outer, PairList& inner) {
   const int n = int(x.extent(0));
   PairFilter pf{x, r, outer.offsets, outer.pair_j, {}, {}, {}, {}, margin};
-  const int np = count_then_fill(pf, n, inner, "grainlab::neighbor::count_inner", "grainlab::neighbor::fill_inner");
+  long examined = 0;
+  const int np =
+      count_then_fill(pf, n, inner, "grainlab::neighbor::count_inner", "grainlab::neighbor::fill_inner", examined);
   build_transpose(inner, n);
   return np;
 }

@@ -37,7 +37,8 @@ struct PairList {
 struct NeighborStats {
   int npairs = 0;
   long ncells = 0;
-  int max_row = 0;  // longest row, for diagnostics
+  int max_row = 0;     // longest row, for diagnostics
+  long examined = 0;   // candidates the search looked at (every particle of the 27 cells around each particle)
 };
 
 // Bins particles into cells of edge >= cell_min and rebuilds the pair list for cutoff r_i + r_j + skin.
