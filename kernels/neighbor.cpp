@@ -70,41 +70,40 @@ void build_transpose(PairList& list, int n) {
   group_by_key(list.pair_j, list.npairs, n, list.counts, list.t_offsets, list.t_pairs);
 }
 
-// Count-then-fill pair search over the 27 neighbouring cells (Cabana VerletList style tagged functor).
+// Count-then-fill pair search (Cabana VerletList style tagged functor). For each size class b, the cells
+// of b's grid within r_i + r_cap[b] + skin of x_i (at most 3 per axis for the classes up to i's own size, more
+// for the few large spheres looking into a small class's finer grid).
 struct PairSearch {
   struct Count {};
   struct Fill {};
   VecView x;
   RealView r;
   IntView cell_start, cell_particles, counts, offsets, pair_i, pair_j;
-  int nc0, nc1, nc2;
-  Real lo0, lo1, lo2, ih0, ih1, ih2, skin;
+  SizeClassGrid g;
+  Real skin;
 
-  KOKKOS_INLINE_FUNCTION int cell_coord(Real v, Real lo, Real ih, int nc) const {
-    int c = int((v - lo) * ih);
-    return c < 0 ? 0 : (c >= nc ? nc - 1 : c);
-  }
-
-  // Returns the pairs of row i; `examined` counts the candidates looked at (the 27 cells' particles), the
+  // Returns the pairs of row i; `examined` counts the candidates looked at (the visited cells' particles), the
   // search's work, which stays O(1) per particle for any N (test Neighbor.SearchWorkPerParticleIsIndependentOfN).
   template <bool DoFill>
   KOKKOS_INLINE_FUNCTION int visit(int i, int out, long& examined) const {
     const Real xi = x(i, 0), yi = x(i, 1), zi = x(i, 2), ri = r(i);
-    const int cx = cell_coord(xi, lo0, ih0, nc0), cy = cell_coord(yi, lo1, ih1, nc1),
-              cz = cell_coord(zi, lo2, ih2, nc2);
     int n = 0;
-    for (int dz = -1; dz <= 1; ++dz) {
-      const int z = cz + dz;
-      if (z < 0 || z >= nc2) continue;
-      for (int dy = -1; dy <= 1; ++dy) {
-        const int y = cy + dy;
-        if (y < 0 || y >= nc1) continue;
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int xx = cx + dx;
-          if (xx < 0 || xx >= nc0) continue;
-          const int c = (z * nc1 + y) * nc0 + xx;
-          examined += cell_start(c + 1) - cell_start(c);
-          for (int k = cell_start(c); k < cell_start(c + 1); ++k) {
+    for (int b = 0; b < g.nclasses; ++b) {
+      if (g.count[b] == 0) continue;
+      // Any j of class b within the cutoff lies within `reach` of x_i on every axis; binning is monotone in
+      // the coordinate, so its cell lies between the cells of x_i - reach and x_i + reach.
+      const Real reach = ri + g.r_cap[b] + skin;
+      const int x0 = g.coord(b, 0, xi - reach), x1 = g.coord(b, 0, xi + reach);
+      const int y0 = g.coord(b, 1, yi - reach), y1 = g.coord(b, 1, yi + reach);
+      const int z0 = g.coord(b, 2, zi - reach), z1 = g.coord(b, 2, zi + reach);
+      const int n0 = g.nc[b][0], n1 = g.nc[b][1], base = g.base[b];
+      for (int z = z0; z <= z1; ++z)
+        for (int y = y0; y <= y1; ++y) {
+          // The cells x0..x1 of one row are contiguous, and so are their particles.
+          const int c = base + (z * n1 + y) * n0;
+          const int k0 = cell_start(c + x0), k1 = cell_start(c + x1 + 1);
+          examined += k1 - k0;
+          for (int k = k0; k < k1; ++k) {
             const int j = cell_particles(k);
             if (j <= i) continue;
             const Real ex = x(j, 0) - xi, ey = x(j, 1) - yi, ez = x(j, 2) - zi;
@@ -118,7 +117,6 @@ struct PairSearch {
             }
           }
         }
-      }
     }
     return n;
   }
@@ -193,13 +191,13 @@ int count_then_fill(F f, int n, PairList& list, const char* count_label, const c
 
 }  // namespace
 
-NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, Real cell_min, CellGrid& grid,
-                                  PairList& list, bool transposed) {
+NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, CellGrid& grid, PairList& list,
+                                  bool transposed) {
   const int n = int(x.extent(0));
   NeighborStats st;
 
-  // Bounding box (min/max reductions are exact, so thread-count independent).
-  Real lo[3], hi[3];
+  // Bounding box and radius range (min/max reductions are exact, so thread-count independent).
+  Real lo[3], hi[3], rlo = 0, rhi = 0;
   for (int d = 0; d < 3; ++d) {
     Kokkos::parallel_reduce(
         "grainlab::neighbor::bbox_lo", Kokkos::RangePolicy<ExecSpace>(0, n),
@@ -208,66 +206,95 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
         "grainlab::neighbor::bbox_hi", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(int i, Real& m) { m = x(i, d) > m ? x(i, d) : m; }, Kokkos::Max<Real>(hi[d]));
   }
-  if (n == 0)
+  Kokkos::parallel_reduce(
+      "grainlab::neighbor::r_lo", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int i, Real& m) { m = r(i) < m ? r(i) : m; }, Kokkos::Min<Real>(rlo));
+  Kokkos::parallel_reduce(
+      "grainlab::neighbor::r_hi", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int i, Real& m) { m = r(i) > m ? r(i) : m; }, Kokkos::Max<Real>(rhi));
+  if (n == 0) {
     for (int d = 0; d < 3; ++d) lo[d] = hi[d] = 0;
-  // Cells of edge >= cell_min; if a stray particle stretches the box, coarsen so cells stay <= 8N + 27
-  // (memory and time stay O(N) whatever happens to the geometry).
-  Real h = cell_min;
-  for (;;) {
-    long total = 1;
-    for (int d = 0; d < 3; ++d) total *= std::max(1L, long(std::floor((hi[d] - lo[d]) / h)));
-    if (total <= 8L * n + 27) break;
-    h *= 1.5;
+    rlo = rhi = 0;
   }
-  for (int d = 0; d < 3; ++d) {
-    grid.nc[d] = int(std::max(1L, long(std::floor((hi[d] - lo[d]) / h))));
-    grid.lo[d] = lo[d];
-    const Real edge = (hi[d] - lo[d]) / grid.nc[d];
-    grid.inv_h[d] = edge > 0 ? Real(1) / edge : Real(0);
+
+  // Size classes a factor 2 wide from the smallest radius: class c < K - 1 holds [rlo 2^c, rlo 2^(c+1)), the
+  // last one the rest up to rhi. A factor 2 keeps a class's cells no coarser than twice what its smallest
+  // member needs; the cap of 8 classes covers r_max / r_min up to 128 before the last class widens.
+  SizeClassGrid& g = grid.g;
+  g = SizeClassGrid{};
+  int K = 1;
+  while (K < kMaxSizeClasses && rlo > 0 && rlo * Real(1 << K) <= rhi) ++K;
+  g.nclasses = K;
+  for (int c = 0; c + 1 < K; ++c) g.r_cap[c] = rlo * Real(1 << (c + 1));
+  g.r_cap[K - 1] = rhi;
+  for (int d = 0; d < 3; ++d) g.lo[d] = lo[d];
+  st.size_classes = K;
+
+  grow_view(grid.cell_of, "grainlab::cells::of", n);
+  auto cell_of = grid.cell_of;
+  {
+    const SizeClassGrid gc = g;
+    Kokkos::parallel_for(
+        "grainlab::neighbor::size_class", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i) { cell_of(i) = gc.class_of(r(i)); });
   }
-  const int nc = int(grid.ncells());
+  for (int c = 0; c < K; ++c) {
+    int cnt = 0;
+    if (K == 1) {
+      cnt = n;
+    } else {
+      Kokkos::parallel_reduce(
+          "grainlab::neighbor::class_count", Kokkos::RangePolicy<ExecSpace>(0, n),
+          KOKKOS_LAMBDA(int i, int& s) { s += cell_of(i) == c ? 1 : 0; }, cnt);
+    }
+    g.count[c] = cnt;
+  }
+
+  // Each class's cells have edge >= 2 r_cap + skin (a same-class pair is then found within the 27 cells around
+  // a sphere); if a stray particle stretches the box, coarsen so a class keeps <= 8 n_c + 27 cells (memory and
+  // time stay O(N) whatever happens to the geometry).
+  long total = 0;
+  for (int c = 0; c < K; ++c) {
+    Real h = 2 * g.r_cap[c] + skin;
+    const long cap = 8L * g.count[c] + 27;
+    for (;;) {
+      long cells = 1;
+      for (int d = 0; d < 3; ++d) cells *= std::max(1L, long(std::floor((hi[d] - lo[d]) / h)));
+      if (cells <= cap) break;
+      h *= 1.5;
+    }
+    g.base[c] = int(total);
+    long cells = 1;
+    for (int d = 0; d < 3; ++d) {
+      g.nc[c][d] = int(std::max(1L, long(std::floor((hi[d] - lo[d]) / h))));
+      const Real edge = (hi[d] - lo[d]) / g.nc[c][d];
+      g.inv_h[c][d] = edge > 0 ? Real(1) / edge : Real(0);
+      cells *= g.nc[c][d];
+    }
+    total += cells;
+  }
+  g.base[K] = int(total);
+  const int nc = int(total);
   st.ncells = nc;
   grow_view(grid.cell_start, "grainlab::cells::start", nc + 1);
   grow_view(grid.cell_particles, "grainlab::cells::particles", n);
-  grow_view(grid.cell_of, "grainlab::cells::of", n);
   grow_view(grid.cursor, "grainlab::cells::cursor", std::max(n, nc + 1));
 
-  // Bin: the cell of each particle, then the particles grouped by cell (ascending within a cell).
+  // Bin: the cell of each particle in its class's grid, then the particles grouped by cell (ascending
+  // within a cell).
   {
-    auto cell_of = grid.cell_of;
-    const int n0 = grid.nc[0], n1 = grid.nc[1], n2 = grid.nc[2];
-    const Real l0 = grid.lo[0], l1 = grid.lo[1], l2 = grid.lo[2];
-    const Real i0 = grid.inv_h[0], i1 = grid.inv_h[1], i2 = grid.inv_h[2];
+    const SizeClassGrid gc = g;
     Kokkos::parallel_for(
         "grainlab::neighbor::bin", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          auto cc = [](Real v, Real l, Real ih, int m) {
-            int c = int((v - l) * ih);
-            return c < 0 ? 0 : (c >= m ? m - 1 : c);
-          };
-          cell_of(i) = (cc(x(i, 2), l2, i2, n2) * n1 + cc(x(i, 1), l1, i1, n1)) * n0 + cc(x(i, 0), l0, i0, n0);
+          const int c = cell_of(i);
+          cell_of(i) = gc.base[c] + (gc.coord(c, 2, x(i, 2)) * gc.nc[c][1] + gc.coord(c, 1, x(i, 1))) * gc.nc[c][0] +
+                       gc.coord(c, 0, x(i, 0));
         });
     group_by_key(cell_of, n, nc, grid.cursor, grid.cell_start, grid.cell_particles);
   }
 
   // Pairs: count, scan, fill (rows sorted by j).
-  PairSearch ps{x,
-                r,
-                grid.cell_start,
-                grid.cell_particles,
-                {},
-                {},
-                {},
-                {},
-                grid.nc[0],
-                grid.nc[1],
-                grid.nc[2],
-                grid.lo[0],
-                grid.lo[1],
-                grid.lo[2],
-                grid.inv_h[0],
-                grid.inv_h[1],
-                grid.inv_h[2],
-                skin};
+  PairSearch ps{x, r, grid.cell_start, grid.cell_particles, {}, {}, {}, {}, g, skin};
   st.npairs = count_then_fill(ps, n, list, "grainlab::neighbor::count_pairs", "grainlab::neighbor::fill_pairs",
                               st.examined);
 

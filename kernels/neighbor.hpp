@@ -12,15 +12,40 @@
 
 namespace grainlab {
 
+// Cells per size class (the "multi" binning of LAMMPS' neigh_modify, Ogarko & Luding 2012, Comput. Phys.
+// Commun. 183:931): radii split into classes a factor 2 wide, each class binned on its own grid with cells of
+// edge >= 2 r_cap + skin (r_cap: the class's largest radius). A sphere looks in each class's grid only as far
+// as a pair with that class can reach, r_i + r_cap + skin, so a small sphere no longer scans cells sized for the
+// largest pair. With r_max / r_min < 2 there is one class and the scheme is the classic single grid.
+// Trivially copyable: kernels take it by value.
+constexpr int kMaxSizeClasses = 8;
+struct SizeClassGrid {
+  int nclasses = 1;
+  Real r_cap[kMaxSizeClasses] = {};     // class c holds radii < r_cap[c] (the last class: <= r_cap, the r_max)
+  int count[kMaxSizeClasses] = {};      // spheres in class c
+  int base[kMaxSizeClasses + 1] = {};   // class c's cells are [base[c], base[c + 1])
+  int nc[kMaxSizeClasses][3] = {};
+  Real inv_h[kMaxSizeClasses][3] = {};
+  Real lo[3] = {0, 0, 0};
+
+  KOKKOS_INLINE_FUNCTION int class_of(Real r) const {
+    int c = 0;
+    while (c + 1 < nclasses && r >= r_cap[c]) ++c;
+    return c;
+  }
+  KOKKOS_INLINE_FUNCTION int coord(int c, int d, Real v) const {
+    const int k = int((v - lo[d]) * inv_h[c][d]);
+    return k < 0 ? 0 : (k >= nc[c][d] ? nc[c][d] - 1 : k);
+  }
+};
+
 struct CellGrid {
   IntView cell_start;      // ncells + 1
   IntView cell_particles;  // N, particle indices grouped by cell, ascending within a cell
   IntView cell_of;         // N
-  IntView cursor;          // scratch, max(N, ncells)
-  int nc[3] = {1, 1, 1};
-  Real lo[3] = {0, 0, 0};
-  Real inv_h[3] = {1, 1, 1};
-  long ncells() const { return long(nc[0]) * nc[1] * nc[2]; }
+  IntView cursor;          // scratch, max(N, ncells + 1)
+  SizeClassGrid g;
+  long ncells() const { return g.base[g.nclasses]; }
 };
 
 struct PairList {
@@ -38,13 +63,16 @@ struct NeighborStats {
   int npairs = 0;
   long ncells = 0;
   int max_row = 0;     // longest row, for diagnostics
-  long examined = 0;   // candidates the search looked at (every particle of the 27 cells around each particle)
+  long examined = 0;   // candidates the search looked at (every particle of the cells it visited)
+  int size_classes = 1;
 };
 
-// Bins particles into cells of edge >= cell_min and rebuilds the pair list for cutoff r_i + r_j + skin.
+// Bins particles into size classes and cells (SizeClassGrid) and rebuilds the pair list for cutoff
+// r_i + r_j + skin. The list is a pure function of the positions and radii, whatever the binning: rows are
+// sorted by j.
 // The list only grows its storage (25 % slack), so a steady state allocates nothing. Without `transposed`
 // the transposed index is left empty (a list that is only filtered, never gathered over).
-NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, Real cell_min, CellGrid& grid,
+NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, CellGrid& grid,
                                   PairList& list, bool transposed = true);
 
 // Inner list: the pairs of the sorted list `outer` closer than r_i + r_j + margin, in the same order, with

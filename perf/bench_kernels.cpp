@@ -101,10 +101,40 @@ void BM_NeighborBuild(benchmark::State& st) {
   const Real skin = eng.params().skin;
   compat::fence("grainlab::bench::before");
   for (auto _ : st) {
-    build_neighbor_list(eng.particles().x, eng.particles().r, skin, 2 * eng.r_max() + skin, grid, list);
+    build_neighbor_list(eng.particles().x, eng.particles().r, skin, grid, list);
     compat::fence("grainlab::bench::kernel");
   }
   st.SetItemsProcessed(st.iterations() * eng.num_particles());
+}
+
+// Neighbour list build on SPEC §6.1 packings (p(r) ~ r^-3.63, so most spheres are small) with r_max / r_min
+// the second argument in tenths (15: 1.5), at solid fraction 0.35 (random placement; monodisperse placement jams near 0.38). The wider the
+// size ratio, the more small spheres a cell sized for the largest pair holds: `candidates` (per particle)
+// against `pairs` (per particle) is the search's overhead, the work a size-class grid exists to cut.
+void BM_NeighborBuildPSD(benchmark::State& st) {
+  PackingSpec ps;
+  ps.count = int(st.range(0));
+  ps.r_max = 0.6e-3;
+  ps.r_min = ps.r_max * 10 / Real(st.range(1));
+  ps.seed = 5;
+  ps.solid_fraction = 0.35;
+  const Packing pk = generate_packing(ps);
+  ParticleSetup s;
+  s.x = pk.x;
+  s.r = pk.r;
+  Engine eng(s, bench_params(false), make_box_walls(pk.lo, pk.hi), true);
+  CellGrid grid;
+  PairList list;
+  const Real skin = eng.params().skin;
+  NeighborStats ns;
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) {
+    ns = build_neighbor_list(eng.particles().x, eng.particles().r, skin, grid, list);
+    compat::fence("grainlab::bench::kernel");
+  }
+  st.SetItemsProcessed(st.iterations() * eng.num_particles());
+  st.counters["candidates"] = double(ns.examined) / eng.num_particles();
+  st.counters["pairs"] = double(ns.npairs) / eng.num_particles();
 }
 
 // The inner-list filter (EngineParams::inner_skin, perf/NOTES.md attempt 18): one pass over the Verlet
@@ -116,7 +146,7 @@ void BM_InnerFilter(benchmark::State& st) {
   CellGrid grid;
   PairList outer, inner;
   const Real skin = eng.params().skin;
-  build_neighbor_list(eng.particles().x, eng.particles().r, skin, 2 * eng.r_max() + skin, grid, outer, false);
+  build_neighbor_list(eng.particles().x, eng.particles().r, skin, grid, outer, false);
   compat::fence("grainlab::bench::before");
   for (auto _ : st) {
     filter_pair_list(eng.particles().x, eng.particles().r, 0.1 * skin, outer, inner);
@@ -211,6 +241,7 @@ BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(b
 BENCHMARK(BM_Step)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}, {0, 1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_NeighborBuild)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_NeighborBuildPSD)->ArgsProduct({{32000, 256000}, {15, 30, 100}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_InnerFilter)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 int main(int argc, char** argv) {

@@ -151,13 +151,12 @@ void Engine::set_friction(Real mu, Real mu_r) {
 }
 
 void Engine::build_lists(int next) {
-  const Real cell = 2 * r_max_ + params_.skin;
   if (inner_list()) {
-    nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, cell, grid_, outer_, /*transposed=*/false);
+    nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, grid_, outer_, /*transposed=*/false);
     filter_pair_list(P_.x, P_.r, params_.inner_skin * params_.skin, outer_, lists_[next]);
     outer_drift_ = 0;
   } else {
-    nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, cell, grid_, lists_[next]);
+    nstats_ = build_neighbor_list(P_.x, P_.r, params_.skin, grid_, lists_[next]);
   }
 }
 

@@ -107,12 +107,12 @@ TEST(Neighbor, StrayParticleKeepsGridSmall) {
 // Issue 5: "O(N) neighbour search, no hidden N^2". The search's own count of the candidates it examined
 // (NeighborStats::examined, summed in the count kernel) per particle, on the same kind of packing at 16k and 128k
 // spheres (SPEC §6.1 radii, r_max / r_min = 3, solid fraction 0.3). Per particle it is the mean occupancy of the
-// 27 cells around a sphere: independent of N but for the box's boundary layer (cells at a face have fewer
+// cells visited around a sphere: independent of N but for the box's boundary layer (cells at a face have fewer
 // neighbour cells: <= 10 % on grids of >= 20 cells per side, 1 - (1 - 2/(3m))^3) and the grid's rounding of
-// the cell edge (box / floor(box / cell_min), a few % at these sizes). An N^2 search would examine N candidates
+// the cell edge (box / floor(box / edge), a few % at these sizes). An N^2 search would examine N candidates
 // per particle (8x from 16k to 128k), and a grid that coarsened with N grows with it (mutation checked: cell
-// edge scaled by cbrt(N / 16k) gave 1074 against 133). Tolerance 1.20, the issue's own 20 %. Measured: 132.8
-// and 130.8 candidates per particle.
+// edge scaled by cbrt(N / 16k) gave 1074 against 133 with the single grid). Tolerance 1.20, the issue's own 20 %.
+// Measured: 35.4 and 36.1 candidates per particle with the size-class grids (132.8 and 130.8 with one grid).
 TEST(Neighbor, SearchWorkPerParticleIsIndependentOfN) {
   std::vector<double> per_particle;
   for (int n : {16000, 128000}) {
@@ -140,4 +140,41 @@ TEST(Neighbor, SearchWorkPerParticleIsIndependentOfN) {
     EXPECT_LE(st.ncells, 8L * n + 27);
   }
   EXPECT_LE(per_particle[1], 1.20 * per_particle[0]) << "search work per particle grows with N";
+}
+
+// The size-class grids (SizeClassGrid) keep the search's work per sphere near what a narrow size range costs
+// when r_max / r_min is wide. With one grid sized for the largest pair, a SPEC §6.1 packing (p(r) ~ r^-3.63:
+// most spheres are small) examined 44 candidates per sphere at r_max / r_min = 1.5 and 1796 at 10, 41x
+// (perf/bench_kernels BM_NeighborBuildPSD, 32k, solid fraction 0.35). With classes a factor 2 wide each class
+// pair is searched over a box a few times its cutoff sphere, whatever the ratio: measured here (16k) 36.0 and
+// 59.0, 1.6x. Bound 3x: a wider ratio lists more pairs per sphere (2.57 against 1.17 here), and the classes
+// are a factor 2 wide, so some growth is real; a single grid fails the bound by an order of magnitude
+// (mutation checked: nclasses forced to 1 gave 806 against 36, 22x). The lists themselves are checked against
+// the N^2 oracle above at ratios 3 and 10.
+TEST(Neighbor, SizeClassesKeepWideSizeRatiosCheap) {
+  double per_particle[2] = {0, 0};
+  const double ratios[2] = {1.5, 10};
+  for (int k = 0; k < 2; ++k) {
+    PackingSpec ps;
+    ps.count = 16000;
+    ps.r_max = 0.6e-3;
+    ps.r_min = ps.r_max / ratios[k];
+    ps.seed = 5;
+    ps.solid_fraction = 0.35;
+    const Packing pk = generate_packing(ps);
+    ParticleSetup s;
+    s.x = pk.x;
+    s.r = pk.r;
+    EngineParams p;
+    p.contact = test::reference_contact();
+    p.skin = 0.1e-3;
+    const Engine eng(s, p, make_box_walls(pk.lo, pk.hi), true);
+    const NeighborStats& st = eng.last_build();
+    per_particle[k] = double(st.examined) / ps.count;
+    std::printf("  r_max / r_min = %g: %d size classes, %.2f candidates examined and %.2f pairs listed per particle\n",
+                ratios[k], st.size_classes, per_particle[k], double(st.npairs) / ps.count);
+    EXPECT_EQ(st.size_classes, k == 0 ? 1 : 4);  // classes a factor 2 wide: 1.5 -> 1, 10 -> 4
+    EXPECT_GE(st.examined, 2L * st.npairs + ps.count);
+  }
+  EXPECT_LE(per_particle[1], 3.0 * per_particle[0]) << "a wide size ratio multiplies the search's work";
 }
