@@ -44,6 +44,9 @@ struct CellGrid {
   IntView cell_particles;  // N, particle indices grouped by cell, ascending within a cell
   IntView cell_of;         // N
   IntView cursor;          // scratch, max(N, ncells + 1)
+  // x, y, z, r of cell_particles(k) at k: the search scans a cell row's candidates as one contiguous range
+  // instead of gathering each through its index.
+  Kokkos::View<Real* [4], VecLayout, MemSpace> binned;
   SizeClassGrid g;
   long ncells() const { return g.base[g.nclasses]; }
 };
