@@ -104,6 +104,27 @@ TEST(Neighbor, StrayParticleKeepsGridSmall) {
   EXPECT_EQ(listed_pairs(eng.verlet_pairs()), oracle);
 }
 
+namespace {
+// The engine's first Verlet build on a SPEC §6.1 packing of n spheres (r_max = 0.6 mm, r_max / r_min = ratio,
+// random placement at the given solid fraction, skin 0.06 mm).
+NeighborStats first_build(int n, Real ratio, std::uint64_t seed, Real solid_fraction) {
+  PackingSpec spec;
+  spec.count = n;
+  spec.r_max = 0.6e-3;
+  spec.r_min = spec.r_max / ratio;
+  spec.seed = seed;
+  spec.solid_fraction = solid_fraction;
+  const Packing pk = generate_packing(spec);
+  EngineParams p;
+  p.contact = test::reference_contact();
+  p.skin = 0.1 * spec.r_max;
+  ParticleSetup s;
+  s.x = pk.x;
+  s.r = pk.r;
+  return Engine(s, p, make_box_walls(pk.lo, pk.hi), true).last_build();
+}
+}  // namespace
+
 // Issue 5: "O(N) neighbour search, no hidden N^2". The search's own count of the candidates it examined
 // (NeighborStats::examined, summed in the count kernel) per particle, on the same kind of packing at 16k and 128k
 // spheres (SPEC §6.1 radii, r_max / r_min = 3, solid fraction 0.3). Per particle it is the mean occupancy of the
@@ -116,21 +137,7 @@ TEST(Neighbor, StrayParticleKeepsGridSmall) {
 TEST(Neighbor, SearchWorkPerParticleIsIndependentOfN) {
   std::vector<double> per_particle;
   for (int n : {16000, 128000}) {
-    PackingSpec ps;
-    ps.count = n;
-    ps.r_max = 0.6e-3;
-    ps.r_min = ps.r_max / 3;
-    ps.seed = 31;
-    ps.solid_fraction = 0.3;
-    const Packing pk = generate_packing(ps);
-    ParticleSetup s;
-    s.x = pk.x;
-    s.r = pk.r;
-    EngineParams p;
-    p.contact = test::reference_contact();
-    p.skin = 0.1 * ps.r_max;
-    const Engine eng(s, p, make_box_walls(pk.lo, pk.hi), true);
-    const NeighborStats& st = eng.last_build();
+    const NeighborStats st = first_build(n, 3, 31, 0.3);
     per_particle.push_back(double(st.examined) / n);
     std::printf("  N = %d: %.2f candidates examined and %.2f pairs listed per particle, %.3f cells per particle\n", n,
                 per_particle.back(), double(st.npairs) / n, double(st.ncells) / n);
@@ -146,35 +153,22 @@ TEST(Neighbor, SearchWorkPerParticleIsIndependentOfN) {
 // when r_max / r_min is wide. With one grid sized for the largest pair, a SPEC §6.1 packing (p(r) ~ r^-3.63:
 // most spheres are small) examined 44 candidates per sphere at r_max / r_min = 1.5 and 1796 at 10, 41x
 // (perf/bench_kernels BM_NeighborBuildPSD, 32k, solid fraction 0.35). With classes a factor 2 wide each class
-// pair is searched over a box a few times its cutoff sphere, whatever the ratio: measured here (16k) 36.0 and
-// 59.0, 1.6x. Bound 3x: a wider ratio lists more pairs per sphere (2.57 against 1.17 here), and the classes
-// are a factor 2 wide, so some growth is real; a single grid fails the bound by an order of magnitude
-// (mutation checked: nclasses forced to 1 gave 806 against 36, 22x). The lists themselves are checked against
-// the N^2 oracle above at ratios 3 and 10.
+// pair is searched over a box a few times its cutoff sphere, whatever the ratio: measured here (16k, skin
+// 0.06 mm) 32.3 and 43.6, 1.35x. Bound 3x: a wider ratio lists more pairs per sphere (1.47 against 0.73 here),
+// and the classes are a factor 2 wide, so some growth is real; a single grid fails the bound by an order of
+// magnitude (mutation checked: nclasses forced to 1 gave 753 against 32, 23x). The lists themselves are
+// checked against the N^2 oracle above at ratios 3 and 10.
 TEST(Neighbor, SizeClassesKeepWideSizeRatiosCheap) {
   double per_particle[2] = {0, 0};
   const double ratios[2] = {1.5, 10};
   for (int k = 0; k < 2; ++k) {
-    PackingSpec ps;
-    ps.count = 16000;
-    ps.r_max = 0.6e-3;
-    ps.r_min = ps.r_max / ratios[k];
-    ps.seed = 5;
-    ps.solid_fraction = 0.35;
-    const Packing pk = generate_packing(ps);
-    ParticleSetup s;
-    s.x = pk.x;
-    s.r = pk.r;
-    EngineParams p;
-    p.contact = test::reference_contact();
-    p.skin = 0.1e-3;
-    const Engine eng(s, p, make_box_walls(pk.lo, pk.hi), true);
-    const NeighborStats& st = eng.last_build();
-    per_particle[k] = double(st.examined) / ps.count;
+    const int n = 16000;
+    const NeighborStats st = first_build(n, ratios[k], 5, 0.35);
+    per_particle[k] = double(st.examined) / n;
     std::printf("  r_max / r_min = %g: %d size classes, %.2f candidates examined and %.2f pairs listed per particle\n",
-                ratios[k], st.size_classes, per_particle[k], double(st.npairs) / ps.count);
+                ratios[k], st.size_classes, per_particle[k], double(st.npairs) / n);
     EXPECT_EQ(st.size_classes, k == 0 ? 1 : 4);  // classes a factor 2 wide: 1.5 -> 1, 10 -> 4
-    EXPECT_GE(st.examined, 2L * st.npairs + ps.count);
+    EXPECT_GE(st.examined, 2L * st.npairs + n);
   }
   EXPECT_LE(per_particle[1], 3.0 * per_particle[0]) << "a wide size ratio multiplies the search's work";
 }
