@@ -121,6 +121,8 @@ for b, prec in benches:
         note = f"{b['bytes_per_particle_step']:.0f} B/particle-step compulsory, {b['bytes_per_second'] / 1e9:.1f} GB/s"
     if "rebuilds_per_100_steps" in b:
         note = (note + "; " if note else "") + f"{b['rebuilds_per_100_steps']:.1f} neighbour rebuilds per 100 steps"
+    if "candidates" in b:
+        note = f"{b['candidates']:.1f} candidates examined and {b['pairs']:.2f} pairs listed per sphere"
     if name.startswith("BM_Copy"):
         copy_bw = b["bytes_per_second"]
         note = f"copy bandwidth {copy_bw / 1e9:.1f} GB/s (read + write)"
