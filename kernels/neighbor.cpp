@@ -92,8 +92,10 @@ struct PairSearch {
     for (int b = 0; b < g.nclasses; ++b) {
       if (g.count[b] == 0) continue;
       // Any j of class b within the cutoff lies within `reach` of x_i on every axis; binning is monotone in
-      // the coordinate, so its cell lies between the cells of x_i - reach and x_i + reach.
-      const Real reach = ri + g.r_cap[b] + skin;
+      // the coordinate, so its cell lies between the cells of x_i - reach and x_i + reach. The 1e-9 relative
+      // pad covers the rounding of x_i -+ reach for a pair exactly at the cutoff; it widens no range but
+      // where a cell boundary lies within that pad.
+      const Real reach = (ri + g.r_cap[b] + skin) * Real(1 + 1e-9);
       const int x0 = g.coord(b, 0, xi - reach), x1 = g.coord(b, 0, xi + reach);
       const int y0 = g.coord(b, 1, yi - reach), y1 = g.coord(b, 1, yi + reach);
       const int z0 = g.coord(b, 2, zi - reach), z1 = g.coord(b, 2, zi + reach);
