@@ -14,7 +14,7 @@ namespace grainlab {
 
 // Cells per size class (the "multi" binning of LAMMPS' neigh_modify, Ogarko & Luding 2012, Comput. Phys.
 // Commun. 183:931): radii split into classes a factor 2 wide, each class binned on its own grid with cells of
-// edge >= 2 r_cap + skin (r_cap: the class's largest radius). A sphere looks in each class's grid only as far
+// edge >= 2 r_cap + skin (r_cap: a bound on the class's radii). A sphere looks in each class's grid only as far
 // as a pair with that class can reach, r_i + r_cap + skin, so a small sphere no longer scans cells sized for the
 // largest pair. With r_max / r_min < 2 there is one class and the scheme is the classic single grid.
 // Trivially copyable: kernels take it by value.
