@@ -7,8 +7,11 @@ a Hilbert curve (Skilling 2004, "Programming the Hilbert curve"), all on cubic c
 the median and the share of pairs farther apart than 1k, 4k, 16k and 64k particles: a j beyond the window of
 particles whose state is still in a cache is a miss the kernel waits for.
 
-Usage: perf/order_locality.py SCENE.txt [skin_m]   (a scene in the shared `x y z r` format, e.g. one written by
-build/perf/race_bench --tile 2 --write-scene PREFIX). Needs python3-numpy and python3-scipy (Debian)."""
+Usage: perf/order_locality.py SCENE [skin_m]. SCENE is a scene in the shared `x y z r` format (e.g. one written by
+build/perf/race_bench --tile 2 --write-scene PREFIX), or a grainlab state file (a run's sample_<stage>.h5 or
+checkpoints/ckpt_<step>.h5, read with python3-h5py). For a state file an "as stored" row gives the run's own
+order at that instant (perf/NOTES.md session 19: how the order decays under shear). Needs python3-numpy and
+python3-scipy (Debian)."""
 import sys
 
 try:
@@ -62,11 +65,21 @@ def hilbert_key(c, bits):
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
-    d = np.loadtxt(sys.argv[1], ndmin=2)
     skin = float(sys.argv[2]) if len(sys.argv) > 2 else 1e-4
-    x, r = d[:, :3], d[:, 3]
+    keys = {}
+    if sys.argv[1].endswith(".h5"):
+        try:
+            import h5py
+        except ImportError:
+            sys.exit("order_locality.py: a state file needs h5py (Debian: apt-get install python3-h5py)")
+        with h5py.File(sys.argv[1], "r") as f:
+            x, r = f["state/x"][:], f["state/r"][:]
+        keys["as stored"] = np.arange(len(x))
+    else:
+        d = np.loadtxt(sys.argv[1], ndmin=2)
+        x, r = d[:, :3], d[:, 3]
     c = ((x - x.min(0)) / (2 * r.mean())).astype(np.int64)
-    keys = {
+    keys |= {
         "cells z,y,x": (c[:, 2] * (c[:, 1].max() + 1) + c[:, 1]) * (c[:, 0].max() + 1) + c[:, 0],
         "Morton": spread_bits(c[:, 0]) | spread_bits(c[:, 1]) << 1 | spread_bits(c[:, 2]) << 2,
         "Hilbert": hilbert_key(c, max(1, int(c.max()).bit_length())),
