@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <string>
 #include <cmath>
+#include <type_traits>
 
 namespace grainlab {
 namespace {
@@ -70,23 +71,27 @@ void build_transpose(PairList& list, int n) {
   group_by_key(list.pair_j, list.npairs, n, list.counts, list.t_offsets, list.t_pairs);
 }
 
-// Count-then-fill pair search (Cabana VerletList style tagged functor). For each size class b, the cells
+// Pair search as a tagged functor (Cabana VerletList style): Count, Fill (count_then_fill) and Slots (fill_rows,
+// one pass into per-row slots). For each size class b, the cells
 // of b's grid within r_i + r_cap[b] + skin of x_i (at most 3 per axis for the classes up to i's own size, more
 // for the few large spheres looking into a small class's finer grid).
 struct PairSearch {
   struct Count {};
   struct Fill {};
+  struct Slots {};
   VecView x;
   RealView r;
-  IntView cell_start, cell_particles, counts, offsets, pair_i, pair_j;
+  IntView cell_start, cell_particles, counts, offsets, pair_i, pair_j, slot_offsets, slots;
   Kokkos::View<Real* [4], VecLayout, MemSpace> binned;
   SizeClassGrid g;
   Real skin;
 
   // Returns the pairs of row i; `examined` counts the candidates looked at (the visited cells' particles), the
   // search's work, which stays O(1) per particle for any N (test Neighbor.SearchWorkPerParticleIsIndependentOfN).
-  template <bool DoFill>
-  KOKKOS_INLINE_FUNCTION int visit(int i, int out, long& examined) const {
+  // Sink: Count writes nothing, Fill writes (i, j) to pair_i, pair_j from `out`, Slots writes j to slots from
+  // `out` while fewer than `cap` (and counts on).
+  template <class Sink>
+  KOKKOS_INLINE_FUNCTION int visit(int i, int out, int cap, long& examined) const {
     const Real xi = x(i, 0), yi = x(i, 1), zi = x(i, 2), ri = r(i);
     int n = 0;
     for (int b = 0; b < g.nclasses; ++b) {
@@ -114,11 +119,13 @@ struct PairSearch {
             // in no order a predictor could learn, while the combined test is true only for the few listed
             // pairs among tens of candidates (perf/NOTES.md attempt 50).
             const bool hit = (j > i) & (ex * ex + ey * ey + ez * ez < cut * cut);
-            if (DoFill) {
+            if constexpr (std::is_same_v<Sink, Fill>) {
               if (hit) {
                 pair_i(out + n) = i;
                 pair_j(out + n) = j;
               }
+            } else if constexpr (std::is_same_v<Sink, Slots>) {
+              if (hit && n < cap) slots(out + n) = j;
             }
             n += hit ? 1 : 0;
           }
@@ -127,38 +134,35 @@ struct PairSearch {
     return n;
   }
   KOKKOS_INLINE_FUNCTION void operator()(Count, int i, long& examined) const {
-    counts(i) = visit<false>(i, 0, examined);
+    counts(i) = visit<Count>(i, 0, 0, examined);
   }
   KOKKOS_INLINE_FUNCTION void operator()(Fill, int i) const {
     const int begin = offsets(i);
     long unused = 0;
-    visit<true>(i, begin, unused);
+    visit<Fill>(i, begin, 0, unused);
     sort_segment(pair_j, begin, offsets(i + 1));  // deterministic row order: ascending j
   }
+  KOKKOS_INLINE_FUNCTION void operator()(Slots, int i, long& examined) const {
+    const int begin = slot_offsets(i);
+    counts(i) = visit<Slots>(i, begin, slot_offsets(i + 1) - begin, examined);
+  }
+  static constexpr bool kSortRows = true;  // candidates come cell by cell, not in j order
 };
 
-// Count-then-fill filter of a sorted CSR list (the inner list of Engine, perf/NOTES.md attempt 18): a row's
-// kept pairs stay in their order, so the inner rows are sorted by j like the Verlet rows.
+// Filter of a sorted CSR list (the inner list of Engine, perf/NOTES.md attempt 18), in one pass (fill_rows): a
+// row's kept pairs stay in their order, so the inner rows are sorted by j like the Verlet rows.
 struct PairFilter {
-  struct Count {};
   struct Fill {};
+  struct Slots {};
   VecView x;
   RealView r;
-  IntView outer_offsets, outer_j, counts, offsets, pair_i, pair_j;
+  IntView outer_offsets, outer_j, counts, offsets, pair_i, pair_j, slot_offsets, slots;
   Real margin;
 
   KOKKOS_INLINE_FUNCTION bool keep(const Vec3& xi, Real ri, int j) const {
     const Vec3 d = load(x, j) - xi;
     const Real cut = ri + r(j) + margin;
     return norm2(d) < cut * cut;
-  }
-  KOKKOS_INLINE_FUNCTION void operator()(Count, int i, long& examined) const {
-    const Vec3 xi = load(x, i);
-    const Real ri = r(i);
-    int c = 0;
-    for (int p = outer_offsets(i); p < outer_offsets(i + 1); ++p) c += keep(xi, ri, outer_j(p)) ? 1 : 0;
-    counts(i) = c;
-    examined += outer_offsets(i + 1) - outer_offsets(i);
   }
   KOKKOS_INLINE_FUNCTION void operator()(Fill, int i) const {
     const Vec3 xi = load(x, i);
@@ -172,9 +176,24 @@ struct PairFilter {
       ++q;
     }
   }
+  // The outer row is the inner row's exact bound, so the slots are the outer row's own (slot_offsets = outer
+  // offsets) and never overflow.
+  KOKKOS_INLINE_FUNCTION void operator()(Slots, int i, long& examined) const {
+    const Vec3 xi = load(x, i);
+    const Real ri = r(i);
+    const int begin = slot_offsets(i);
+    int c = 0;
+    for (int p = outer_offsets(i); p < outer_offsets(i + 1); ++p) {
+      const int j = outer_j(p);
+      if (keep(xi, ri, j)) slots(begin + c++) = j;
+    }
+    counts(i) = c;
+    examined += outer_offsets(i + 1) - outer_offsets(i);
+  }
+  static constexpr bool kSortRows = false;  // a sorted row filtered stays sorted
 };
 
-// Runs a row functor with Count and Fill tags (PairSearch, PairFilter) into `list`: counts per row, scan
+// Runs a row functor with Count and Fill tags (PairSearch) into `list`: counts per row, scan
 // into offsets, then each row fills its own slots (no atomics, so the rows' order is the functor's). The count
 // also sums the candidates examined (an integer sum: exact, whatever the thread count) into `examined`.
 template <class F>
@@ -192,6 +211,56 @@ int count_then_fill(F f, int n, PairList& list, const char* count_label, const c
   f.pair_j = list.pair_j;
   Kokkos::parallel_for(fill_label, Kokkos::RangePolicy<ExecSpace, typename F::Fill>(0, n), f);
   list.npairs = np;
+  return np;
+}
+
+// The same list in one pass where row i's pairs fit the slots [slot_offsets(i), slot_offsets(i + 1)): F's Slots
+// pass writes each row there and its length to counts, and the rows are then copied into CSR order (sorted
+// where F's rows come unsorted). Where some row outgrew its slots (only the search's estimate can fall short),
+// the counts are exact by then, so F's Fill pass runs as the second half of count_then_fill. Returns the pair
+// count; `passes` is the number of passes that searched (1 or 2).
+template <class F>
+int fill_rows(F f, int n, PairList& list, const IntView& slot_offsets, IntView& slots, long nslots,
+              const char* slots_label, const char* fill_label, long& examined, int& passes) {
+  grow_view(list.counts, "grainlab::pairs::counts", n);
+  grow_view(slots, "grainlab::pairs::slots", nslots);
+  f.counts = list.counts;
+  f.slot_offsets = slot_offsets;
+  f.slots = slots;
+  examined = 0;
+  Kokkos::parallel_reduce(slots_label, Kokkos::RangePolicy<ExecSpace, typename F::Slots>(0, n), f, examined);
+  auto counts = list.counts;
+  int overflow = 0;
+  Kokkos::parallel_reduce(
+      "grainlab::neighbor::slots_overflow", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(int i, int& o) { o += counts(i) > slot_offsets(i + 1) - slot_offsets(i) ? 1 : 0; }, overflow);
+  grow_view(list.offsets, "grainlab::pairs::offsets", n + 1);
+  const int np = exclusive_scan(list.counts, list.offsets, n);
+  grow_view(list.pair_i, "grainlab::pairs::i", np);
+  grow_view(list.pair_j, "grainlab::pairs::j", np);
+  list.npairs = np;
+  if (overflow > 0) {
+    f.offsets = list.offsets;
+    f.pair_i = list.pair_i;
+    f.pair_j = list.pair_j;
+    Kokkos::parallel_for(fill_label, Kokkos::RangePolicy<ExecSpace, typename F::Fill>(0, n), f);
+    passes = 2;
+    return np;
+  }
+  auto off = list.offsets;
+  auto pi = list.pair_i;
+  auto pj = list.pair_j;
+  auto sl = slots;
+  Kokkos::parallel_for(
+      "grainlab::neighbor::compact_rows", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+        const int begin = off(i), len = off(i + 1) - begin, from = slot_offsets(i);
+        for (int k = 0; k < len; ++k) {
+          pi(begin + k) = i;
+          pj(begin + k) = sl(from + k);
+        }
+        if (F::kSortRows) sort_segment(pj, begin, begin + len);
+      });
+  passes = 1;
   return np;
 }
 
@@ -312,10 +381,33 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
         });
   }
 
-  // Pairs: count, scan, fill (rows sorted by j).
-  PairSearch ps{x, r, grid.cell_start, grid.cell_particles, {}, {}, {}, {}, grid.binned, g, skin};
-  st.npairs = count_then_fill(ps, n, list, "grainlab::neighbor::count_pairs", "grainlab::neighbor::fill_pairs",
-                              st.examined);
+  // Pairs (rows sorted by j). The first build of a list counts, scans and fills: two searches. Later builds give
+  // row i the slots its last length needs plus a quarter plus 4 (particles moved at most skin/2 since, so a row
+  // rarely gains more) and search once (fill_rows); an outgrown row costs the second search after all.
+  PairSearch ps{x, r, grid.cell_start, grid.cell_particles, {}, {}, {}, {}, {}, {}, grid.binned, g, skin};
+  if (list.built_n == n && n > 0) {
+    grow_view(list.slot_offsets, "grainlab::pairs::slot_offsets", n + 1);
+    auto off = list.offsets;
+    auto so = list.slot_offsets;
+    long nslots = 0;
+    Kokkos::parallel_scan(
+        "grainlab::neighbor::slot_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+        KOKKOS_LAMBDA(int i, long& upd, bool final) {
+          if (final) so(i) = int(upd);
+          if (i < n) {
+            const int len = off(i + 1) - off(i);
+            upd += len + len / 4 + 4;
+          }
+        },
+        nslots);
+    st.npairs = fill_rows(ps, n, list, list.slot_offsets, list.slots, nslots, "grainlab::neighbor::slot_pairs",
+                          "grainlab::neighbor::fill_pairs", st.examined, st.searches);
+  } else {
+    st.npairs = count_then_fill(ps, n, list, "grainlab::neighbor::count_pairs", "grainlab::neighbor::fill_pairs",
+                                st.examined);
+    st.searches = 2;
+  }
+  list.built_n = n;
 
   if (transposed) build_transpose(list, n);
   {
@@ -333,12 +425,14 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
   return st;
 }
 
-int filter_pair_list(const VecView& x, const RealView& r, Real margin, const PairList& outer, PairList& inner) {
+int filter_pair_list(const VecView& x, const RealView& r, Real margin, PairList& outer, PairList& inner) {
   const int n = int(x.extent(0));
-  PairFilter pf{x, r, outer.offsets, outer.pair_j, {}, {}, {}, {}, margin};
+  PairFilter pf{x, r, outer.offsets, outer.pair_j, {}, {}, {}, {}, {}, {}, margin};
   long examined = 0;
-  const int np =
-      count_then_fill(pf, n, inner, "grainlab::neighbor::count_inner", "grainlab::neighbor::fill_inner", examined);
+  int passes = 0;
+  // The outer list's slots as scratch (its build is done with them): one such array per engine, not per list.
+  const int np = fill_rows(pf, n, inner, outer.offsets, outer.slots, outer.npairs, "grainlab::neighbor::slot_inner",
+                           "grainlab::neighbor::fill_inner", examined, passes);
   build_transpose(inner, n);
   return np;
 }

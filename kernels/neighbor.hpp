@@ -57,7 +57,12 @@ struct PairList {
   IntView pair_j;     // capacity >= npairs
   IntView t_offsets;  // N + 1: transposed rows
   IntView t_pairs;    // capacity >= npairs: pair indices with pair_j == row, ascending
-  IntView counts;     // scratch, N
+  IntView counts;     // N: each row's length in the last build (scratch during one)
+  // Single-pass build (fill_rows): row i's pairs first go to slots(slot_offsets(i) ...), sized from the last
+  // build's row lengths, then are compacted into pair_i, pair_j.
+  IntView slot_offsets;  // N + 1
+  IntView slots;         // scratch (also filter_pair_list's, when this is the outer list)
+  int built_n = -1;      // offsets hold the rows of a list built by the search for this many particles (-1: none)
   int npairs = 0;
   int capacity() const { return int(pair_i.extent(0)); }
 };
@@ -68,11 +73,14 @@ struct NeighborStats {
   int max_row = 0;     // longest row, for diagnostics
   long examined = 0;   // candidates the search looked at (every particle of the cells it visited)
   int size_classes = 1;
+  int searches = 1;    // passes over the cells: 1 when the last build's row lengths held every row, else 2
 };
 
 // Bins particles into size classes and cells (SizeClassGrid) and rebuilds the pair list for cutoff
 // r_i + r_j + skin. The list is a pure function of the positions and radii, whatever the binning: rows are
 // sorted by j.
+// From a list's second build on, each row is searched once into slots sized from its last length (NeighborStats::
+// searches; perf/NOTES.md attempt 52); the first build, or one where a row outgrew its slots, counts and fills.
 // The list only grows its storage (25 % slack), so a steady state allocates nothing. Without `transposed`
 // the transposed index is left empty (a list that is only filtered, never gathered over).
 NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin, CellGrid& grid,
@@ -81,7 +89,8 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
 // Inner list: the pairs of the sorted list `outer` closer than r_i + r_j + margin, in the same order, with
 // their transposed index. O(pairs), no cell search: the cheap half of a two-level Verlet scheme (Engine).
 // Returns the pair count.
-int filter_pair_list(const VecView& x, const RealView& r, Real margin, const PairList& outer, PairList& inner);
+// One pass into the slots of `outer`'s rows (outer.slots is the scratch), then compacted.
+int filter_pair_list(const VecView& x, const RealView& r, Real margin, PairList& outer, PairList& inner);
 
 // Brute-force O(N^2) reference (test oracle): the same pairs, row-major sorted, on the host.
 void brute_force_pairs(const VecView& x, const RealView& r, Real skin, std::vector<std::pair<int, int>>& out);
