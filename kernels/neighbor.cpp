@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <string>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 namespace grainlab {
@@ -258,7 +259,7 @@ int fill_rows(F f, int n, PairList& list, const IntView& slot_offsets, IntView& 
           pi(begin + k) = i;
           pj(begin + k) = sl(from + k);
         }
-        if (F::kSortRows) sort_segment(pj, begin, begin + len);
+        if constexpr (F::kSortRows) sort_segment(pj, begin, begin + len);
       });
   passes = 1;
   return np;
@@ -385,11 +386,11 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
   // row i the slots its last length needs plus a quarter plus 4 (particles moved at most skin/2 since, so a row
   // rarely gains more) and search once (fill_rows); an outgrown row costs the second search after all.
   PairSearch ps{x, r, grid.cell_start, grid.cell_particles, {}, {}, {}, {}, {}, {}, grid.binned, g, skin};
+  long nslots = -1;  // the single pass's slots, or -1: count and fill
   if (list.built_n == n && n > 0) {
     grow_view(list.slot_offsets, "grainlab::pairs::slot_offsets", n + 1);
     auto off = list.offsets;
     auto so = list.slot_offsets;
-    long nslots = 0;
     Kokkos::parallel_scan(
         "grainlab::neighbor::slot_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
         KOKKOS_LAMBDA(int i, long& upd, bool final) {
@@ -400,6 +401,8 @@ NeighborStats build_neighbor_list(const VecView& x, const RealView& r, Real skin
           }
         },
         nslots);
+  }
+  if (nslots >= 0 && nslots <= std::numeric_limits<int>::max()) {  // slot indices are ints, as pair indices are
     st.npairs = fill_rows(ps, n, list, list.slot_offsets, list.slots, nslots, "grainlab::neighbor::slot_pairs",
                           "grainlab::neighbor::fill_pairs", st.examined, st.searches);
   } else {
