@@ -184,6 +184,12 @@ arithmetic in double; `perf/build_float.sh`).
 gpu = os.path.join(root, "perf", "gpu", "RESULTS_GPU.md")
 if os.path.exists(gpu):
     md = md.rstrip() + "\n\n" + open(gpu).read()
-open(os.path.join(root, "perf", "RESULTS.md"), "w").write(md)
+# Temporary file, then rename: an interrupted run leaves the previous RESULTS.md, never half of a new one.
+dst = os.path.join(root, "perf", "RESULTS.md")
+with open(dst + ".tmp", "w") as f:
+    f.write(md)
+    f.flush()
+    os.fsync(f.fileno())
+os.replace(dst + ".tmp", dst)
 print("wrote perf/RESULTS.md")
 PY
