@@ -13,7 +13,8 @@ incrementally by perf/build_float.sh):
   2. energy drift over 1e4 steps of a frictionless undamped packing (perf/energy_drift: a corner of the
      race scene, E = 100 MPa): |<E> last tenth - <E> first tenth| / E_0, and the rate of step() alone.
 The sample is prepared once (consolidation at f = 0.2) and shared by every shear.
-Environment: BUILD (default build), BUILD_FLOAT (default build-float), OMP_NUM_THREADS (default 2), SVE_OUT (work dir, default /tmp/grainlab-sve).
+Rates are medians of REPS rounds over all cases (default 3); the errors must repeat bitwise in every round.
+Environment: REPS, BUILD (default build), BUILD_FLOAT (default build-float), OMP_NUM_THREADS (default 2), SVE_OUT (work dir, default /tmp/grainlab-sve).
 """
 import csv
 import os
@@ -34,6 +35,7 @@ PEERS = os.environ.get("PEERS_DIR", os.path.join(ROOT, "..", "shared", "bench", 
 FACTORS = [0.05, 0.1, 0.2, 0.3, 0.5]
 SKINS = [0.05e-3, 0.1e-3, 0.2e-3]
 F_REF = 0.02
+REPS = int(os.environ.get("REPS", "3"))
 ENV = dict(os.environ, OMP_NUM_THREADS=os.environ.get("OMP_NUM_THREADS", "2"), OMP_PROC_BIND="spread",
            OMP_PLACES="threads")
 
@@ -131,14 +133,40 @@ def shear(sample, f, skin, n, precision="double"):
     wall = time.monotonic() - t0
     eps, q, p, step = series(os.path.join(d, "series.csv"))
     steps = step[-1] - step[0]
-    return dict(eps=eps, q=q, p=p, rate=n * steps / wall, wall=wall, steps=steps)
+    return dict(eps=eps, q=q, p=p, rate=n * steps / wall, wall=wall, steps=steps, inner_skin=inner_skin(d))
+
+
+def inner_skin(run_dir):
+    """The inner-list fraction the run used, from the effective config grainlab writes into its run directory
+    (the report states the run's own setting, not a remembered default)."""
+    with open(os.path.join(run_dir, "config.yaml")) as fh:
+        m = re.search(r"^\s*inner_skin:\s*([0-9.eE+-]+)\s*$", fh.read(), re.M)
+    if not m:
+        sys.exit(f"speed_vs_error: no numerics.inner_skin in {run_dir}/config.yaml")
+    return float(m.group(1))
+
+
+def write_atomically(path, write):
+    """write(tmp) fills a temporary file next to path, which then replaces path in one rename: an interrupted
+    run leaves the previous report whole, never a half-written one."""
+    tmp = f"{path}.tmp.{os.getpid()}"
+    try:
+        write(tmp)
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
 
 
 def drift(f, skin, precision="double"):
     r = run([exes(precision)[1], "--scene", os.path.join(PEERS, "scene_32k.txt"), "--box", os.path.join(PEERS, "scene_32k_box.txt"),
              "--crop", "0.5", "--dt-factor", str(f), "--skin", str(skin), "--steps", "10000"])
     m = dict(re.findall(r"(\w+)=([0-9.eE+-]+)", r.stdout))
-    return float(m["drift"]), float(m["band"]), float(m["particle_steps_per_s"])
+    # Cost of simulated time: wall seconds per simulated millisecond of this packing (particles / rate / dt).
+    cost = float(m["particles"]) / float(m["particle_steps_per_s"]) / float(m["dt"]) * 1e-3
+    return float(m["drift"]), float(m["band"]), float(m["particle_steps_per_s"]), cost
 
 
 def main():
@@ -147,6 +175,8 @@ def main():
             sys.exit(f"speed_vs_error: {exe} missing: run `make build` first")
     if not os.path.exists(os.path.join(PEERS, "scene_32k.txt")):
         sys.exit(f"speed_vs_error: no race scene under {PEERS} (set PEERS_DIR)")
+    if REPS < 1:
+        sys.exit(f"speed_vs_error: REPS={REPS} is outside the allowed range (>= 1)")
     os.makedirs(WORK, exist_ok=True)
     build_float()
     prep = os.path.join(WORK, "prep")
@@ -160,21 +190,43 @@ def main():
     print(f"reference: f = {F_REF}, skin 0.1 mm", flush=True)
     ref = shear(sample, F_REF, 0.1e-3, n)
     p0 = ref["p"][0]
-    rows = []
     cases = [(skin, f, "double") for skin in SKINS for f in FACTORS] + [(0.1e-3, f, "float") for f in FACTORS]
-    for skin, f, prec in cases:
+    # REPS rounds over all cases (not REPS runs of one case in a row), so a slow hour of the shared host slows
+    # every case alike; the rates are medians over the rounds. The errors are deterministic: every round must
+    # reproduce round 1's q series and drift to the last bit, or the report is not written.
+    first, q_rates, d_rates, q_walls, d_costs = {}, {}, {}, {}, {}
+    for rnd in range(REPS):
+        for case in cases:
+            skin, f, prec = case
             s = shear(sample, f, skin, n, prec)
-            lo, hi = max(s["eps"][0], ref["eps"][0]), min(s["eps"][-1], ref["eps"][-1])
-            keep = (s["eps"] >= lo) & (s["eps"] <= hi)
-            dq = np.abs(s["q"][keep] - np.interp(s["eps"][keep], ref["eps"], ref["q"])) / p0
-            err = float(np.max(dq))
-            early = s["eps"][keep] - s["eps"][0] <= 0.01
-            err1 = float(np.max(dq[early])) if early.any() else float("nan")
-            d, band, drate = drift(f, skin, prec)
-            rows.append(dict(f=f, skin=skin, prec=prec, q_err=err, q_err1=err1, q_rate=s["rate"], steps=s["steps"], drift=d, band=band,
-                             d_rate=drate))
-            print(f"f={f:<5} skin={skin * 1e3:.2f} mm {prec:6s} q error {err:.2e} p'0 (first 1 %: {err1:.2e})  shear {s['rate']:.3g} p-steps/s"
-                  f"  drift {d:.2e}  band {band:.2e}  step() {drate:.3g} p-steps/s", flush=True)
+            d, band, drate, dcost = drift(f, skin, prec)
+            q_rates.setdefault(case, []).append(s["rate"])
+            d_rates.setdefault(case, []).append(drate)
+            q_walls.setdefault(case, []).append(s["wall"])
+            d_costs.setdefault(case, []).append(dcost)
+            if rnd == 0:
+                first[case] = (s, d, band)
+            elif not (np.array_equal(s["q"], first[case][0]["q"]) and d == first[case][1]):
+                sys.exit(f"speed_vs_error: round {rnd + 1} of f={f} skin={skin} {prec} differs from round 1:"
+                         " same config, backend and thread count must give the same bits")
+            print(f"round {rnd + 1}/{REPS} f={f:<5} skin={skin * 1e3:.2f} mm {prec:6s} shear {s['rate']:.3g} p-steps/s"
+                  f"  step() {drate:.3g} p-steps/s", flush=True)
+    rows = []
+    for case in cases:
+        skin, f, prec = case
+        s, d, band = first[case]
+        lo, hi = max(s["eps"][0], ref["eps"][0]), min(s["eps"][-1], ref["eps"][-1])
+        keep = (s["eps"] >= lo) & (s["eps"] <= hi)
+        dq = np.abs(s["q"][keep] - np.interp(s["eps"][keep], ref["eps"], ref["q"])) / p0
+        err = float(np.max(dq))
+        early = s["eps"][keep] - s["eps"][0] <= 0.01
+        err1 = float(np.max(dq[early])) if early.any() else float("nan")
+        rows.append(dict(f=f, skin=skin, prec=prec, q_err=err, q_err1=err1, q_rate=float(np.median(q_rates[case])),
+                         q_span=(min(q_rates[case]), max(q_rates[case])), steps=s["steps"], drift=d, band=band,
+                         d_rate=float(np.median(d_rates[case])), d_span=(min(d_rates[case]), max(d_rates[case])),
+                         q_wall=float(np.median(q_walls[case])), d_cost=float(np.median(d_costs[case]))))
+        print(f"f={f:<5} skin={skin * 1e3:.2f} mm {prec:6s} q error {err:.2e} p'0 (first 1 %: {err1:.2e})  shear {rows[-1]['q_rate']:.3g} p-steps/s"
+              f"  drift {d:.2e}  band {band:.2e}  step() {rows[-1]['d_rate']:.3g} p-steps/s (medians of {REPS})", flush=True)
     write_report(rows, ref, p0)
 
 
@@ -190,8 +242,8 @@ def write_report(rows, ref, p0):
         "# Speed against error",
         "",
         f"Generated by `perf/speed_vs_error` (commit {commit}, {ENV['OMP_NUM_THREADS']} OpenMP threads, {cpu},"
-        f" {os.cpu_count()} cores). Single runs: the rates are indicative (this VM's noise is ~10 %);"
-        " the errors are deterministic.",
+        f" {os.cpu_count()} cores). Rates: medians of {REPS} rounds over all cases (min-max beside them; single runs on"
+        " this shared VM swing by up to 2x). The errors are deterministic: every round reproduced them to the last bit.",
         "",
         f"- **q error**: undrained triaxial test, 800 spheres, mu = 0.5, mu_r = 0.1, p'_0 = {p0 / 1e3:.1f} kPa,"
         f" to 5 % axial strain: max |q - q_ref| / p'_0 against f = {F_REF} (skin 0.1 mm,"
@@ -203,16 +255,21 @@ def write_report(rows, ref, p0):
         "- **precision**: double, or float storage of the per-pair history and per-pair forces with every"
         " operation in double (`-DGRAINLAB_PAIR_FLOAT=ON`, kernels/types.hpp), skin 0.1 mm. The reference is"
         " always double.",
-        "- **lists**: every run uses the engine's default inner list (`numerics.inner_skin` = 0.1 of the skin,"
-        " perf/NOTES.md attempt 18): it changes no error (the same bits with it off), only the rate.",
+        f"- **lists**: every run uses the engine's default inner list (`numerics.inner_skin` = {ref['inner_skin']:g} of the skin,"
+        " perf/NOTES.md attempts 18 and 29): it changes no error (the same bits with it off), only the rate.",
         "",
-        "| f | skin mm | precision | q error / p'_0, 5 % | q error / p'_0, 1 % | shear rate (p-steps/s) | steps | energy drift | energy band | step rate (p-steps/s) |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "Speed is given twice: as a rate (particle-steps/s, the same work per step whatever f is) and as the cost"
+        " of the answer (wall seconds for the 5 % test; wall seconds per simulated millisecond of the packing),"
+        " which is what f buys: a step costs the same, a larger f needs fewer of them.",
+        "",
+        "| f | skin mm | precision | q error / p'_0, 5 % | q error / p'_0, 1 % | steps | shear wall s | shear rate (p-steps/s), min-max | energy drift | energy band | wall s per simulated ms | step rate (p-steps/s), min-max |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         mark = " **(default)**" if (r["f"] == 0.2 and abs(r["skin"] - 0.1e-3) < 1e-9 and r["prec"] == "double") else ""
-        lines.append(f"| {r['f']}{mark} | {r['skin'] * 1e3:g} | {r['prec']} | {r['q_err']:.2e} | {r['q_err1']:.2e} | {r['q_rate']:.3g} | {int(r['steps'])} |"
-                     f" {r['drift']:.2e} | {r['band']:.2e} | {r['d_rate']:.3g} |")
+        lines.append(f"| {r['f']}{mark} | {r['skin'] * 1e3:g} | {r['prec']} | {r['q_err']:.2e} | {r['q_err1']:.2e} | {int(r['steps'])} |"
+                     f" {r['q_wall']:.1f} | {r['q_rate']:.3g}, {r['q_span'][0]:.3g}-{r['q_span'][1]:.3g} | {r['drift']:.2e} | {r['band']:.2e} |"
+                     f" {r['d_cost']:.3g} | {r['d_rate']:.3g}, {r['d_span'][0]:.3g}-{r['d_span'][1]:.3g} |")
     lines += ["", "![speed against error](speed_vs_error.png)", ""]
     default = [r for r in rows if r["f"] == 0.2 and abs(r["skin"] - 0.1e-3) < 1e-9 and r["prec"] == "double"][0]
     fl = {r["f"]: r for r in rows if r["prec"] == "float"}
@@ -234,9 +291,9 @@ def write_report(rows, ref, p0):
         + ",".join(f" {fl[f]['drift']:.1e} vs {db[f]['drift']:.1e} (f = {f})" for f in FACTORS if f in fl)
         + ". Rounding the stored history and pair forces to 24 bits each step adds a random walk to the"
         " energy that stays below the truncation error at the default f (and at f = 0.05, 0.1); compare"
-        " f = 0.3 and 0.5 across rows. The rates in this table are single short runs and swing by 1.5x on"
-        " this VM; the concurrent A/B of the two builds on the race scene (`perf/ab.sh`, perf/NOTES.md attempt 8)"
-        " gives float 1.05x faster and 23 % less memory per particle. The q columns are again chaotic scatter"
+        " f = 0.3 and 0.5 across rows. The rates in this table are short runs on a shared VM; the concurrent A/B of the two builds on the race scene (`perf/ab.sh`) gives float 1.05x faster"
+        " at 32k spheres and 1.12x at 256k, where the step streams from memory, and 23 % less memory per particle"
+        " (perf/NOTES.md attempt 8 and session 13). The q columns are again chaotic scatter"
         " (the float rows' 1 % errors are the double rows' size). Default: double (bitwise-reproducible"
         " restarts and the tested oracles are double); float halves the per-pair memory, which matters most for 10^7-sphere runs in a GPU's memory (not measured here: no GPU).",
         "",
@@ -245,15 +302,17 @@ def write_report(rows, ref, p0):
         f"f = 0.2 with a 0.1 mm skin: energy drift {default['drift']:.1e} over 10^4 steps"
         f" ({max(r['drift'] for r in rows if r['f'] == 0.5) / max(default['drift'], 1e-300):.0f}x below f = 0.5),"
         " q within the chaotic scatter of the smaller f, at a cost per simulated second"
-        " 4x below f = 0.05. f = 0.5 loses about two orders of magnitude in energy accuracy and sits near the stability"
-        " edge of the rolling spring; below 0.2 the gain in accuracy is invisible in q. The 0.1 mm skin"
+        f" {db[0.05]['d_cost'] / default['d_cost']:.1f}x below f = 0.05 (measured; 4x by the step count alone). f = 0.5 gives up that factor in energy accuracy and sits near the stability edge of"
+        " the rolling spring; below 0.2 the gain in accuracy is invisible in q. The 0.1 mm skin"
         " (~0.35 of the mean radius) sets how often the Verlet list is rebuilt by a cell search; the force kernel"
         " streams the inner list filtered from it, so the skin no longer sets how many non-touching pairs the"
         " kernel visits.",
         "",
     ]
-    with open(os.path.join(ROOT, "perf", "SPEED_VS_ERROR.md"), "w") as fh:
-        fh.write("\n".join(lines))
+    def write_md(tmp):
+        with open(tmp, "w") as fh:
+            fh.write("\n".join(lines))
+    write_atomically(os.path.join(ROOT, "perf", "SPEED_VS_ERROR.md"), write_md)
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -261,21 +320,23 @@ def write_report(rows, ref, p0):
         fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
         for skin, prec in [(s_, "double") for s_ in SKINS] + [(0.1e-3, "float")]:
             rs = [r for r in rows if r["skin"] == skin and r["prec"] == prec]
-            ax[0].loglog([r["q_rate"] for r in rs], [max(r["q_err"], 1e-16) for r in rs], "o-",
+            ax[0].loglog([r["q_wall"] for r in rs], [max(r["q_err1"], 1e-16) for r in rs], "o-",
                          label=f"skin {skin * 1e3:g} mm, {prec}")
-            ax[1].loglog([r["d_rate"] for r in rs], [max(r["drift"], 1e-16) for r in rs], "o-",
+            ax[1].loglog([r["d_cost"] for r in rs], [max(r["drift"], 1e-16) for r in rs], "o-",
                          label=f"skin {skin * 1e3:g} mm, {prec}")
             for r in rs:
-                ax[0].annotate(f"f={r['f']}", (r["q_rate"], max(r["q_err"], 1e-16)), fontsize=7)
-        ax[0].set_xlabel("undrained shear: particle-steps/s")
-        ax[0].set_ylabel("max |q - q_ref| / p'_0")
-        ax[1].set_xlabel("step(): particle-steps/s")
+                ax[0].annotate(f"f={r['f']}", (r["q_wall"], max(r["q_err1"], 1e-16)), fontsize=7)
+                ax[1].annotate(f"f={r['f']}", (r["d_cost"], max(r["drift"], 1e-16)), fontsize=7)
+        ax[0].set_xlabel("undrained shear to 5 %: wall s (median)")
+        ax[0].set_ylabel("max |q - q_ref| / p'_0, first 1 % of strain")
+        ax[1].set_xlabel("step(): wall s per simulated ms (median)")
         ax[1].set_ylabel("relative energy drift, 1e4 steps")
         for a in ax:
             a.legend()
             a.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
-        fig.savefig(os.path.join(ROOT, "perf", "speed_vs_error.png"), dpi=120)
+        write_atomically(os.path.join(ROOT, "perf", "speed_vs_error.png"),
+                         lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
     except ImportError:
         print("matplotlib missing: no PNG")
     print("wrote perf/SPEED_VS_ERROR.md")
