@@ -26,6 +26,9 @@ import time
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from atomic_write import write_atomically, write_text_atomically  # noqa: E402
+
 BUILD = os.environ.get("BUILD", os.path.join(ROOT, "build"))
 BUILD_FLOAT = os.environ.get("BUILD_FLOAT", os.path.join(ROOT, "build-float"))
 GRAINLAB = os.path.join(BUILD, "grainlab")
@@ -144,20 +147,6 @@ def inner_skin(run_dir):
     if not m:
         sys.exit(f"speed_vs_error: no numerics.inner_skin in {run_dir}/config.yaml")
     return float(m.group(1))
-
-
-def write_atomically(path, write):
-    """write(tmp) fills a temporary file next to path, which then replaces path in one rename: an interrupted
-    run leaves the previous report whole, never a half-written one."""
-    tmp = f"{path}.tmp.{os.getpid()}"
-    try:
-        write(tmp)
-        with open(tmp, "rb") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 def drift(f, skin, precision="double"):
@@ -309,10 +298,7 @@ def write_report(rows, ref, p0):
         " kernel visits.",
         "",
     ]
-    def write_md(tmp):
-        with open(tmp, "w") as fh:
-            fh.write("\n".join(lines))
-    write_atomically(os.path.join(ROOT, "perf", "SPEED_VS_ERROR.md"), write_md)
+    write_text_atomically(os.path.join(ROOT, "perf", "SPEED_VS_ERROR.md"), "\n".join(lines))
     try:
         import matplotlib
         matplotlib.use("Agg")

@@ -20,6 +20,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from atomic_write import write_atomically, write_text_atomically  # noqa: E402
+
 
 def load(run):
     path = os.path.join(run, "series.csv")
@@ -41,7 +44,9 @@ def label(run, s):
 def save(fig, out, name):
     fig.tight_layout()  # keeps a row's axis labels off the titles of the row below
     for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(out, f"{name}.{ext}"), dpi=130, bbox_inches="tight")
+        # format= because the temporary name does not end in .png / .pdf
+        write_atomically(os.path.join(out, f"{name}.{ext}"),
+                         lambda tmp, e=ext: fig.savefig(tmp, dpi=130, bbox_inches="tight", format=e))
     plt.close(fig)
     print(os.path.join(out, name + ".png"))
 
@@ -234,8 +239,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     text = "\n".join(lines)
     if not quiet:
         print(text)
-    with open(os.path.join(out, "csl.md"), "w") as f:
-        f.write(text + "\n")
+    write_text_atomically(os.path.join(out, "csl.md"), text + "\n")
     return results, text, states
 
 
@@ -317,8 +321,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, ""]
-    with open(os.path.join(out, "report.md"), "w") as f:
-        f.write("\n".join(lines))
+    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
 
