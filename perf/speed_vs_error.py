@@ -38,7 +38,8 @@ PEERS = os.environ.get("PEERS_DIR", os.path.join(ROOT, "..", "shared", "bench", 
 FACTORS = [0.05, 0.1, 0.2, 0.3, 0.5]
 SKINS = [0.05e-3, 0.1e-3, 0.2e-3]
 F_REF = 0.02
-REPS = int(os.environ.get("REPS", "3"))
+REPS_TEXT = os.environ.get("REPS", "3")
+REPS = int(REPS_TEXT) if REPS_TEXT.strip().isdigit() else 0  # not a whole number: refused in main()
 ENV = dict(os.environ, OMP_NUM_THREADS=os.environ.get("OMP_NUM_THREADS", "2"), OMP_PROC_BIND="spread",
            OMP_PLACES="threads")
 
@@ -165,7 +166,7 @@ def main():
     if not os.path.exists(os.path.join(PEERS, "scene_32k.txt")):
         sys.exit(f"speed_vs_error: no race scene under {PEERS} (set PEERS_DIR)")
     if REPS < 1:
-        sys.exit(f"speed_vs_error: REPS={REPS} is outside the allowed range (>= 1)")
+        sys.exit(f"speed_vs_error: REPS={REPS_TEXT!r} is outside the allowed range (a whole number >= 1)")
     os.makedirs(WORK, exist_ok=True)
     build_float()
     prep = os.path.join(WORK, "prep")
