@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <algorithm>
 #include <fstream>
 #include <iterator>
@@ -208,10 +209,16 @@ RunConfig load_run_config(const std::string& path) {
     for (const char* k : {"count", "D", "r_min", "r_max", "seed", "initial_solid_fraction", "density",
                           "density_scaling"})
       if (s.has(k)) s.fail(std::string("sample.") + k, "cannot be combined with sample.file (the file defines it)");
+    // A relative path is relative to this config's directory. It is then made absolute, so that the resolved
+    // config a run writes (its config.yaml, run.h5 attribute and checkpoint fingerprint) names the same file from
+    // any working directory.
     if (c.sample_file[0] != '/') {
       const size_t slash = path.find_last_of('/');
       if (slash != std::string::npos) c.sample_file = path.substr(0, slash + 1) + c.sample_file;
     }
+    std::error_code ec;
+    const std::filesystem::path abs = std::filesystem::absolute(c.sample_file, ec);
+    if (!ec) c.sample_file = abs.lexically_normal().string();
   }
   c.packing.count = int(s.integer("count", 3000, 1, 100000000));
   c.packing.D = s.real("D", 3.63, 0, 10);

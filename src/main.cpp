@@ -1,4 +1,5 @@
 // grainlab command line: run and validate configs.
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <algorithm>
@@ -27,6 +28,19 @@ int usage(FILE* f) {
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab version\n");
   return f == stderr ? 2 : 0;
+}
+// A whole-number option in [lo, hi]. Anything else (empty, "abc", "2.5", out of range) gets one line naming the
+// option and its range, and the caller exits 2, as for an unknown option: a typo never runs with a guess.
+bool whole_number(const char* option, const char* text, long lo, long hi, long& value) {
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text, &end, 10);
+  if (end == text || *end || errno == ERANGE || v < lo || v > hi) {
+    std::fprintf(stderr, "grainlab: %s must be an integer in [%ld, %ld], got '%s'\n", option, lo, hi, text);
+    return false;
+  }
+  value = v;
+  return true;
 }
 }  // namespace
 
@@ -61,9 +75,11 @@ int main(int argc, char** argv) {
     for (int a = 3; a < argc; ++a) {
       const std::string s = argv[a];
       if (s == "--out" && a + 1 < argc) so.out_dir = argv[++a];
-      else if (s == "--jobs" && a + 1 < argc) so.jobs = std::max(1, std::atoi(argv[++a]));
-      else if (s == "--threads" && a + 1 < argc) so.threads = std::max(1, std::atoi(argv[++a]));
-      else if (s == "--quiet") so.quiet = true;
+      else if ((s == "--jobs" || s == "--threads") && a + 1 < argc) {
+        long v = 0;
+        if (!whole_number(s.c_str(), argv[++a], 1, 4096, v)) return 2;
+        (s == "--jobs" ? so.jobs : so.threads) = int(v);
+      } else if (s == "--quiet") so.quiet = true;
       else {
         std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
         return usage(stderr);
@@ -87,16 +103,12 @@ int main(int argc, char** argv) {
     } else if (s == "--resume") {
       opt.resume = true;
     } else if (s == "--stop-after-steps" && a + 1 < argc) {  // testing aid: acts like Ctrl-C after N steps
-      opt.stop_after_steps = std::atol(argv[++a]);
+      if (!whole_number("--stop-after-steps", argv[++a], 0, 1000000000000L, opt.stop_after_steps)) return 2;
     } else if (s == "--out" && a + 1 < argc) {
       opt.out_dir = argv[++a];
     } else if (s == "--threads" && a + 1 < argc) {
-      char* end = nullptr;
-      const long t = std::strtol(argv[++a], &end, 10);
-      if (!end || *end || t < 1 || t > 4096) {
-        std::fprintf(stderr, "grainlab: --threads must be an integer in [1, 4096]\n");
-        return 2;
-      }
+      long t = 0;
+      if (!whole_number("--threads", argv[++a], 1, 4096, t)) return 2;
       threads = int(t);
     } else {
       std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <sstream>
 
 #include "h5io.hpp"
@@ -209,6 +210,7 @@ class Laboratory {
   };
 
   void prepare_output_dir();
+  void refuse_overwrites() const;
   void build_engine();
   void start_stage(const StageConfig& sc);
   Measure measure(const StageConfig& sc) const;
@@ -251,7 +253,51 @@ class Laboratory {
   }
 };
 
+namespace {
+// Does directory d hold an entry other than the temporary files of interrupted writers (".tmp." in the name)?
+bool holds_files(const std::string& d) {
+  std::error_code ec;
+  if (!fs::is_directory(d, ec)) return false;
+  for (auto& f : fs::directory_iterator(d, ec))
+    if (f.path().filename().string().find(".tmp.") == std::string::npos) return true;
+  return false;
+}
+}  // namespace
+
+// A run that starts afresh refuses a directory where it would replace anything: a run (series.csv, run.h5,
+// checkpoints), or a file of the same name as one it writes (config.yaml with other content, particles.xdmf,
+// sample_<stage>.h5, snapshots/). So `--out .` in a folder that holds the user's own config.yaml stops with one
+// line instead of overwriting it. The check only reads, and runs before anything is created.
+void Laboratory::refuse_overwrites() const {
+  for (const char* f : {"series.csv", "run.h5"})
+    if (fs::exists(out_ + "/" + f))
+      throw std::runtime_error(out_ + ": already holds a run (" + f +
+                               "); continue it with --resume or choose another --out (nothing was changed)");
+  if (holds_files(out_ + "/checkpoints"))
+    throw std::runtime_error(out_ + "/checkpoints: holds checkpoints of an earlier run; use --resume or another --out");
+  const auto refuse = [&](const std::string& name) {
+    throw std::runtime_error(out_ + ": already holds " + name +
+                             ", which this run would overwrite; choose another --out (nothing was changed)");
+  };
+  if (fs::exists(out_ + "/config.yaml")) {
+    // Our own, from a start killed before its first checkpoint, is the same text: replacing it loses nothing.
+    std::ifstream in(out_ + "/config.yaml", std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) refuse("config.yaml");
+    if (text != resolved_config_yaml(cfg_)) refuse("config.yaml");
+  }
+  if (fs::exists(out_ + "/particles.xdmf")) refuse("particles.xdmf");
+  if (holds_files(out_ + "/snapshots")) refuse("snapshots/");
+  for (const StageConfig& sc : cfg_.stages)
+    if (fs::exists(out_ + "/sample_" + sc.name + ".h5")) refuse("sample_" + sc.name + ".h5");
+}
+
 void Laboratory::prepare_output_dir() {
+  const auto holds_run = [&] {
+    return fs::exists(out_ + "/series.csv") || fs::exists(out_ + "/run.h5") || holds_files(out_ + "/checkpoints");
+  };
+  // A fresh start (--resume with no run here is one) is checked before anything is created.
+  if (!opt_.resume || !holds_run()) refuse_overwrites();
   std::error_code ec;
   fs::create_directories(out_ + "/checkpoints", ec);
   if (ec) throw std::runtime_error(out_ + ": cannot create the output directory (" + ec.message() + ")");
@@ -266,20 +312,11 @@ void Laboratory::prepare_output_dir() {
     for (auto& f : fs::directory_iterator(d))
       if (f.path().filename().string().find(".tmp.") != std::string::npos) fs::remove(f.path(), ec);
   }
-  const bool has_run = fs::exists(out_ + "/series.csv") || fs::exists(out_ + "/run.h5") ||
-                       !fs::is_empty(out_ + "/checkpoints");
-  if (opt_.resume && !has_run) {
-    // Killed before its first checkpoint (or never started): nothing to lose, start afresh.
+  if (opt_.resume && !holds_run()) {
+    // Killed before its first checkpoint (or never started): nothing of a run to lose, so start afresh (not over
+    // files of other origin: refuse_overwrites above).
     if (!opt_.quiet) std::printf("%s: nothing to resume yet; starting the run\n", out_.c_str());
     opt_.resume = false;
-  }
-  if (!opt_.resume) {
-    for (const char* f : {"series.csv", "run.h5"})
-      if (fs::exists(out_ + "/" + f))
-        throw std::runtime_error(out_ + ": already holds a run (" + f +
-                                 "); continue it with --resume or choose another --out (nothing was changed)");
-    if (!fs::is_empty(out_ + "/checkpoints"))
-      throw std::runtime_error(out_ + "/checkpoints: holds checkpoints of an earlier run; use --resume or another --out");
   }
   // Probe that the directory is writable now rather than after hours of computing.
   write_file_atomic(out_ + "/.write_probe", "ok\n");

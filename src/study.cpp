@@ -239,7 +239,9 @@ int run_study(const Study& s, const StudyOptions& o) {
   auto sample_file = [&](const StudyJob& sample) {
     std::string last_iso;
     for (auto st : YAML::Load(sample.config_yaml)["stages"]) last_iso = st["name"] ? st["name"].as<std::string>() : "";
-    return (out / "jobs" / sample.name / "run" / ("sample_" + last_iso + ".h5")).string();
+    // Relative to the shear's job.yaml (load_run_config resolves it from there): the README's relative --out
+    // works from any working directory, and a moved study directory still finds its samples.
+    return (fs::path("..") / sample.name / "run" / ("sample_" + last_iso + ".h5")).string();
   };
   std::map<std::string, const StudyJob*> by_name;
   for (const StudyJob& j : s.samples) by_name[j.name] = &j;
@@ -272,6 +274,9 @@ int run_study(const Study& s, const StudyOptions& o) {
   auto launch = [&](const StudyJob& j) -> pid_t {
     const std::string log = (out / "jobs" / j.name / "log.txt").string();
     const pid_t parent = getpid();
+    // The child's freopen flushes the stdio buffers it inherited: flush them here, or every job would print
+    // the study's pending lines a second time (stdout is block-buffered when it is a file or a pipe).
+    std::fflush(nullptr);
     const pid_t pid = fork();
     if (pid == 0) {
       // A study stopped by SIGTERM or SIGKILL must not leave its jobs running unattended (a rerun would
@@ -347,6 +352,7 @@ int run_study(const Study& s, const StudyOptions& o) {
   const char* env = std::getenv("GRAINLAB_PYTHON");
   const std::string py = env && *env ? env : (access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
   const std::string cmd = py + " '" GRAINLAB_SOURCE_DIR "/scripts/grainlab_plot.py' study '" + out.string() + "'";
+  std::fflush(nullptr);  // the progress lines before the report's
   const int rc = std::system(cmd.c_str());
   if (rc != 0) {
     std::fprintf(stderr, "grainlab study: the report could not be written (%s)\n", cmd.c_str());

@@ -5,25 +5,34 @@
 set -u
 bin=$1; study=$2; work=$3
 rm -rf "$work"
+# The README's form: a relative --out, from a working directory that is neither the study's nor the sources'.
+# (A sample path written relative to the working directory broke every shear this way; see the reuse check.)
+mkdir -p "$(dirname "$work")" && cd "$(dirname "$work")" || exit 1
+rel=$(basename "$work")
 # Stop the study with SIGTERM while its first jobs run: no job may outlive it (a rerun would otherwise add a
 # second writer to the same run directory), and the rerun must resume the interrupted jobs.
-"$bin" study "$study" --out "$work" --jobs 2 --quiet > /dev/null 2>&1 &
+"$bin" study "$study" --out "$rel" --jobs 2 --quiet > /dev/null 2>&1 &
 sid=$!
 sleep 4
 kill -TERM "$sid"
 wait "$sid" 2> /dev/null
-for _ in $(seq 1 60); do pgrep -f -- "--out $work/jobs/" > /dev/null || break; sleep 0.5; done
-if pgrep -f -- "--out $work/jobs/" > /dev/null; then
-  echo "jobs still running 30 s after the study was stopped:"; pgrep -fa -- "--out $work/jobs/"; exit 1
+for _ in $(seq 1 60); do pgrep -f -- "--out $rel/jobs/" > /dev/null || break; sleep 0.5; done
+if pgrep -f -- "--out $rel/jobs/" > /dev/null; then
+  echo "jobs still running 30 s after the study was stopped:"; pgrep -fa -- "--out $rel/jobs/"; exit 1
 fi
 ls "$work"/jobs/*/done > /dev/null 2>&1 && { echo "a job finished within 4 s: the interruption test tested nothing"; exit 1; }
-"$bin" study "$study" --out "$work" --jobs 2 --quiet || { echo "study failed"; exit 1; }
+# Not quiet, stdout to a file (block-buffered): each line once, though every job is a forked child.
+"$bin" study "$study" --out "$rel" --jobs 2 > "$work.stdout" || { echo "study failed"; cat "$work.stdout"; exit 1; }
+dups=$(sort "$work.stdout" | uniq -d)
+[ -z "$dups" ] || { echo "the study printed lines twice (stdio buffers flushed by its children):"; echo "$dups"; exit 1; }
+grep -q '^\[[0-9]*/12\] shear_' "$work.stdout" || { echo "no progress line for a shear"; cat "$work.stdout"; exit 1; }
 grep -l "interrupted at step" "$work"/jobs/*/log.txt > /dev/null || { echo "no job said it was interrupted"; exit 1; }
 n_samples=$(ls -d "$work"/jobs/sample_* | wc -l)
 n_shears=$(ls -d "$work"/jobs/shear_* | wc -l)
 [ "$n_samples" -eq 6 ] && [ "$n_shears" -eq 6 ] || { echo "expected 6 samples and 6 shears"; exit 1; }
 for s in "$work"/jobs/shear_*; do
   f=$(grep -o 'file: .*h5' "$s/job.yaml" | head -1 | cut -d' ' -f2)
+  case "$f" in /*) ;; *) f="$s/$f" ;; esac  # a relative sample path is relative to the job.yaml
   [ -f "$f" ] || { echo "$s does not reuse a prepared sample ($f)"; exit 1; }
   [ -f "$s/done" ] || { echo "$s did not finish"; exit 1; }
 done

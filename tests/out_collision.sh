@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# A run that starts afresh never replaces a file it did not write (README "What grainlab guarantees"):
+#  1. --out into a folder that holds the user's own config.yaml: one error line naming it, exit 1, the file
+#     byte for byte as before, and nothing created there (no .lock, no checkpoints/);
+#  2. the same with --resume (nothing to resume, so it would start afresh);
+#  3. a folder holding particles.xdmf, or a sample file of one of the config's stages: refused the same way;
+#  4. a run killed before its first checkpoint (its own config.yaml, .lock, empty checkpoints/) starts again,
+#     with and without --resume: its config.yaml is the same text, so replacing it loses nothing.
+# Bad counts on the command line (--threads, --jobs, --stop-after-steps) get one line with the range, exit 2.
+set -u
+bin=$1; cfg=$2; work=$3
+rm -rf "$work"; mkdir -p "$work"
+fail() { echo "FAIL: $*"; exit 1; }
+# expect RC REGEX CMD...: exit code RC and exactly one stderr line matching REGEX.
+expect() {
+  local want=$1 regex=$2; shift 2
+  local err rc
+  err=$("$@" 2>&1 >/dev/null); rc=$?
+  [ "$rc" -eq "$want" ] || fail "expected exit $want, got $rc: $* -> $err"
+  [ "$(printf '%s\n' "$err" | grep -c .)" -eq 1 ] || fail "expected one error line: $err"
+  printf '%s\n' "$err" | grep -qE -- "$regex" || fail "error does not match '$regex': $err"
+  echo "ok (exit $rc): $err"
+}
+
+# 1 and 2: the user's own config.yaml.
+mkdir "$work/mine"
+printf 'my notes: keep me\n' > "$work/mine/config.yaml"
+before=$(md5sum < "$work/mine/config.yaml")
+for resume in "" --resume; do
+  expect 1 "mine: already holds config.yaml, which this run would overwrite" \
+    "$bin" run "$cfg" --out "$work/mine" --quiet $resume
+  [ "$(md5sum < "$work/mine/config.yaml")" = "$before" ] || fail "config.yaml changed ($resume)"
+done
+[ "$(ls -A "$work/mine")" = "config.yaml" ] || fail "the refused run created files: $(ls -A "$work/mine")"
+
+# 3: other names a run writes.
+mkdir "$work/xdmf" "$work/sample"
+echo '<Xdmf/>' > "$work/xdmf/particles.xdmf"
+echo 'not a sample' > "$work/sample/sample_consolidate.h5"
+expect 1 "xdmf: already holds particles.xdmf" "$bin" run "$cfg" --out "$work/xdmf" --quiet
+expect 1 "sample: already holds sample_consolidate.h5" "$bin" run "$cfg" --out "$work/sample" --quiet
+[ "$(cat "$work/sample/sample_consolidate.h5")" = "not a sample" ] || fail "sample_consolidate.h5 changed"
+
+# 4: killed before the first checkpoint. --stop-after-steps 0 stops at once with the step-0 checkpoint written
+# (exit 130, like Ctrl-C). The series and run.h5 are written after each checkpoint, so removing those three
+# leaves what a kill during the first checkpoint's write leaves.
+killed_early() { rm -f "$work/killed"/checkpoints/* "$work/killed/series.csv" "$work/killed/run.h5"; }
+"$bin" run "$cfg" --out "$work/killed" --quiet --stop-after-steps 0 2>/dev/null
+[ $? -eq 130 ] || fail "--stop-after-steps 0 did not stop the run with exit 130"
+killed_early
+"$bin" run "$cfg" --out "$work/killed" --quiet --stop-after-steps 0 2>/dev/null
+[ $? -eq 130 ] || fail "a run killed before its first checkpoint could not start again"
+killed_early
+"$bin" run "$cfg" --out "$work/killed" --quiet --resume --stop-after-steps 0 2>/dev/null
+[ $? -eq 130 ] || fail "a run killed before its first checkpoint could not start again with --resume"
+
+# Counts on the command line.
+expect 2 "^grainlab: --threads must be an integer in \[1, 4096\], got 'abc'$" \
+  "$bin" run "$cfg" --out "$work/t" --threads abc
+expect 2 "^grainlab: --jobs must be an integer in \[1, 4096\], got '0'$" \
+  "$bin" study "$cfg" --out "$work/s" --jobs 0
+expect 2 "^grainlab: --threads must be an integer in \[1, 4096\], got '2.5'$" \
+  "$bin" study "$cfg" --out "$work/s" --threads 2.5
+expect 2 "^grainlab: --stop-after-steps must be an integer in \[0, 1000000000000\], got '-3'$" \
+  "$bin" run "$cfg" --out "$work/t" --stop-after-steps -3
+[ ! -e "$work/t" ] && [ ! -e "$work/s" ] || fail "a refused command line created its output directory"
+echo "out_collision ok"
