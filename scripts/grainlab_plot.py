@@ -66,7 +66,7 @@ def fig_stress(runs, out):
     ax[1, 1].set(xlabel="p' [kPa]", ylabel="void ratio e", title="e - p' (consolidation and shear)")
     for a in ax.flat:
         a.grid(alpha=0.3)
-    ax[0, 0].legend(fontsize=8)
+    legend(ax[0, 0], fontsize=8)
     save(fig, out, "stress")
 
 
@@ -81,7 +81,7 @@ def fig_anisotropy(runs, out):
             ax[k].plot(e, s[key + "_weak"][m], ":", color=ln.get_color(), label="weak")
         ax[k].set(xlabel="eps_a [%]", title=key)
         ax[k].grid(alpha=0.3)
-    ax[0].legend(fontsize=7)
+    legend(ax[0], fontsize=7)
     save(fig, out, "anisotropy")
 
 
@@ -93,7 +93,7 @@ def fig_sff(runs, out):
         (ln,) = ax[0].plot(e, s["q_p"][m], label=label(run, s) + ": q/p' (contacts)")
         ax[0].plot(e, s["sff"][m], "--", color=ln.get_color(), label="2/5 (a_c + a_d + a_n + 3/2 a_t)")
     ax[0].set(xlabel="eps_a [%]", ylabel="q/p'", title="stress-force-fabric")
-    ax[0].legend(fontsize=7)
+    legend(ax[0], fontsize=7)
     run, s = runs[0]
     m = s["shear"]
     # The shares divide by the sum, which starts near zero (isotropic state): there they spike to +-1e2 and
@@ -105,7 +105,7 @@ def fig_sff(runs, out):
     ax[1].stackplot(100 * s["eps_a"][m][keep], *shares, labels=["a_c", "a_d", "a_n", "3/2 a_t"], alpha=0.8)
     ax[1].set(xlabel="eps_a [%]", ylabel="share of the sum",
               title=f"term shares where |sum| >= {kMeaningful:g} max: {label(run, s)}")
-    ax[1].legend(fontsize=8, loc="upper right")
+    legend(ax[1], fontsize=8, loc="upper right")
     for a in ax:
         a.grid(alpha=0.3)
     save(fig, out, "sff")
@@ -124,7 +124,7 @@ def fig_fractions(runs, out):
     ax[1].set(xlabel="eps_a [%]", ylabel="fraction of contacts", title="sliding contacts")
     for a in ax:
         a.grid(alpha=0.3)
-        a.legend(fontsize=7)
+        legend(a, fontsize=7)
     save(fig, out, "fractions")
 
 
@@ -157,6 +157,13 @@ def fig_forcechains(run, out):
            title=f"force chains, {os.path.basename(snaps[-1])} (mid slab)")
     save(fig, out, "forcechains")
     print(f"ParaView: open {os.path.join(run, 'particles.xdmf')}")
+
+
+def legend(ax, **kw):
+    """ax.legend(**kw) where the axes hold labelled artists; matplotlib warns on stderr otherwise (a csl or
+    study without a critical state has nothing to label)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**kw)
 
 
 def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
@@ -234,8 +241,10 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     ax[1].set(xlabel="ln p'_c [kPa]", ylabel="a_c at critical state", title="a_c - ln p'")
     for a_ in ax:
         a_.grid(alpha=0.3)
-        a_.legend(fontsize=8)
+        legend(a_, fontsize=8)
     save(fig, out, "csl")
+    if not groups:
+        lines.append(f"| – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | |")
     text = "\n".join(lines)
     if not quiet:
         print(text)
@@ -275,7 +284,7 @@ def study(out):
     ax[2].set(xlabel="p' [kPa]", ylabel="e", title="e - p'")
     for a in ax:
         a.grid(alpha=0.3)
-    ax[0].legend(fontsize=6)
+    legend(ax[0], fontsize=6)
     save(fig, figs, "stress_paths")
     # Peaks and critical states.
     peak_rows, cs_rows, share_rows = [], [], []
@@ -307,7 +316,7 @@ def study(out):
             ax.bar([f"{mu:g}" for mu in murs], vals, bottom=bottom, label=lab)
             bottom += np.array(vals)
         ax.set(xlabel="mu_r", ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)", title="stress-force-fabric shares at critical state")
-        ax.legend(fontsize=8)
+        legend(ax, fontsize=8)
         save(fig, figs, "sff_shares")
     lines = [f"# Study report: {idx['study']}", "",
              f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
@@ -353,4 +362,10 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    # A file-system error (an --out that cannot be created, a full disk, no permission) is one line naming the
+    # path, like the engine's errors; what was written before stays whole (scripts/atomic_write.py).
+    try:
+        main()
+    except OSError as e:
+        where = e.filename if e.filename is not None else ""
+        sys.exit(f"grainlab {sys.argv[1] if len(sys.argv) > 1 else ''}: error: {where}: {e.strerror or e}")
