@@ -264,6 +264,65 @@ bool holds_files(const std::string& d) {
 }
 }  // namespace
 
+namespace {
+// Memory a run may plan for, in bytes: MemAvailable, lowered by a cgroup v2 limit (a container's or a batch
+// job's share) and by GRAINLAB_MEMORY_LIMIT (bytes, for a shared node). 0 where none can be read.
+double memory_available(std::string& source) {
+  double avail = 0;
+  {
+    std::ifstream in("/proc/meminfo");
+    std::string key, unit;
+    double kb = 0;
+    while (in >> key >> kb >> unit)
+      if (key == "MemAvailable:") {
+        avail = kb * 1024;
+        source = "MemAvailable";
+      }
+  }
+  const auto lower = [&](double v, const char* what) {
+    if (v > 0 && (avail <= 0 || v < avail)) {
+      avail = v;
+      source = what;
+    }
+  };
+  {
+    std::ifstream in("/sys/fs/cgroup/memory.max");
+    double v = 0;
+    if (in >> v) lower(v, "the cgroup's memory.max");  // "max" (no limit) does not parse
+  }
+  if (const char* env = std::getenv("GRAINLAB_MEMORY_LIMIT")) {
+    char* end = nullptr;
+    const double v = std::strtod(env, &end);
+    if (end == env || *end || !(v > 0))
+      throw std::runtime_error(std::string("GRAINLAB_MEMORY_LIMIT = '") + env + "': must be a number of bytes > 0");
+    lower(v, "GRAINLAB_MEMORY_LIMIT");
+  }
+  return avail;
+}
+
+// A run that cannot fit is refused before any work, with the numbers, instead of being killed by the kernel's
+// out-of-memory killer hours in, without a word. 1.5 kB a sphere: the peak RSS of a dense lab run, measured
+// (configs/quick.yaml at 30 000 spheres, Z = 4: 71 MB, of which ~25 MB is the program; the race scene holds
+// 1.0-1.1 kB, perf/RESULTS.md). Host backends only: on a GPU the device memory is what counts.
+void require_memory(long n, const std::string& what) {
+  if (!kHostBackend || n <= 0) return;
+  constexpr double kBytesPerSphere = 1536, kGiB = 1024.0 * 1024 * 1024;
+  std::string source;
+  const double avail = memory_available(source);
+  const double need = double(n) * kBytesPerSphere;
+  if (avail <= 0 || need <= avail) return;
+  const auto amount = [&](double b) {
+    char t[32];
+    if (b >= kGiB) std::snprintf(t, sizeof t, "%.1f GiB", b / kGiB);
+    else std::snprintf(t, sizeof t, "%.0f MiB", b / (1024.0 * 1024));
+    return std::string(t);
+  };
+  throw std::runtime_error(what + " = " + std::to_string(n) + " spheres needs about " + amount(need) +
+                           " of memory (1.5 kB a sphere), but " + amount(avail) + " is available (" + source +
+                           "); use fewer spheres or a machine with more memory");
+}
+}  // namespace
+
 // A run that starts afresh refuses a directory where it would replace anything: a run (series.csv, run.h5,
 // checkpoints), or a file of the same name as one it writes (config.yaml with other content, particles.xdmf,
 // sample_<stage>.h5, snapshots/). So `--out .` in a folder that holds the user's own config.yaml stops with one
@@ -333,6 +392,7 @@ void Laboratory::build_engine() {
   if (!cfg_.sample_file.empty()) {
     H5Reader r(cfg_.sample_file);
     sample = std::make_unique<EngineState>(read_state(r));
+    require_memory(long(sample->r.size()), "sample.file " + cfg_.sample_file);
     setup.x = sample->x;
     setup.r = sample->r;
     setup.density = r.attr_double("density");
@@ -995,6 +1055,7 @@ void Laboratory::flush_outputs() {
 
 RunResult Laboratory::run() {
   SignalGuard guard;
+  if (cfg_.sample_file.empty()) require_memory(cfg_.packing.count, "sample.count");
   prepare_output_dir();
   build_engine();
   RunResult result;

@@ -7,6 +7,7 @@
 #  4. a run killed before its first checkpoint (its own config.yaml, .lock, empty checkpoints/) starts again,
 #     with and without --resume: its config.yaml is the same text, so replacing it loses nothing.
 # Bad counts on the command line (--threads, --jobs, --stop-after-steps) get one line with the range, exit 2.
+# A sample too large for the memory is refused before anything is written.
 set -u
 bin=$1; cfg=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"
@@ -64,4 +65,14 @@ expect 2 "^grainlab: --threads must be an integer in \[1, 4096\], got '2.5'$" \
 expect 2 "^grainlab: --stop-after-steps must be an integer in \[0, 1000000000000\], got '-3'$" \
   "$bin" run "$cfg" --out "$work/t" --stop-after-steps -3
 [ ! -e "$work/t" ] && [ ! -e "$work/s" ] || fail "a refused command line created its output directory"
+
+# A run that cannot fit in memory is refused before anything is written (the limit set here, so that the test
+# reads the same on any machine: 1e8 spheres need ~143 GiB, 8e9 bytes is 7.5 GiB).
+sed 's/count: 300,/count: 100000000,/' "$cfg" > "$work/huge.yaml"
+grep -q 'count: 100000000' "$work/huge.yaml" || fail "could not write the huge config"
+expect 1 "huge.yaml: sample.count = 100000000 spheres needs about 143.1 GiB of memory \(1.5 kB a sphere\), but [0-9.]+ GiB is available" \
+  env GRAINLAB_MEMORY_LIMIT=8e9 "$bin" run "$work/huge.yaml" --out "$work/huge" --quiet
+[ ! -e "$work/huge" ] || fail "the run refused for memory created its output directory"
+expect 1 "GRAINLAB_MEMORY_LIMIT = 'lots': must be a number of bytes > 0" \
+  env GRAINLAB_MEMORY_LIMIT=lots "$bin" run "$cfg" --out "$work/lots" --quiet
 echo "out_collision ok"
