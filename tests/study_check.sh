@@ -53,4 +53,16 @@ printf '%s\n' "$lines" | awk -F'|' '{
 [ -f "$work/figures/stress_paths.png" ] || { echo "no stress-path figure"; exit 1; }
 out=$("$bin" study "$study" --out "$work" --jobs 2 2>&1)
 printf '%s\n' "$out" | grep -q "; 0 to run" || { echo "rerun did not skip finished jobs: $out"; exit 1; }
+# An edited base with the same --out: the finished jobs ran with another config, so the study stops with one
+# line before it writes anything (rather than reporting stale results as the edited study's).
+mkdir -p "$work.edit"
+cp "$(dirname "$study")/quick-study-base.yaml" "$work.edit/"
+sed 's/damping: 0.2}/damping: 0.3}/' "$(dirname "$study")/quick-study-base.yaml" > "$work.edit/quick-study-base.yaml"
+cp "$study" "$work.edit/study.yaml"
+grep -q 'damping: 0.3}' "$work.edit/quick-study-base.yaml" || { echo "could not edit the base"; exit 1; }
+before=$(cat "$work"/jobs/*/job.yaml | md5sum)
+err=$("$bin" study "$work.edit/study.yaml" --out "$rel" --jobs 2 2>&1 >/dev/null); rc=$?
+[ "$rc" -eq 1 ] && [ "$(printf '%s\n' "$err" | grep -c .)" -eq 1 ] && printf '%s\n' "$err" | grep -q "ran with another config" ||
+  { echo "an edited study over finished jobs was not refused (exit $rc): $err"; exit 1; }
+[ "$(cat "$work"/jobs/*/job.yaml | md5sum)" = "$before" ] || { echo "the refused study rewrote job.yaml files"; exit 1; }
 echo "study ok"
