@@ -5,9 +5,11 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -228,6 +230,57 @@ struct Running {
   pid_t pid;
   const StudyJob* job;
 };
+
+volatile std::sig_atomic_t g_study_stop = 0;
+extern "C" void on_study_stop(int) { g_study_stop = 1; }
+extern "C" void on_child(int) {}  // only to end sigsuspend
+
+// Signal set-up of the study's job loop. Ctrl-C or SIGTERM: no new job starts, the running ones get SIGTERM
+// and stop at a checkpoint like an interrupted run, and the study exits 130 once they have; a rerun resumes
+// them. (SIGKILL of the study: PR_SET_PDEATHSIG in each job.) SIGINT ignored by the caller (nohup, `&` in a
+// script) stays ignored. SIGCHLD, SIGINT and SIGTERM are blocked in the loop and taken only in sigsuspend, so
+// a signal cannot fall between a check of the flag and the wait.
+class StudySignals {
+ public:
+  StudySignals() {
+    g_study_stop = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_study_stop;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, nullptr, &old_int_);
+    int_ignored_ = old_int_.sa_handler == SIG_IGN;
+    if (!int_ignored_) sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, &old_term_);
+    sa.sa_handler = on_child;
+    sigaction(SIGCHLD, &sa, &old_chld_);
+    sigset_t block;
+    sigemptyset(&block);
+    for (int sig : {SIGCHLD, SIGINT, SIGTERM}) sigaddset(&block, sig);
+    sigprocmask(SIG_BLOCK, &block, &prev_);
+  }
+  ~StudySignals() {
+    sigprocmask(SIG_SETMASK, &prev_, nullptr);
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+    sigaction(SIGCHLD, &old_chld_, nullptr);
+  }
+  StudySignals(const StudySignals&) = delete;
+  StudySignals& operator=(const StudySignals&) = delete;
+  // In a forked job, before exec: default actions and the caller's mask, so that a SIGTERM sent to the job
+  // before grainlab run installs its own handler ends it (it has written nothing yet).
+  void reset_in_child() const {
+    signal(SIGINT, int_ignored_ ? SIG_IGN : SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    signal(SIGCHLD, SIG_DFL);
+    sigprocmask(SIG_SETMASK, &prev_, nullptr);
+  }
+  void wait_for_signal() const { sigsuspend(&prev_); }
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {}, old_chld_ {};
+  sigset_t prev_{};
+  bool int_ignored_ = false;
+};
 }  // namespace
 
 int run_study(const Study& s, const StudyOptions& o) {
@@ -294,6 +347,7 @@ int run_study(const Study& s, const StudyOptions& o) {
     write_file_atomic((out / "study.json").string(), js.str());
   }
   auto done = [&](const StudyJob& j) { return fs::exists(out / "jobs" / j.name / "done"); };
+  const StudySignals signals;
   auto launch = [&](const StudyJob& j) -> pid_t {
     const std::string log = (out / "jobs" / j.name / "log.txt").string();
     const pid_t parent = getpid();
@@ -302,6 +356,7 @@ int run_study(const Study& s, const StudyOptions& o) {
     std::fflush(nullptr);
     const pid_t pid = fork();
     if (pid == 0) {
+      signals.reset_in_child();
       // A study stopped by SIGTERM or SIGKILL must not leave its jobs running unattended (a rerun would
       // start a second writer on the same run directory): the job gets SIGTERM when the study dies and
       // stops at a checkpoint like a Ctrl-C'd run, which the rerun resumes.
@@ -326,9 +381,16 @@ int run_study(const Study& s, const StudyOptions& o) {
     std::printf("study %s: %zu samples, %zu shears; %zu to run, %d at a time x %d threads; output %s\n", s.path.c_str(),
                 s.samples.size(), s.shears.size(), queue.size(), o.jobs, per_job_threads, out.c_str());
   std::vector<Running> running;
-  int failures = 0;
+  int failures = 0, interrupted = 0;
+  bool stopping = false, forwarded = false;
   size_t finished = total - queue.size();
   while (!queue.empty() || !running.empty()) {
+    if (g_study_stop) stopping = true;
+    if (stopping && !forwarded) {
+      for (const Running& r : running) kill(r.pid, SIGTERM);
+      forwarded = true;
+    }
+    if (stopping) queue.clear();  // left for the rerun
     // Start what can start: samples any time, shears once their sample is done.
     for (auto it = queue.begin(); it != queue.end() && int(running.size()) < o.jobs;) {
       const StudyJob* j = *it;
@@ -348,25 +410,47 @@ int run_study(const Study& s, const StudyOptions& o) {
       running.push_back({launch(*j), j});
       it = queue.erase(it);
     }
+    if (running.empty()) continue;
     int status = 0;
-    const pid_t pid = wait(&status);
-    if (pid < 0) break;
+    const pid_t pid = waitpid(-1, &status, WNOHANG);
+    if (pid == 0) {
+      signals.wait_for_signal();  // a job ended, or Ctrl-C / SIGTERM
+      continue;
+    }
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      std::fprintf(stderr, "grainlab study: lost track of %zu running job(s) (%s)\n", running.size(), std::strerror(errno));
+      failures += int(running.size());
+      break;
+    }
     for (auto it = running.begin(); it != running.end(); ++it) {
       if (it->pid != pid) continue;
       const StudyJob& j = *it->job;
-      ++finished;
-      if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      if (code == 0) {
+        ++finished;
         write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
         if (!o.quiet) std::printf("[%zu/%zu] %s done\n", finished, total, j.name.c_str());
+      } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM) {
+        // Stopped at a checkpoint (130), or by the signal before it had started: the rerun resumes it. A job
+        // stopped so means the user (or the system) is stopping the study: start nothing new.
+        ++interrupted;
+        stopping = true;
+        std::fprintf(stderr, "grainlab study: %s interrupted (exit %d); rerun the study to resume it\n", j.name.c_str(),
+                     code);
       } else {
         ++failures;
         std::fprintf(stderr, "grainlab study: %s failed (exit %d); see %s; rerun the study to resume it\n", j.name.c_str(),
-                     WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status),
-                     (out / "jobs" / j.name / "log.txt").c_str());
+                     code, (out / "jobs" / j.name / "log.txt").c_str());
       }
       running.erase(it);
       break;
     }
+  }
+  if (stopping) {
+    std::fprintf(stderr, "grainlab study: interrupted (%d job(s) stopped at a checkpoint, %zu of %zu done); rerun the "
+                         "same command to resume\n", interrupted, finished, total);
+    return 130;
   }
   if (failures) {
     std::fprintf(stderr, "grainlab study: %d job(s) failed or were skipped; the report covers the finished ones\n", failures);

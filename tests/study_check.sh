@@ -11,11 +11,15 @@ mkdir -p "$(dirname "$work")" && cd "$(dirname "$work")" || exit 1
 rel=$(basename "$work")
 # Stop the study with SIGTERM while its first jobs run: no job may outlive it (a rerun would otherwise add a
 # second writer to the same run directory), and the rerun must resume the interrupted jobs.
-"$bin" study "$study" --out "$rel" --jobs 2 --quiet > /dev/null 2>&1 &
+"$bin" study "$study" --out "$rel" --jobs 2 --quiet > /dev/null 2> "$work.term" &
 sid=$!
 sleep 4
 kill -TERM "$sid"
-wait "$sid" 2> /dev/null
+wait "$sid" 2> /dev/null; rc=$?
+# The study forwards SIGTERM to its jobs, waits for their checkpoints and exits 130 with one closing line.
+[ "$rc" -eq 130 ] || { echo "a study stopped by SIGTERM exited $rc, not 130"; cat "$work.term"; exit 1; }
+grep -qE "^grainlab study: interrupted \([12] job\(s\) stopped at a checkpoint, [0-9]+ of 12 done\); rerun the same command to resume$" \
+  "$work.term" || { echo "no closing line for the interrupted study:"; cat "$work.term"; exit 1; }
 for _ in $(seq 1 60); do pgrep -f -- "--out $rel/jobs/" > /dev/null || break; sleep 0.5; done
 if pgrep -f -- "--out $rel/jobs/" > /dev/null; then
   echo "jobs still running 30 s after the study was stopped:"; pgrep -fa -- "--out $rel/jobs/"; exit 1
