@@ -28,18 +28,25 @@ volatile std::sig_atomic_t g_stop = 0;
 extern "C" void on_stop_signal(int) { g_stop = 1; }
 
 // Installs SIGINT/SIGTERM handlers for the life of a run, restoring the previous ones after.
+// Ctrl-C, SIGTERM (a batch system's stop, a study's) and SIGHUP (the terminal or SSH session closed) stop the run
+// at the next step boundary with a checkpoint. A SIGHUP the caller ignores (nohup) stays ignored.
 struct SignalGuard {
   using Handler = void (*)(int);
-  Handler old_int, old_term;
+  Handler old_int, old_term, old_hup;
   SignalGuard() {
     g_stop = 0;
     old_int = std::signal(SIGINT, on_stop_signal);
     old_term = std::signal(SIGTERM, on_stop_signal);
+    old_hup = std::signal(SIGHUP, on_stop_signal);
+    if (old_hup == SIG_IGN) std::signal(SIGHUP, SIG_IGN);
   }
   ~SignalGuard() {
     std::signal(SIGINT, old_int);
     std::signal(SIGTERM, old_term);
+    std::signal(SIGHUP, old_hup);
   }
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
 };
 }  // namespace
 
