@@ -235,10 +235,10 @@ volatile std::sig_atomic_t g_study_stop = 0;
 extern "C" void on_study_stop(int) { g_study_stop = 1; }
 extern "C" void on_child(int) {}  // only to end sigsuspend
 
-// Signal set-up of the study's job loop. Ctrl-C or SIGTERM: no new job starts, the running ones get SIGTERM
+// Signal set-up of the study's job loop. Ctrl-C, SIGTERM or SIGHUP: no new job starts, the running ones get SIGTERM
 // and stop at a checkpoint like an interrupted run, and the study exits 130 once they have; a rerun resumes
-// them. (SIGKILL of the study: PR_SET_PDEATHSIG in each job.) SIGINT ignored by the caller (nohup, `&` in a
-// script) stays ignored. SIGCHLD, SIGINT and SIGTERM are blocked in the loop and taken only in sigsuspend, so
+// them. (SIGKILL of the study: PR_SET_PDEATHSIG in each job.) SIGINT or SIGHUP ignored by the caller (`&` in a
+// script, nohup) stays ignored. SIGCHLD and the stop signals are blocked in the loop and taken only in sigsuspend, so
 // a signal cannot fall between a check of the flag and the wait.
 class StudySignals {
  public:
@@ -250,17 +250,21 @@ class StudySignals {
     sigaction(SIGINT, nullptr, &old_int_);
     int_ignored_ = old_int_.sa_handler == SIG_IGN;
     if (!int_ignored_) sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGHUP, nullptr, &old_hup_);
+    hup_ignored_ = old_hup_.sa_handler == SIG_IGN;
+    if (!hup_ignored_) sigaction(SIGHUP, &sa, nullptr);
     sigaction(SIGTERM, &sa, &old_term_);
     sa.sa_handler = on_child;
     sigaction(SIGCHLD, &sa, &old_chld_);
     sigset_t block;
     sigemptyset(&block);
-    for (int sig : {SIGCHLD, SIGINT, SIGTERM}) sigaddset(&block, sig);
+    for (int sig : {SIGCHLD, SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
     sigprocmask(SIG_BLOCK, &block, &prev_);
   }
   ~StudySignals() {
     sigprocmask(SIG_SETMASK, &prev_, nullptr);
     sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGHUP, &old_hup_, nullptr);
     sigaction(SIGTERM, &old_term_, nullptr);
     sigaction(SIGCHLD, &old_chld_, nullptr);
   }
@@ -270,6 +274,7 @@ class StudySignals {
   // before grainlab run installs its own handler ends it (it has written nothing yet).
   void reset_in_child() const {
     signal(SIGINT, int_ignored_ ? SIG_IGN : SIG_DFL);
+    signal(SIGHUP, hup_ignored_ ? SIG_IGN : SIG_DFL);
     signal(SIGTERM, SIG_DFL);
     signal(SIGCHLD, SIG_DFL);
     sigprocmask(SIG_SETMASK, &prev_, nullptr);
@@ -277,9 +282,9 @@ class StudySignals {
   void wait_for_signal() const { sigsuspend(&prev_); }
 
  private:
-  struct sigaction old_int_ {}, old_term_ {}, old_chld_ {};
+  struct sigaction old_int_ {}, old_hup_ {}, old_term_ {}, old_chld_ {};
   sigset_t prev_{};
-  bool int_ignored_ = false;
+  bool int_ignored_ = false, hup_ignored_ = false;
 };
 }  // namespace
 
@@ -431,7 +436,7 @@ int run_study(const Study& s, const StudyOptions& o) {
         ++finished;
         write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
         if (!o.quiet) std::printf("[%zu/%zu] %s done\n", finished, total, j.name.c_str());
-      } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM) {
+      } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP) {
         // Stopped at a checkpoint (130), or by the signal before it had started: the rerun resumes it. A job
         // stopped so means the user (or the system) is stopping the study: start nothing new.
         ++interrupted;
