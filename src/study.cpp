@@ -1,5 +1,7 @@
 #include "study.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -286,11 +288,33 @@ class StudySignals {
   sigset_t prev_{};
   bool int_ignored_ = false, hup_ignored_ = false;
 };
+
+// One study process per output directory: a second one would launch the same jobs, which their run locks
+// would then fail one by one. The lock is not inherited by the jobs (O_CLOEXEC), so it ends with the study.
+class StudyLock {
+ public:
+  explicit StudyLock(const fs::path& out) {
+    const std::string path = (out / ".lock").string();
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw std::runtime_error(path + ": cannot create the lock file (" + std::strerror(errno) + ")");
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      throw std::runtime_error(out.string() + ": in use by another grainlab study (lock held on " + path + ")");
+    }
+  }
+  ~StudyLock() { ::close(fd_); }
+  StudyLock(const StudyLock&) = delete;
+  StudyLock& operator=(const StudyLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 }  // namespace
 
 int run_study(const Study& s, const StudyOptions& o) {
   const fs::path out = o.out_dir.empty() ? fs::path("runs") / fs::path(s.path).stem() : fs::path(o.out_dir);
   fs::create_directories(out / "jobs");
+  const StudyLock lock(out);
   const int per_job_threads = std::max(1, (o.threads > 0 ? o.threads : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)))) /
                                               std::max(1, o.jobs));
   // Write every job's config first: a bad one fails now, not hours in.

@@ -13,7 +13,12 @@ rel=$(basename "$work")
 # second writer to the same run directory), and the rerun must resume the interrupted jobs.
 "$bin" study "$study" --out "$rel" --jobs 2 --quiet > /dev/null 2> "$work.term" &
 sid=$!
-sleep 4
+sleep 1
+# A second study on the same directory while the first runs: refused with one line, the first undisturbed.
+err=$("$bin" study "$study" --out "$rel" --jobs 2 --quiet 2>&1 >/dev/null); rc=$?
+[ "$rc" -eq 1 ] && printf '%s\n' "$err" | grep -q "^grainlab: error: $rel: in use by another grainlab study" ||
+  { echo "a second study on the same --out was not refused (exit $rc): $err"; exit 1; }
+sleep 3
 kill -TERM "$sid"
 wait "$sid" 2> /dev/null; rc=$?
 # The study forwards SIGTERM to its jobs, waits for their checkpoints and exits 130 with one closing line.
