@@ -38,15 +38,9 @@ PY=/usr/bin/python3
 MPI2="mpirun -np 2 --allow-run-as-root --oversubscribe"
 PEER_SKINS_UM=${PEER_SKINS_UM-"10 5"}
 
-for p in $PEERS; do
-  case $p in liggghts|lammps|lammpsclassic|yade) ;;
-    *) echo "race.sh: PEERS='$PEERS': unknown peer '$p' (allowed: liggghts lammps lammpsclassic yade, or \"\" for none)"; exit 1 ;;
-  esac
-done
-for v in REPS NSTEPS NWARM; do
-  case ${!v} in ''|*[!0-9]*) echo "race.sh: $v='${!v}' must be a whole number >= 1"; exit 1 ;; esac
-  [ "${!v}" -ge 1 ] || { echo "race.sh: $v='${!v}' must be a whole number >= 1"; exit 1; }
-done
+# shellcheck source=perf/env_check.sh
+. "$ROOT/perf/env_check.sh"
+env_check_peers race.sh && env_check_whole race.sh REPS NSTEPS NWARM || exit 1
 for r in $ROLLS; do case $r in 0|1) ;; *) echo "race.sh: ROLLS='$ROLLS': each must be 0 or 1"; exit 1 ;; esac; done
 for m in $MODES; do case $m in 1|2) ;; *) echo "race.sh: MODES='$MODES': each must be 1 or 2 (threads or ranks)"; exit 1 ;; esac; done
 [ -s "$PEERS_DIR/scene_32k.txt" ] || { echo "race.sh: no scene at $PEERS_DIR/scene_32k.txt (set PEERS_DIR)"; exit 1; }

@@ -14,6 +14,10 @@ REPS=${REPS:-3}
 PEERS_DIR=${PEERS_DIR:-$ROOT/../shared/bench/peers}
 OUT=${OUT:-$ROOT/perf/race-out}
 export PEERS=${PEERS-"liggghts lammps"} REPS BUILD PEERS_DIR OUT
+SCALING_REPS=${SCALING_REPS:-5}
+# shellcheck source=perf/env_check.sh
+. "$ROOT/perf/env_check.sh"
+env_check_peers results.sh && env_check_whole results.sh REPS SCALING_REPS || exit 1
 export OMP_PROC_BIND=spread OMP_PLACES=threads
 mkdir -p "$OUT"
 

@@ -24,6 +24,9 @@ NSTEPS=${NSTEPS:-400}
 SPECS=${SPECS:-"--crop 0.70;--tile 1;--tile 2;--tile 3"}
 BUILD=${BUILD:-$ROOT/build}
 OUT=${OUT:-$ROOT/perf/race-out}
+# shellcheck source=perf/env_check.sh
+. "$ROOT/perf/env_check.sh"
+env_check_peers scaling_peers.sh && env_check_whole scaling_peers.sh REPS NSTEPS NWARM || exit 1
 PY=/usr/bin/python3
 MPI2="mpirun -np 2 --allow-run-as-root --oversubscribe"
 
