@@ -27,7 +27,13 @@ int usage(FILE* f) {
                "       grainlab csl RUN_DIR [RUN_DIR...] [--out DIR]      critical-state lines per mu_r\n"
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab version\n");
-  return f == stderr ? 2 : 0;
+  if (f != stdout) return 2;  // after a bad command line, the usage alone
+  std::fprintf(f,
+               "exit codes: 0 done, 1 error (config, I/O, memory), 2 bad command line, 3 numerical blow-up,\n"
+               "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP: checkpoint written; continue with --resume)\n"
+               "environment: OMP_NUM_THREADS (threads, unless --threads), GRAINLAB_MEMORY_LIMIT (bytes a run may\n"
+               "             plan for), GRAINLAB_PYTHON (interpreter of plot, csl and the study report)\n");
+  return 0;
 }
 // A whole-number option in [lo, hi]. Anything else (empty, "abc", "2.5", out of range) gets one line naming the
 // option and its range, and the caller exits 2, as for an unknown option: a typo never runs with a guess.
@@ -41,6 +47,15 @@ bool whole_number(const char* option, const char* text, long lo, long hi, long& 
   }
   value = v;
   return true;
+}
+// An option that takes a value, given last without one ("--out" at the end of the line).
+bool missing_value(const std::string& option, int a, int argc) {
+  for (const char* o : {"--out", "--threads", "--jobs", "--stop-after-steps"})
+    if (option == o && a + 1 >= argc) {
+      std::fprintf(stderr, "grainlab: %s needs a value\n", o);
+      return true;
+    }
+  return false;
 }
 }  // namespace
 
@@ -67,13 +82,17 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (cmd == "study") {
-    if (argc < 3) return usage(stderr);
+    if (argc < 3) {
+      std::fprintf(stderr, "grainlab study: which study? (a STUDY.yaml is missing)\n");
+      return usage(stderr);
+    }
     grainlab::StudyOptions so;
     char self[4096];
     const ssize_t len = readlink("/proc/self/exe", self, sizeof(self) - 1);
     so.self_exe = len > 0 ? std::string(self, size_t(len)) : std::string(argv[0]);
     for (int a = 3; a < argc; ++a) {
       const std::string s = argv[a];
+      if (missing_value(s, a, argc)) return 2;
       if (s == "--out" && a + 1 < argc) so.out_dir = argv[++a];
       else if ((s == "--jobs" || s == "--threads") && a + 1 < argc) {
         long v = 0;
@@ -92,12 +111,20 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  if ((cmd != "run" && cmd != "validate") || argc < 3) return usage(stderr);
+  if (cmd != "run" && cmd != "validate") {
+    std::fprintf(stderr, "grainlab: unknown command '%s'\n", cmd.c_str());
+    return usage(stderr);
+  }
+  if (argc < 3) {
+    std::fprintf(stderr, "grainlab %s: which config? (a CONFIG.yaml is missing)\n", cmd.c_str());
+    return usage(stderr);
+  }
   const std::string config = argv[2];
   grainlab::RunOptions opt;
   int threads = 0;
   for (int a = 3; a < argc; ++a) {
     const std::string s = argv[a];
+    if (missing_value(s, a, argc)) return 2;
     if (s == "--quiet") {
       opt.quiet = true;
     } else if (s == "--resume") {

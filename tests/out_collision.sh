@@ -64,6 +64,11 @@ expect 2 "^grainlab: --threads must be an integer in \[1, 4096\], got '2.5'$" \
   "$bin" study "$cfg" --out "$work/s" --threads 2.5
 expect 2 "^grainlab: --stop-after-steps must be an integer in \[0, 1000000000000\], got '-3'$" \
   "$bin" run "$cfg" --out "$work/t" --stop-after-steps -3
+expect 2 "^grainlab: --out needs a value$" "$bin" run "$cfg" --out
+# An unknown command or option: its own line first, then the usage (which is not one line).
+err=$("$bin" frobnicate 2>&1 >/dev/null); rc=$?
+[ "$rc" -eq 2 ] && [ "$(printf '%s\n' "$err" | head -1)" = "grainlab: unknown command 'frobnicate'" ] ||
+  fail "unknown command: exit $rc, $err"
 [ ! -e "$work/t" ] && [ ! -e "$work/s" ] || fail "a refused command line created its output directory"
 
 # A run that cannot fit in memory is refused before anything is written (the limit set here, so that the test
