@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # configs/quick-study.yaml end to end: every sample prepared exactly once and reused by its shear; the report
 # has its sections and a critical-state verdict for every test, each mu_r's critical-state lines are
-# fitted from at least three critical states; a rerun skips every finished job.
+# fitted from at least three critical states; a rerun skips every finished job. On the way: a relative
+# --out, one study per directory, SIGKILL and SIGTERM of the study (no job outlives it, the rerun resumes),
+# each output line once, and an edited study over finished jobs refused.
 set -u
 bin=$1; study=$2; work=$3
 rm -rf "$work"
@@ -9,33 +11,42 @@ rm -rf "$work"
 # (A sample path written relative to the working directory broke every shear this way; see the reuse check.)
 mkdir -p "$(dirname "$work")" && cd "$(dirname "$work")" || exit 1
 rel=$(basename "$work")
-# Stop the study with SIGTERM while its first jobs run: no job may outlive it (a rerun would otherwise add a
-# second writer to the same run directory), and the rerun must resume the interrupted jobs.
-"$bin" study "$study" --out "$rel" --jobs 2 --quiet > /dev/null 2> "$work.term" &
+jobs_gone() {  # no job of this study may outlive it (a rerun would add a second writer to a run directory)
+  for _ in $(seq 1 60); do pgrep -f -- "--out $rel/jobs/" > /dev/null || return 0; sleep 0.5; done
+  echo "jobs still running 30 s after the study was stopped ($1):"; pgrep -fa -- "--out $rel/jobs/"; return 1
+}
+# 1. SIGKILL of the study while its first jobs run: no handler can run, so the jobs learn it from
+#    PR_SET_PDEATHSIG (SIGTERM) and stop at a checkpoint.
+"$bin" study "$study" --out "$rel" --jobs 2 --quiet > /dev/null 2>&1 &
 sid=$!
 sleep 1
 # A second study on the same directory while the first runs: refused with one line, the first undisturbed.
 err=$("$bin" study "$study" --out "$rel" --jobs 2 --quiet 2>&1 >/dev/null); rc=$?
 [ "$rc" -eq 1 ] && printf '%s\n' "$err" | grep -q "^grainlab: error: $rel: in use by another grainlab study" ||
   { echo "a second study on the same --out was not refused (exit $rc): $err"; exit 1; }
-sleep 3
+sleep 2
+kill -KILL "$sid"
+wait "$sid" 2> /dev/null
+jobs_gone SIGKILL || exit 1
+ls "$work"/jobs/*/done > /dev/null 2>&1 && { echo "a job finished within 3 s: the interruption test tested nothing"; exit 1; }
+grep -l "interrupted at step" "$work"/jobs/*/log.txt > /dev/null || { echo "no job said it was interrupted (SIGKILL)"; exit 1; }
+# 2. SIGTERM (as Ctrl-C): the study forwards it to the jobs it resumed, waits for their checkpoints and exits
+#    130 with one closing line.
+"$bin" study "$study" --out "$rel" --jobs 2 --quiet > /dev/null 2> "$work.term" &
+sid=$!
+sleep 2
 kill -TERM "$sid"
 wait "$sid" 2> /dev/null; rc=$?
-# The study forwards SIGTERM to its jobs, waits for their checkpoints and exits 130 with one closing line.
 [ "$rc" -eq 130 ] || { echo "a study stopped by SIGTERM exited $rc, not 130"; cat "$work.term"; exit 1; }
 grep -qE "^grainlab study: interrupted \([12] job\(s\) stopped at a checkpoint, [0-9]+ of 12 done\); rerun the same command to resume$" \
   "$work.term" || { echo "no closing line for the interrupted study:"; cat "$work.term"; exit 1; }
-for _ in $(seq 1 60); do pgrep -f -- "--out $rel/jobs/" > /dev/null || break; sleep 0.5; done
-if pgrep -f -- "--out $rel/jobs/" > /dev/null; then
-  echo "jobs still running 30 s after the study was stopped:"; pgrep -fa -- "--out $rel/jobs/"; exit 1
-fi
-ls "$work"/jobs/*/done > /dev/null 2>&1 && { echo "a job finished within 4 s: the interruption test tested nothing"; exit 1; }
+jobs_gone SIGTERM || exit 1
+# 3. The rerun resumes the interrupted jobs and runs the rest.
 # Not quiet, stdout to a file (block-buffered): each line once, though every job is a forked child.
 "$bin" study "$study" --out "$rel" --jobs 2 > "$work.stdout" || { echo "study failed"; cat "$work.stdout"; exit 1; }
 dups=$(sort "$work.stdout" | uniq -d)
 [ -z "$dups" ] || { echo "the study printed lines twice (stdio buffers flushed by its children):"; echo "$dups"; exit 1; }
 grep -q '^\[[0-9]*/12\] shear_' "$work.stdout" || { echo "no progress line for a shear"; cat "$work.stdout"; exit 1; }
-grep -l "interrupted at step" "$work"/jobs/*/log.txt > /dev/null || { echo "no job said it was interrupted"; exit 1; }
 n_samples=$(ls -d "$work"/jobs/sample_* | wc -l)
 n_shears=$(ls -d "$work"/jobs/shear_* | wc -l)
 [ "$n_samples" -eq 6 ] && [ "$n_shears" -eq 6 ] || { echo "expected 6 samples and 6 shears"; exit 1; }
