@@ -29,7 +29,9 @@ class Section {
     if (!n_.IsMap()) fail(path_.empty() ? "(top level)" : path_, "must be a mapping of keys to values");
   }
   [[noreturn]] void fail(const std::string& key, const std::string& msg) const {
-    throw ConfigError(*file_ + ": " + key + ": " + msg);
+    // "key = value is outside ..." reads as one statement; other messages follow "key: ".
+    const bool states_value = msg.rfind("= ", 0) == 0;
+    throw ConfigError(*file_ + ": " + key + (states_value ? " " : ": ") + msg);
   }
   std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
   bool has(const std::string& k) {
@@ -194,10 +196,11 @@ bool is_study_file(const std::string& path) {
   }
 }
 
-RunConfig load_run_config(const std::string& path) {
+RunConfig load_run_config(const std::string& path) { return parse_run_config(load_yaml_screened(path), path); }
+
+RunConfig parse_run_config(YAML::Node root, const std::string& path) {
   RunConfig c;
   c.path = path;
-  YAML::Node root = load_yaml_screened(path);
   if (!root || root.IsNull()) throw ConfigError(path + ": the file is empty");
   Section top(root, "", &path);
 

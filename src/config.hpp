@@ -61,6 +61,8 @@ struct RunConfig {
 };
 
 RunConfig load_run_config(const std::string& path);
+// The same from a parsed document; `path` names it in errors and anchors a relative sample.file.
+RunConfig parse_run_config(YAML::Node root, const std::string& path);
 // Reads a YAML file after screening it (size, NUL bytes, nesting depth); errors name the file.
 YAML::Node load_yaml_screened(const std::string& path);
 // A study file (top-level `base:`) rather than a run config.

@@ -60,8 +60,9 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     c["sample"] = YAML::Node(YAML::NodeType::Map);
     c["sample"]["file"] = sample_file;
   } else {
-    if (j.seed > 0) c["sample"]["seed"] = j.seed;
-    if (j.count > 0) c["sample"]["count"] = j.count;
+    // Always written: the study's value, or the base's where the axis is not swept (a seed of 0 is a seed).
+    c["sample"]["seed"] = j.seed;
+    c["sample"]["count"] = j.count;
   }
   c["material"]["mu_r"] = j.mu_r;
   YAML::Node stages(YAML::NodeType::Sequence);
@@ -99,6 +100,17 @@ Study load_study(const std::string& path) {
     for (char& ch : what)
       if (ch == '\n') ch = ' ';
     throw ConfigError(path + ": " + what);
+  }
+}
+
+// seed and count are whole numbers (a count of 2.5 spheres would be cut to 2 without a word); count >= 1.
+void whole_numbers(const std::vector<double>& v, const std::string& path, const std::string& key) {
+  const bool is_seed = key.size() >= 4 && key.compare(key.size() - 4, 4, "seed") == 0;
+  const bool is_count = key.size() >= 5 && key.compare(key.size() - 5, 5, "count") == 0;
+  if (!is_seed && !is_count) return;
+  for (double x : v) {
+    if (x != std::floor(x) || x > 9007199254740992.0) fail(path, key, "values must be whole numbers in [0, 2^53]");
+    if (is_count && (x < 1 || x > 1e8)) fail(path, key, "values must be in [1, 1e8] (spheres)");
   }
 }
 
@@ -140,7 +152,10 @@ Study load_study_unchecked(const std::string& path) {
   // Axes: the full grid; each axis defaults to the base config's value.
   const YAML::Node ax = root["axes"];
   auto axis = [&](const char* k, const std::vector<double>& def) {
-    auto v = numbers(ax ? ax[k] : YAML::Node(), path, std::string("axes.") + k);
+    const std::string key = std::string("axes.") + k;
+    auto v = numbers(ax ? ax[k] : YAML::Node(), path, key);
+    if (ax && ax[k] && v.empty()) fail(path, key, "an empty list: give at least one value, or leave the axis out");
+    whole_numbers(v, path, key);
     return v.empty() ? def : v;
   };
   if (ax)
@@ -185,7 +200,10 @@ Study load_study_unchecked(const std::string& path) {
         }
         std::string field = key;
         field.append(".").append(f);
-        const double v = numbers(it.second, path, field).at(0);
+        const std::vector<double> vs = numbers(it.second, path, field);
+        if (vs.size() != 1) fail(path, field, "must be one number");
+        whole_numbers(vs, path, field);
+        const double v = vs[0];
         if (f == "mu_r") pt.mu_r = v;
         else if (f == "e0") pt.e0 = v;
         else if (f == "p0") pt.p0 = v;
@@ -224,6 +242,11 @@ Study load_study_unchecked(const std::string& path) {
     for (auto& o : s.shears) dup = dup || o.name == sh.name;
     if (!dup) s.shears.push_back(sh);
   }
+  // Every job's config is checked now, as the run would check it, so that `grainlab validate` of a study
+  // catches what its jobs would stop on (a value valid on an axis but not in the config it lands in).
+  for (const StudyJob& j : s.samples) parse_run_config(YAML::Load(j.config_yaml), path + " (job " + j.name + ")");
+  for (const StudyJob& j : s.shears)
+    parse_run_config(job_config(base, j, true, "sample.h5"), path + " (job " + j.name + ")");
   return s;
 }
 

@@ -71,13 +71,13 @@ TEST(Config, RejectsBadInputClearly) {
       {"nan", std::string("material: {mu: .nan}\n") + kMinimal, "material.mu"},
       {"int", std::string("sample: {count: 10.5}\n") + kMinimal, "must be an integer"},
       {"rmax", std::string("sample: {r_min: 1e-3, r_max: 1e-4}\n") + kMinimal, "sample.r_max"},
-      {"stage", "stages:\n  - {type: shake}\n", "stages[0].type: = 'shake' is not one of"},
+      {"stage", "stages:\n  - {type: shake}\n", "stages[0].type = 'shake' is not one of"},
       {"nostages", "material: {E: 1e8}\n", "stages: must be a non-empty list"},
       {"empty", "", "the file is empty"},
       {"yaml", "stages: [\n", "not valid YAML"},
       {"notmap", "- 1\n- 2\n", "must be a mapping"},
       {"dtfactor", std::string("numerics: {dt_factor: 1.5}\n") + kMinimal, "numerics.dt_factor"},
-      {"inner1", std::string("numerics: {inner_skin: 1}\n") + kMinimal, "numerics.inner_skin: = 1 is outside the allowed range [0, 1)"},
+      {"inner1", std::string("numerics: {inner_skin: 1}\n") + kMinimal, "numerics.inner_skin = 1 is outside the allowed range [0, 1)"},
       {"inner-", std::string("numerics: {inner_skin: -0.1}\n") + kMinimal, "numerics.inner_skin"},
   };
   for (const Case& c : cases) {
@@ -86,4 +86,50 @@ TEST(Config, RejectsBadInputClearly) {
     EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
   }
   EXPECT_NE(error_of("/nonexistent/grainlab.yaml").find("cannot open"), std::string::npos);
+}
+
+// Studies: the axes are checked as values, and every job's config is checked as its run would check it, at load
+// (so `grainlab validate` catches it); a seed of 0 on an axis is the seed 0, not "the base's seed".
+namespace {
+std::string study_error(const std::string& name, const std::string& axes) {
+  const std::string p = write_tmp(name, "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n" + axes);
+  try {
+    load_study(p);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, StudyAxesAndJobsAreChecked) {
+  struct Case {
+    const char* name;
+    const char* axes;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"study_empty", "axes: {mu_r: []}\n", "axes.mu_r: an empty list"},
+      {"study_frac", "axes: {count: [2.5]}\n", "axes.count: values must be whole numbers"},
+      {"study_zero", "axes: {count: [0]}\n", "axes.count: values must be in [1, 1e8]"},
+      {"study_extra", "extra: [{seed: 1.5}]\n", "extra[0].seed: values must be whole numbers"},
+      // Valid on the axis (>= 0), outside the run config's [0, 10]: found in the job's config.
+      {"study_job", "axes: {mu_r: [50]}\n", "(job sample_mur50_ebase_pbase_s11_n5000): material.mu_r = 50 is outside"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = study_error(c.name, c.axes);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
+    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
+  }
+}
+
+TEST(Config, StudySeedZeroIsASeed) {
+  const Study s = load_study(write_tmp("study_seed0", "base: " GRAINLAB_SOURCE_DIR
+                                                      "/configs/quick-study-base.yaml\naxes: {seed: [0, 1]}\n"));
+  ASSERT_EQ(s.samples.size(), 2u);
+  for (const StudyJob& j : s.samples) {
+    const RunConfig c = parse_run_config(YAML::Load(j.config_yaml), j.name);
+    EXPECT_EQ(long(c.packing.seed), j.seed) << j.name;
+  }
+  EXPECT_NE(s.samples[0].seed, s.samples[1].seed);
 }
