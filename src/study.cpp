@@ -103,10 +103,17 @@ Study load_study(const std::string& path) {
   }
 }
 
-// seed and count are whole numbers (a count of 2.5 spheres would be cut to 2 without a word); count >= 1.
+// seed and count are whole numbers (a count of 2.5 spheres would be cut to 2 without a word); count >= 1; a
+// pressure is > 0 (0 would silently mean the base's pressure).
 void whole_numbers(const std::vector<double>& v, const std::string& path, const std::string& key) {
-  const bool is_seed = key.size() >= 4 && key.compare(key.size() - 4, 4, "seed") == 0;
-  const bool is_count = key.size() >= 5 && key.compare(key.size() - 5, 5, "count") == 0;
+  const auto ends_with = [&](const char* tail) {
+    const size_t n = std::strlen(tail);
+    return key.size() >= n && key.compare(key.size() - n, n, tail) == 0;
+  };
+  if (ends_with("p0"))
+    for (double x : v)
+      if (!(x > 0)) fail(path, key, "values must be > 0 (Pa); leave p0 out for the base's pressure");
+  const bool is_seed = ends_with("seed"), is_count = ends_with("count");
   if (!is_seed && !is_count) return;
   for (double x : v) {
     if (x != std::floor(x) || x > 9007199254740992.0) fail(path, key, "values must be whole numbers in [0, 2^53]");
@@ -135,7 +142,12 @@ Study load_study_unchecked(const std::string& path) {
     fail(path, "base", e.what());
   }
   bool has_iso = false, has_tri = false;
-  for (auto& st : base_cfg.stages) (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
+  std::string base_drainage;  // the base's first shear's, the default of the drainage axis and of extra jobs
+  for (auto& st : base_cfg.stages) {
+    (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
+    if (st.type != StageType::Isotropic && base_drainage.empty())
+      base_drainage = st.drainage == Drainage::Drained ? "drained" : "undrained";
+  }
   if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial stage");
   if (const YAML::Node cs = root["critical_state"]) {
     for (auto it : cs) {
@@ -149,7 +161,7 @@ Study load_study_unchecked(const std::string& path) {
       else fail(path, "critical_state." + k, "unknown key (known: window, qp_tol, p_tol, e_tol)");
     }
   }
-  // Axes: the full grid; each axis defaults to the base config's value.
+  // Axes: the full grid; each axis defaults to the base config's value (drainage: its first shear's).
   const YAML::Node ax = root["axes"];
   auto axis = [&](const char* k, const std::vector<double>& def) {
     const std::string key = std::string("axes.") + k;
@@ -171,7 +183,7 @@ Study load_study_unchecked(const std::string& path) {
       if (d != "drained" && d != "undrained") fail(path, "axes.drainage", "'" + d + "' is not drained or undrained");
       drain.push_back(d);
     }
-  if (drain.empty()) drain = {"undrained"};
+  if (drain.empty()) drain = {base_drainage};
   struct Point {
     double mu_r, e0, p0;
     long seed, count;
@@ -190,7 +202,7 @@ Study load_study_unchecked(const std::string& path) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
-      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), "undrained"};
+      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), base_drainage};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {

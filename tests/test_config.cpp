@@ -113,6 +113,7 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
       {"study_frac", "axes: {count: [2.5]}\n", "axes.count: values must be whole numbers"},
       {"study_zero", "axes: {count: [0]}\n", "axes.count: values must be in [1, 1e8]"},
       {"study_extra", "extra: [{seed: 1.5}]\n", "extra[0].seed: values must be whole numbers"},
+      {"study_p0", "axes: {p0: [0, 100e3]}\n", "axes.p0: values must be > 0 (Pa)"},
       // Valid on the axis (>= 0), outside the run config's [0, 10]: found in the job's config.
       {"study_job", "axes: {mu_r: [50]}\n", "(job sample_mur50_ebase_pbase_s11_n5000): material.mu_r = 50 is outside"},
   };
@@ -132,4 +133,14 @@ TEST(Config, StudySeedZeroIsASeed) {
     EXPECT_EQ(long(c.packing.seed), j.seed) << j.name;
   }
   EXPECT_NE(s.samples[0].seed, s.samples[1].seed);
+}
+
+// An axis left out takes the base's value: drainage too (quick-study-base.yaml shears drained), for the grid
+// and for extra jobs.
+TEST(Config, StudyDrainageDefaultsToTheBase) {
+  const Study s = load_study(write_tmp("study_drain", "base: " GRAINLAB_SOURCE_DIR
+                                                      "/configs/quick-study-base.yaml\naxes: {mu_r: [0.1]}\n"
+                                                      "extra: [{mu_r: 0.2}]\n"));
+  ASSERT_EQ(s.shears.size(), 2u);
+  for (const StudyJob& j : s.shears) EXPECT_EQ(j.drainage, "drained") << j.name;
 }
