@@ -18,9 +18,15 @@ say() { printf '[setup] %s\n' "$*" >&2; }
 PKGS=(cmake g++ make patch libeigen3-dev libhdf5-dev hdf5-tools libyaml-cpp-dev libgtest-dev libbenchmark-dev
       dpkg-dev xz-utils python3 python3-numpy python3-matplotlib python3-h5py)
 missing=()
-for p in "${PKGS[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
+if command -v dpkg-query >/dev/null && command -v apt-get >/dev/null; then
+  for p in "${PKGS[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+else
+  # Not Debian: nothing is installed here; CMake then names what it cannot find.
+  debian=no
+  say "no dpkg/apt here: not installing packages. grainlab needs the equivalents of: ${PKGS[*]}"
+fi
 if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   say "installing Debian packages: ${missing[*]}"
@@ -37,6 +43,11 @@ if [ -f "$KOKKOS_PREFIX/.complete" ]; then
   echo "$KOKKOS_PREFIX"; exit 0
 fi
 
+if [ "${debian:-yes}" = no ]; then
+  say "error: bootstrapping Kokkos needs Debian's trilinos source package; with a Kokkos >= 3.4 (OpenMP) of"
+  say "your own: KOKKOS_ROOT=/path/to/kokkos make test"
+  exit 1
+fi
 mkdir -p "$DEPS_DIR"
 # Serialise concurrent bootstraps (two make invocations at once must not build twice).
 exec 9>"$DEPS_DIR/.lock"; flock 9
