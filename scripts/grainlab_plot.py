@@ -341,6 +341,8 @@ def main():
     ap.add_argument("--out", default=None, help="figure directory (default: the first run's figures/)")
     ap.add_argument("--window", type=float, default=0.05, help="csl: axial-strain window of the steadiness test")
     a = ap.parse_args()
+    if not 0 < a.window < 1:  # as a study's critical_state.window
+        sys.exit(f"grainlab {a.cmd}: --window must be in (0, 1) (a span of axial strain), got {a.window:g}")
     if a.cmd == "study":
         study(a.runs[0])
         return
