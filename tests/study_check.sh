@@ -71,6 +71,11 @@ printf '%s\n' "$lines" | awk -F'|' '{
     print "critical-state line not fitted from >= 3 critical states (or e_c rises with p\x27): " $0; bad = 1 }
 } END { exit bad }' || exit 1
 [ -f "$work/figures/stress_paths.png" ] || { echo "no stress-path figure"; exit 1; }
+# A job.yaml that names its sample by an absolute path (as older versions wrote it) is the same config: the
+# rerun must not take it for an edit.
+s1=$(ls -d "$work"/jobs/shear_* | head -1)
+sed -i "s|file: \.\./|file: $work/jobs/|" "$s1/job.yaml"
+grep -q "file: $work/jobs/" "$s1/job.yaml" || { echo "could not rewrite $s1/job.yaml"; exit 1; }
 out=$("$bin" study "$study" --out "$work" --jobs 2 2>&1)
 printf '%s\n' "$out" | grep -q "; 0 to run" || { echo "rerun did not skip finished jobs: $out"; exit 1; }
 # An edited base with the same --out: the finished jobs ran with another config, so the study stops with one
