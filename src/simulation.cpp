@@ -27,9 +27,9 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 extern "C" void on_stop_signal(int) { g_stop = 1; }
 
-// Installs SIGINT/SIGTERM handlers for the life of a run, restoring the previous ones after.
-// Ctrl-C, SIGTERM (a batch system's stop, a study's) and SIGHUP (the terminal or SSH session closed) stop the run
-// at the next step boundary with a checkpoint. A SIGHUP the caller ignores (nohup) stays ignored.
+// Handlers for the life of a run, the previous ones restored after: Ctrl-C, SIGTERM (a batch system's stop, a
+// study's) and SIGHUP (the terminal or SSH session closed) stop the run at the next step boundary with a
+// checkpoint. A SIGHUP the caller ignores (nohup) stays ignored.
 struct SignalGuard {
   using Handler = void (*)(int);
   Handler old_int, old_term, old_hup;
@@ -269,9 +269,7 @@ bool holds_files(const std::string& d) {
     if (f.path().filename().string().find(".tmp.") == std::string::npos) return true;
   return false;
 }
-}  // namespace
 
-namespace {
 // Memory a run may plan for, in bytes: MemAvailable, lowered by a cgroup v2 limit (a container's or a batch
 // job's share) and by GRAINLAB_MEMORY_LIMIT (bytes, for a shared node). 0 where none can be read.
 double memory_available(std::string& source) {
@@ -349,8 +347,7 @@ void Laboratory::refuse_overwrites() const {
     // Our own, from a start killed before its first checkpoint, is the same text: replacing it loses nothing.
     std::ifstream in(out_ + "/config.yaml", std::ios::binary);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) refuse("config.yaml");
-    if (text != resolved_config_yaml(cfg_)) refuse("config.yaml");
+    if (!in || text != resolved_config_yaml(cfg_)) refuse("config.yaml");
   }
   if (fs::exists(out_ + "/particles.xdmf")) refuse("particles.xdmf");
   if (holds_files(out_ + "/snapshots")) refuse("snapshots/");

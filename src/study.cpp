@@ -103,9 +103,10 @@ Study load_study(const std::string& path) {
   }
 }
 
-// seed and count are whole numbers (a count of 2.5 spheres would be cut to 2 without a word); count >= 1; a
-// pressure is > 0 (0 would silently mean the base's pressure).
-void whole_numbers(const std::vector<double>& v, const std::string& path, const std::string& key) {
+// Values of an axis or an extra job beyond "finite and >= 0" (numbers()): seed and count are whole numbers (a
+// count of 2.5 spheres would be cut to 2 without a word), count >= 1; a pressure is > 0 (0 would silently mean
+// the base's pressure).
+void check_axis_values(const std::vector<double>& v, const std::string& path, const std::string& key) {
   const auto ends_with = [&](const char* tail) {
     const size_t n = std::strlen(tail);
     return key.size() >= n && key.compare(key.size() - n, n, tail) == 0;
@@ -167,7 +168,7 @@ Study load_study_unchecked(const std::string& path) {
     const std::string key = std::string("axes.") + k;
     auto v = numbers(ax ? ax[k] : YAML::Node(), path, key);
     if (ax && ax[k] && v.empty()) fail(path, key, "an empty list: give at least one value, or leave the axis out");
-    whole_numbers(v, path, key);
+    check_axis_values(v, path, key);
     return v.empty() ? def : v;
   };
   if (ax)
@@ -214,7 +215,7 @@ Study load_study_unchecked(const std::string& path) {
         field.append(".").append(f);
         const std::vector<double> vs = numbers(it.second, path, field);
         if (vs.size() != 1) fail(path, field, "must be one number");
-        whole_numbers(vs, path, field);
+        check_axis_values(vs, path, field);
         const double v = vs[0];
         if (f == "mu_r") pt.mu_r = v;
         else if (f == "e0") pt.e0 = v;
