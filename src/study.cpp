@@ -245,6 +245,13 @@ Study load_study_unchecked(const std::string& path) {
       j.config_yaml = YAML::Dump(job_config(base, j, false, ""));
       sample_index[j.name] = s.samples.size();
       s.samples.push_back(j);
+    } else {
+      // The same name is the same sample (a point listed twice), unless the values differ below the name's six
+      // significant digits: then two samples would silently become one.
+      const StudyJob& o = s.samples[sample_index[sn.str()]];
+      if (o.mu_r != pt.mu_r || o.e0 != pt.e0 || o.p0 != pt.p0)
+        fail(path, "axes", "two values of mu_r, e0 or p0 agree to 6 significant digits (job " + sn.str() +
+                               "); make them differ sooner or list one of them");
     }
     StudyJob sh = s.samples[sample_index[sn.str()]];
     sh.is_sample = false;
