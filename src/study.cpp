@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -427,7 +428,8 @@ int run_study(const Study& s, const StudyOptions& o) {
     write_file_atomic((out / "study.json").string(), js.str());
   }
   auto done = [&](const StudyJob& j) { return fs::exists(out / "jobs" / j.name / "done"); };
-  const StudySignals signals;
+  std::optional<StudySignals> signals;  // for the job loop only: the report's python runs with the usual signals
+  signals.emplace();
   auto launch = [&](const StudyJob& j) -> pid_t {
     const std::string log = (out / "jobs" / j.name / "log.txt").string();
     const pid_t parent = getpid();
@@ -436,7 +438,7 @@ int run_study(const Study& s, const StudyOptions& o) {
     std::fflush(nullptr);
     const pid_t pid = fork();
     if (pid == 0) {
-      signals.reset_in_child();
+      signals->reset_in_child();
       // A study stopped by SIGTERM or SIGKILL must not leave its jobs running unattended (a rerun would
       // start a second writer on the same run directory): the job gets SIGTERM when the study dies and
       // stops at a checkpoint like a Ctrl-C'd run, which the rerun resumes.
@@ -494,7 +496,7 @@ int run_study(const Study& s, const StudyOptions& o) {
     int status = 0;
     const pid_t pid = waitpid(-1, &status, WNOHANG);
     if (pid == 0) {
-      signals.wait_for_signal();  // a job ended, or Ctrl-C / SIGTERM
+      signals->wait_for_signal();  // a job ended, or Ctrl-C / SIGTERM
       continue;
     }
     if (pid < 0) {
@@ -527,6 +529,7 @@ int run_study(const Study& s, const StudyOptions& o) {
       break;
     }
   }
+  signals.reset();
   if (stopping) {
     std::fprintf(stderr, "grainlab study: interrupted (%d job(s) stopped at a checkpoint, %zu of %zu done); rerun the "
                          "same command to resume\n", interrupted, finished, total);
