@@ -36,6 +36,48 @@ std::vector<Vec3d> Engine::contact_forces() const {
   return out;
 }
 
+StableStep stable_step(const std::vector<Real>& r, Real density, Real density_scaling, const EngineParams& p) {
+  StableStep st;
+  if (r.empty()) return st;
+  Real r_min = r[0], r_max = r[0], I_min = 0;
+  for (size_t i = 0; i < r.size(); ++i) {
+    const Real m = sphere_mass(r[i], density, density_scaling);
+    const Real I = Real(0.4 * m * r[i] * r[i]);
+    st.m_min = i == 0 ? m : std::min(st.m_min, m);
+    I_min = i == 0 ? I : std::min(I_min, I);
+    r_min = std::min(r_min, r[i]);
+    r_max = std::max(r_max, r[i]);
+  }
+  // SPEC §4: dt = f sqrt(m_min / k_max), k_max the stiffest spring a particle can feel.
+  const Real E_wall = p.E_wall > 0 ? p.E_wall : p.contact.E;
+  st.k_max = std::max(p.contact.E * std::max<Real>(1, p.contact.kappa), E_wall) * r_max;
+  st.trans = std::sqrt(st.m_min / st.k_max);
+  // (choice, extends SPEC §4) With rolling resistance the rolling spring k_r = k_t rbar^2 acts on the
+  // inertia I = 2/5 m r^2 of the smaller sphere of a pair; against the largest sphere this can be much
+  // stiffer per inertia than any translational spring (41x at size ratio 10, 6.7x at ratio 3), so the
+  // limit is the smaller of the two periods. Worst case: the smallest sphere touching the largest.
+  const Real rbar = 0.5 * (r_min + r_max);
+  const Real kr = p.contact.kappa * p.contact.E * rbar * rbar * rbar;
+  st.roll = std::sqrt(I_min / kr);
+  return st;
+}
+
+Real choose_time_step(const StableStep& st, const EngineParams& p) {
+  const bool rolling = p.contact.mu_r > 0;
+  const Real limit = st.limit(rolling);
+  if (p.contact.dt <= 0) return p.dt_factor * limit;
+  if (p.contact.dt > limit) {
+    std::ostringstream os;
+    os << "numerics.dt = " << p.contact.dt << " s is above the stable limit " << limit
+       << " s (translational sqrt(m_min/k_max) = " << st.trans << " s with m_min = " << st.m_min
+       << " kg, k_max = " << st.k_max << " N/m";
+    if (rolling) os << "; rolling sqrt(I_min/k_r) = " << st.roll << " s";
+    os << "); use dt <= " << p.dt_factor * limit << " s (dt_factor " << p.dt_factor << ") or leave dt unset";
+    throw ParameterError(os.str());
+  }
+  return p.contact.dt;
+}
+
 Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet& walls, bool walls_are_box)
     : params_(params), walls_(walls), box_(walls_are_box) {
   const int n = int(s.r.size());
@@ -67,7 +109,6 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
   auto hid = Kokkos::create_mirror_view(P_.id);
   r_min_ = n ? s.r[0] : 0;
   r_max_ = n ? s.r[0] : 0;
-  Real m_min = 0;
   for (int i = 0; i < n; ++i) {
     if (!(s.r[i] > 0)) throw ParameterError("particle " + std::to_string(i) + " has a radius <= 0");
     for (int k = 0; k < 3; ++k) {
@@ -76,13 +117,12 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
       hw(i, k) = s.w.empty() ? 0 : s.w[i][k];
     }
     hr(i) = s.r[i];
-    // SPEC §1: m = 4/3 pi r^3 rho, I = 2/5 m r^2, both times the density scaling factor.
-    hm(i) = 4.0 / 3.0 * M_PI * s.r[i] * s.r[i] * s.r[i] * s.density * s.density_scaling;
+    // SPEC §1: I = 2/5 m r^2, both times the density scaling factor.
+    hm(i) = sphere_mass(s.r[i], s.density, s.density_scaling);
     hI(i) = 0.4 * hm(i) * s.r[i] * s.r[i];
     hid(i) = i;
     r_min_ = std::min(r_min_, s.r[i]);
     r_max_ = std::max(r_max_, s.r[i]);
-    m_min = i == 0 ? hm(i) : std::min(m_min, hm(i));
   }
   Kokkos::deep_copy(P_.x, hx);
   Kokkos::deep_copy(P_.v, hv);
@@ -92,38 +132,16 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
   Kokkos::deep_copy(P_.inertia, hI);
   Kokkos::deep_copy(P_.id, hid);
 
-  // SPEC §4: dt = f sqrt(m_min / k_max), k_max the stiffest spring a particle can feel.
-  const Real k_max = std::max(params_.contact.E * std::max<Real>(1, params_.contact.kappa), params_.E_wall) * r_max_;
-  dt_trans_ = n ? std::sqrt(m_min / k_max) : 0;
-  // (choice, extends SPEC §4) With rolling resistance the rolling spring k_r = k_t rbar^2 acts on the
-  // inertia I = 2/5 m r^2 of the smaller sphere of a pair; against the largest sphere this can be much
-  // stiffer per inertia than any translational spring (41x at size ratio 10, 6.7x at ratio 3), so the
-  // limit is the smaller of the two periods. Worst case: the smallest sphere touching the largest.
-  {
-    const Real rbar = 0.5 * (r_min_ + r_max_);
-    const Real kr = params_.contact.kappa * params_.contact.E * rbar * rbar * rbar;
-    Real I_min = 0;
-    for (int i = 0; i < n; ++i) I_min = i == 0 ? hI(i) : std::min(I_min, Real(hI(i)));
-    dt_roll_ = n ? std::sqrt(I_min / kr) : 0;
-  }
-  dt_crit_ = stable_dt(params_.contact.mu_r > 0);
   if (!(params_.dt_factor > 0 && params_.dt_factor <= 1)) {
     std::ostringstream os;
     os << "numerics.dt_factor = " << params_.dt_factor << " is outside the allowed range (0, 1]";
     throw ParameterError(os.str());
   }
-  if (params_.contact.dt <= 0) {
-    params_.contact.dt = params_.dt_factor * dt_crit_;
-  } else if (params_.contact.dt > dt_crit_) {
-    std::ostringstream os;
-    os << "numerics.dt = " << params_.contact.dt << " s is above the stable limit " << dt_crit_
-       << " s (translational sqrt(m_min/k_max) = " << dt_trans_ << " s with m_min = " << m_min
-       << " kg, k_max = " << k_max << " N/m";
-    if (params_.contact.mu_r > 0) os << "; rolling sqrt(I_min/k_r) = " << dt_roll_ << " s";
-    os << "); use dt <= "
-       << params_.dt_factor * dt_crit_ << " s (dt_factor " << params_.dt_factor << ") or leave dt unset";
-    throw ParameterError(os.str());
-  }
+  const StableStep st = stable_step(s.r, s.density, s.density_scaling, params_);
+  dt_trans_ = st.trans;
+  dt_roll_ = st.roll;
+  dt_crit_ = stable_dt(params_.contact.mu_r > 0);
+  params_.contact.dt = choose_time_step(st, params_);
   if (!(params_.skin > 0)) throw ParameterError("skin must be > 0");
   if (!(params_.inner_skin >= 0 && params_.inner_skin < 1)) {
     std::ostringstream os;

@@ -4,6 +4,7 @@
 // kernels in kernels/.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -53,6 +54,24 @@ struct EngineParams {
   // tests run both. Lanes where it is built, else Row.
   PairKernel pair_kernel = kDefaultPairKernel;
 };
+
+// SPEC §4: the stable time step of a set of spheres, from their radii alone (no positions): what the engine
+// takes, and what `grainlab validate` and a run's start check before anything is placed or written. One
+// formula for both, so the two agree to the bit.
+struct StableStep {
+  Real trans = 0;      // sqrt(m_min / k_max)                                       [s]
+  Real roll = 0;       // sqrt(I_min / k_r), the rolling spring on the lightest inertia [s]
+  Real m_min = 0, k_max = 0;
+  Real limit(bool rolling) const { return rolling ? std::min(trans, roll) : trans; }
+};
+// SPEC §1: m = 4/3 pi r^3 rho, times the density scaling factor.
+inline Real sphere_mass(Real r, Real density, Real density_scaling) {
+  return Real(4.0 / 3.0 * M_PI * r * r * r * density * density_scaling);
+}
+StableStep stable_step(const std::vector<Real>& r, Real density, Real density_scaling, const EngineParams& p);
+// The step a run takes: p.contact.dt if set (refused above the limit, with the numbers and the fix), else
+// p.dt_factor times the limit. Rolling counts when p.contact.mu_r > 0. Throws ParameterError.
+Real choose_time_step(const StableStep& s, const EngineParams& p);
 
 struct Diagnostics {
   Real kinetic = 0;        // translational + rotational (half-step velocities)   [J]

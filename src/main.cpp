@@ -145,7 +145,22 @@ int main(int argc, char** argv) {
   if (cmd == "validate" && grainlab::is_study_file(config)) {
     try {
       const grainlab::Study st = grainlab::load_study(config);
+      const grainlab::StudyPlan sp = grainlab::plan_study(st);
       std::printf("%s: ok (study: %zu samples, %zu shear tests)\n", config.c_str(), st.samples.size(), st.shears.size());
+      std::printf("  preparation: at most %ld steps a stage (a target_e0 search: all its trials; a stage ends at "
+                  "equilibrium, usually far sooner)\n",
+                  sp.sample_steps_max);
+      std::printf("  shear tests: %ld to %ld steps each, %.4g in all\n", sp.shear_steps_min, sp.shear_steps_max,
+                  sp.shear_steps_total);
+      if (sp.inertial_max > 0)
+        std::printf("  inertial number of the shears at their p'_0: ~%.2g to %.2g%s\n", sp.inertial_min, sp.inertial_max,
+                    sp.inertial_max > grainlab::kQuasiStaticInertial
+                        ? " (some above the quasi-static 0.001: lower axial_strain_rate or density_scaling)"
+                        : "");
+      std::printf("  memory: about %s for the largest job (1.5 kB a sphere), times --jobs\n",
+                  grainlab::memory_amount(sp.memory_need_max).c_str());
+      std::fflush(stdout);  // the plan, then its warnings, also when both go to one file
+      for (const std::string& w : sp.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
       return 0;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
@@ -160,7 +175,25 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (cmd == "validate") {
-    std::printf("%s: ok (%zu stages, %d particles)\n", config.c_str(), cfg.stages.size(), cfg.packing.count);
+    // The same checks a run makes before it writes anything (the sample's stable time step against the
+    // config's dt, memory), and what the run will do: a config that validates does not stop at its start.
+    grainlab::RunPlan plan;
+    try {
+      plan = grainlab::plan_run(cfg);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), one_line(e.what()).c_str());
+      return 1;
+    }
+    std::printf("%s: ok (%zu stages, %ld particles)\n", config.c_str(), cfg.stages.size(), plan.particles);
+    std::printf("  dt = %.4g s: %.3g of the stable limit %.4g s (%s)\n", double(plan.dt), double(plan.dt / plan.dt_limit),
+                double(plan.dt_limit), plan.rolling ? "rolling on in some stage" : "no rolling resistance");
+    std::printf("  memory: about %s (1.5 kB a sphere)", grainlab::memory_amount(plan.memory_need).c_str());
+    if (plan.memory_available > 0)
+      std::printf("; %s available (%s)", grainlab::memory_amount(plan.memory_available).c_str(), plan.memory_source.c_str());
+    std::printf("\n");
+    for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
+    std::fflush(stdout);
+    for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s: %s\n", config.c_str(), w.c_str());
     return 0;
   }
   grainlab::compat::initialize(threads);

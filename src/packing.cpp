@@ -39,27 +39,43 @@ Real power_law_radius(Real u, Real D, Real a, Real b) {
   return std::pow(lo + u * (hi - lo), 1 / e);
 }
 
-Packing generate_packing(const PackingSpec& s) {
+namespace {
+// The radii of a spec, largest first, drawn from `rng` (the first draws of a packing's generator), with the
+// cube they fill at the spec's solid fraction: the part of a packing that is known before any placement.
+std::vector<Real> draw_radii(const PackingSpec& s, Rng& rng, Real& L) {
   if (s.count < 1) throw ParameterError("count must be >= 1");
   if (!(s.r_min > 0) || !(s.r_max >= s.r_min)) throw ParameterError("need 0 < r_min <= r_max");
   if (std::abs(s.D - 1) < 1e-12) throw ParameterError("D = 1 is not supported (log-uniform); use D != 1");
   if (!(s.solid_fraction > 0 && s.solid_fraction <= 0.45))
     throw ParameterError("solid_fraction must be in (0, 0.45] for random sequential placement");
-  Rng rng(s.seed);
-  Packing p;
-  p.r.resize(s.count);
+  std::vector<Real> r(s.count);
   Real vs = 0;
-  for (auto& r : p.r) {
-    r = power_law_radius(rng.uniform(), s.D, s.r_min, s.r_max);
-    vs += 4.0 / 3.0 * M_PI * r * r * r;
+  for (auto& ri : r) {
+    ri = power_law_radius(rng.uniform(), s.D, s.r_min, s.r_max);
+    vs += 4.0 / 3.0 * M_PI * ri * ri * ri;
   }
   // Largest first: the big spheres find room while the box is empty.
-  std::sort(p.r.begin(), p.r.end(), std::greater<Real>());
-  const Real L = std::cbrt(vs / s.solid_fraction);
+  std::sort(r.begin(), r.end(), std::greater<Real>());
+  L = std::cbrt(vs / s.solid_fraction);
+  if (L <= 2 * r.front()) throw ParameterError("box too small for the largest sphere; raise count or lower r_max");
+  return r;
+}
+}  // namespace
+
+std::vector<Real> packing_radii(const PackingSpec& s) {
+  Rng rng(s.seed);
+  Real L = 0;
+  return draw_radii(s, rng, L);
+}
+
+Packing generate_packing(const PackingSpec& s) {
+  Rng rng(s.seed);
+  Packing p;
+  Real L = 0;
+  p.r = draw_radii(s, rng, L);
   p.lo = {0, 0, 0};
   p.hi = {L, L, L};
   const Real rmax = p.r.front();
-  if (L <= 2 * rmax) throw ParameterError("box too small for the largest sphere; raise count or lower r_max");
   const Real h = 2 * rmax;
   const int nc = std::max(1, int(L / h));
   const Real cell = L / nc;

@@ -44,5 +44,9 @@ std::vector<int> spatial_order(const std::vector<Vec3d>& x, Real cell);
 
 // Throws ParameterError when the spec is invalid or the cube cannot hold the spheres at that fraction.
 Packing generate_packing(const PackingSpec& spec);
+// The radii generate_packing(spec) gives its spheres (as a multiset: largest first, before the spatial
+// order), without placing them: what the stable time step needs, in O(N). The same errors for the same specs
+// (but a failed placement, which only placing finds).
+std::vector<Real> packing_radii(const PackingSpec& spec);
 
 }  // namespace grainlab

@@ -216,6 +216,7 @@ class Laboratory {
     Real sx, sy, sz, p, q, V, e, eps_a, eps_v, u;
   };
 
+  bool holds_run() const;
   void prepare_output_dir();
   void refuse_overwrites() const;
   void build_engine();
@@ -309,21 +310,15 @@ double memory_available(std::string& source) {
 // out-of-memory killer hours in, without a word. 1.5 kB a sphere: the peak RSS of a dense lab run, measured
 // (configs/quick.yaml at 30 000 spheres, Z = 4: 71 MB, of which ~25 MB is the program; the race scene holds
 // 1.0-1.1 kB, perf/RESULTS.md). Host backends only: on a GPU the device memory is what counts.
-void require_memory(long n, const std::string& what) {
-  if (!kHostBackend || n <= 0) return;
-  constexpr double kBytesPerSphere = 1536, kGiB = 1024.0 * 1024 * 1024;
-  std::string source;
+constexpr double kBytesPerSphere = 1536;
+// Returns the bytes available (0: unknown, or a device backend), naming where the figure comes from.
+double require_memory(long n, const std::string& what, std::string& source) {
+  if (!kHostBackend || n <= 0) return 0;
   const double avail = memory_available(source);
   const double need = double(n) * kBytesPerSphere;
-  if (avail <= 0 || need <= avail) return;
-  const auto amount = [&](double b) {
-    char t[32];
-    if (b >= kGiB) std::snprintf(t, sizeof t, "%.1f GiB", b / kGiB);
-    else std::snprintf(t, sizeof t, "%.0f MiB", b / (1024.0 * 1024));
-    return std::string(t);
-  };
-  throw std::runtime_error(what + " = " + std::to_string(n) + " spheres needs about " + amount(need) +
-                           " of memory (1.5 kB a sphere), but " + amount(avail) + " is available (" + source +
+  if (avail <= 0 || need <= avail) return avail;
+  throw std::runtime_error(what + " = " + std::to_string(n) + " spheres needs about " + memory_amount(need) +
+                           " of memory (1.5 kB a sphere), but " + memory_amount(avail) + " is available (" + source +
                            "); use fewer spheres or a machine with more memory");
 }
 }  // namespace
@@ -355,12 +350,11 @@ void Laboratory::refuse_overwrites() const {
     if (fs::exists(out_ + "/sample_" + sc.name + ".h5")) refuse("sample_" + sc.name + ".h5");
 }
 
+bool Laboratory::holds_run() const {
+  return fs::exists(out_ + "/series.csv") || fs::exists(out_ + "/run.h5") || holds_files(out_ + "/checkpoints");
+}
+
 void Laboratory::prepare_output_dir() {
-  const auto holds_run = [&] {
-    return fs::exists(out_ + "/series.csv") || fs::exists(out_ + "/run.h5") || holds_files(out_ + "/checkpoints");
-  };
-  // A fresh start (--resume with no run here is one) is checked before anything is created.
-  if (!opt_.resume || !holds_run()) refuse_overwrites();
   std::error_code ec;
   fs::create_directories(out_ + "/checkpoints", ec);
   if (ec) throw std::runtime_error(out_ + ": cannot create the output directory (" + ec.message() + ")");
@@ -396,7 +390,6 @@ void Laboratory::build_engine() {
   if (!cfg_.sample_file.empty()) {
     H5Reader r(cfg_.sample_file);
     sample = std::make_unique<EngineState>(read_state(r));
-    require_memory(long(sample->r.size()), "sample.file " + cfg_.sample_file);
     setup.x = sample->x;
     setup.r = sample->r;
     setup.density = r.attr_double("density");
@@ -1059,9 +1052,14 @@ void Laboratory::flush_outputs() {
 
 RunResult Laboratory::run() {
   SignalGuard guard;
-  if (cfg_.sample_file.empty()) require_memory(cfg_.packing.count, "sample.count");
-  prepare_output_dir();
+  // Nothing is created before every check that can fail has passed: the plan (memory, the sample's stable time
+  // step against the config's dt), the files already in the output directory (a fresh start, and --resume
+  // with no run there is one, must not replace any), and the sample itself (a placement that fails).
+  const RunPlan plan = plan_run(cfg_);
+  for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
+  if (!opt_.resume || !holds_run()) refuse_overwrites();
   build_engine();
+  prepare_output_dir();
   RunResult result;
   if (opt_.resume) {
     if (!load_newest_checkpoint())
@@ -1071,6 +1069,10 @@ RunResult Laboratory::run() {
     std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g\n",
                 build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_);
     std::printf("output: %s\nresolved config:\n%s", out_.c_str(), resolved_config_yaml(cfg_).c_str());
+    if (!opt_.resume) {
+      std::printf("plan:\n");
+      for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
+    }
   }
   if (!opt_.resume) {
     write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
@@ -1100,6 +1102,91 @@ RunResult Laboratory::run() {
 }
 
 }  // namespace
+
+std::string memory_amount(double b) {
+  constexpr double kGiB = 1024.0 * 1024 * 1024;
+  char t[32];
+  if (b >= kGiB) std::snprintf(t, sizeof t, "%.1f GiB", b / kGiB);
+  else std::snprintf(t, sizeof t, "%.1f MiB", b / (1024.0 * 1024));
+  return t;
+}
+
+RunPlan plan_run(const RunConfig& cfg, Real p_start) {
+  RunPlan plan;
+  EngineParams ep = cfg.engine;
+  // The time step is chosen once for the whole run, for its stiffest stage (rolling on in any stage).
+  for (const StageConfig& sc : cfg.stages) ep.contact.mu_r = std::max(ep.contact.mu_r, sc.mu_r);
+  std::vector<Real> r;
+  Real density = cfg.density, scaling = cfg.density_scaling;
+  if (!cfg.sample_file.empty()) {
+    H5Reader h(cfg.sample_file);
+    r = read_state(h).r;
+    plan.memory_available = require_memory(long(r.size()), "sample.file " + cfg.sample_file, plan.memory_source);
+    density = h.attr_double("density");
+    scaling = h.attr_double("density_scaling");
+  } else {
+    plan.memory_available = require_memory(cfg.packing.count, "sample.count", plan.memory_source);
+    r = packing_radii(cfg.packing);
+  }
+  plan.particles = long(r.size());
+  plan.memory_need = double(plan.particles) * kBytesPerSphere;
+  plan.rolling = ep.contact.mu_r > 0;
+  const StableStep st = stable_step(r, density, scaling, ep);
+  plan.dt_limit = st.limit(plan.rolling);
+  plan.dt = choose_time_step(st, ep);
+  double d_mean = 0;
+  for (Real ri : r) d_mean += 2 * ri;
+  d_mean /= std::max<size_t>(r.size(), 1);
+
+  double p_prev = p_start;  // the pressure the previous isotropic stage leaves (a shear's p'_0), 0: unknown
+  for (const StageConfig& sc : cfg.stages) {
+    std::ostringstream os;
+    os << std::setprecision(4) << "stage " << sc.name << ": ";
+    const auto warn = [&](const std::string& w) { plan.warnings.push_back("stage " + sc.name + ": " + w); };
+    if (sc.type == StageType::Isotropic) {
+      os << "isotropic to " << sc.pressure / 1e3 << " kPa, mu = " << sc.mu << ", mu_r = " << sc.mu_r;
+      if (sc.target_e0 > 0)
+        os << ", searching mu for e0 = " << sc.target_e0 << " (up to " << sc.max_trials << " trials of up to "
+           << sc.max_steps << " steps)";
+      else
+        os << ", until equilibrium (at most " << sc.max_steps << " steps)";
+      if (sc.pressure_ramp_steps >= sc.max_steps)
+        warn("the pressure ramp (pressure_ramp_steps = " + std::to_string(sc.pressure_ramp_steps) +
+             ") does not end within max_steps = " + std::to_string(sc.max_steps) +
+             ": the stage stops before the full pressure is applied");
+      p_prev = sc.pressure;
+      plan.steps.push_back(double(sc.max_steps) * (sc.target_e0 > 0 ? sc.max_trials : 1));
+    } else {
+      // The axial walls approach at 1/2 rate H0 each, so eps_a = rate t: the end strain is a number of steps.
+      // The stage ends on the step whose start finds eps_a >= max_axial_strain, one after the strain is reached.
+      const double need = std::ceil(sc.max_axial_strain / (sc.axial_strain_rate * plan.dt)) + 1;
+      os << "triaxial " << (sc.drainage == Drainage::Undrained ? "undrained" : "drained") << " to eps_a = "
+         << sc.max_axial_strain << " at " << sc.axial_strain_rate << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r
+         << ": " << std::setprecision(6) << need << " steps";
+      plan.steps.push_back(std::min(need, double(sc.max_steps)));
+      if (need > double(sc.max_steps)) {
+        std::ostringstream w;
+        w << std::setprecision(4) << "eps_a = " << sc.max_axial_strain << " takes " << need
+          << " steps, but max_steps = " << sc.max_steps << ": the stage would stop at eps_a = "
+          << double(sc.max_steps) * sc.axial_strain_rate * plan.dt
+          << "; raise max_steps (or axial_strain_rate)";
+        warn(w.str());
+      }
+      if (p_prev > 0) {
+        // Advice, not a warning: a fast shear is a choice (the tests' miniatures make it); the series
+        // reports the measured I of every row.
+        const double I = sc.axial_strain_rate * d_mean * std::sqrt(density * scaling / p_prev);
+        plan.inertial_max = std::max(plan.inertial_max, I);
+        os << ", inertial number ~" << std::setprecision(2) << I << " at p' = " << std::setprecision(4) << p_prev / 1e3
+           << " kPa";
+        if (I > kQuasiStaticInertial)
+          os << " (above the quasi-static " << kQuasiStaticInertial << ": lower axial_strain_rate or density_scaling)";
+      }
+    }
+    plan.stages.push_back(os.str());
+  }
+  return plan;
+}
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt) {
   Laboratory lab(cfg, opt);

@@ -40,6 +40,29 @@ struct RunResult {
 // half-written file under the final name.
 void write_file_atomic(const std::string& path, const std::string& content);
 
+// What a run will do, known before it starts (no Kokkos, nothing placed or written): `grainlab validate` prints
+// it, and a run checks it before it creates anything.
+struct RunPlan {
+  long particles = 0;
+  Real dt = 0, dt_limit = 0;      // the step of every stage; the SPEC §4 limit for the run's stiffest stage [s]
+  bool rolling = false;           // some stage has mu_r > 0 (the limit includes the rolling period)
+  double memory_need = 0, memory_available = 0;  // bytes (available: 0 where unknown)
+  std::string memory_source;
+  std::vector<std::string> stages;    // one line a stage: what it does, for how many steps
+  std::vector<double> steps;          // a stage's steps: triaxial to its end strain (at most max_steps),
+                                      // isotropic its max_steps (it ends at equilibrium, usually sooner)
+  std::vector<std::string> warnings;  // a stage that max_steps cuts short, a ramp that never ends
+  double inertial_max = 0;            // the largest estimated inertial number of a shear (0: p' unknown)
+};
+// Throws (with the same messages as the run) when the sample cannot be drawn or read, does not fit in memory,
+// or the config's dt is above the stable limit. p_start: the p' a first triaxial stage starts from, where the
+// caller knows it (a study's shear of a sample it prepares); 0: unknown.
+RunPlan plan_run(const RunConfig& cfg, Real p_start = 0);
+// The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3).
+constexpr double kQuasiStaticInertial = 1e-3;
+// "4.4 MiB", "1.2 GiB".
+std::string memory_amount(double bytes);
+
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt);
 
 // Series columns (name, unit), in order; documented in configs/README.md.

@@ -271,6 +271,56 @@ Study load_study_unchecked(const std::string& path) {
   return s;
 }
 
+StudyPlan plan_study(const Study& s) {
+  StudyPlan sp;
+  const YAML::Node base = load_yaml_screened(s.base);
+  std::map<std::string, RunConfig> sample_cfg;
+  std::map<std::string, Real> sample_p;  // the pressure a sample's last isotropic stage leaves
+  const auto where = [&](const StudyJob& j) { return s.path + " (job " + j.name + ")"; };
+  const auto plan = [&](const StudyJob& j, const RunConfig& c, Real p_start) {
+    try {
+      return plan_run(c, p_start);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(where(j) + ": " + e.what());
+    }
+  };
+  const auto keep = [&](const StudyJob& j, const RunPlan& p) {
+    for (const std::string& w : p.warnings) sp.warnings.push_back("job " + j.name + ": " + w);
+    sp.memory_need_max = std::max(sp.memory_need_max, p.memory_need);
+  };
+  for (const StudyJob& j : s.samples) {
+    const RunConfig c = parse_run_config(YAML::Load(j.config_yaml), where(j));
+    const RunPlan p = plan(j, c, 0);
+    keep(j, p);
+    for (double n : p.steps) sp.sample_steps_max = std::max(sp.sample_steps_max, long(n));
+    for (const StageConfig& st : c.stages)
+      if (st.type == StageType::Isotropic) sample_p[j.name] = st.pressure;
+    sample_cfg[j.name] = c;
+  }
+  for (const StudyJob& j : s.shears) {
+    // The sample file does not exist before the study prepares it: its radii are the ones its job draws (a
+    // consolidation moves spheres, it does not resize them), with that job's density and scaling.
+    RunConfig c = parse_run_config(job_config(base, j, true, "sample.h5"), where(j));
+    const RunConfig& sc = sample_cfg.at(j.sample_name);
+    c.sample_file.clear();
+    c.packing = sc.packing;
+    c.density = sc.density;
+    c.density_scaling = sc.density_scaling;
+    const RunPlan p = plan(j, c, sample_p[j.sample_name]);
+    keep(j, p);
+    double n = 0;
+    for (double k : p.steps) n += k;
+    sp.shear_steps_min = &j == &s.shears.front() ? long(n) : std::min(sp.shear_steps_min, long(n));
+    sp.shear_steps_max = std::max(sp.shear_steps_max, long(n));
+    sp.shear_steps_total += n;
+    if (p.inertial_max > 0) {
+      sp.inertial_min = sp.inertial_min > 0 ? std::min(sp.inertial_min, p.inertial_max) : p.inertial_max;
+      sp.inertial_max = std::max(sp.inertial_max, p.inertial_max);
+    }
+  }
+  return sp;
+}
+
 namespace {
 struct Running {
   pid_t pid;

@@ -25,6 +25,18 @@ struct Study {
 
 Study load_study(const std::string& path);
 
+// `grainlab validate` of a study: every job planned as it would run (plan_run; a shear planned on the radii its
+// sample job will draw, as the sample file does not exist yet). Throws the first job's error, naming the job.
+struct StudyPlan {
+  long sample_steps_max = 0;  // the longest preparation stage's step cap
+  long shear_steps_min = 0, shear_steps_max = 0;
+  double shear_steps_total = 0;
+  double memory_need_max = 0;  // bytes, the largest job
+  double inertial_min = 0, inertial_max = 0;  // the shears' estimated inertial numbers at their p'_0
+  std::vector<std::string> warnings;  // each names its job
+};
+StudyPlan plan_study(const Study& s);
+
 struct StudyOptions {
   std::string out_dir, self_exe;
   int jobs = 1, threads = 0;

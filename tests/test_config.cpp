@@ -145,3 +145,29 @@ TEST(Config, StudyDrainageDefaultsToTheBase) {
   ASSERT_EQ(s.shears.size(), 2u);
   for (const StudyJob& j : s.shears) EXPECT_EQ(j.drainage, "drained") << j.name;
 }
+
+// `grainlab validate` of a study plans every job as it will run (plan_study): a shear on the radii its sample job
+// draws (the sample file does not exist yet) from the p' its preparation leaves. The miniature's shears are the
+// 0.002-0.004 in inertial number that configs/quick-study-base.yaml states, its six shears' steps add up, and a
+// job that would stop at its start (a dt above the stable limit) is an error naming the job.
+TEST(Config, StudyPlanCoversEveryJob) {
+  const StudyPlan sp = plan_study(load_study(GRAINLAB_SOURCE_DIR "/configs/quick-study.yaml"));
+  EXPECT_GT(sp.inertial_min, 0.002);
+  EXPECT_LT(sp.inertial_max, 0.0045);
+  EXPECT_GT(sp.shear_steps_min, 0);
+  EXPECT_LE(sp.shear_steps_min, sp.shear_steps_max);
+  EXPECT_GE(sp.shear_steps_total, 6.0 * sp.shear_steps_min);
+  EXPECT_LE(sp.shear_steps_total, 6.0 * sp.shear_steps_max);
+  EXPECT_TRUE(sp.warnings.empty());
+  const std::string base = write_tmp("study_plan_base", "sample: {count: 500, seed: 3}\nnumerics: {dt: 1.0e-3}\n"
+                                                        "stages: [{type: isotropic}, {name: shear, type: triaxial}]\n");
+  std::string e;
+  try {
+    plan_study(load_study(write_tmp("study_plan", "base: " + base + "\naxes: {mu_r: [0.1]}\n")));
+  } catch (const std::exception& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("(job sample_mur0.1_ebase_pbase_s3_n500): numerics.dt = 0.001 s is above the stable limit"),
+            std::string::npos)
+      << e;
+}

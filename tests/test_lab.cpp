@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "src/h5io.hpp"
+#include "src/packing.hpp"
 #include "src/simulation.hpp"
 
 using namespace grainlab;
@@ -83,11 +84,12 @@ RunResult run(const std::string& cfg_path, const std::string& out, long stop_aft
 
 struct Reference {
   std::string cfg, out;
+  RunResult result;
   Reference() {
     cfg = write_config("small", kSmall);
     out = tmpdir("reference");
-    const RunResult r = run(cfg, out);
-    EXPECT_FALSE(r.interrupted);
+    result = run(cfg, out);
+    EXPECT_FALSE(result.interrupted);
   }
 };
 const Reference& reference() {
@@ -124,6 +126,75 @@ TEST(Lab, ConsolidationAndUndrainedShear) {
   EXPECT_EQ(r.doubles("/series/p").size(), p.size());
   EXPECT_NE(r.attr_string("config").find("density_scaling: 1000"), std::string::npos);
   EXPECT_NE(r.attr_string("build").find("Kokkos"), std::string::npos);
+}
+
+// `grainlab validate` prints the plan a run follows (plan_run, no Kokkos, nothing placed): the time step to the bit
+// (from the radii packing_radii draws, against the engine's from the placed sample) and the shear's exact number
+// of steps (end strain / (rate dt), plus the step that finds it reached). A mismatch would make validate
+// accept a dt the run refuses, or the other way round.
+TEST(Lab, PlanIsWhatTheRunDoes) {
+  const Reference& ref = reference();
+  const RunPlan plan = plan_run(load_run_config(ref.cfg));
+  H5Reader r(ref.out + "/run.h5");
+  const std::vector<double> dt = r.doubles("/series/dt");
+  ASSERT_FALSE(dt.empty());
+  EXPECT_EQ(double(plan.dt), dt.back());
+  EXPECT_EQ(plan.particles, 250);
+  ASSERT_EQ(plan.steps.size(), 2u);
+  ASSERT_EQ(ref.result.stages.size(), 2u);
+  EXPECT_EQ(long(plan.steps[1]), ref.result.stages[1].steps);
+  EXPECT_TRUE(plan.warnings.empty());
+  // The radii without placement are the placed sample's, as a multiset, at a wide size ratio too.
+  PackingSpec spec;
+  spec.count = 2000;
+  spec.r_min = spec.r_max / 10;
+  spec.seed = 9;
+  std::vector<Real> placed = generate_packing(spec).r, drawn = packing_radii(spec);
+  std::sort(placed.begin(), placed.end(), std::greater<Real>());
+  EXPECT_EQ(placed, drawn);
+}
+
+// A dt above the sample's stable limit is refused by validate (plan_run) and by the run with the same message,
+// and the run creates nothing (it used to leave an output directory with checkpoints/ and .lock behind).
+TEST(Lab, DtAboveTheLimitIsRefusedBeforeAnythingIsWritten) {
+  const std::string cfg = write_config("bigdt", "sample: {count: 250, seed: 5}\nnumerics: {dt: 1.0e-3}\n"
+                                                "stages: [{type: isotropic}]\n");
+  std::string plan_error, run_error;
+  try {
+    plan_run(load_run_config(cfg));
+  } catch (const std::exception& e) {
+    plan_error = e.what();
+  }
+  const std::string out = tmpdir("bigdt");
+  try {
+    run(cfg, out);
+  } catch (const std::exception& e) {
+    run_error = e.what();
+  }
+  EXPECT_NE(plan_error.find("numerics.dt = 0.001 s is above the stable limit"), std::string::npos) << plan_error;
+  EXPECT_EQ(plan_error, run_error);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// A stage that its max_steps would cut short, or a pressure ramp that outlasts max_steps, is named before the
+// run (it used to show only at the stage's end, "NOT converged", possibly hours in).
+TEST(Lab, PlanWarnsOfStagesThatMaxStepsCutsShort) {
+  const std::string cfg = write_config("short", R"(
+sample: {count: 250, seed: 5, density_scaling: 1000}
+stages:
+  - {name: consolidate, type: isotropic, max_steps: 500, pressure_ramp_steps: 500}
+  - {name: shear, type: triaxial, axial_strain_rate: 1.0, max_axial_strain: 0.4, max_steps: 1000}
+)");
+  const RunPlan plan = plan_run(load_run_config(cfg));
+  ASSERT_EQ(plan.warnings.size(), 2u);
+  EXPECT_NE(plan.warnings[0].find("stage consolidate: the pressure ramp (pressure_ramp_steps = 500) does not end within "
+                                  "max_steps = 500"),
+            std::string::npos)
+      << plan.warnings[0];
+  EXPECT_NE(plan.warnings[1].find("stage shear: eps_a = 0.4 takes"), std::string::npos) << plan.warnings[1];
+  EXPECT_NE(plan.warnings[1].find("but max_steps = 1000: the stage would stop at eps_a = "), std::string::npos)
+      << plan.warnings[1];
+  EXPECT_EQ(plan.steps[1], 1000);
 }
 
 // A triaxial stage ends on the first step that reaches max_axial_strain, whatever check_every and the
