@@ -1078,6 +1078,12 @@ RunResult Laboratory::run() {
     write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
     write_checkpoint();  // step 0: from now on a kill at any moment leaves something to resume
   }
+  if (opt_.resume && lab_.stage >= int(cfg_.stages.size())) {
+    // A finished run: its outputs were written with its final checkpoint, so rewriting them would change nothing.
+    if (!opt_.quiet) std::printf("%s: the run has finished (step %ld); nothing to resume\n", out_.c_str(), eng_->step_count());
+    result.stages = lab_.results;
+    return result;
+  }
   for (; lab_.stage < int(cfg_.stages.size()); ++lab_.stage) {
     const StageConfig& sc = cfg_.stages[lab_.stage];
     if (!lab_.started) start_stage(sc);

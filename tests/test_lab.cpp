@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "src/h5io.hpp"
@@ -152,6 +153,23 @@ TEST(Lab, PlanIsWhatTheRunDoes) {
   std::vector<Real> placed = generate_packing(spec).r, drawn = packing_radii(spec);
   std::sort(placed.begin(), placed.end(), std::greater<Real>());
   EXPECT_EQ(placed, drawn);
+}
+
+// --resume of a finished run has nothing to do: it reports the stages and rewrites nothing (it used to rewrite the
+// series, run.h5 and a checkpoint, the same bytes, under new files).
+TEST(Lab, ResumingAFinishedRunWritesNothing) {
+  const Reference& ref = reference();
+  const std::string out = tmpdir("finished");
+  fs::copy(ref.out, out, fs::copy_options::recursive);
+  std::map<std::string, fs::file_time_type> before;
+  for (const auto& f : fs::recursive_directory_iterator(out)) before[f.path().string()] = f.last_write_time();
+  const RunResult r = run(ref.cfg, out, -1, true);
+  EXPECT_FALSE(r.interrupted);
+  EXPECT_EQ(r.stages.size(), 2u);
+  std::map<std::string, fs::file_time_type> after;
+  for (const auto& f : fs::recursive_directory_iterator(out)) after[f.path().string()] = f.last_write_time();
+  EXPECT_EQ(before.size(), after.size());
+  for (const auto& [path, t] : before) EXPECT_TRUE(after.count(path) && after[path] == t) << path << " was rewritten";
 }
 
 // A dt above the sample's stable limit is refused by validate (plan_run) and by the run with the same message,
