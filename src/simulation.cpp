@@ -18,6 +18,8 @@
 #include <iterator>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
+
 #include "h5io.hpp"
 
 namespace grainlab {
@@ -203,6 +205,50 @@ std::string config_fingerprint(const RunConfig& c) {
   return resolved_config_yaml(d);
 }
 
+// Empty when the config `now` only extends `then` (both as config_fingerprint writes them) for a run whose newest
+// checkpoint lies in stage k (k = the number of stages: finished): every key outside `stages` the same, the
+// stages before k the same, stage k the same but for its end (max_axial_strain, max_steps), the stages after k
+// (not started) free, and stages appended. Otherwise the first difference, named as a config key.
+std::string extension_mismatch(const std::string& then, const std::string& now, int k) {
+  const YAML::Node a = YAML::Load(then), b = YAML::Load(now);
+  const auto differs = [](const YAML::Node& x, const YAML::Node& y) { return YAML::Dump(x) != YAML::Dump(y); };
+  const auto first_key = [&](const YAML::Node& x, const YAML::Node& y, const std::string& prefix) -> std::string {
+    for (const auto& it : x) {
+      const std::string key = it.first.as<std::string>();
+      if (!y[key] || differs(it.second, y[key])) return prefix + key;
+    }
+    for (const auto& it : y)
+      if (!x[it.first.as<std::string>()]) return prefix + it.first.as<std::string>();
+    return "";
+  };
+  for (const auto& it : a) {
+    const std::string key = it.first.as<std::string>();
+    if (key == "stages") continue;
+    if (!b[key]) return key;
+    if (differs(it.second, b[key])) {
+      const std::string sub = it.second.IsMap() && b[key].IsMap() ? first_key(it.second, b[key], key + ".") : "";
+      return sub.empty() ? key : sub;
+    }
+  }
+  for (const auto& it : b)
+    if (!a[it.first.as<std::string>()]) return it.first.as<std::string>();
+  const YAML::Node sa = a["stages"], sb = b["stages"];
+  if (sb.size() < sa.size())
+    return "stages: the run has " + std::to_string(sa.size()) + ", this config " + std::to_string(sb.size());
+  const int last = std::min<int>(k, int(sa.size()) - 1);
+  for (int j = 0; j <= last; ++j) {
+    YAML::Node x = YAML::Clone(sa[j]), y = YAML::Clone(sb[j]);
+    if (j == last)
+      for (const char* key : {"max_axial_strain", "max_steps"}) {
+        x.remove(key);
+        y.remove(key);
+      }
+    const std::string key = first_key(x, y, "stages[" + std::to_string(j) + "].");
+    if (!key.empty()) return key;
+  }
+  return "";
+}
+
 // ------------------------------------------------------------------------------------------------
 class Laboratory {
  public:
@@ -245,6 +291,8 @@ class Laboratory {
   const RunConfig& cfg_;
   RunOptions opt_;
   std::string out_, fingerprint_;
+  Real planned_dt_ = 0;   // the time step this config gives (plan_run); an extended run must keep its own
+  bool extended_ = false; // resumed from a checkpoint of a config that this one extends
   std::unique_ptr<Engine> eng_;
   Real Vs_ = 0, d_mean_ = 0, density_ = 0, scaling_ = 1;
   Lab lab_;
@@ -308,8 +356,10 @@ double memory_available(std::string& source) {
 
 // A run that cannot fit is refused before any work, with the numbers, instead of being killed by the kernel's
 // out-of-memory killer hours in, without a word. 1.5 kB a sphere: the peak RSS of a dense lab run, measured
-// (configs/quick.yaml at 30 000 spheres, Z = 4: 71 MB, of which ~25 MB is the program; the race scene holds
-// 1.0-1.1 kB, perf/RESULTS.md). Host backends only: on a GPU the device memory is what counts.
+// (configs/quick.yaml at 30 000 spheres, Z = 4: 65-71 MB, of which 19 MB is the program, the peak of a 300-sphere
+// run; the race scene holds 1.0-1.1 kB, perf/RESULTS.md; a size ratio of 10, perf/wide_psd.yaml at 20 000 spheres,
+// 31 MB, ~0.6 kB above the program). An upper estimate: it refuses only the hopeless cases. Host backends only: on
+// a GPU the device memory is what counts.
 constexpr double kBytesPerSphere = 1536;
 // Returns the bytes available (0: unknown, or a device backend), naming where the figure comes from.
 double require_memory(long n, const std::string& what, std::string& source) {
@@ -980,9 +1030,21 @@ bool Laboratory::load_newest_checkpoint() {
   for (const std::string& path : all) {
     try {
       H5Reader r(path);
-      if (r.string("/lab/config") != fingerprint_)
-        throw std::runtime_error(path + ": written by a different config; resume with the config that started the "
-                                        "run (see run.h5 attribute 'config')");
+      const std::string then = r.string("/lab/config");
+      bool extends = false;
+      if (then != fingerprint_) {
+        // A config that only extends the run (stages appended, the end of the stage it stopped in moved) goes on
+        // from here exactly as an uninterrupted run of it would: the stages already run are the same.
+        Lab probe;
+        probe.set_scalars(r.doubles("/lab/scalars"));
+        const std::string why = extension_mismatch(then, fingerprint_, probe.stage);
+        if (!why.empty())
+          throw std::runtime_error(path + ": written by a different config (" + why +
+                                   " differs); resume with the config that started the run (run.h5 attribute "
+                                   "'config'), or one that only appends stages or moves the end (max_axial_strain, "
+                                   "max_steps) of the stage it stopped in");
+        extends = true;
+      }
       EngineState s = read_state(r);
       Lab lab;
       lab.set_scalars(r.doubles("/lab/scalars"));
@@ -1015,8 +1077,28 @@ bool Laboratory::load_newest_checkpoint() {
       lab.snapshot_time = r.doubles("/lab/snapshot_time");
       lab.snapshot_eps = r.doubles("/lab/snapshot_eps");
       if (lab.stage < 0 || lab.stage > int(cfg_.stages.size())) throw H5Error(path + ": stage index out of range");
+      if (extends && s.dt != planned_dt_) {
+        std::ostringstream os;
+        os << std::setprecision(6) << path << ": this config extends the run but gives another time step (" << planned_dt_
+           << " s, the run's " << s.dt << " s: rolling resistance or stiffness where the run had none); "
+           << "start a new run from its sample instead";
+        throw std::runtime_error(os.str());
+      }
       eng_->restore(s);
       lab_ = lab;
+      extended_ = extends;
+      if (extends && lab_.stage == int(YAML::Load(then)["stages"].size()) && !lab_.results.empty()) {
+        // The run had finished: reopen its last stage if the moved end lies beyond where it stopped.
+        const StageConfig& sc = cfg_.stages[lab_.stage - 1];
+        const bool more = lab_.stage_step < sc.max_steps &&
+                          (sc.type == StageType::Triaxial ? measure(sc).eps_a < sc.max_axial_strain
+                                                          : !lab_.results.back().converged);
+        if (more) {
+          --lab_.stage;
+          lab_.started = true;
+          lab_.results.pop_back();
+        }
+      }
       if (!opt_.quiet) std::printf("resuming from %s (step %ld)\n", path.c_str(), s.step);
       return true;
     } catch (const H5Error& e) {
@@ -1056,6 +1138,7 @@ RunResult Laboratory::run() {
   // step against the config's dt), the files already in the output directory (a fresh start, and --resume
   // with no run there is one, must not replace any), and the sample itself (a placement that fails).
   const RunPlan plan = plan_run(cfg_);
+  planned_dt_ = plan.dt;
   for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
   if (!opt_.resume || !holds_run()) refuse_overwrites();
   build_engine();
@@ -1077,6 +1160,10 @@ RunResult Laboratory::run() {
   if (!opt_.resume) {
     write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
     write_checkpoint();  // step 0: from now on a kill at any moment leaves something to resume
+  }
+  if (extended_) {
+    write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));  // the run's config is now this one
+    if (!opt_.quiet) std::printf("%s: extended by this config; going on from stage %d\n", out_.c_str(), lab_.stage + 1);
   }
   if (opt_.resume && lab_.stage >= int(cfg_.stages.size())) {
     // A finished run: its outputs were written with its final checkpoint, so rewriting them would change nothing.

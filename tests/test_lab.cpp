@@ -268,6 +268,63 @@ TEST(Lab, ResumeIsBitwiseIdentical) {
   EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
 }
 
+// A finished run extended by --resume with a config that moves its shear's end (0.3 % -> 0.6 %) and then
+// appends a stage ends in the state of the uninterrupted run of the extended config, to the bit. A config that
+// changes anything the run already used (here the shear's friction) is refused, naming the key, and changes
+// nothing.
+TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
+  std::string longer = kSmall;
+  longer.insert(longer.find("output:"), "  - {name: more, type: triaxial, drainage: drained, axial_strain_rate: 1.0, "
+                                        "max_axial_strain: 0.002, damping: 0.2}\n");
+  std::string shorter = kSmall;
+  shorter.replace(shorter.find("max_axial_strain: 0.006"), 23, "max_axial_strain: 0.003");
+  std::string changed = kSmall;
+  changed.replace(changed.find("type: triaxial,"), 15, "type: triaxial, mu: 0.4,");
+  const std::string c_short = write_config("ext_short", shorter), c_long = write_config("ext_long", longer),
+                    c_changed = write_config("ext_changed", changed);
+  const std::string direct = tmpdir("ext_direct"), ext = tmpdir("ext_extended");
+  const RunResult whole = run(c_long, direct);
+  ASSERT_FALSE(whole.interrupted);
+  ASSERT_FALSE(run(c_short, ext).interrupted);
+  const std::string before = slurp(newest_checkpoint(ext));
+  std::string err;
+  try {
+    run(c_changed, ext, -1, true);
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  EXPECT_NE(err.find("written by a different config (stages[1].mu differs)"), std::string::npos) << err;
+  EXPECT_EQ(slurp(newest_checkpoint(ext)), before);
+  const RunResult r = run(c_long, ext, -1, true);
+  ASSERT_FALSE(r.interrupted);
+  ASSERT_EQ(r.stages.size(), 3u);
+  EXPECT_EQ(r.stages[1].steps, whole.stages[1].steps);
+  H5Reader a(newest_checkpoint(direct)), b(newest_checkpoint(ext));
+  EXPECT_EQ(a.doubles("/state/scalars"), b.doubles("/state/scalars"));
+  for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
+    const auto va = a.vec3(d), vb = b.vec3(d);
+    ASSERT_EQ(va.size(), vb.size()) << d;
+    EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
+  }
+  EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
+  EXPECT_EQ(slurp(ext + "/config.yaml"), slurp(direct + "/config.yaml"));
+  // An appended stage with rolling resistance, in a run that had none, would need a smaller time step than the
+  // run took: refused, since the stages already run would not be those of the extended config.
+  const std::string plain = "sample: {count: 60, seed: 2}\nmaterial: {mu_r: 0}\n"
+                            "stages:\n  - {name: a, type: isotropic, max_steps: 100}\n";
+  const std::string c_plain = write_config("ext_plain", plain),
+                    c_roll = write_config("ext_roll", plain + "  - {name: b, type: isotropic, max_steps: 100, mu_r: 0.3}\n");
+  const std::string out = tmpdir("ext_roll");
+  run(c_plain, out);
+  err.clear();
+  try {
+    run(c_roll, out, -1, true);
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  EXPECT_NE(err.find("this config extends the run but gives another time step"), std::string::npos) << err;
+}
+
 // A saved sample is sheared again, drained and undrained, with another mu_r, without re-preparing it.
 // Drained: the lateral servo holds sigma_3 within 1 % of p'_0 once the initial transient (first 0.1 %
 // axial strain, where the servo catches up with the shear start) is over.
