@@ -222,7 +222,7 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
     return "";
   };
   for (const auto& it : a) {
-    const std::string key = it.first.as<std::string>();
+    std::string key = it.first.as<std::string>();
     if (key == "stages") continue;
     if (!b[key]) return key;
     if (differs(it.second, b[key])) {
@@ -243,7 +243,7 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
         x.remove(key);
         y.remove(key);
       }
-    const std::string key = first_key(x, y, "stages[" + std::to_string(j) + "].");
+    std::string key = first_key(x, y, "stages[" + std::to_string(j) + "].");
     if (!key.empty()) return key;
   }
   return "";
@@ -1038,11 +1038,13 @@ bool Laboratory::load_newest_checkpoint() {
         Lab probe;
         probe.set_scalars(r.doubles("/lab/scalars"));
         const std::string why = extension_mismatch(then, fingerprint_, probe.stage);
-        if (!why.empty())
-          throw std::runtime_error(path + ": written by a different config (" + why +
-                                   " differs); resume with the config that started the run (run.h5 attribute "
-                                   "'config'), or one that only appends stages or moves the end (max_axial_strain, "
-                                   "max_steps) of the stage it stopped in");
+        if (!why.empty()) {
+          std::string m = path;
+          m += ": written by a different config (" + why;
+          m += " differs); resume with the config that started the run (run.h5 attribute 'config'), or one that only "
+               "appends stages or moves the end (max_axial_strain, max_steps) of the stage it stopped in";
+          throw std::runtime_error(m);
+        }
         extends = true;
       }
       EngineState s = read_state(r);
