@@ -205,6 +205,8 @@ std::string config_fingerprint(const RunConfig& c) {
   return resolved_config_yaml(d);
 }
 
+}  // namespace
+
 // Empty when the config `now` only extends `then` (both as config_fingerprint writes them) for a run whose newest
 // checkpoint lies in stage k (k = the number of stages: finished): every key outside `stages` the same, the
 // stages before k the same, stage k the same but for its end (max_axial_strain, max_steps), the stages after k
@@ -248,6 +250,8 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
   }
   return "";
 }
+
+namespace {
 
 // ------------------------------------------------------------------------------------------------
 class Laboratory {

@@ -60,6 +60,11 @@ struct RunPlan {
 RunPlan plan_run(const RunConfig& cfg, Real p_start = 0);
 // The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3).
 constexpr double kQuasiStaticInertial = 1e-3;
+// Empty when the config `now` only extends `then` (both resolved, as a run's checkpoint records its config) for a
+// run whose newest checkpoint lies in stage k (k = the number of stages: finished); otherwise the first differing
+// config key. What --resume accepts: stages appended, the end (max_axial_strain, max_steps) of stage k moved, and
+// the stages after k (not started) changed.
+std::string extension_mismatch(const std::string& then, const std::string& now, int k);
 // "4.4 MiB", "1.2 GiB".
 std::string memory_amount(double bytes);
 

@@ -90,4 +90,17 @@ err=$("$bin" study "$work.edit/study.yaml" --out "$rel" --jobs 2 2>&1 >/dev/null
 [ "$rc" -eq 1 ] && [ "$(printf '%s\n' "$err" | grep -c .)" -eq 1 ] && printf '%s\n' "$err" | grep -q "ran with another config" ||
   { echo "an edited study over finished jobs was not refused (exit $rc): $err"; exit 1; }
 [ "$(cat "$work"/jobs/*/job.yaml | md5sum)" = "$before" ] || { echo "the refused study rewrote job.yaml files"; exit 1; }
+# A base edited only to take the shears further (max_axial_strain 0.40 -> 0.41): not stale but an extension. The
+# finished shears resume from their checkpoints (no sample is prepared again) and end at the new strain.
+mkdir -p "$work.ext"
+sed 's/max_axial_strain: 0.40/max_axial_strain: 0.41/' "$(dirname "$study")/quick-study-base.yaml" > "$work.ext/quick-study-base.yaml"
+cp "$study" "$work.ext/study.yaml"
+grep -q 'max_axial_strain: 0.41' "$work.ext/quick-study-base.yaml" || { echo "could not extend the base"; exit 1; }
+out=$("$bin" study "$work.ext/study.yaml" --out "$rel" --jobs 2 2>&1) || { echo "the extended study failed: $out"; exit 1; }
+printf '%s\n' "$out" | grep -q "6 shear(s) extended by the edited study" && printf '%s\n' "$out" | grep -q "; 6 to run" ||
+  { echo "the extended study did not resume the 6 shears (and only them): $out"; exit 1; }
+for s in "$work"/jobs/shear_*; do
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "eps_a") c = i; next } { e = $c } END { exit !(e >= 0.41) }' \
+    "$s/run/series.csv" || { echo "$s did not reach eps_a = 0.41"; exit 1; }
+done
 echo "study ok"
