@@ -39,7 +39,9 @@ float-check: build
 
 # Sanitizers and static checks (issue 7): the whole test suite under AddressSanitizer + UBSan (OpenMP
 # backend), then clang-tidy and cppcheck on src/ and kernels/. Zero findings; each suppression is an
-# inline NOLINT or cppcheck-suppress comment that says why. Takes ~15 minutes on 2 cores.
+# inline NOLINT or cppcheck-suppress comment that says why. Takes ~25 minutes on 2 cores. study_quick is left out:
+# its twelve 5 000-sphere jobs, sanitized, outrun its 15-minute limit; study_tiny runs the same study driver
+# (fork, wait, resume, report, extension) under the sanitizers in 15 s.
 CHECK_BUILD ?= build-check
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
 TIDY_CHECKS = -*,bugprone-*,-bugprone-easily-swappable-parameters,-bugprone-narrowing-conversions,-bugprone-implicit-widening-of-multiplication-result,performance-*,clang-analyzer-*,-clang-analyzer-optin.*
@@ -49,7 +51,7 @@ check: setup
 	  -DCMAKE_EXPORT_COMPILE_COMMANDS=ON -DKokkos_ROOT="$$prefix" $(CMAKE_ARGS) >/dev/null
 	cmake --build $(CHECK_BUILD) -j $(JOBS)
 	cd $(CHECK_BUILD) && ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-	  ctest --output-on-failure --parallel $(JOBS) --timeout 1800
+	  ctest --output-on-failure --parallel $(JOBS) --timeout 1800 --exclude-regex '^study_quick$$'
 	clang-tidy -p $(CHECK_BUILD) --quiet --warnings-as-errors='*' --checks='$(TIDY_CHECKS)' src/*.cpp kernels/*.cpp
 	cppcheck --quiet --error-exitcode=1 --std=c++17 --language=c++ --enable=warning,performance,portability \
 	  --inline-suppr -DKOKKOS_INLINE_FUNCTION=inline -DKOKKOS_FORCEINLINE_FUNCTION=inline -DKOKKOS_LAMBDA='[=]' \

@@ -5,11 +5,13 @@
 #include <cmath>
 #include <filesystem>
 #include <algorithm>
+#include <charconv>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
 namespace grainlab {
 namespace {
@@ -198,7 +200,7 @@ bool is_study_file(const std::string& path) {
 
 RunConfig load_run_config(const std::string& path) { return parse_run_config(load_yaml_screened(path), path); }
 
-RunConfig parse_run_config(YAML::Node root, const std::string& path) {
+RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   RunConfig c;
   c.path = path;
   if (!root || root.IsNull()) throw ConfigError(path + ": the file is empty");
@@ -311,9 +313,37 @@ RunConfig parse_run_config(YAML::Node root, const std::string& path) {
   return c;
 }
 
+std::string yaml_number(double v) {
+  char buf[40];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);  // shortest that reads back bitwise (C++17)
+  std::string t(buf, res.ptr);
+  const size_t exp = t.find('e');
+  if (exp != std::string::npos && t.find('.') == std::string::npos) t.insert(exp, ".0");
+  return t;
+}
+
+namespace {
+// yaml-cpp's emitter writes every double at one fixed precision (17 digits: "0.29999999999999999" for 0.3);
+// this one writes them as yaml_number and passes everything else on.
+class NumberEmitter {
+ public:
+  template <class T>
+  NumberEmitter& operator<<(const T& v) {
+    if constexpr (std::is_floating_point_v<T>)
+      e_ << yaml_number(v);
+    else
+      e_ << v;
+    return *this;
+  }
+  const char* c_str() const { return e_.c_str(); }
+
+ private:
+  YAML::Emitter e_;
+};
+}  // namespace
+
 std::string resolved_config_yaml(const RunConfig& c) {
-  YAML::Emitter e;
-  e.SetDoublePrecision(17);
+  NumberEmitter e;
   e << YAML::BeginMap;
   e << YAML::Key << "sample" << YAML::Value << YAML::BeginMap;
   if (!c.sample_file.empty()) {

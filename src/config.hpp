@@ -62,12 +62,15 @@ struct RunConfig {
 
 RunConfig load_run_config(const std::string& path);
 // The same from a parsed document; `path` names it in errors and anchors a relative sample.file.
-RunConfig parse_run_config(YAML::Node root, const std::string& path);
+RunConfig parse_run_config(const YAML::Node& root, const std::string& path);
 // Reads a YAML file after screening it (size, NUL bytes, nesting depth); errors name the file.
 YAML::Node load_yaml_screened(const std::string& path);
 // A study file (top-level `base:`) rather than a run config.
 bool is_study_file(const std::string& path);
 // The configuration with every default filled in, as YAML (stored in every run's files).
 std::string resolved_config_yaml(const RunConfig& c);
+// A number as YAML text: the shortest that reads back to the same double, with ".0" before a bare exponent so
+// that YAML 1.1 readers (PyYAML) read a float too: 0.3, 190000, 1.0e+08, 2.5e-05.
+std::string yaml_number(double v);
 
 }  // namespace grainlab

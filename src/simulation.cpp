@@ -205,6 +205,20 @@ std::string config_fingerprint(const RunConfig& c) {
   return resolved_config_yaml(d);
 }
 
+// A checkpoint's config fingerprint as this build writes it: an older grainlab wrote the same config in other
+// words (numbers at 17 digits; before bae18c0 a relative sample.file, relative to the working directory, which
+// the empty anchor path below keeps: a run resumed from where it started finds its sample). Text that no longer
+// parses is returned as it is, and so differs.
+std::string as_this_build_writes(const std::string& text) {
+  try {
+    YAML::Node n = YAML::Load(text);
+    n["output"]["dir"] = "-";  // blanked in a fingerprint (config_fingerprint), which the parser refuses
+    return config_fingerprint(parse_run_config(n, ""));
+  } catch (const std::exception&) {
+    return text;
+  }
+}
+
 }  // namespace
 
 // Empty when the config `now` only extends `then` (both as config_fingerprint writes them) for a run whose newest
@@ -1034,7 +1048,7 @@ bool Laboratory::load_newest_checkpoint() {
   for (const std::string& path : all) {
     try {
       H5Reader r(path);
-      const std::string then = r.string("/lab/config");
+      const std::string then = as_this_build_writes(r.string("/lab/config"));
       bool extends = false;
       if (then != fingerprint_) {
         // A config that only extends the run (stages appended, the end of the stage it stopped in moved) goes on

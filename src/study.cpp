@@ -65,17 +65,17 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     c["sample"]["seed"] = j.seed;
     c["sample"]["count"] = j.count;
   }
-  c["material"]["mu_r"] = j.mu_r;
+  c["material"]["mu_r"] = yaml_number(j.mu_r);
   YAML::Node stages(YAML::NodeType::Sequence);
   bool first_iso = true;
   for (auto st : base["stages"]) {
     YAML::Node s = YAML::Clone(st);
     const std::string type = s["type"] ? s["type"].as<std::string>() : "isotropic";
-    s["mu_r"] = j.mu_r;
+    s["mu_r"] = yaml_number(j.mu_r);
     if (type == "isotropic") {
       if (shear_only) continue;
-      if (j.p0 > 0) s["pressure"] = j.p0;
-      if (first_iso && j.e0 > 0) s["target_e0"] = j.e0;
+      if (j.p0 > 0) s["pressure"] = yaml_number(j.p0);
+      if (first_iso && j.e0 > 0) s["target_e0"] = yaml_number(j.e0);
       first_iso = false;
       s["save_sample"] = true;
     } else {

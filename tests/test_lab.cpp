@@ -1,11 +1,15 @@
 // The laboratory end to end (issue 3 validation), in-process, on small samples.
 #include <gtest/gtest.h>
 
+#include <hdf5.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iomanip>
 #include <map>
 #include <sstream>
 
@@ -323,6 +327,80 @@ TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
     err = e.what();
   }
   EXPECT_NE(err.find("this config extends the run but gives another time step"), std::string::npos) << err;
+}
+
+// The config fingerprint of a checkpoint written by an older grainlab: every number with a fraction or an exponent
+// at 17 significant digits (before yaml_number) and, before bae18c0, sample.file relative to the working
+// directory. The same config in other words.
+std::string in_older_words(const std::string& text, const std::string& sample_rel) {
+  YAML::Node root = YAML::Load(text);
+  std::function<void(YAML::Node)> walk = [&](YAML::Node n) {
+    if (n.IsSequence())
+      for (YAML::Node x : n) walk(x);
+    if (!n.IsMap()) return;
+    for (auto it : n) {
+      const std::string key = it.first.as<std::string>();
+      if (!it.second.IsScalar()) {
+        walk(it.second);
+        continue;
+      }
+      const std::string v = it.second.as<std::string>();
+      size_t used = 0;
+      double d = 0;
+      try {
+        d = std::stod(v, &used);
+      } catch (const std::exception&) {
+        continue;
+      }
+      if (used != v.size() || v.find_first_of(".e") == std::string::npos) continue;
+      std::ostringstream os;
+      os << std::setprecision(17) << d;
+      n[key] = os.str();
+    }
+  };
+  walk(root);
+  root["sample"]["file"] = sample_rel;
+  YAML::Emitter e;
+  e << root;
+  return std::string(e.c_str()) + "\n";
+}
+
+// Replaces the checkpoint's /lab/config dataset (a 1-D char array, as H5Writer::write_string writes it).
+void rewrite_config(const std::string& ckpt, const std::string& text) {
+  const hid_t f = H5Fopen(ckpt.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  ASSERT_GE(H5Ldelete(f, "/lab/config", H5P_DEFAULT), 0);
+  const hsize_t n = text.size();
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t set = H5Dcreate2(f, "/lab/config", H5T_NATIVE_CHAR, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(set, 0);
+  EXPECT_GE(H5Dwrite(set, H5T_NATIVE_CHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()), 0);
+  H5Dclose(set);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+// A run that an older grainlab started resumes: its checkpoint names the same config in other words (17-digit
+// numbers, a relative sample path), and the resumed run ends with the uninterrupted run's series, to the bit.
+// Checked to fail when load_newest_checkpoint compares the stored text as it is.
+TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
+  const Reference& ref = reference();
+  const std::string sample = ref.out + "/sample_consolidate.h5";
+  const std::string cfg = write_config("older", "sample: {file: " + sample + "}\nmaterial: {mu_r: 0.3, E: 1.3e8}\n"
+                                       "stages:\n  - {name: shear, type: triaxial, axial_strain_rate: 0.7, "
+                                       "max_axial_strain: 0.003, damping: 0.15}\noutput: {every: 100}\n");
+  const std::string direct = tmpdir("older_direct"), out = tmpdir("older_resumed");
+  ASSERT_FALSE(run(cfg, direct).interrupted);
+  ASSERT_TRUE(run(cfg, out, 700).interrupted);
+  const std::string ckpt = newest_checkpoint(out);
+  const std::string now = H5Reader(ckpt).string("/lab/config");
+  const std::string older = in_older_words(now, fs::relative(sample, fs::current_path()).string());
+  ASSERT_NE(older.find("mu_r: 0.29999999999999999"), std::string::npos) << older;
+  ASSERT_NE(older, now);
+  rewrite_config(ckpt, older);
+  ASSERT_EQ(H5Reader(ckpt).string("/lab/config"), older);
+  ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
+  EXPECT_EQ(slurp(out + "/series.csv"), slurp(direct + "/series.csv"));
 }
 
 // A saved sample is sheared again, drained and undrained, with another mu_r, without re-preparing it.
