@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # tests/data/tiny-study.yaml end to end: the study driver (jobs forked and waited for, samples reused, report,
 # rerun, extension) on 300 spheres, fast enough to run under AddressSanitizer + UBSan in make check, where
-# study_quick's 5 000-sphere shears to 40 % would take hours. study_quick checks the rest (signals, report
+# study_quick's 5 000-sphere shears to 40 % outran its 900 s limit. study_quick checks the rest (signals, report
 # contents) in make test.
 set -u
 bin=$1; src=$2; work=$3
