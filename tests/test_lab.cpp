@@ -329,6 +329,8 @@ TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
   EXPECT_NE(err.find("this config extends the run but gives another time step"), std::string::npos) << err;
 }
 
+namespace {
+
 // The config fingerprint of a checkpoint written by an older grainlab: every number with a fraction or an exponent
 // at 17 significant digits (before yaml_number) and, before bae18c0, sample.file relative to the working
 // directory. The same config in other words.
@@ -379,6 +381,8 @@ void rewrite_config(const std::string& ckpt, const std::string& text) {
   H5Sclose(space);
   H5Fclose(f);
 }
+
+}  // namespace
 
 // A run that an older grainlab started resumes: its checkpoint names the same config in other words (17-digit
 // numbers, a relative sample path), and the resumed run ends with the uninterrupted run's series, to the bit.
