@@ -39,7 +39,7 @@ float-check: build
 
 # Sanitizers and static checks (issue 7): the whole test suite under AddressSanitizer + UBSan (OpenMP
 # backend), then clang-tidy and cppcheck on src/ and kernels/. Zero findings; each suppression is an
-# inline NOLINT or cppcheck-suppress comment that says why. Takes ~25 minutes on 2 cores. study_quick is left out:
+# inline NOLINT or cppcheck-suppress comment that says why. Takes ~30 minutes on 2 cores, build included. study_quick is left out:
 # its twelve 5 000-sphere jobs, sanitized, outrun its 15-minute limit; study_tiny runs the same study driver
 # (fork, wait, resume, report, extension) under the sanitizers in 15 s.
 CHECK_BUILD ?= build-check
