@@ -32,7 +32,10 @@ def load(run):
         sys.exit(f"grainlab plot: {path}: no rows")
     cols = {k: np.array([float(r[k]) for r in rows]) for k in rows[0] if k != "stage"}
     cols["stage"] = np.array([r["stage"] for r in rows])
-    cols["shear"] = cols["stage_type"] > 0  # triaxial rows (0 isotropic, 1 undrained, 2 drained)
+    # 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained
+    cols["shear"] = cols["stage_type"] > 0  # every sheared row (the stress figures draw cyclic loops too)
+    cols["monotonic"] = (cols["stage_type"] > 0) & (cols["stage_type"] < 3)  # critical states come from these
+    cols["cyclic"] = cols["stage_type"] >= 3
     return cols
 
 
@@ -159,6 +162,31 @@ def fig_forcechains(run, out):
     print(f"ParaView: open {os.path.join(run, 'particles.xdmf')}")
 
 
+def fig_cyclic(runs, out):
+    """Cyclic stages against the cycle number N: p'/p'_0 (p'_0 at the stage's first row), the excess pore pressure
+    ratio r_u = u/p'_0 of undrained tests (liquefaction as r_u -> 1), and the axial strain."""
+    runs = [(run, s) for run, s in runs if s["cyclic"].any()]
+    if not runs:
+        return
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
+    for run, s in runs:
+        m = s["cyclic"]
+        n, p = s["cycle"][m], s["p"][m]
+        lab = label(run, s)
+        ax[0].plot(n, p / p[0], label=lab)
+        und = m & (s["stage_type"] == 3)
+        if und.any():
+            ax[1].plot(s["cycle"][und], s["u"][und] / s["p"][und][0], label=lab)
+        ax[2].plot(n, 100 * s["eps_a"][m], label=lab)
+    ax[0].set(xlabel="cycle N", ylabel="p' / p'_0", title="mean effective stress")
+    ax[1].set(xlabel="cycle N", ylabel="r_u = u / p'_0", title="excess pore pressure ratio (undrained)")
+    ax[2].set(xlabel="cycle N", ylabel="eps_a [%]", title="axial strain")
+    for a in ax:
+        a.grid(alpha=0.3)
+    legend(ax[0], fontsize=8)
+    save(fig, out, "cyclic")
+
+
 def legend(ax, **kw):
     """ax.legend(**kw) where the axes hold labelled artists; matplotlib warns on stderr otherwise (a csl or
     study without a critical state has nothing to label)."""
@@ -170,7 +198,7 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     """Final state of the shear stage, and whether it is critical: over the last `window` of axial strain,
     q/p', p' and e must each be steady: the drift of a fitted line over the window below qp_tol (q/p'),
     p_tol (p' relative) and e_tol (e). The reported state is the mean over the window."""
-    m = s["shear"]
+    m = s["monotonic"]
     if not m.any():
         return None
     ea = s["eps_a"][m]
@@ -209,7 +237,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     for run, s in runs:
         cs = critical_state(s, window, *tol)
         if cs is None:
-            print(f"{run}: no shear stage")
+            print(f"{run}: no triaxial (monotonic) shear stage")
         elif not cs["ok"]:
             print(f"{run}: not at critical state ({cs['why']}); not fitted")
         else:
@@ -358,6 +386,7 @@ def main():
         fig_anisotropy(runs, out)
         fig_sff(runs, out)
         fig_fractions(runs, out)
+        fig_cyclic(runs, out)
         fig_forcechains(a.runs[0], out)
     else:
         csl(runs, out, a.window)

@@ -269,8 +269,8 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
     Section g(st[k], "stages[" + std::to_string(k) + "]", &path);
     StageConfig sc;
     sc.name = g.string("name", "stage" + std::to_string(k));
-    const std::string type = g.choice("type", "isotropic", {"isotropic", "triaxial"});
-    sc.type = type == "isotropic" ? StageType::Isotropic : StageType::Triaxial;
+    const std::string type = g.choice("type", "isotropic", {"isotropic", "triaxial", "cyclic"});
+    sc.type = type == "isotropic" ? StageType::Isotropic : type == "triaxial" ? StageType::Triaxial : StageType::Cyclic;
     sc.mu = g.real("mu", cp.mu, 0, 10);
     sc.mu_r = g.real("mu_r", cp.mu_r, 0, 10);
     sc.damping = g.real("damping", c.engine.damping, 0, 1);
@@ -293,6 +293,18 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
                                                                                               : Drainage::Drained;
       sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, true);
       sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
+      if (sc.type == StageType::Cyclic) {
+        sc.cycles = g.integer("cycles", 1, 1, 1000000);
+        sc.q_amplitude = g.real("q_amplitude", 0, 0, 1e10);
+        sc.strain_amplitude = g.real("strain_amplitude", 0, 0, 0.9);
+        if ((sc.q_amplitude > 0) == (sc.strain_amplitude > 0))
+          g.fail(g.key_path("q_amplitude"), "a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal) "
+                                     "or strain_amplitude (> 0: strain reversal); this one gives " +
+                                         std::string(sc.q_amplitude > 0 ? "both" : "neither"));
+        if (sc.strain_amplitude >= sc.max_axial_strain)
+          g.fail(g.key_path("strain_amplitude"), "= " + fmt(sc.strain_amplitude) + " must be below max_axial_strain = " +
+                                              fmt(sc.max_axial_strain) + " (the stage would end at the first peak)");
+      }
     }
     g.finish();
     c.stages.push_back(sc);
@@ -373,7 +385,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
   e << YAML::Key << "stages" << YAML::Value << YAML::BeginSeq;
   for (const StageConfig& sc : c.stages) {
     e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sc.name << YAML::Key << "type" << YAML::Value
-      << (sc.type == StageType::Isotropic ? "isotropic" : "triaxial") << YAML::Key << "mu" << YAML::Value << sc.mu
+      << (sc.type == StageType::Isotropic ? "isotropic" : sc.type == StageType::Triaxial ? "triaxial" : "cyclic") << YAML::Key << "mu" << YAML::Value << sc.mu
       << YAML::Key << "mu_r" << YAML::Value << sc.mu_r << YAML::Key << "damping" << YAML::Value << sc.damping
       << YAML::Key << "max_steps" << YAML::Value << sc.max_steps << YAML::Key << "check_every" << YAML::Value
       << sc.check_every << YAML::Key << "servo_gain" << YAML::Value << sc.servo_gain;
@@ -391,6 +403,11 @@ std::string resolved_config_yaml(const RunConfig& c) {
       e << YAML::Key << "drainage" << YAML::Value << (sc.drainage == Drainage::Undrained ? "undrained" : "drained")
         << YAML::Key << "axial_strain_rate" << YAML::Value << sc.axial_strain_rate << YAML::Key
         << "max_axial_strain" << YAML::Value << sc.max_axial_strain;
+      if (sc.type == StageType::Cyclic) {
+        e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
+        if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;
+        else e << YAML::Key << "strain_amplitude" << YAML::Value << sc.strain_amplitude;
+      }
     }
     e << YAML::EndMap;
   }

@@ -15,7 +15,9 @@ struct ConfigError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class StageType { Isotropic, Triaxial };
+// Cyclic: triaxial loading whose axial walls reverse at +-q_amplitude (stress reversal, the cyclic liquefaction
+// test) or +-strain_amplitude, for `cycles` cycles or until |eps_a| reaches max_axial_strain (choice, beyond SPEC §6.3).
+enum class StageType { Isotropic, Triaxial, Cyclic };
 enum class Drainage { Undrained, Drained };
 
 struct StageConfig {
@@ -33,7 +35,11 @@ struct StageConfig {
   // triaxial shear (SPEC §6.3)
   Drainage drainage = Drainage::Undrained;
   Real axial_strain_rate = 1.0;    // [1/s]
-  Real max_axial_strain = 0.05;    // [-]
+  Real max_axial_strain = 0.05;    // [-] cyclic: the stage ends when |eps_a| reaches it (large strain, liquefaction)
+  // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
+  long cycles = 1;                 // [-]
+  Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: strain reversal)   [Pa]
+  Real strain_amplitude = 0;       // A in axial strain eps_a (strain reversal; 0: stress reversal)  [-]
   long max_steps = 1000000;
   long check_every = 200;          // steps between equilibrium checks
   // isotropic: search the stage's mu so the stage ends at this void ratio (0 = off)

@@ -86,6 +86,8 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       // model quality: the deepest sphere-sphere overlap, delta / min(r_i, r_j), the quantity that
       // numerics.max_overlap bounds (a rising trend warns before the health check stops a run)
       {"overlap_max", "-"},
+      // cyclic stages: the cycle number N, continuous (Laboratory::cycle_number); 0 in other stages
+      {"cycle", "-"},
   };
   return cols;
 }
@@ -137,6 +139,8 @@ struct Lab {
   Real next_snap_eps = 0;
   std::vector<Real> trial_mu, trial_e;  // target_e0 search
   bool searching = false;
+  long half_cycles = 0;  // cyclic stage: load reversals so far
+  Real cycle = 0;        // cyclic stage: the cycle number of the last series row (it never decreases)
   Series series;
   std::vector<StageResult> results;
   std::vector<std::string> snapshot_files;
@@ -144,10 +148,11 @@ struct Lab {
 
   std::vector<double> scalars() const {
     return {double(stage), double(stage_step), double(started), H0, V0, p0, aspect, mu, last_eps, last_time,
-            double(snapshots), next_snap_eps, double(searching)};
+            double(snapshots), next_snap_eps, double(searching), double(half_cycles), cycle};
   }
   void set_scalars(const std::vector<double>& s) {
-    if (s.size() != 13) throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");
+    // 13: a checkpoint from before cyclic stages (none of its stages is cyclic)
+    if (s.size() != 13 && s.size() != 15) throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");
     stage = int(s[0]);
     stage_step = long(s[1]);
     started = s[2] != 0;
@@ -161,6 +166,8 @@ struct Lab {
     snapshots = int(s[10]);
     next_snap_eps = s[11];
     searching = s[12] != 0;
+    half_cycles = s.size() > 13 ? long(s[13]) : 0;
+    cycle = s.size() > 13 ? s[14] : 0;
   }
 };
 
@@ -223,7 +230,7 @@ std::string as_this_build_writes(const std::string& text) {
 
 // Empty when the config `now` only extends `then` (both as config_fingerprint writes them) for a run whose newest
 // checkpoint lies in stage k (k = the number of stages: finished): every key outside `stages` the same, the
-// stages before k the same, stage k the same but for its end (max_axial_strain, max_steps), the stages after k
+// stages before k the same, stage k the same but for its end (max_axial_strain, max_steps, cycles), the stages after k
 // (not started) free, and stages appended. Otherwise the first difference, named as a config key.
 std::string extension_mismatch(const std::string& then, const std::string& now, int k) {
   const YAML::Node a = YAML::Load(then), b = YAML::Load(now);
@@ -255,7 +262,7 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
   for (int j = 0; j <= last; ++j) {
     YAML::Node x = YAML::Clone(sa[j]), y = YAML::Clone(sb[j]);
     if (j == last)
-      for (const char* key : {"max_axial_strain", "max_steps"}) {
+      for (const char* key : {"max_axial_strain", "max_steps", "cycles"}) {
         x.remove(key);
         y.remove(key);
       }
@@ -288,6 +295,9 @@ class Laboratory {
   Measure measure(const StageConfig& sc) const;
   std::vector<double> row(const StageConfig& sc, const Measure& m, const Diagnostics& d);
   bool isotropic_done(const StageConfig& sc, const Diagnostics& d) const;
+  bool shear_end(const StageConfig& sc, const Measure& m) const;
+  bool cyclic_turn(const StageConfig& sc, const Measure& m);
+  Real cycle_number(const StageConfig& sc, const Measure& m) const;
   void assert_healthy();
   void place_lateral_walls();
   void ramp_pressure(const StageConfig& sc, long stage_step);
@@ -506,7 +516,7 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
   m.eps_a = lab_.H0 > 0 ? (lab_.H0 - H) / lab_.H0 : 0;  // SPEC §6.3: strains from wall displacements
   m.eps_v = lab_.V0 > 0 ? (lab_.V0 - m.V) / lab_.V0 : 0;
   m.u = 0;
-  if (sc.type == StageType::Triaxial && sc.drainage == Drainage::Undrained)
+  if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
     m.u = (lab_.p0 + m.q / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + q/3
   return m;
 }
@@ -569,9 +579,12 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           D.sliding_weak_frac,
           e.params().contact.mu,
           e.params().contact.mu_r,
-          // 0 isotropic, 1 triaxial undrained, 2 triaxial drained
-          sc.type == StageType::Isotropic ? 0.0 : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0),
-          std::max(Real(0), e.deepest_overlap().ratio)};
+          // 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained
+          sc.type == StageType::Isotropic
+              ? 0.0
+              : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0) + (sc.type == StageType::Cyclic ? 2.0 : 0.0),
+          std::max(Real(0), e.deepest_overlap().ratio),
+          sc.type == StageType::Cyclic ? (lab_.cycle = std::max(lab_.cycle, cycle_number(sc, m))) : 0.0};
 }
 
 bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) const {
@@ -579,6 +592,48 @@ bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) con
   for (int k = 0; k < 6; ++k)
     if (std::abs(eng_->wall_stress(k) - sc.pressure) > sc.pressure_tolerance * sc.pressure) return false;
   return d.contacts > 0 && d.unbalanced_ratio < sc.ufr_tolerance && d.kinetic_skeleton < sc.ke_tolerance * d.potential;
+}
+
+// A shear stage's end, judged at the start of a step (from wall positions and the wall loads the servo used):
+// triaxial, eps_a reached; cyclic, |eps_a| at max_axial_strain (the sample liquefied or failed), or the cycles
+// done: after the last extension peak, back at the level the stage started from (q or eps_a = 0).
+bool Laboratory::shear_end(const StageConfig& sc, const Measure& m) const {
+  if (sc.type == StageType::Triaxial) return m.eps_a >= sc.max_axial_strain;
+  if (sc.type != StageType::Cyclic) return false;
+  if (std::abs(m.eps_a) >= sc.max_axial_strain) return true;
+  const Real level = sc.q_amplitude > 0 ? m.q : m.eps_a;
+  return lab_.half_cycles >= 2 * sc.cycles && eng_->wall_control(4).velocity > 0 && level >= 0;
+}
+
+// Cyclic stages, at the start of a step: at a peak (q or eps_a at +A while compressing, at -A while extending) the
+// axial walls reverse. The direction is the axial walls' velocity itself (inward positive: compression), which a
+// checkpoint holds, and the decision reads only state a checkpoint restores (wall positions, the wall loads of the
+// previous step): a resumed run turns on the same steps. The hysteresis of +-A keeps a noisy q from turning twice.
+bool Laboratory::cyclic_turn(const StageConfig& sc, const Measure& m) {
+  WallControl& lo = eng_->wall_control(4);
+  WallControl& hi = eng_->wall_control(5);
+  const bool stress = sc.q_amplitude > 0;
+  const Real level = stress ? m.q : m.eps_a, A = stress ? sc.q_amplitude : sc.strain_amplitude;
+  if (lo.velocity > 0 ? level < A : level > -A) return false;
+  lo.velocity = -lo.velocity;
+  hi.velocity = -hi.velocity;
+  ++lab_.half_cycles;
+  return true;
+}
+
+// The cycle number N of a cyclic stage, continuous: a cycle is 0 -> +A -> -A -> 0 of the controlled level x (q or
+// eps_a), so its k-th peak lies at N = (2k - 1) / 4, and between peaks N follows x linearly (clamped to the segment:
+// a q that overshoots a peak, or cannot reach the next once the sample has liquefied, does not move N past it). The
+// stage ends at N = cycles exactly: after 2 cycles peaks, x back at 0. The series column is the largest N so far
+// (Lab::cycle), so that a noisy q, or one that falls back as the sample liquefies, does not count cycles backwards.
+Real Laboratory::cycle_number(const StageConfig& sc, const Measure& m) const {
+  const bool stress = sc.q_amplitude > 0;
+  const Real x = stress ? m.q : m.eps_a, A = stress ? sc.q_amplitude : sc.strain_amplitude;
+  const long k = lab_.half_cycles;
+  if (k == 0) return 0.25 * std::clamp<Real>(x / A, 0, 1);
+  const Real toward = k % 2 == 1 ? -x : x;  // the distance from the last peak grows with this
+  const Real n = 0.25 * Real(2 * k - 1) + 0.5 * std::clamp<Real>((toward + A) / (2 * A), 0, 1);
+  return std::min(n, Real(sc.cycles));  // the last quarter ends at x = 0 (the stage's end row may be a bit past)
 }
 
 void Laboratory::start_stage(const StageConfig& sc) {
@@ -598,6 +653,8 @@ void Laboratory::start_stage(const StageConfig& sc) {
   lab_.trial_mu.clear();
   lab_.trial_e.clear();
   lab_.searching = sc.type == StageType::Isotropic && sc.target_e0 > 0;
+  lab_.half_cycles = 0;
+  lab_.cycle = 0;
   for (int k = 0; k < 6; ++k) {
     WallControl& c = e.wall_control(k);
     c = WallControl{};
@@ -772,12 +829,14 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const bool report = (e.step_count() % cfg_.output_every) == 0;
     const bool last_step = lab_.stage_step + 1 == sc.max_steps;
     const bool check = ((lab_.stage_step + 1) % sc.check_every) == 0 || last_step;
-    const bool triaxial = sc.type == StageType::Triaxial;
-    const Real eps_a = triaxial ? measure(sc).eps_a : 0;
-    const bool snap = triaxial && cfg_.snapshot_strain > 0 && eps_a >= lab_.next_snap_eps;
+    const bool shear = sc.type != StageType::Isotropic, cyclic = sc.type == StageType::Cyclic;
+    const Measure m0 = shear ? measure(sc) : Measure{};
     // The end strain is caught on the first step that reaches it (it used to wait for the next check,
     // report or snapshot step: up to check_every - 1 steps past max_axial_strain).
-    const bool strain_end = triaxial && eps_a >= sc.max_axial_strain;
+    const bool strain_end = shear_end(sc, m0);
+    const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
+    // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
+    const bool snap = shear && cfg_.snapshot_strain > 0 && (cyclic ? turn : m0.eps_a >= lab_.next_snap_eps);
     if (!(report || check || snap || strain_end)) {
       // An ordinary step measures nothing between its halves, so it takes the fused step(): bitwise
       // evaluate() + advance() (test Determinism.FusedWallLoadsEqualSeparatePass), one pass fewer over
@@ -802,6 +861,8 @@ bool Laboratory::run_stage(const StageConfig& sc) {
           line << " | eps_a = " << m.eps_a;
           const double steps_left = (sc.max_axial_strain - m.eps_a) / std::max(1e-30, sc.axial_strain_rate * e.dt());
           line << " | ETA " << std::setprecision(3) << steps_left / std::max(rate, 1e-9) << " s";
+        } else if (cyclic) {
+          line << " | eps_a = " << m.eps_a << " | cycle " << lab_.cycle << " of " << sc.cycles;
         } else {
           line << " | ufr = " << d.unbalanced_ratio;
         }
@@ -814,13 +875,13 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       }
       if (check) {
         assert_healthy();
-        done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : m.eps_a >= sc.max_axial_strain;
+        done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : strain_end;
       }
       if (snap) {
-        snapshot(sc.name + "_eps" + std::to_string(lab_.snapshots));
-        while (lab_.next_snap_eps <= m.eps_a) lab_.next_snap_eps += cfg_.snapshot_strain;
+        snapshot(sc.name + (cyclic ? "_peak" + std::to_string(lab_.half_cycles) : "_eps" + std::to_string(lab_.snapshots)));
+        while (!cyclic && lab_.next_snap_eps <= m.eps_a) lab_.next_snap_eps += cfg_.snapshot_strain;
       }
-      if (triaxial && m.eps_a >= sc.max_axial_strain) done = true;
+      if (strain_end) done = true;
       if (done || last_step) {
         // The stage's final row and snapshot, at the very instant its end criteria were evaluated.
         if (!report) {
@@ -834,7 +895,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       e.advance();  // a step always completes: the history increments of evaluate() are already applied
     }
     ++total_steps_;
-    if (sc.type == StageType::Triaxial && sc.drainage == Drainage::Undrained) place_lateral_walls();
+    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained) place_lateral_walls();
     if (done) break;
     const bool ckpt_steps = cfg_.checkpoint_every > 0 && e.step_count() % cfg_.checkpoint_every == 0;
     const bool ckpt_time =
@@ -855,9 +916,14 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   res.e = m.e;
   lab_.results.push_back(res);
   if (sc.type == StageType::Isotropic && sc.save_sample) save_sample(sc);
-  if (!opt_.quiet)
+  if (!opt_.quiet) {
     std::printf("stage %s: %s after %ld steps, mu = %.4g, p = %.4g kPa, q = %.4g kPa, e = %.4f\n", sc.name.c_str(),
                 done ? "done" : "NOT converged (max_steps reached)", lab_.stage_step, lab_.mu, m.p / 1e3, m.q / 1e3, m.e);
+    if (sc.type == StageType::Cyclic)
+      std::printf("stage %s: cycle %.4g of %ld%s, eps_a = %.4g, p'/p'_0 = %.4g\n", sc.name.c_str(), lab_.cycle, sc.cycles,
+                  std::abs(m.eps_a) >= sc.max_axial_strain ? " (stopped at |eps_a| = max_axial_strain)" : "", m.eps_a,
+                  m.p / lab_.p0);
+  }
   return true;
 }
 
@@ -1060,7 +1126,7 @@ bool Laboratory::load_newest_checkpoint() {
           std::string m = path;
           m += ": written by a different config (" + why;
           m += " differs); resume with the config that started the run (run.h5 attribute 'config'), or one that only "
-               "appends stages or moves the end (max_axial_strain, max_steps) of the stage it stopped in";
+               "appends stages or moves the end (max_axial_strain, max_steps, cycles) of the stage it stopped in";
           throw std::runtime_error(m);
         }
         extends = true;
@@ -1070,9 +1136,19 @@ bool Laboratory::load_newest_checkpoint() {
       lab.set_scalars(r.doubles("/lab/scalars"));
       lab.trial_mu = r.doubles("/lab/trial_mu");
       lab.trial_e = r.doubles("/lab/trial_e");
-      const auto flat = r.doubles("/lab/series");
+      auto flat = r.doubles("/lab/series");
       lab.series.stage = r.ints("/lab/series_stage");
       const size_t nc = series_columns().size();
+      // A checkpoint from before the `cycle` column (the last) has one column fewer: the rows get its 0.
+      const size_t rows = lab.series.stage.size(), nc_old = nc - 1;
+      if (flat.size() == rows * nc_old && rows > 0) {
+        std::vector<double> padded;
+        for (size_t k = 0; k < rows; ++k) {
+          padded.insert(padded.end(), flat.begin() + long(k * nc_old), flat.begin() + long((k + 1) * nc_old));
+          padded.push_back(0);
+        }
+        flat = padded;
+      }
       if (flat.size() != lab.series.stage.size() * nc)
         throw H5Error(path + ": series has " + std::to_string(flat.size()) + " values for " +
                       std::to_string(lab.series.stage.size()) + " rows, this build writes " + std::to_string(nc) +
@@ -1110,8 +1186,10 @@ bool Laboratory::load_newest_checkpoint() {
       if (extends && lab_.stage == int(YAML::Load(then)["stages"].size()) && !lab_.results.empty()) {
         // The run had finished: reopen its last stage if the moved end lies beyond where it stopped.
         const StageConfig& sc = cfg_.stages[lab_.stage - 1];
+        const Measure m = measure(sc);
         const bool more = lab_.stage_step < sc.max_steps &&
-                          (sc.type == StageType::Triaxial ? measure(sc).eps_a < sc.max_axial_strain
+                          (sc.type == StageType::Triaxial ? m.eps_a < sc.max_axial_strain
+                           : sc.type == StageType::Cyclic ? !shear_end(sc, m)
                                                           : !lab_.results.back().converged);
         if (more) {
           --lab_.stage;
@@ -1270,20 +1348,43 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
       p_prev = sc.pressure;
       plan.steps.push_back(double(sc.max_steps) * (sc.target_e0 > 0 ? sc.max_trials : 1));
     } else {
-      // The axial walls approach at 1/2 rate H0 each, so eps_a = rate t: the end strain is a number of steps.
-      // The stage ends on the step whose start finds eps_a >= max_axial_strain, one after the strain is reached.
-      const double need = std::ceil(sc.max_axial_strain / (sc.axial_strain_rate * plan.dt)) + 1;
-      os << "triaxial " << (sc.drainage == Drainage::Undrained ? "undrained" : "drained") << " to eps_a = "
-         << sc.max_axial_strain << " at " << sc.axial_strain_rate << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r
-         << ": " << std::setprecision(6) << need << " steps";
-      plan.steps.push_back(std::min(need, double(sc.max_steps)));
-      if (need > double(sc.max_steps)) {
-        std::ostringstream w;
-        w << std::setprecision(4) << "eps_a = " << sc.max_axial_strain << " takes " << need
-          << " steps, but max_steps = " << sc.max_steps << ": the stage would stop at eps_a = "
-          << double(sc.max_steps) * sc.axial_strain_rate * plan.dt
-          << "; raise max_steps (or axial_strain_rate)";
-        warn(w.str());
+      const char* drainage = sc.drainage == Drainage::Undrained ? "undrained" : "drained";
+      const double strain_step = sc.axial_strain_rate * plan.dt;  // eps_a per step: the axial walls move at 1/2 rate H0
+      if (sc.type == StageType::Triaxial) {
+        // The stage ends on the step whose start finds eps_a >= max_axial_strain, one after the strain is reached.
+        const double need = std::ceil(sc.max_axial_strain / strain_step) + 1;
+        os << "triaxial " << drainage << " to eps_a = " << sc.max_axial_strain << " at " << sc.axial_strain_rate
+           << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6) << need << " steps";
+        plan.steps.push_back(std::min(need, double(sc.max_steps)));
+        if (need > double(sc.max_steps)) {
+          std::ostringstream w;
+          w << std::setprecision(4) << "eps_a = " << sc.max_axial_strain << " takes " << need
+            << " steps, but max_steps = " << sc.max_steps << ": the stage would stop at eps_a = "
+            << double(sc.max_steps) * strain_step << "; raise max_steps (or axial_strain_rate)";
+          warn(w.str());
+        }
+      } else if (sc.q_amplitude > 0) {
+        // Stress reversal: how far each half cycle strains depends on the sample (more as p' falls).
+        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of q = +-" << sc.q_amplitude / 1e3 << " kPa at "
+           << sc.axial_strain_rate << "/s, or until |eps_a| = " << sc.max_axial_strain << ", mu = " << sc.mu
+           << ", mu_r = " << sc.mu_r << ": at most " << sc.max_steps << " steps";
+        plan.steps.push_back(double(sc.max_steps));
+      } else {
+        // Strain reversal: eps_a reaches A after n = ceil(A / strain step) steps and turns at the start of the next,
+        // so each peak lies n steps from 0 (overshooting A by under a step's strain) and a cycle takes 4 n steps; the
+        // stage ends on the step that finds eps_a back at 0, one after it.
+        const double need = 4 * double(sc.cycles) * std::ceil(sc.strain_amplitude / strain_step) + 1;
+        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of eps_a = +-" << sc.strain_amplitude << " at "
+           << sc.axial_strain_rate << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6)
+           << need << " steps";
+        plan.steps.push_back(std::min(need, double(sc.max_steps)));
+        if (need > double(sc.max_steps)) {
+          std::ostringstream w;
+          w << std::setprecision(4) << sc.cycles << " cycles of eps_a = +-" << sc.strain_amplitude << " take " << need
+            << " steps, but max_steps = " << sc.max_steps << ": the stage would stop after ~"
+            << double(sc.max_steps) * strain_step / (4 * sc.strain_amplitude) << " cycles; raise max_steps";
+          warn(w.str());
+        }
       }
       if (p_prev > 0) {
         // Advice, not a warning: a fast shear is a choice (the tests' miniatures make it); the series

@@ -146,6 +146,11 @@ Study load_study_unchecked(const std::string& path) {
   bool has_iso = false, has_tri = false;
   std::string base_drainage;  // the base's first shear's, the default of the drainage axis and of extra jobs
   for (auto& st : base_cfg.stages) {
+    // The report (peaks, critical states and their lines) reads monotonic shears; a cyclic test's outcome, the
+    // cycles to liquefaction at each amplitude, is another table, not built yet.
+    if (st.type == StageType::Cyclic)
+      fail(path, "base", s.base + ": stage '" + st.name + "' is cyclic; a study sweeps monotonic triaxial shears (run "
+                         "cyclic tests with grainlab run, one config each)");
     (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
     if (st.type != StageType::Isotropic && base_drainage.empty())
       base_drainage = st.drainage == Drainage::Drained ? "drained" : "undrained";

@@ -118,6 +118,18 @@ TEST(Config, RejectsBadInputClearly) {
       {"dtfactor", std::string("numerics: {dt_factor: 1.5}\n") + kMinimal, "numerics.dt_factor"},
       {"inner1", std::string("numerics: {inner_skin: 1}\n") + kMinimal, "numerics.inner_skin = 1 is outside the allowed range [0, 1)"},
       {"inner-", std::string("numerics: {inner_skin: -0.1}\n") + kMinimal, "numerics.inner_skin"},
+      // cyclic stages: exactly one amplitude, a strain amplitude below the end strain, whole cycles; their keys
+      // mean nothing to a monotonic stage
+      {"cyc_none", "stages:\n  - {type: cyclic, cycles: 3}\n",
+       "stages[0].q_amplitude: a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal) or "
+       "strain_amplitude (> 0: strain reversal); this one gives neither"},
+      {"cyc_both", "stages:\n  - {type: cyclic, q_amplitude: 3e4, strain_amplitude: 0.01}\n", "this one gives both"},
+      {"cyc_amp", "stages:\n  - {type: cyclic, strain_amplitude: 0.05, max_axial_strain: 0.05}\n",
+       "stages[0].strain_amplitude = 0.05 must be below max_axial_strain = 0.05"},
+      {"cyc_n", "stages:\n  - {type: cyclic, q_amplitude: 3e4, cycles: 0}\n",
+       "stages[0].cycles = 0 is outside the allowed range [1, 1e+06]"},
+      {"cyc_frac", "stages:\n  - {type: cyclic, q_amplitude: 3e4, cycles: 1.5}\n", "stages[0].cycles = 1.5 must be an integer"},
+      {"cyc_tri", "stages:\n  - {type: triaxial, cycles: 2}\n", "stages[0].cycles: unknown key"},
   };
   for (const Case& c : cases) {
     const std::string e = error_of(write_tmp(c.name, c.text));
@@ -162,6 +174,24 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
     EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
     EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
   }
+}
+
+// A study's report reads monotonic shears (peaks, critical states): a cyclic stage in its base is refused at load,
+// naming the stage, not run into a report that would misread it.
+TEST(Config, StudyRefusesACyclicBase) {
+  const std::string base = write_tmp("study_cyclic_base",
+                                     "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic}\n"
+                                     "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 5}\n");
+  const std::string p = write_tmp("study_cyclic", "base: " + base + "\n");
+  std::string e;
+  try {
+    load_study(p);
+  } catch (const ConfigError& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find(p + ": base: " + base + ": stage 'shake' is cyclic; a study sweeps monotonic triaxial shears"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Config, StudySeedZeroIsASeed) {

@@ -367,26 +367,50 @@ std::string in_older_words(const std::string& text, const std::string& sample_re
   return std::string(e.c_str()) + "\n";
 }
 
-// Replaces the checkpoint's /lab/config dataset (a 1-D char array, as H5Writer::write_string writes it).
-void rewrite_config(const std::string& ckpt, const std::string& text) {
+// Replaces a checkpoint's 1-D dataset (as H5Writer writes strings and double vectors) by `n` values of `type`.
+void rewrite_dataset(const std::string& ckpt, const char* name, hid_t type, const void* data, hsize_t n) {
   const hid_t f = H5Fopen(ckpt.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(f, 0);
-  ASSERT_GE(H5Ldelete(f, "/lab/config", H5P_DEFAULT), 0);
-  const hsize_t n = text.size();
+  ASSERT_GE(H5Ldelete(f, name, H5P_DEFAULT), 0);
   const hid_t space = H5Screate_simple(1, &n, nullptr);
-  const hid_t set = H5Dcreate2(f, "/lab/config", H5T_NATIVE_CHAR, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t set = H5Dcreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   ASSERT_GE(set, 0);
-  EXPECT_GE(H5Dwrite(set, H5T_NATIVE_CHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()), 0);
+  EXPECT_GE(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), 0);
   H5Dclose(set);
   H5Sclose(space);
   H5Fclose(f);
+}
+void rewrite_config(const std::string& ckpt, const std::string& text) {
+  rewrite_dataset(ckpt, "/lab/config", H5T_NATIVE_CHAR, text.data(), text.size());
+}
+// Before cyclic stages a checkpoint held 13 lab scalars (no reversal count, no cycle number) and series rows
+// without the last column, `cycle`.
+void as_before_cyclic_stages(const std::string& ckpt) {
+  std::vector<double> scalars, series;
+  size_t rows = 0;
+  {
+    const H5Reader r(ckpt);  // closed before the file is opened for writing
+    scalars = r.doubles("/lab/scalars");
+    series = r.doubles("/lab/series");
+    rows = r.ints("/lab/series_stage").size();
+  }
+  const size_t nc = series_columns().size();
+  ASSERT_EQ(scalars.size(), 15u);
+  ASSERT_EQ(series_columns().back().first, "cycle");
+  ASSERT_EQ(series.size(), rows * nc);
+  scalars.resize(13);
+  std::vector<double> older;
+  for (size_t k = 0; k < rows; ++k) older.insert(older.end(), series.begin() + long(k * nc), series.begin() + long(k * nc + nc - 1));
+  rewrite_dataset(ckpt, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
+  rewrite_dataset(ckpt, "/lab/series", H5T_NATIVE_DOUBLE, older.data(), older.size());
 }
 
 }  // namespace
 
 // A run that an older grainlab started resumes: its checkpoint names the same config in other words (17-digit
-// numbers, a relative sample path), and the resumed run ends with the uninterrupted run's series, to the bit.
-// Checked to fail when load_newest_checkpoint compares the stored text as it is.
+// numbers, a relative sample path) and holds the lab state without what cyclic stages added (two scalars, the
+// series' cycle column), and the resumed run ends with the uninterrupted run's series, to the bit. Checked to fail
+// when load_newest_checkpoint compares the stored text as it is.
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
   const std::string sample = ref.out + "/sample_consolidate.h5";
@@ -397,12 +421,18 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   ASSERT_FALSE(run(cfg, direct).interrupted);
   ASSERT_TRUE(run(cfg, out, 700).interrupted);
   const std::string ckpt = newest_checkpoint(out);
+  // Only the rewritten checkpoint: an unreadable one would otherwise be skipped for the step-0 one, and the
+  // rerun from there would hide it.
+  for (auto& f : fs::directory_iterator(out + "/checkpoints"))
+    if (f.path() != ckpt) fs::remove(f.path());
   const std::string now = H5Reader(ckpt).string("/lab/config");
   const std::string older = in_older_words(now, fs::relative(sample, fs::current_path()).string());
   ASSERT_NE(older.find("mu_r: 0.29999999999999999"), std::string::npos) << older;
   ASSERT_NE(older, now);
   rewrite_config(ckpt, older);
   ASSERT_EQ(H5Reader(ckpt).string("/lab/config"), older);
+  as_before_cyclic_stages(ckpt);
+  ASSERT_EQ(H5Reader(ckpt).doubles("/lab/scalars").size(), 13u);
   ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
   EXPECT_EQ(slurp(out + "/series.csv"), slurp(direct + "/series.csv"));
 }
@@ -534,4 +564,92 @@ TEST(Lab, AllCheckpointsCorruptIsAClearError) {
   }
   EXPECT_NE(e.find("no readable checkpoint"), std::string::npos) << e;
   EXPECT_EQ(slurp(out + "/series.csv"), series);
+}
+
+// Cyclic triaxial loading (StageType::Cyclic). Strain reversal on the reference sample, undrained: the axial walls
+// turn at the start of the step that finds |eps_a| >= A, so each peak's eps_a (the snapshot taken there) lies in
+// [A, A + one step's strain); the cycles end on the step that finds eps_a back at 0; the box volume stays V0 to
+// round-off through the reversals; the stage takes exactly the steps the plan counts (4 cycles ceil(A / strain step)
+// + 1), and the cycle column rises to exactly `cycles` without ever falling.
+TEST(Lab, CyclicStrainReversalFollowsThePrescribedPath) {
+  const Reference& ref = reference();
+  const std::string cfg = write_config("cyclic_strain", "sample: {file: " + ref.out + "/sample_consolidate.h5}\n"
+                                       "material: {mu_r: 0.2}\nstages:\n"
+                                       "  - {name: cyc, type: cyclic, drainage: undrained, strain_amplitude: 0.001, "
+                                       "cycles: 2, axial_strain_rate: 1.0, damping: 0.2}\n"
+                                       "output: {every: 50, checkpoint_every: 0, checkpoint_minutes: 0}\n");
+  const std::string out = tmpdir("cyclic_strain");
+  const RunResult r = run(cfg, out);
+  ASSERT_EQ(r.stages.size(), 1u);
+  EXPECT_TRUE(r.stages[0].converged);
+  const RunPlan plan = plan_run(load_run_config(cfg));
+  H5Reader h(out + "/run.h5");
+  const double dt = h.doubles("/series/dt").back(), step = 1.0 * dt, A = 0.001;
+  EXPECT_EQ(long(plan.steps[0]), r.stages[0].steps);
+  EXPECT_EQ(long(plan.steps[0]), 4 * 2 * long(std::ceil(A / step)) + 1);
+  const std::vector<double> peaks = h.doubles("/snapshots/eps_a");
+  ASSERT_EQ(peaks.size(), 5u) << "4 peaks and the end";
+  // Strain is accumulated wall motion: a few ulps of A, far below a step's strain (~1e-5 here).
+  const double ulps = 1e-12;
+  for (int k = 0; k < 4; ++k) {
+    const double sign = k % 2 == 0 ? 1 : -1;
+    EXPECT_GE(sign * peaks[k], A - ulps) << "peak " << k;
+    EXPECT_LT(sign * peaks[k], A + step) << "peak " << k;
+  }
+  EXPECT_GE(peaks[4], -ulps);
+  EXPECT_LT(peaks[4], step);
+  const std::vector<double> ev = h.doubles("/series/eps_v"), n = h.doubles("/series/cycle"),
+                            st = h.doubles("/series/stage_type");
+  for (double v : ev) EXPECT_LT(std::abs(v), 1e-12);
+  for (size_t k = 1; k < n.size(); ++k) EXPECT_GE(n[k], n[k - 1]) << "row " << k;
+  EXPECT_EQ(n.back(), 2.0);
+  EXPECT_EQ(st.back(), 3.0);  // cyclic undrained
+}
+
+// Stress reversal at q = +-0.2 p'_0, undrained, 2 cycles: interrupted twice and resumed gives the uninterrupted
+// series byte for byte (the turn reads only what a checkpoint restores: wall positions, the previous step's wall
+// loads, the axial walls' velocity as the direction); a finished 1-cycle run extended by --resume to 2 cycles
+// ends in the uninterrupted run's state to the bit. Cyclic loading of this sample builds pore pressure: p' ends
+// below p'_0 (the ratchet that liquefies loose sand).
+TEST(Lab, CyclicStressReversalResumesAndExtendsBitwise) {
+  const Reference& ref = reference();
+  const std::string head = "sample: {file: " + ref.out + "/sample_consolidate.h5}\nmaterial: {mu_r: 0.2}\nstages:\n"
+                           "  - {name: cyc, type: cyclic, drainage: undrained, q_amplitude: 38000, ";
+  const std::string tail = "axial_strain_rate: 1.0, damping: 0.2}\n"
+                           "output: {every: 100, checkpoint_every: 0, checkpoint_minutes: 0}\n";
+  const std::string c2 = write_config("cyclic_q2", head + "cycles: 2, " + tail),
+                    c1 = write_config("cyclic_q1", head + "cycles: 1, " + tail);
+  const std::string direct = tmpdir("cyclic_direct"), stopped = tmpdir("cyclic_stopped"), ext = tmpdir("cyclic_ext");
+  const RunResult whole = run(c2, direct);
+  ASSERT_EQ(whole.stages.size(), 1u);
+  ASSERT_TRUE(whole.stages[0].converged);
+  const long total = whole.stages[0].steps;
+  ASSERT_GT(total, 1000);
+  H5Reader h(direct + "/run.h5");
+  EXPECT_EQ(h.doubles("/series/cycle").back(), 2.0);
+  EXPECT_EQ(h.doubles("/snapshots/eps_a").size(), 5u) << "4 peaks and the end";
+  const std::vector<double> p = h.doubles("/series/p"), u = h.doubles("/series/u");
+  std::printf("  2 cycles of q = +-38 kPa: %ld steps, p' %.4g -> %.4g kPa, u = %.4g kPa\n", total, p.front() / 1e3,
+              p.back() / 1e3, u.back() / 1e3);
+  EXPECT_LT(p.back(), p.front());
+  ASSERT_TRUE(run(c2, stopped, total / 3).interrupted);
+  ASSERT_TRUE(run(c2, stopped, total / 3, true).interrupted);
+  ASSERT_FALSE(run(c2, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(direct + "/series.csv"));
+  const RunResult one = run(c1, ext);
+  ASSERT_TRUE(one.stages[0].converged);
+  EXPECT_LT(one.stages[0].steps, total);
+  const RunResult r = run(c2, ext, -1, true);
+  ASSERT_FALSE(r.interrupted);
+  EXPECT_EQ(r.stages.back().steps, total);
+  for (const std::string& out : {stopped, ext}) {
+    SCOPED_TRACE(out);
+    H5Reader a(newest_checkpoint(direct)), b(newest_checkpoint(out));
+    for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
+      const auto va = a.vec3(d), vb = b.vec3(d);
+      ASSERT_EQ(va.size(), vb.size()) << d;
+      EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
+    }
+    EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
+  }
 }
