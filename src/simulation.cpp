@@ -166,8 +166,8 @@ struct Lab {
     snapshots = int(s[10]);
     next_snap_eps = s[11];
     searching = s[12] != 0;
-    half_cycles = s.size() > 13 ? long(s[13]) : 0;
-    cycle = s.size() > 13 ? s[14] : 0;
+    half_cycles = s.size() > 14 ? long(s[13]) : 0;
+    cycle = s.size() > 14 ? s[14] : 0;
   }
 };
 
@@ -528,7 +528,11 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
   // Inertial number I = eps_dot d_mean sqrt(rho / p') with the measured axial strain rate and the
   // (scaled) density the dynamics actually uses (SPEC §6.3 quasi-static check).
   const Real dt_rows = e.time() - lab_.last_time;
-  const Real rate = dt_rows > 0 ? std::abs(m.eps_a - lab_.last_eps) / dt_rows : 0;
+  // A cyclic stage's axial walls turn between rows, where a difference of eps_a would understate the rate they
+  // move at: the prescribed rate is the one.
+  const Real rate = sc.type == StageType::Cyclic ? sc.axial_strain_rate
+                    : dt_rows > 0                ? std::abs(m.eps_a - lab_.last_eps) / dt_rows
+                                                 : 0;
   lab_.last_eps = m.eps_a;
   lab_.last_time = e.time();
   const Real I = m.p > 0 ? rate * d_mean_ * std::sqrt(density_ * scaling_ / m.p) : 0;

@@ -16,7 +16,8 @@ hostile = ["-1", "0", "1e308", "-1e308", ".nan", ".inf", "-.inf", "NaN", "abc", 
            "9.3e18", "2e9", "-2e9", "1e-300", "4.9e-324", "\t", "\\x00", "\u202e", "a: b: c"]
 keys = ["count", "D", "r_min", "r_max", "seed", "mu", "mu_r", "E", "dt", "dt_factor", "skin", "inner_skin", "type", "stages",
         "pressure", "target_e0", "drainage", "file", "dir", "every", "sample", "material", "numerics", "output",
-        "ключ", "😀", "", "max_steps", "max_axial_strain", "axial_strain_rate", "keep_checkpoints"]
+        "ключ", "😀", "", "max_steps", "max_axial_strain", "axial_strain_rate", "keep_checkpoints",
+        "cycles", "q_amplitude", "strain_amplitude"]
 
 
 def mutate(text):
