@@ -314,9 +314,11 @@ def study(out):
         a.grid(alpha=0.3)
     legend(ax[0], fontsize=6)
     save(fig, figs, "stress_paths")
-    # Peaks and critical states.
+    # Peaks and critical states: the monotonic shears; cyclic ones have their own section.
+    mono = [r for r in runs if r[2]["monotonic"].any()]
+    cyc = [r for r in runs if r[2]["cyclic"].any()]
     peak_rows, cs_rows, share_rows = [], [], []
-    for j, d, s in runs:
+    for j, d, s in mono:
         m = s["shear"]
         k = int(np.argmax(s["q"][m]))
         peak_rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {s['q'][m][k] / 1e3:.1f} | "
@@ -331,7 +333,8 @@ def study(out):
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | no: {c['why']} | | | | | |")
-    results, csl_text, states = csl([(d, s) for _, d, s in runs], figs, cs_cfg["window"], tol, quiet=True)
+    results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
+    cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     # Shares at critical state, per mu_r (mean over its critical states).
     if states:
         fig, ax = plt.subplots(figsize=(7, 4))
@@ -346,9 +349,17 @@ def study(out):
         ax.set(xlabel="mu_r", ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)", title="stress-force-fabric shares at critical state")
         legend(ax, fontsize=8)
         save(fig, figs, "sff_shares")
-    lines = [f"# Study report: {idx['study']}", "",
-             f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
-             "", "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`.", "",
+    head = [f"# Study report: {idx['study']}", "",
+            f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
+            ""]
+    if cyc and not mono:  # a cyclic study: peaks and critical states are those of monotonic shears
+        write_text_atomically(os.path.join(out, "report.md"),
+                              "\n".join(head + ["Figures: `figures/stress_paths.png`, `figures/liquefaction.png`.", ""]
+                                         + cyc_lines))
+        print(os.path.join(out, "report.md"))
+        return
+    lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
+             + (", `figures/liquefaction.png`" if cyc else "") + ".", "",
              "## Peak states", "", "| test | mu_r | drainage | q_peak [kPa] | eps_a at peak [%] | q/p' at peak |",
              "|---|---|---|---|---|---|", *peak_rows, "",
              "## Critical states", "",
@@ -357,9 +368,44 @@ def study(out):
              "| test | mu_r | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | a_c |", "|---|---|---|---|---|---|---|---|",
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
-             "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, ""]
+             "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
+             *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
+
+
+def cyclic_section(cyc, figs, colors):
+    """Cyclic tests of a study: the cycle number N each reached and how it ended (liquefied: |eps_a| at the stage's
+    max_axial_strain before its cycles were done), and the liquefaction-resistance curve CSR - N per mu_r
+    (figures/liquefaction.png; filled: liquefied at N, hollow: still standing after its cycles)."""
+    rows = []
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for j, d, s in sorted(cyc, key=lambda r: (r[0]["mu_r"], r[0]["csr"])):
+        m = s["cyclic"]
+        n_end, p = s["cycle"][m][-1], s["p"][m]
+        liquefied = n_end < j["cycles"]
+        ru = f"{np.max(s['u'][m]) / p[0]:.3f}" if j["drainage"] == "undrained" else "–"
+        outcome = (f"liquefied: \\|eps_a\\| = {100 * abs(s['eps_a'][m][-1]):.2f} % at N = {n_end:.3g}" if liquefied
+                   else f"{j['cycles']} cycles, not liquefied")
+        csr = j["csr"] if j["csr"] > 0 else float("nan")
+        rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {csr:g} | {n_end:.3g} | {outcome} | "
+                    f"{np.min(p) / p[0]:.3f} | {ru} |")
+        if j["csr"] > 0:
+            ax.plot([max(n_end, 1e-2)], [csr], "o" if liquefied else ">", color=colors[j["mu_r"]],
+                    markerfacecolor=colors[j["mu_r"]] if liquefied else "none", label=f"mu_r = {j['mu_r']:g}")
+    handles, labels = ax.get_legend_handles_labels()
+    uniq = dict(zip(labels, handles))
+    if uniq:
+        ax.legend(uniq.values(), uniq.keys(), fontsize=8)
+    ax.set(xscale="log", xlabel="cycle N (at liquefaction; hollow: still standing)", ylabel="CSR = q_amp / (2 p'_0)",
+           title="liquefaction resistance")
+    ax.grid(alpha=0.3, which="both")
+    save(fig, figs, "liquefaction")
+    return ["## Cyclic tests", "",
+            "Liquefied: |eps_a| reached the stage's max_axial_strain before its cycles were done; N is the cycle "
+            "number then (continuous: the k-th load reversal at N = (2k - 1)/4).", "",
+            "| test | mu_r | drainage | CSR | N | outcome | min p'/p'_0 | max r_u = u/p'_0 |", "|---|---|---|---|---|---|---|---|",
+            *rows, ""]
 
 
 def main():

@@ -81,6 +81,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     } else {
       if (!shear_only) continue;
       s["drainage"] = j.drainage;
+      if (type == "cyclic" && j.q_amplitude > 0) s["q_amplitude"] = yaml_number(j.q_amplitude);
     }
     stages.push_back(s);
   }
@@ -115,6 +116,9 @@ void check_axis_values(const std::vector<double>& v, const std::string& path, co
   if (ends_with("p0"))
     for (double x : v)
       if (!(x > 0)) fail(path, key, "values must be > 0 (Pa); leave p0 out for the base's pressure");
+  if (ends_with("csr"))
+    for (double x : v)
+      if (!(x > 0)) fail(path, key, "values must be > 0 (q_amplitude / (2 p'_0)); leave csr out for the base's q_amplitude");
   const bool is_seed = ends_with("seed"), is_count = ends_with("count");
   if (!is_seed && !is_count) return;
   for (double x : v) {
@@ -145,17 +149,22 @@ Study load_study_unchecked(const std::string& path) {
   }
   bool has_iso = false, has_tri = false;
   std::string base_drainage;  // the base's first shear's, the default of the drainage axis and of extra jobs
+  // A cyclic stage's stress amplitude is what the csr axis sets, from the p'_0 of each job (the pressure of the
+  // base's last isotropic stage, or the p0 axis): CSR = q_amplitude / (2 p'_0), the cyclic liquefaction test's measure.
+  bool has_q_cyclic = false;
+  long base_cycles = 0;
+  Real base_p0 = 0;
   for (auto& st : base_cfg.stages) {
-    // The report (peaks, critical states and their lines) reads monotonic shears; a cyclic test's outcome, the
-    // cycles to liquefaction at each amplitude, is another table, not built yet.
-    if (st.type == StageType::Cyclic)
-      fail(path, "base", s.base + ": stage '" + st.name + "' is cyclic; a study sweeps monotonic triaxial shears (run "
-                         "cyclic tests with grainlab run, one config each)");
     (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
+    if (st.type == StageType::Isotropic) base_p0 = st.pressure;
+    if (st.type == StageType::Cyclic) {
+      has_q_cyclic = has_q_cyclic || st.q_amplitude > 0;
+      base_cycles = st.cycles;
+    }
     if (st.type != StageType::Isotropic && base_drainage.empty())
       base_drainage = st.drainage == Drainage::Drained ? "drained" : "undrained";
   }
-  if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial stage");
+  if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial or cyclic stage");
   if (const YAML::Node cs = root["critical_state"]) {
     for (auto it : cs) {
       const std::string k = it.first.as<std::string>();
@@ -180,9 +189,15 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
-      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "seed", "count"}.count(k))
-        fail(path, "axes." + k, "unknown axis (known: mu_r, e0, p0, drainage, seed, count)");
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "seed", "count", "csr"}.count(k))
+        fail(path, "axes." + k, "unknown axis (known: mu_r, e0, p0, drainage, seed, count, csr)");
     }
+  const auto need_q_cyclic = [&](const std::string& key) {
+    if (!has_q_cyclic)
+      fail(path, key, "sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0), and the base (" + s.base +
+                          ") has no cyclic stage with q_amplitude");
+  };
+  if (ax && ax["csr"]) need_q_cyclic("axes.csr");
   std::vector<std::string> drain;
   if (ax && ax["drainage"])
     for (auto v : (ax["drainage"].IsSequence() ? ax["drainage"] : YAML::Node(std::vector<YAML::Node>{ax["drainage"]}))) {
@@ -195,6 +210,7 @@ Study load_study_unchecked(const std::string& path) {
     double mu_r, e0, p0;
     long seed, count;
     std::string drainage;
+    double csr;
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -203,13 +219,14 @@ Study load_study_unchecked(const std::string& path) {
         for (double p0 : axis("p0", {0}))
           for (double seed : axis("seed", {double(base_cfg.packing.seed)}))
             for (double count : axis("count", {double(base_cfg.packing.count)}))
-              for (auto& d : drain) points.push_back({mur, e0, p0, long(seed), long(count), d});
+              for (auto& d : drain)
+                for (double csr : axis("csr", {0})) points.push_back({mur, e0, p0, long(seed), long(count), d, csr});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
-      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), base_drainage};
+      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), base_drainage, 0};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -228,7 +245,10 @@ Study load_study_unchecked(const std::string& path) {
         else if (f == "p0") pt.p0 = v;
         else if (f == "seed") pt.seed = long(v);
         else if (f == "count") pt.count = long(v);
-        else fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, seed, count)");
+        else if (f == "csr") {
+          need_q_cyclic(field);
+          pt.csr = v;
+        } else fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, seed, count, csr)");
       }
       points.push_back(pt);
     }
@@ -264,6 +284,12 @@ Study load_study_unchecked(const std::string& path) {
     sh.sample_name = sn.str();
     sh.drainage = pt.drainage;
     sh.name = "shear_" + pt.drainage + "_" + sn.str().substr(7);
+    sh.cycles = base_cycles;
+    if (pt.csr > 0) {
+      sh.csr = pt.csr;
+      sh.q_amplitude = 2 * pt.csr * (pt.p0 > 0 ? pt.p0 : base_p0);
+      sh.name += "_csr" + fmt(pt.csr);
+    }
     bool dup = false;
     for (auto& o : s.shears) dup = dup || o.name == sh.name;
     if (!dup) s.shears.push_back(sh);
@@ -491,7 +517,8 @@ int run_study(const Study& s, const StudyOptions& o) {
       const StudyJob& j = s.shears[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name
          << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
-         << j.drainage << "\", \"seed\": " << j.seed << ", \"count\": " << j.count << "}"
+         << j.drainage << "\", \"seed\": " << j.seed << ", \"count\": " << j.count << ", \"csr\": " << j.csr
+         << ", \"cycles\": " << j.cycles << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";

@@ -176,20 +176,35 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
   }
 }
 
-// A study's report reads monotonic shears (peaks, critical states): a cyclic stage in its base is refused at load,
-// naming the stage, not run into a report that would misread it.
-TEST(Config, StudyRefusesACyclicBase) {
+// Cyclic studies: the csr axis sets each cyclic job's q_amplitude to 2 csr p'_0 (the p0 axis, else the base's
+// consolidation pressure), names the job by it, and shares the sample between amplitudes; csr needs a base with a
+// stress-reversal cyclic stage, and values > 0.
+TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
   const std::string base = write_tmp("study_cyclic_base",
-                                     "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic}\n"
+                                     "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
                                      "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 5}\n");
-  const std::string p = write_tmp("study_cyclic", "base: " + base + "\n");
-  std::string e;
-  try {
-    load_study(p);
-  } catch (const ConfigError& x) {
-    e = x.what();
+  const Study s = load_study(write_tmp("study_cyclic", "base: " + base + "\naxes: {csr: [0.1, 0.25], p0: [1.0e5, 2.0e5]}\n"));
+  ASSERT_EQ(s.samples.size(), 2u);
+  ASSERT_EQ(s.shears.size(), 4u);
+  for (const StudyJob& j : s.shears) {
+    SCOPED_TRACE(j.name);
+    EXPECT_NE(j.name.find("_csr" + std::string(j.csr == 0.1 ? "0.1" : "0.25")), std::string::npos);
+    EXPECT_EQ(j.q_amplitude, 2 * j.csr * j.p0);
+    EXPECT_EQ(j.cycles, 5);
   }
-  EXPECT_NE(e.find(p + ": base: " + base + ": stage 'shake' is cyclic; a study sweeps monotonic triaxial shears"),
+  const auto error = [&](const std::string& name, const std::string& text) {
+    try {
+      load_study(write_tmp(name, text));
+    } catch (const ConfigError& x) {
+      return std::string(x.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("study_csr0", "base: " + base + "\naxes: {csr: [0]}\n").find("axes.csr: values must be > 0"),
+            std::string::npos);
+  const std::string e = error("study_csr_mono", "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n"
+                                                "axes: {csr: [0.2]}\n");
+  EXPECT_NE(e.find("axes.csr: sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0), and the base ("),
             std::string::npos)
       << e;
 }

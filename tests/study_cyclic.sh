@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# tests/data/tiny-cyclic-study.yaml end to end: a study whose base loads cyclically. One sample prepared once, a
+# cyclic test at CSR 0.1 and 0.3 (q_amplitude = 2 CSR p'_0 = 38 and 114 kPa in each job's config), the report's
+# cyclic section and its CSR - N figure. The stronger loading liquefies (|eps_a| reaches 2 %) in fewer cycles.
+set -u
+bin=$1; src=$2; work=$3
+rm -rf "$work" && mkdir -p "$work" || exit 1
+cp "$src"/tiny-cyclic-study.yaml "$src"/tiny-cyclic-base.yaml "$work"/ || exit 1
+cd "$work" || exit 1
+fail() { echo "study_cyclic: $*"; exit 1; }
+out=$("$bin" study tiny-cyclic-study.yaml --out sc --jobs 2 2>&1) || fail "the study failed: $out"
+printf '%s\n' "$out" | grep -q "1 samples, 2 shears; 3 to run" || fail "unexpected plan: $out"
+[ "$(ls sc/jobs/*/done | wc -l)" -eq 3 ] || fail "expected 3 finished jobs: $(ls sc/jobs)"
+lo=sc/jobs/shear_undrained_mur0_ebase_pbase_s3_n300_csr0.1 hi=sc/jobs/shear_undrained_mur0_ebase_pbase_s3_n300_csr0.3
+grep -q "q_amplitude: 38000" $lo/job.yaml || fail "$lo/job.yaml: q_amplitude is not 2 x 0.1 x 190 kPa"
+grep -q "q_amplitude: 114000" $hi/job.yaml || fail "$hi/job.yaml: q_amplitude is not 2 x 0.3 x 190 kPa"
+grep -q "## Cyclic tests" sc/report.md || fail "report.md lacks its cyclic section"
+[ "$(grep -c '^| shear_undrained_.*_csr0\.[13] |' sc/report.md)" -eq 2 ] || fail "report.md: not 2 cyclic rows"
+grep -q "^| .*_csr0\.3 | 0 | undrained | 0.3 | .* | liquefied: " sc/report.md || fail "CSR 0.3 did not liquefy: $(cat sc/report.md)"
+[ -f sc/figures/liquefaction.png ] || fail "no figures/liquefaction.png"
+# N reached, from the last row of each cyclic test (the series' cycle column is the last)
+n_lo=$(tail -1 $lo/run/series.csv | awk -F, '{print $NF}') n_hi=$(tail -1 $hi/run/series.csv | awk -F, '{print $NF}')
+awk -v a="$n_hi" -v b="$n_lo" 'BEGIN { exit !(a < b) }' || fail "CSR 0.3 reached N = $n_hi, not fewer than CSR 0.1's $n_lo"
+echo "study_cyclic: ok (N = $n_lo at CSR 0.1, $n_hi at CSR 0.3)"
