@@ -54,6 +54,14 @@ def save(fig, out, name):
     print(os.path.join(out, name + ".png"))
 
 
+def finish(fig, ax, legend_ax, fontsize, out, name):
+    """The close of a figure of line plots: a grid on every axes, the legend on one, saved as PNG and PDF."""
+    for a in np.ravel(ax):
+        a.grid(alpha=0.3)
+    legend(legend_ax, fontsize=fontsize)
+    save(fig, out, name)
+
+
 def fig_stress(runs, out):
     fig, ax = plt.subplots(2, 2, figsize=(10, 8))
     for run, s in runs:
@@ -67,10 +75,7 @@ def fig_stress(runs, out):
     ax[0, 1].set(xlabel="p' [kPa]", ylabel="q [kPa]", title="stress path")
     ax[1, 0].set(xlabel="axial strain eps_a [%]", ylabel="u [kPa]", title="excess pore pressure (undrained)")
     ax[1, 1].set(xlabel="p' [kPa]", ylabel="void ratio e", title="e - p' (consolidation and shear)")
-    for a in ax.flat:
-        a.grid(alpha=0.3)
-    legend(ax[0, 0], fontsize=8)
-    save(fig, out, "stress")
+    finish(fig, ax, ax[0, 0], 8, out, "stress")
 
 
 def fig_anisotropy(runs, out):
@@ -181,10 +186,7 @@ def fig_cyclic(runs, out):
     ax[0].set(xlabel="cycle N", ylabel="p' / p'_0", title="mean effective stress")
     ax[1].set(xlabel="cycle N", ylabel="r_u = u / p'_0", title="excess pore pressure ratio (undrained)")
     ax[2].set(xlabel="cycle N", ylabel="eps_a [%]", title="axial strain")
-    for a in ax:
-        a.grid(alpha=0.3)
-    legend(ax[0], fontsize=8)
-    save(fig, out, "cyclic")
+    finish(fig, ax, ax[0], 8, out, "cyclic")
 
 
 def legend(ax, **kw):
@@ -310,10 +312,7 @@ def study(out):
     ax[0].set(xlabel="eps_a [%]", ylabel="q [kPa]", title="deviator stress (solid undrained, dashed drained)")
     ax[1].set(xlabel="p' [kPa]", ylabel="q [kPa]", title="stress paths")
     ax[2].set(xlabel="p' [kPa]", ylabel="e", title="e - p'")
-    for a in ax:
-        a.grid(alpha=0.3)
-    legend(ax[0], fontsize=6)
-    save(fig, figs, "stress_paths")
+    finish(fig, ax, ax[0], 6, figs, "stress_paths")
     # Peaks and critical states: the monotonic shears; cyclic ones have their own section.
     mono = [r for r in runs if r[2]["monotonic"].any()]
     cyc = [r for r in runs if r[2]["cyclic"].any()]

@@ -385,8 +385,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
   e << YAML::Key << "stages" << YAML::Value << YAML::BeginSeq;
   for (const StageConfig& sc : c.stages) {
     e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sc.name << YAML::Key << "type" << YAML::Value
-      << (sc.type == StageType::Isotropic ? "isotropic" : sc.type == StageType::Triaxial ? "triaxial" : "cyclic") << YAML::Key << "mu" << YAML::Value << sc.mu
-      << YAML::Key << "mu_r" << YAML::Value << sc.mu_r << YAML::Key << "damping" << YAML::Value << sc.damping
+      << (sc.type == StageType::Isotropic ? "isotropic" : sc.type == StageType::Triaxial ? "triaxial" : "cyclic")
+      << YAML::Key << "mu" << YAML::Value << sc.mu << YAML::Key << "mu_r" << YAML::Value << sc.mu_r << YAML::Key << "damping" << YAML::Value << sc.damping
       << YAML::Key << "max_steps" << YAML::Value << sc.max_steps << YAML::Key << "check_every" << YAML::Value
       << sc.check_every << YAML::Key << "servo_gain" << YAML::Value << sc.servo_gain;
     if (sc.type == StageType::Isotropic) {

@@ -297,6 +297,10 @@ class Laboratory {
   bool isotropic_done(const StageConfig& sc, const Diagnostics& d) const;
   bool shear_end(const StageConfig& sc, const Measure& m) const;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
+  // A cyclic stage's controlled level x and its amplitude A: q (stress reversal) or eps_a (strain reversal).
+  static std::pair<Real, Real> cyclic_level(const StageConfig& sc, const Measure& m) {
+    return sc.q_amplitude > 0 ? std::pair<Real, Real>{m.q, sc.q_amplitude} : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
+  }
   Real cycle_number(const StageConfig& sc, const Measure& m) const;
   void assert_healthy();
   void place_lateral_walls();
@@ -605,8 +609,7 @@ bool Laboratory::shear_end(const StageConfig& sc, const Measure& m) const {
   if (sc.type == StageType::Triaxial) return m.eps_a >= sc.max_axial_strain;
   if (sc.type != StageType::Cyclic) return false;
   if (std::abs(m.eps_a) >= sc.max_axial_strain) return true;
-  const Real level = sc.q_amplitude > 0 ? m.q : m.eps_a;
-  return lab_.half_cycles >= 2 * sc.cycles && eng_->wall_control(4).velocity > 0 && level >= 0;
+  return lab_.half_cycles >= 2 * sc.cycles && eng_->wall_control(4).velocity > 0 && cyclic_level(sc, m).first >= 0;
 }
 
 // Cyclic stages, at the start of a step: at a peak (q or eps_a at +A while compressing, at -A while extending) the
@@ -616,8 +619,7 @@ bool Laboratory::shear_end(const StageConfig& sc, const Measure& m) const {
 bool Laboratory::cyclic_turn(const StageConfig& sc, const Measure& m) {
   WallControl& lo = eng_->wall_control(4);
   WallControl& hi = eng_->wall_control(5);
-  const bool stress = sc.q_amplitude > 0;
-  const Real level = stress ? m.q : m.eps_a, A = stress ? sc.q_amplitude : sc.strain_amplitude;
+  const auto [level, A] = cyclic_level(sc, m);
   if (lo.velocity > 0 ? level < A : level > -A) return false;
   lo.velocity = -lo.velocity;
   hi.velocity = -hi.velocity;
@@ -631,8 +633,7 @@ bool Laboratory::cyclic_turn(const StageConfig& sc, const Measure& m) {
 // stage ends at N = cycles exactly: after 2 cycles peaks, x back at 0. The series column is the largest N so far
 // (Lab::cycle), so that a noisy q, or one that falls back as the sample liquefies, does not count cycles backwards.
 Real Laboratory::cycle_number(const StageConfig& sc, const Measure& m) const {
-  const bool stress = sc.q_amplitude > 0;
-  const Real x = stress ? m.q : m.eps_a, A = stress ? sc.q_amplitude : sc.strain_amplitude;
+  const auto [x, A] = cyclic_level(sc, m);
   const long k = lab_.half_cycles;
   if (k == 0) return 0.25 * std::clamp<Real>(x / A, 0, 1);
   const Real toward = k % 2 == 1 ? -x : x;  // the distance from the last peak grows with this
