@@ -374,37 +374,63 @@ def study(out):
 
 
 def cyclic_section(cyc, figs, colors):
-    """Cyclic tests of a study: the cycle number N each reached and how it ended (liquefied: |eps_a| at the stage's
-    max_axial_strain before its cycles were done), and the liquefaction-resistance curve CSR - N per mu_r
-    (figures/liquefaction.png; filled: liquefied at N, hollow: still standing after its cycles)."""
+    """Cyclic tests of a study: the cycle number N each reached, N at each liquefaction criterion (from the run's
+    summary.json: r_u = u/p'_0 reaching the stage's liquefaction_ru, the double-amplitude axial strain reaching its
+    liquefaction_da_strain; both caught on the step), and the liquefaction-resistance curve CSR - N per mu_r
+    (figures/liquefaction.png; filled: N at a criterion, hollow: still standing after N cycles)."""
+    import json
+
     rows = []
     fig, ax = plt.subplots(figsize=(7, 4.5))
+    crits = set()
     for j, d, s in sorted(cyc, key=lambda r: (r[0]["mu_r"], r[0]["csr"])):
         m = s["cyclic"]
         n_end, p = s["cycle"][m][-1], s["p"][m]
-        liquefied = n_end < j["cycles"]
-        ru = f"{np.max(s['u'][m]) / p[0]:.3f}" if j["drainage"] == "undrained" else "–"
-        outcome = (f"liquefied: \\|eps_a\\| = {100 * abs(s['eps_a'][m][-1]):.2f} % at N = {n_end:.3g}" if liquefied
-                   else f"{j['cycles']} cycles, not liquefied")
+        st = None
+        if os.path.isfile(os.path.join(d, "summary.json")):
+            st = [x for x in json.load(open(os.path.join(d, "summary.json")))["stages"] if x["type"] == "cyclic"]
+            st = st[-1] if st else None
+        und = j["drainage"] == "undrained"
+        ru = f"{np.max(s['u'][m]) / p[0]:.3f}" if und else "–"
+        if st is None:  # a run of a build before summary.json: no criteria to read
+            n_ru = n_da = "– (no summary.json)"
+        else:
+            crits.add((st["liquefaction_ru"], st["liquefaction_da_strain"]))
+            n_ru = ("not met" if st["n_ru"] is None else f"{st['n_ru']:.3g}") if und else "– (drained)"
+            n_da = "not met" if st["n_da"] is None else f"{st['n_da']:.3g}"
+        end = (f"\\|eps_a\\| = {100 * abs(s['eps_a'][m][-1]):.2f} %" if n_end < j["cycles"]
+               else f"{j['cycles']} cycles done")
         csr = j["csr"] if j["csr"] > 0 else float("nan")
-        rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {csr:g} | {n_end:.3g} | {outcome} | "
+        rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {csr:g} | {n_end:.3g} | {end} | {n_ru} | {n_da} | "
                     f"{np.min(p) / p[0]:.3f} | {ru} |")
-        if j["csr"] > 0:
-            ax.plot([max(n_end, 1e-2)], [csr], "o" if liquefied else ">", color=colors[j["mu_r"]],
-                    markerfacecolor=colors[j["mu_r"]] if liquefied else "none", label=f"mu_r = {j['mu_r']:g}")
+        if j["csr"] <= 0:
+            continue
+        c = colors[j["mu_r"]]
+        met = False
+        for key, marker in (("n_da", "o"), ("n_ru", "s")):
+            if st is not None and st[key] is not None:
+                ax.plot([max(st[key], 1e-2)], [csr], marker, color=c, label=f"mu_r = {j['mu_r']:g}")
+                met = True
+        if not met:
+            ax.plot([max(n_end, 1e-2)], [csr], ">", color=c, markerfacecolor="none", label=f"mu_r = {j['mu_r']:g}")
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
     if uniq:
         ax.legend(uniq.values(), uniq.keys(), fontsize=8)
-    ax.set(xscale="log", xlabel="cycle N (at liquefaction; hollow: still standing)", ylabel="CSR = q_amp / (2 p'_0)",
-           title="liquefaction resistance")
+    crit = next(iter(crits)) if len(crits) == 1 else None  # the tests' thresholds, where they share them
+    what = (f"o: double-amplitude eps_a {100 * crit[1]:g} %, s: r_u {crit[0]:g}" if crit else "o: DA strain, s: r_u")
+    ax.set(xscale="log", xlabel=f"cycle N to liquefaction ({what}; hollow >: standing at N)",
+           ylabel="CSR = q_amp / (2 p'_0)", title="liquefaction resistance")
     ax.grid(alpha=0.3, which="both")
     save(fig, figs, "liquefaction")
     return ["## Cyclic tests", "",
-            "Liquefied: |eps_a| reached the stage's max_axial_strain before its cycles were done; N is the cycle "
-            "number then (continuous: the k-th load reversal at N = (2k - 1)/4).", "",
-            "| test | mu_r | drainage | CSR | N | outcome | min p'/p'_0 | max r_u = u/p'_0 |", "|---|---|---|---|---|---|---|---|",
-            *rows, ""]
+            "N is the cycle number, continuous: the k-th load reversal at N = (2k - 1)/4. A test ends when its cycles "
+            "are done or |eps_a| reaches the stage's max_axial_strain. Liquefaction is the first N at which r_u = "
+            "u/p'_0 reached the stage's liquefaction_ru (initial liquefaction; undrained tests), or the double-amplitude "
+            "axial strain (peak-to-peak eps_a of a half cycle) reached its liquefaction_da_strain (ASTM D5311), "
+            "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ".", "",
+            "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u |",
+            "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def main():

@@ -297,6 +297,8 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         sc.cycles = g.integer("cycles", 1, 1, 1000000);
         sc.q_amplitude = g.real("q_amplitude", 0, 0, 1e10);
         sc.strain_amplitude = g.real("strain_amplitude", 0, 0, 0.9);
+        sc.liquefaction_ru = g.real("liquefaction_ru", 0.95, 0, 1, true);
+        sc.liquefaction_da_strain = g.real("liquefaction_da_strain", 0.05, 0, 1.8, true);
         if ((sc.q_amplitude > 0) == (sc.strain_amplitude > 0))
           g.fail(g.key_path("q_amplitude"), "a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal) "
                                      "or strain_amplitude (> 0: strain reversal); this one gives " +
@@ -304,6 +306,11 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         if (sc.strain_amplitude >= sc.max_axial_strain)
           g.fail(g.key_path("strain_amplitude"), "= " + fmt(sc.strain_amplitude) + " must be below max_axial_strain = " +
                                               fmt(sc.max_axial_strain) + " (the stage would end at the first peak)");
+        // given, it must be reachable; the default that is not is a warning of the plan (plan_run)
+        if (g.has("liquefaction_da_strain") && sc.liquefaction_da_strain >= 2 * sc.max_axial_strain)
+          g.fail(g.key_path("liquefaction_da_strain"),
+                 "= " + fmt(sc.liquefaction_da_strain) + " must be below 2 max_axial_strain = " +
+                     fmt(2 * sc.max_axial_strain) + " (|eps_a| stays below max_axial_strain, so no half cycle spans more)");
       }
     }
     g.finish();
@@ -407,6 +414,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;
         else e << YAML::Key << "strain_amplitude" << YAML::Value << sc.strain_amplitude;
+        e << YAML::Key << "liquefaction_ru" << YAML::Value << sc.liquefaction_ru << YAML::Key << "liquefaction_da_strain"
+          << YAML::Value << sc.liquefaction_da_strain;
       }
     }
     e << YAML::EndMap;

@@ -40,6 +40,12 @@ struct StageConfig {
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: strain reversal)   [Pa]
   Real strain_amplitude = 0;       // A in axial strain eps_a (strain reversal; 0: stress reversal)  [-]
+  // Liquefaction criteria of a cyclic stage (recorded as the cycle number N at which each is first met; neither ends
+  // the stage): initial liquefaction, r_u = u / p'_0 reaching liquefaction_ru (undrained stages), and the
+  // double-amplitude axial strain (the peak-to-peak eps_a of a half cycle) reaching liquefaction_da_strain, ASTM
+  // D5311's 5 % (choice, beyond SPEC §6.3).
+  Real liquefaction_ru = 0.95;         // [-]
+  Real liquefaction_da_strain = 0.05;  // [-]
   long max_steps = 1000000;
   long check_every = 200;          // steps between equilibrium checks
   // isotropic: search the stage's mu so the stage ends at this void ratio (0 = off)

@@ -22,6 +22,8 @@ struct StageResult {
   long steps = 0;
   Real p = 0, q = 0, e = 0;
   Real mu = 0;             // friction used (the search result when target_e0 is set)
+  // cyclic stages: the cycle number N reached, and N at each liquefaction criterion (-1: not met; StageConfig)
+  Real cycle = 0, n_ru = -1, n_da = -1;
 };
 
 // A numerical blow-up stopped the run: the message names step, particles, quantity and a suggested dt;
@@ -39,6 +41,9 @@ struct RunResult {
 // Writes `content` to `path` through a temporary file and a rename: a crash never leaves a
 // half-written file under the final name.
 void write_file_atomic(const std::string& path, const std::string& content);
+
+// `s` as a JSON string literal: quoted, with quotes, backslashes and control characters escaped.
+std::string json_string(const std::string& s);
 
 // What a run will do, known before it starts (no Kokkos, nothing placed or written): `grainlab validate` prints
 // it, and a run checks it before it creates anything.

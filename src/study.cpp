@@ -511,7 +511,7 @@ int run_study(const Study& s, const StudyOptions& o) {
   // Study index for the report.
   {
     std::ostringstream js;
-    js << "{\n  \"study\": \"" << s.path << "\",\n  \"critical_state\": {\"window\": " << s.window
+    js << "{\n  \"study\": " << json_string(s.path) << ",\n  \"critical_state\": {\"window\": " << s.window
        << ", \"qp_tol\": " << s.qp_tol << ", \"p_tol\": " << s.p_tol << ", \"e_tol\": " << s.e_tol << "},\n  \"jobs\": [\n";
     for (size_t k = 0; k < s.shears.size(); ++k) {
       const StudyJob& j = s.shears[k];

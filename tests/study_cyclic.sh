@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/data/tiny-cyclic-study.yaml end to end: a study whose base loads cyclically. One sample prepared once, a
 # cyclic test at CSR 0.1 and 0.3 (q_amplitude = 2 CSR p'_0 = 38 and 114 kPa in each job's config), the report's
-# cyclic section and its CSR - N figure. The stronger loading liquefies (|eps_a| reaches 2 %) in fewer cycles.
+# cyclic section and its CSR - N figure. The stronger loading liquefies (2 % double-amplitude axial strain) in fewer
+# cycles.
 set -u
 bin=$1; src=$2; work=$3
 rm -rf "$work" && mkdir -p "$work" || exit 1
@@ -16,9 +17,16 @@ grep -q "q_amplitude: 38000" $lo/job.yaml || fail "$lo/job.yaml: q_amplitude is 
 grep -q "q_amplitude: 114000" $hi/job.yaml || fail "$hi/job.yaml: q_amplitude is not 2 x 0.3 x 190 kPa"
 grep -q "## Cyclic tests" sc/report.md || fail "report.md lacks its cyclic section"
 [ "$(grep -c '^| shear_undrained_.*_csr0\.[13] |' sc/report.md)" -eq 2 ] || fail "report.md: not 2 cyclic rows"
-grep -q "^| .*_csr0\.3 | 0 | undrained | 0.3 | .* | liquefied: " sc/report.md || fail "CSR 0.3 did not liquefy: $(cat sc/report.md)"
+# N at the double-amplitude criterion (liquefaction_da_strain: 2 % in the base), from each run's summary.json; the
+# report lists the same numbers
+nda() { grep -o '"n_da": [-0-9.e]*' "$1"/run/summary.json | awk '{print $2}'; }
+da_lo=$(nda $lo) da_hi=$(nda $hi)
+[ -n "$da_lo" ] && [ -n "$da_hi" ] || fail "a test did not reach 2 % double amplitude: $(cat $lo/run/summary.json $hi/run/summary.json)"
+awk -v a="$da_hi" -v b="$da_lo" 'BEGIN { exit !(a < b) }' || fail "CSR 0.3 met 2 % DA at N = $da_hi, not before CSR 0.1 ($da_lo)"
+grep -q "^| .*_csr0\.3 | 0 | undrained | 0.3 | .* | $(printf '%.3g' "$da_hi") | " sc/report.md ||
+  fail "report.md does not give CSR 0.3's N at 2 % DA ($da_hi): $(cat sc/report.md)"
 [ -f sc/figures/liquefaction.png ] || fail "no figures/liquefaction.png"
 # N reached, from the last row of each cyclic test (the series' cycle column is the last)
 n_lo=$(tail -1 $lo/run/series.csv | awk -F, '{print $NF}') n_hi=$(tail -1 $hi/run/series.csv | awk -F, '{print $NF}')
 awk -v a="$n_hi" -v b="$n_lo" 'BEGIN { exit !(a < b) }' || fail "CSR 0.3 reached N = $n_hi, not fewer than CSR 0.1's $n_lo"
-echo "study_cyclic: ok (N = $n_lo at CSR 0.1, $n_hi at CSR 0.3)"
+echo "study_cyclic: ok (N = $n_lo at CSR 0.1, $n_hi at CSR 0.3; 2 % double amplitude at N = $da_lo and $da_hi)"

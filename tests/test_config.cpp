@@ -130,6 +130,14 @@ TEST(Config, RejectsBadInputClearly) {
        "stages[0].cycles = 0 is outside the allowed range [1, 1e+06]"},
       {"cyc_frac", "stages:\n  - {type: cyclic, q_amplitude: 3e4, cycles: 1.5}\n", "stages[0].cycles = 1.5 must be an integer"},
       {"cyc_tri", "stages:\n  - {type: triaxial, cycles: 2}\n", "stages[0].cycles: unknown key"},
+      // liquefaction criteria: r_u in (0, 1]; a given double amplitude must be reachable below 2 max_axial_strain
+      {"liq_ru0", "stages:\n  - {type: cyclic, q_amplitude: 3e4, liquefaction_ru: 0}\n",
+       "stages[0].liquefaction_ru = 0 is outside the allowed range (0, 1]"},
+      {"liq_ru", "stages:\n  - {type: cyclic, q_amplitude: 3e4, liquefaction_ru: 1.2}\n",
+       "stages[0].liquefaction_ru = 1.2 is outside the allowed range (0, 1]"},
+      {"liq_da", "stages:\n  - {type: cyclic, q_amplitude: 3e4, max_axial_strain: 0.02, liquefaction_da_strain: 0.04}\n",
+       "stages[0].liquefaction_da_strain = 0.04 must be below 2 max_axial_strain = 0.04"},
+      {"liq_tri", "stages:\n  - {type: triaxial, liquefaction_ru: 0.9}\n", "stages[0].liquefaction_ru: unknown key"},
   };
   for (const Case& c : cases) {
     const std::string e = error_of(write_tmp(c.name, c.text));

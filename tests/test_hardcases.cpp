@@ -110,17 +110,27 @@ output: {every: 200, checkpoint_every: 0, checkpoint_minutes: 0}
   expect_all_finite(r);
   ASSERT_EQ(r.result.stages.size(), 2u);
   EXPECT_TRUE(r.result.stages[1].converged);
-  double p0 = 0, p_min = 1e300, z_min = 1e300;
+  double p0 = 0, p_min = 1e300, z_min = 1e300, n_row = -1;
   for (size_t k = 0; k < r.rows.size(); ++k) {
     if (r.stage[k] != "shake") continue;
     if (p0 == 0) p0 = r.col(k, "p");
     p_min = std::min(p_min, r.col(k, "p"));
     z_min = std::min(z_min, r.col(k, "z"));
+    if (n_row < 0 && r.col(k, "u") >= 0.95 * p0) n_row = r.col(k, "cycle");
   }
-  std::printf("  p'_0 = %.4g kPa, min p' = %.4g kPa, min Z = %.3g\n", p0 / 1e3, p_min / 1e3, z_min);
+  const double n_ru = r.result.stages[1].n_ru;
+  std::printf("  p'_0 = %.4g kPa, min p' = %.4g kPa, min Z = %.3g; r_u >= 0.95 at N = %.4g (first row: %.4g)\n",
+              p0 / 1e3, p_min / 1e3, z_min, n_ru, n_row);
   EXPECT_LT(p_min, 0.01 * p0);
   EXPECT_LT(z_min, 1.0);
   EXPECT_EQ(r.col(r.rows.size() - 1, "cycle"), 4.0);
+  // Initial liquefaction is caught on the step: at or before the first series row (every 200 steps, 0.02 of a
+  // cycle) that shows it. The step's check reads the wall loads of the step before, the row those of its own step;
+  // a step moves N by rate dt / (4 A) = 1e-4 here, so 1e-3 covers that lag ten times.
+  ASSERT_GT(n_row, 0) << "no row reaches r_u = 0.95";
+  EXPECT_GT(n_ru, 0);
+  EXPECT_LE(n_ru, n_row + 1e-3);
+  EXPECT_EQ(r.result.stages[1].n_da, -1.0) << "+-2 % spans 4 % double amplitude, below the default 5 %";
 }
 
 // Servo to a very low pressure (1 kPa): a sample consolidated at 190 kPa is unloaded to 1 kPa and reaches

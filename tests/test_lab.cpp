@@ -198,17 +198,19 @@ TEST(Lab, DtAboveTheLimitIsRefusedBeforeAnythingIsWritten) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-// A stage that its max_steps would cut short, or a pressure ramp that outlasts max_steps, is named before the
-// run (it used to show only at the stage's end, "NOT converged", possibly hours in).
+// A stage that its max_steps would cut short, a pressure ramp that outlasts max_steps, or a liquefaction criterion
+// that the stage cannot meet, is named before the run (it used to show only at the stage's end, "NOT converged",
+// possibly hours in).
 TEST(Lab, PlanWarnsOfStagesThatMaxStepsCutsShort) {
   const std::string cfg = write_config("short", R"(
 sample: {count: 250, seed: 5, density_scaling: 1000}
 stages:
   - {name: consolidate, type: isotropic, max_steps: 500, pressure_ramp_steps: 500}
   - {name: shear, type: triaxial, axial_strain_rate: 1.0, max_axial_strain: 0.4, max_steps: 1000}
+  - {name: shake, type: cyclic, q_amplitude: 3e4, max_axial_strain: 0.02}
 )");
   const RunPlan plan = plan_run(load_run_config(cfg));
-  ASSERT_EQ(plan.warnings.size(), 2u);
+  ASSERT_EQ(plan.warnings.size(), 3u);
   EXPECT_NE(plan.warnings[0].find("stage consolidate: the pressure ramp (pressure_ramp_steps = 500) does not end within "
                                   "max_steps = 500"),
             std::string::npos)
@@ -217,6 +219,11 @@ stages:
   EXPECT_NE(plan.warnings[1].find("but max_steps = 1000: the stage would stop at eps_a = "), std::string::npos)
       << plan.warnings[1];
   EXPECT_EQ(plan.steps[1], 1000);
+  // the default double-amplitude criterion, 5 %, cannot be met by a stage that ends at |eps_a| = 2 %
+  EXPECT_NE(plan.warnings[2].find("stage shake: liquefaction_da_strain = 0.05 cannot be met: no half cycle spans more "
+                                  "than 2 max_axial_strain = 0.04"),
+            std::string::npos)
+      << plan.warnings[2];
 }
 
 // A triaxial stage ends on the first step that reaches max_axial_strain, whatever check_every and the
@@ -386,16 +393,19 @@ void rewrite_config(const std::string& ckpt, const std::string& text) {
 // Before cyclic stages a checkpoint held 13 lab scalars (no reversal count, no cycle number) and series rows
 // without the last column, `cycle`.
 void as_before_cyclic_stages(const std::string& ckpt) {
-  std::vector<double> scalars, series;
+  std::vector<double> scalars, series, results;
   size_t rows = 0;
   {
     const H5Reader r(ckpt);  // closed before the file is opened for writing
     scalars = r.doubles("/lab/scalars");
     series = r.doubles("/lab/series");
+    results = r.doubles("/lab/results");
     rows = r.ints("/lab/series_stage").size();
   }
   const size_t nc = series_columns().size();
-  ASSERT_EQ(scalars.size(), 15u);
+  ASSERT_EQ(scalars.size(), 18u);
+  ASSERT_EQ(results.size(), 9u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da";
+  results.resize(6);
   ASSERT_EQ(series_columns().back().first, "cycle");
   ASSERT_EQ(series.size(), rows * nc);
   scalars.resize(13);
@@ -403,23 +413,30 @@ void as_before_cyclic_stages(const std::string& ckpt) {
   for (size_t k = 0; k < rows; ++k) older.insert(older.end(), series.begin() + long(k * nc), series.begin() + long(k * nc + nc - 1));
   rewrite_dataset(ckpt, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
   rewrite_dataset(ckpt, "/lab/series", H5T_NATIVE_DOUBLE, older.data(), older.size());
+  rewrite_dataset(ckpt, "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
 }
 
 }  // namespace
 
 // A run that an older grainlab started resumes: its checkpoint names the same config in other words (17-digit
 // numbers, a relative sample path) and holds the lab state without what cyclic stages added (two scalars, the
-// series' cycle column), and the resumed run ends with the uninterrupted run's series, to the bit. Checked to fail
-// when load_newest_checkpoint compares the stored text as it is.
+// series' cycle column, three of the liquefaction criteria, three values of each finished stage's result), and the
+// resumed run ends with the uninterrupted run's series and summary, to the bit. Checked to fail when
+// load_newest_checkpoint compares the stored text as it is.
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
   const std::string sample = ref.out + "/sample_consolidate.h5";
   const std::string cfg = write_config("older", "sample: {file: " + sample + "}\nmaterial: {mu_r: 0.3, E: 1.3e8}\n"
-                                       "stages:\n  - {name: shear, type: triaxial, axial_strain_rate: 0.7, "
-                                       "max_axial_strain: 0.003, damping: 0.15}\noutput: {every: 100}\n");
+                                       "stages:\n  - {name: pre, type: triaxial, axial_strain_rate: 0.7, "
+                                       "max_axial_strain: 0.001, damping: 0.15}\n"
+                                       "  - {name: shear, type: triaxial, axial_strain_rate: 0.7, "
+                                       "max_axial_strain: 0.002, damping: 0.15}\noutput: {every: 100}\n");
   const std::string direct = tmpdir("older_direct"), out = tmpdir("older_resumed");
-  ASSERT_FALSE(run(cfg, direct).interrupted);
-  ASSERT_TRUE(run(cfg, out, 700).interrupted);
+  const RunResult whole = run(cfg, direct);
+  ASSERT_FALSE(whole.interrupted);
+  ASSERT_EQ(whole.stages.size(), 2u);
+  // stopped in the second stage, so the checkpoint holds the first one's result
+  ASSERT_TRUE(run(cfg, out, whole.stages[0].steps + whole.stages[1].steps / 2).interrupted);
   const std::string ckpt = newest_checkpoint(out);
   // Only the rewritten checkpoint: an unreadable one would otherwise be skipped for the step-0 one, and the
   // rerun from there would hide it.
@@ -435,6 +452,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   ASSERT_EQ(H5Reader(ckpt).doubles("/lab/scalars").size(), 13u);
   ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
   EXPECT_EQ(slurp(out + "/series.csv"), slurp(direct + "/series.csv"));
+  EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
 }
 
 // A saved sample is sheared again, drained and undrained, with another mu_r, without re-preparing it.
@@ -576,7 +594,7 @@ TEST(Lab, CyclicStrainReversalFollowsThePrescribedPath) {
   const std::string cfg = write_config("cyclic_strain", "sample: {file: " + ref.out + "/sample_consolidate.h5}\n"
                                        "material: {mu_r: 0.2}\nstages:\n"
                                        "  - {name: cyc, type: cyclic, drainage: undrained, strain_amplitude: 0.001, "
-                                       "cycles: 2, axial_strain_rate: 1.0, damping: 0.2}\n"
+                                       "cycles: 2, axial_strain_rate: 1.0, damping: 0.2, liquefaction_da_strain: 0.0015}\n"
                                        "output: {every: 50, checkpoint_every: 0, checkpoint_minutes: 0}\n");
   const std::string out = tmpdir("cyclic_strain");
   const RunResult r = run(cfg, out);
@@ -604,6 +622,15 @@ TEST(Lab, CyclicStrainReversalFollowsThePrescribedPath) {
   for (size_t k = 1; k < n.size(); ++k) EXPECT_GE(n[k], n[k - 1]) << "row " << k;
   EXPECT_EQ(n.back(), 2.0);
   EXPECT_EQ(st.back(), 3.0);  // cyclic undrained
+  // The double-amplitude criterion, 1.5 A: the half cycle after the first peak spans it at eps_a = A - 1.5 A, so at
+  // N = 1/4 + 1.5 A / (4 A) = 0.625. The first peak and the step that meets it each lie within a step's strain of the
+  // exact strain, so N within step / (4 A) of it (each step moves N by step / (4 A) = 0.0025 here).
+  EXPECT_NEAR(r.stages[0].n_da, 0.625, step / (4 * A));
+  EXPECT_EQ(r.stages[0].cycle, 2.0);
+  const std::string summary = slurp(out + "/summary.json");
+  const size_t at = summary.find("\"n_da\": ");
+  ASSERT_NE(at, std::string::npos) << summary;
+  EXPECT_EQ(std::stod(summary.substr(at + 8)), r.stages[0].n_da) << "summary.json gives the stage's N, exactly";
 }
 
 // Stress reversal at q = +-0.2 p'_0, undrained, 2 cycles: interrupted twice and resumed gives the uninterrupted
@@ -615,7 +642,7 @@ TEST(Lab, CyclicStressReversalResumesAndExtendsBitwise) {
   const Reference& ref = reference();
   const std::string head = "sample: {file: " + ref.out + "/sample_consolidate.h5}\nmaterial: {mu_r: 0.2}\nstages:\n"
                            "  - {name: cyc, type: cyclic, drainage: undrained, q_amplitude: 38000, ";
-  const std::string tail = "axial_strain_rate: 1.0, damping: 0.2}\n"
+  const std::string tail = "axial_strain_rate: 1.0, damping: 0.2, liquefaction_ru: 0.07, liquefaction_da_strain: 0.0038}\n"
                            "output: {every: 100, checkpoint_every: 0, checkpoint_minutes: 0}\n";
   const std::string c2 = write_config("cyclic_q2", head + "cycles: 2, " + tail),
                     c1 = write_config("cyclic_q1", head + "cycles: 1, " + tail);
@@ -632,18 +659,32 @@ TEST(Lab, CyclicStressReversalResumesAndExtendsBitwise) {
   std::printf("  2 cycles of q = +-38 kPa: %ld steps, p' %.4g -> %.4g kPa, u = %.4g kPa\n", total, p.front() / 1e3,
               p.back() / 1e3, u.back() / 1e3);
   EXPECT_LT(p.back(), p.front());
+  // The criteria, set so each is met after an interruption below, and r_u only after the 1-cycle run's end (its
+  // extension must carry the unmet criterion on): r_u swings with q/3 (u = p'_0 + q/3 - p') and tops 0.07 only at
+  // the second compression peak (0.066 at the first, 0.075 at the second, rows of every step); the second half
+  // cycle spans 0.0039 of eps_a, the first 0.0021.
+  std::printf("  r_u 0.07 at N = %.4g, double amplitude 0.0038 at N = %.4g\n", whole.stages[0].n_ru,
+              whole.stages[0].n_da);
+  EXPECT_GT(whole.stages[0].n_ru, 1.0);
+  EXPECT_LT(whole.stages[0].n_ru, 1.5);
+  EXPECT_GT(whole.stages[0].n_da, 0.25);
+  EXPECT_LT(whole.stages[0].n_da, 0.75);
   ASSERT_TRUE(run(c2, stopped, total / 3).interrupted);
   ASSERT_TRUE(run(c2, stopped, total / 3, true).interrupted);
   ASSERT_FALSE(run(c2, stopped, -1, true).interrupted);
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(direct + "/series.csv"));
   const RunResult one = run(c1, ext);
   ASSERT_TRUE(one.stages[0].converged);
+  EXPECT_EQ(one.stages[0].n_ru, -1.0) << "not met in the first cycle";
+  EXPECT_EQ(one.stages[0].n_da, whole.stages[0].n_da);
   EXPECT_LT(one.stages[0].steps, total);
   const RunResult r = run(c2, ext, -1, true);
   ASSERT_FALSE(r.interrupted);
   EXPECT_EQ(r.stages.back().steps, total);
   for (const std::string& out : {stopped, ext}) {
     SCOPED_TRACE(out);
+    // The liquefaction criteria are met on the same steps (they read the turn's measure), and the summary is the same
+    EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
     H5Reader a(newest_checkpoint(direct)), b(newest_checkpoint(out));
     for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
       const auto va = a.vec3(d), vb = b.vec3(d);
