@@ -413,14 +413,18 @@ def cyclic_section(cyc, figs, colors):
                 met = True
         if not met:
             ax.plot([max(n_end, 1e-2)], [csr], ">", color=c, markerfacecolor="none", label=f"mu_r = {j['mu_r']:g}")
+    crit = next(iter(crits)) if len(crits) == 1 else None  # the tests' thresholds, where they share them
+    # the markers' meaning as legend entries (grey), after one entry per mu_r
+    for marker, text, face in (("o", f"{100 * crit[1]:g} % double amplitude" if crit else "DA strain criterion", "grey"),
+                               ("s", f"r_u = {crit[0]:g}" if crit else "r_u criterion", "grey"),
+                               (">", "standing at N reached", "none")):
+        ax.plot([], [], marker, color="grey", markerfacecolor=face, linestyle="none", label=text)
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
     if uniq:
         ax.legend(uniq.values(), uniq.keys(), fontsize=8)
-    crit = next(iter(crits)) if len(crits) == 1 else None  # the tests' thresholds, where they share them
-    what = (f"o: double-amplitude eps_a {100 * crit[1]:g} %, s: r_u {crit[0]:g}" if crit else "o: DA strain, s: r_u")
-    ax.set(xscale="log", xlabel=f"cycle N to liquefaction ({what}; hollow >: standing at N)",
-           ylabel="CSR = q_amp / (2 p'_0)", title="liquefaction resistance")
+    ax.set(xscale="log", xlabel="cycles to liquefaction N", ylabel="CSR = q_amp / (2 p'_0)",
+           title="liquefaction resistance")
     ax.grid(alpha=0.3, which="both")
     save(fig, figs, "liquefaction")
     return ["## Cyclic tests", "",
