@@ -150,8 +150,13 @@ int main(int argc, char** argv) {
       std::printf("  preparation: at most %ld steps a stage (a target_e0 search: all its trials; a stage ends at "
                   "equilibrium, usually far sooner)\n",
                   sp.sample_steps_max);
-      std::printf("  shear tests: %ld to %ld steps each, %.4g in all\n", sp.shear_steps_min, sp.shear_steps_max,
-                  sp.shear_steps_total);
+      if (sp.shear_steps_total > 0)
+        std::printf("  shear tests: %ld to %ld steps each, %.4g in all\n", sp.shear_steps_min, sp.shear_steps_max,
+                    sp.shear_steps_total);
+      if (sp.capped_shears > 0)
+        std::printf("  cyclic tests reversing at q: %ld, at most %ld steps each (max_steps; each ends at its cycles or "
+                    "max_axial_strain, how soon depends on the sample)\n",
+                    sp.capped_shears, sp.capped_steps_max);
       if (sp.inertial_max > 0)
         std::printf("  inertial number of the shears at their p'_0: ~%.2g to %.2g%s\n", sp.inertial_min, sp.inertial_max,
                     sp.inertial_max > grainlab::kQuasiStaticInertial

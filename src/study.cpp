@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -341,9 +342,15 @@ StudyPlan plan_study(const Study& s) {
     keep(j, p);
     double n = 0;
     for (double k : p.steps) n += k;
-    sp.shear_steps_min = &j == &s.shears.front() ? long(n) : std::min(sp.shear_steps_min, long(n));
-    sp.shear_steps_max = std::max(sp.shear_steps_max, long(n));
-    sp.shear_steps_total += n;
+    if (std::find(p.steps_cap.begin(), p.steps_cap.end(), true) != p.steps_cap.end()) {
+      ++sp.capped_shears;
+      sp.capped_steps_max = std::max(sp.capped_steps_max, long(n));
+    } else {
+      const bool first = sp.shear_steps_total == 0;
+      sp.shear_steps_min = first ? long(n) : std::min(sp.shear_steps_min, long(n));
+      sp.shear_steps_max = std::max(sp.shear_steps_max, long(n));
+      sp.shear_steps_total += n;
+    }
     if (p.inertial_max > 0) {
       sp.inertial_min = sp.inertial_min > 0 ? std::min(sp.inertial_min, p.inertial_max) : p.inertial_max;
       sp.inertial_max = std::max(sp.inertial_max, p.inertial_max);

@@ -34,6 +34,9 @@ struct StudyPlan {
   long sample_steps_max = 0;  // the longest preparation stage's step cap
   long shear_steps_min = 0, shear_steps_max = 0;
   double shear_steps_total = 0;
+  // shears with a stage of unknown length (a stress-reversal cyclic stage ends at its cycles or max_axial_strain):
+  // how many, and the largest step cap among them; the three above count the others only
+  long capped_shears = 0, capped_steps_max = 0;
   double memory_need_max = 0;  // bytes, the largest job
   double inertial_min = 0, inertial_max = 0;  // the shears' estimated inertial numbers at their p'_0
   std::vector<std::string> warnings;  // each names its job

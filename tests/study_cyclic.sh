@@ -9,6 +9,11 @@ rm -rf "$work" && mkdir -p "$work" || exit 1
 cp "$src"/tiny-cyclic-study.yaml "$src"/tiny-cyclic-base.yaml "$work"/ || exit 1
 cd "$work" || exit 1
 fail() { echo "study_cyclic: $*"; exit 1; }
+# validate: a stress-reversal test's length is unknown before it runs; the plan gives its cap as a cap
+plan=$("$bin" validate tiny-cyclic-study.yaml 2>&1) || fail "validate failed: $plan"
+printf '%s\n' "$plan" | grep -q "cyclic tests reversing at q: 2, at most 1000000 steps each (max_steps;" ||
+  fail "validate does not give the cyclic tests' cap as one: $plan"
+printf '%s\n' "$plan" | grep -q "shear tests:" && fail "validate counts the cyclic tests' cap as their length: $plan"
 out=$("$bin" study tiny-cyclic-study.yaml --out sc --jobs 2 2>&1) || fail "the study failed: $out"
 printf '%s\n' "$out" | grep -q "1 samples, 2 shears; 3 to run" || fail "unexpected plan: $out"
 [ "$(ls sc/jobs/*/done | wc -l)" -eq 3 ] || fail "expected 3 finished jobs: $(ls sc/jobs)"
