@@ -21,6 +21,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "cycle_loop.hpp"
 #include "h5io.hpp"
 
 namespace grainlab {
@@ -110,16 +111,27 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
   return cols;
 }
 
+// cycles.csv: one row per completed cycle of a cyclic stage (CycleLoop): the loop's extremes, its equivalent
+// modulus and damping ratio, p' and eps_v at its end, and its largest r_u.
+const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
+  static const std::vector<std::pair<std::string, std::string>> cols = {
+      {"cycle", "-"},   {"step", "-"},     {"q_max", "Pa"}, {"q_min", "Pa"},   {"eps_a_max", "-"}, {"eps_a_min", "-"},
+      {"E_eq", "Pa"},   {"damping", "-"},  {"p", "Pa"},     {"eps_v", "-"},    {"r_u_max", "-"}};
+  return cols;
+}
+
 namespace {
 
 // ------------------------------------------------------------------------------------------------
 // Series: numeric columns plus the stage of each row.
+// A table of rows, each of one stage: the series (series_columns), or a cyclic stage's cycles (cycle_columns).
 struct Series {
+  const std::vector<std::pair<std::string, std::string>>* columns = &series_columns();
   std::vector<std::vector<double>> rows;
   std::vector<int> stage;
   std::string csv(const std::vector<StageConfig>& stages) const {
     std::ostringstream os;
-    const auto& cols = series_columns();
+    const auto& cols = *columns;
     os << "stage";
     for (auto& c : cols) os << ',' << c.first;
     os << '\n' << std::setprecision(12);
@@ -127,7 +139,8 @@ struct Series {
       os << stages[stage[r]].name;
       for (size_t c = 0; c < cols.size(); ++c) {
         os << ',';
-        if (cols[c].first == "step") os << long(rows[r][c]);
+        const bool whole = cols[c].first == "step" || (cols[c].first == "cycle" && columns == &cycle_columns());
+        if (whole) os << long(rows[r][c]);
         else os << rows[r][c];
       }
       os << '\n';
@@ -162,6 +175,8 @@ struct Lab {
   // cyclic stage, the liquefaction criteria (Laboratory::watch_liquefaction): eps_a at the last load reversal (the
   // stage's start before the first), and the cycle number N at which each criterion was first met (-1: not yet)
   Real eps_turn = 0, n_ru = -1, n_da = -1;
+  CycleLoop loop;  // cyclic stage: the cycle under way (Laboratory::watch_cycle)
+  Series cycles{&cycle_columns(), {}, {}};
   Series series;
   std::vector<StageResult> results;
   std::vector<std::string> snapshot_files;
@@ -328,7 +343,7 @@ class Laboratory {
     return sc.q_amplitude > 0 ? std::pair<Real, Real>{m.q, sc.q_amplitude} : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
   }
   Real cycle_number(const StageConfig& sc, const Measure& m) const;
-  void watch_liquefaction(const StageConfig& sc, const Measure& m, bool turn);
+  void watch_cycle(const StageConfig& sc, const Measure& m, bool turn);
   void write_summary() const;
   void assert_healthy();
   void place_lateral_walls();
@@ -456,6 +471,7 @@ void Laboratory::refuse_overwrites() const {
   }
   if (fs::exists(out_ + "/particles.xdmf")) refuse("particles.xdmf");
   if (fs::exists(out_ + "/summary.json")) refuse("summary.json");
+  if (fs::exists(out_ + "/cycles.csv")) refuse("cycles.csv");
   if (holds_files(out_ + "/snapshots")) refuse("snapshots/");
   for (const StageConfig& sc : cfg_.stages)
     if (fs::exists(out_ + "/sample_" + sc.name + ".h5")) refuse("sample_" + sc.name + ".h5");
@@ -670,21 +686,35 @@ Real Laboratory::cycle_number(const StageConfig& sc, const Measure& m) const {
   return std::min(n, Real(sc.cycles));  // the last quarter ends at x = 0 (the stage's end row may be a bit past)
 }
 
-// The liquefaction criteria of a cyclic stage, on every step, from the same measure as the turn (so a resumed run
-// meets them on the same steps), at the cycle number N of that measure (never below the series' N):
-//  - initial liquefaction: the excess pore pressure ratio r_u = u / p'_0 reaches liquefaction_ru (undrained only;
-//    u = p_total - p', SPEC §6.3);
-//  - double-amplitude axial strain: |eps_a - eps_a at the last reversal| reaches liquefaction_da_strain. Under
-//    stress control eps_a is extreme at the reversals, so at each one this is the peak-to-peak strain of the half
-//    cycle just ended (ASTM D5311's double amplitude); between reversals it is the span so far, so a sample that
-//    flows past the criterion mid half cycle meets it there. Before the first reversal it is |eps_a| from the start.
-// They are first checked, then a turn (decided by this step's cyclic_turn) starts the next half cycle from here.
-void Laboratory::watch_liquefaction(const StageConfig& sc, const Measure& m, bool turn) {
-  if (lab_.n_ru < 0 || lab_.n_da < 0) {
-    const Real N = std::max(lab_.cycle, cycle_number(sc, m));
-    if (lab_.n_ru < 0 && sc.drainage == Drainage::Undrained && m.u >= sc.liquefaction_ru * lab_.p0) lab_.n_ru = N;
-    if (lab_.n_da < 0 && std::abs(m.eps_a - lab_.eps_turn) >= sc.liquefaction_da_strain) lab_.n_da = N;
+// A cyclic stage, on every step, from the same measure as the turn (so a resumed run sees the same steps), at the
+// cycle number N of that measure (never below the series' N, nor the last step's):
+//  - the cycle's loop (CycleLoop): fed every step; when N passes a whole number the cycle is done, its row goes to
+//    cycles.csv and the next loop starts at this measure;
+//  - the liquefaction criteria:
+//    - initial liquefaction: the excess pore pressure ratio r_u = u / p'_0 reaches liquefaction_ru (undrained only;
+//      u = p_total - p', SPEC §6.3);
+//    - double-amplitude axial strain: |eps_a - eps_a at the last reversal| reaches liquefaction_da_strain. Under
+//      stress control eps_a is extreme at the reversals, so at each one this is the peak-to-peak strain of the half
+//      cycle just ended (ASTM D5311's double amplitude); between reversals it is the span so far, so a sample that
+//      flows past the criterion mid half cycle meets it there. Before the first reversal: |eps_a| from the start.
+//    They are first checked, then a turn (decided by this step's cyclic_turn) starts the next half cycle from here.
+void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn) {
+  CycleLoop& L = lab_.loop;
+  const Real N = std::max({lab_.cycle, Real(L.n), cycle_number(sc, m)});
+  if (!L.open) {
+    L.start(m.q, m.eps_a, m.u);
+  } else {
+    L.add(m.q, m.eps_a, m.u);
+    if (std::floor(N) > std::floor(L.n)) {
+      lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count()), L.q_max, L.q_min, L.e_max, L.e_min,
+                                  L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.p0});
+      lab_.cycles.stage.push_back(lab_.stage);
+      L.start(m.q, m.eps_a, m.u);
+    }
   }
+  L.n = N;
+  if (lab_.n_ru < 0 && sc.drainage == Drainage::Undrained && m.u >= sc.liquefaction_ru * lab_.p0) lab_.n_ru = N;
+  if (lab_.n_da < 0 && std::abs(m.eps_a - lab_.eps_turn) >= sc.liquefaction_da_strain) lab_.n_da = N;
   if (turn) lab_.eps_turn = m.eps_a;
 }
 
@@ -709,6 +739,7 @@ void Laboratory::start_stage(const StageConfig& sc) {
   lab_.cycle = 0;
   lab_.eps_turn = 0;
   lab_.n_ru = lab_.n_da = -1;
+  lab_.loop = CycleLoop{};
   for (int k = 0; k < 6; ++k) {
     WallControl& c = e.wall_control(k);
     c = WallControl{};
@@ -889,7 +920,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // report or snapshot step: up to check_every - 1 steps past max_axial_strain).
     const bool strain_end = shear_end(sc, m0);
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
-    if (cyclic) watch_liquefaction(sc, m0, turn);
+    if (cyclic) watch_cycle(sc, m0, turn);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
     const bool snap = shear && cfg_.snapshot_strain > 0 && (cyclic ? turn : m0.eps_a >= lab_.next_snap_eps);
     if (!(report || check || snap || strain_end)) {
@@ -1152,6 +1183,9 @@ std::string Laboratory::write_checkpoint() {
     w.write("/lab/trial_e", lab_.trial_e);
     w.write("/lab/series", lab_.series.flat());
     w.write("/lab/series_stage", lab_.series.stage);
+    w.write("/lab/loop", lab_.loop.state());
+    w.write("/lab/cycles", lab_.cycles.flat());
+    w.write("/lab/cycles_stage", lab_.cycles.stage);
     std::vector<double> res;
     std::vector<std::string> names;
     for (auto& r : lab_.results) {
@@ -1226,6 +1260,15 @@ bool Laboratory::load_newest_checkpoint() {
                       " columns per row (a checkpoint of another grainlab version, or corrupt)");
       for (size_t k = 0; k < lab.series.stage.size(); ++k)
         lab.series.rows.emplace_back(flat.begin() + k * nc, flat.begin() + (k + 1) * nc);
+      if (r.has("/lab/loop")) {  // a checkpoint from before cycles.csv has none: its cyclic stage's loops start here
+        lab.loop.set_state(r.doubles("/lab/loop"));
+        const auto cflat = r.doubles("/lab/cycles");
+        lab.cycles.stage = r.ints("/lab/cycles_stage");
+        const size_t cc = cycle_columns().size();
+        if (cflat.size() != lab.cycles.stage.size() * cc) throw H5Error(path + ": cycle rows have the wrong size (corrupt?)");
+        for (size_t k = 0; k < lab.cycles.stage.size(); ++k)
+          lab.cycles.rows.emplace_back(cflat.begin() + long(k * cc), cflat.begin() + long((k + 1) * cc));
+      }
       const auto res = r.doubles("/lab/results");
       const auto names = split(r.string("/lab/result_names"), '\n');
       // 9 values a stage; 6 in a checkpoint from before the liquefaction criteria (it has no N to give)
@@ -1321,6 +1364,7 @@ void Laboratory::write_summary() const {
 
 void Laboratory::flush_outputs() {
   write_file_atomic(out_ + "/series.csv", lab_.series.csv(cfg_.stages));
+  if (!lab_.cycles.rows.empty()) write_file_atomic(out_ + "/cycles.csv", lab_.cycles.csv(cfg_.stages));
   write_h5_atomic(out_ + "/run.h5", [&](H5Writer& w) {
     w.attr("config", resolved_config_yaml(cfg_));
     w.attr("build", build_info());

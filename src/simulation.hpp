@@ -79,5 +79,7 @@ RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt);
 
 // Series columns (name, unit), in order; documented in configs/README.md.
 const std::vector<std::pair<std::string, std::string>>& series_columns();
+// cycles.csv's columns: one row per completed cycle of a cyclic stage
+const std::vector<std::pair<std::string, std::string>>& cycle_columns();
 
 }  // namespace grainlab

@@ -1,0 +1,71 @@
+#pragma once
+// One load cycle of a cyclic stage, accumulated step by step: the extremes of q and eps_a, the loop's area
+// (the work per volume dissipated in the cycle) and the largest excess pore pressure. At the cycle's end it gives
+// the two numbers a cyclic triaxial test reports per cycle (ASTM D3999: modulus and damping):
+//  - the equivalent (secant) Young's modulus E_eq = (q_max - q_min) / (eps_max - eps_min);
+//  - the damping ratio D = W_loop / (4 pi W_e), W_loop the loop's area (the closed integral of q d eps_a),
+//    W_e = q_a eps_a / 2 the elastic energy of the secant at the single amplitudes q_a = (q_max - q_min)/2 and
+//    eps_a = (eps_max - eps_min)/2: D = W_loop / (2 pi q_a eps_a). D is 0 for an elastic loop and 2/pi for a
+//    rigid-plastic one (the rectangle 2 q_a x 2 eps_a).
+// Host code, no Kokkos: Laboratory feeds it the measure it turns on, once a step (test_cycle_loop checks it on
+// analytic loops).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace grainlab {
+
+struct CycleLoop {
+  double q_max = 0, q_min = 0, e_max = 0, e_min = 0;
+  double work = 0;         // integral of q d eps_a so far (trapezoids between the steps' measures) [Pa]
+  double q_prev = 0, e_prev = 0;
+  double u_max = 0;        // the largest excess pore pressure u seen in the cycle [Pa]
+  bool open = false;
+  double n = 0;            // the stage's cycle number N at the last step fed (it never decreases)
+
+  // The cycle starts at this measure.
+  void start(double q, double e, double u) {
+    q_max = q_min = q_prev = q;
+    e_max = e_min = e_prev = e;
+    work = 0;
+    u_max = u;
+    open = true;
+  }
+  void add(double q, double e, double u) {
+    work += 0.5 * (q + q_prev) * (e - e_prev);
+    q_prev = q;
+    e_prev = e;
+    q_max = std::max(q_max, q);
+    q_min = std::min(q_min, q);
+    e_max = std::max(e_max, e);
+    e_min = std::min(e_min, e);
+    u_max = std::max(u_max, u);
+  }
+  double modulus() const { return e_max > e_min ? (q_max - q_min) / (e_max - e_min) : 0; }
+  double damping() const {
+    const double qa = 0.5 * (q_max - q_min), ea = 0.5 * (e_max - e_min);
+    return qa > 0 && ea > 0 ? work / (2 * M_PI * qa * ea) : 0;
+  }
+
+  // For checkpoints: the state as numbers, and back.
+  static constexpr size_t kStateSize = 10;
+  std::vector<double> state() const {
+    return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n};
+  }
+  void set_state(const std::vector<double>& s) {
+    if (s.size() != kStateSize) throw std::runtime_error("cycle loop state has the wrong length (corrupt?)");
+    q_max = s[0];
+    q_min = s[1];
+    e_max = s[2];
+    e_min = s[3];
+    work = s[4];
+    q_prev = s[5];
+    e_prev = s[6];
+    u_max = s[7];
+    open = s[8] != 0;
+    n = s[9];
+  }
+};
+
+}  // namespace grainlab
