@@ -189,6 +189,31 @@ def fig_cyclic(runs, out):
     finish(fig, ax, ax[0], 8, out, "cyclic")
 
 
+def fig_modulus_damping(runs, out):
+    """Modulus reduction and damping from each run's cycles.csv: every cycle's equivalent modulus E_eq and damping
+    ratio D against its single-amplitude axial strain (eps_a_max - eps_a_min)/2, one colour per run: every cycle a
+    faint point, the curve through each stage's last cycle."""
+    runs = [(run, s) for run, s in runs if os.path.isfile(os.path.join(run, "cycles.csv"))]
+    if not runs:
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    for i, (run, s) in enumerate(runs):
+        with open(os.path.join(run, "cycles.csv")) as f:
+            rows = list(csv.DictReader(f))
+        color = f"C{i % 10}"
+        amp = np.array([50 * (float(r["eps_a_max"]) - float(r["eps_a_min"])) for r in rows])  # single amplitude, %
+        E, D = np.array([float(r["E_eq"]) / 1e6 for r in rows]), np.array([float(r["damping"]) for r in rows])
+        ax[0].plot(amp, E, "o", color=color, alpha=0.35, markersize=4)
+        ax[1].plot(amp, D, "o", color=color, alpha=0.35, markersize=4)
+        # the curve: each stage's last cycle, in order of amplitude
+        last = sorted({r["stage"]: k for k, r in enumerate(rows)}.values(), key=lambda k: amp[k])
+        ax[0].plot(amp[last], E[last], "o-", color=color, label=label(run, s))
+        ax[1].plot(amp[last], D[last], "o-", color=color)
+    ax[0].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="E_eq [MPa]", title="equivalent modulus")
+    ax[1].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="D", title="damping ratio")
+    finish(fig, ax, ax[0], 8, out, "modulus_damping")
+
+
 def legend(ax, **kw):
     """ax.legend(**kw) where the axes hold labelled artists; matplotlib warns on stderr otherwise (a csl or
     study without a critical state has nothing to label)."""
@@ -462,6 +487,7 @@ def main():
         fig_sff(runs, out)
         fig_fractions(runs, out)
         fig_cyclic(runs, out)
+        fig_modulus_damping(runs, out)
         fig_forcechains(a.runs[0], out)
     else:
         csl(runs, out, a.window)
