@@ -589,18 +589,26 @@ TEST(Lab, AllCheckpointsCorruptIsAClearError) {
   EXPECT_EQ(slurp(out + "/series.csv"), series);
 }
 
+namespace {
+// A config that loads the reference sample with mu_r = 0.2 through `stages` (YAML list items), a series row every
+// `every` steps, no checkpoints but those a stop writes.
+std::string on_reference(const std::string& name, const std::string& stages, int every) {
+  return write_config(name, "sample: {file: " + reference().out + "/sample_consolidate.h5}\nmaterial: {mu_r: 0.2}\n"
+                            "stages:\n" + stages + "output: {every: " + std::to_string(every) +
+                            ", checkpoint_every: 0, checkpoint_minutes: 0}\n");
+}
+}  // namespace
+
 // Cyclic triaxial loading (StageType::Cyclic). Strain reversal on the reference sample, undrained: the axial walls
 // turn at the start of the step that finds |eps_a| >= A, so each peak's eps_a (the snapshot taken there) lies in
 // [A, A + one step's strain); the cycles end on the step that finds eps_a back at 0; the box volume stays V0 to
 // round-off through the reversals; the stage takes exactly the steps the plan counts (4 cycles ceil(A / strain step)
 // + 1), and the cycle column rises to exactly `cycles` without ever falling.
 TEST(Lab, CyclicStrainReversalFollowsThePrescribedPath) {
-  const Reference& ref = reference();
-  const std::string cfg = write_config("cyclic_strain", "sample: {file: " + ref.out + "/sample_consolidate.h5}\n"
-                                       "material: {mu_r: 0.2}\nstages:\n"
+  const std::string cfg = on_reference("cyclic_strain",
                                        "  - {name: cyc, type: cyclic, drainage: undrained, strain_amplitude: 0.001, "
-                                       "cycles: 2, axial_strain_rate: 1.0, damping: 0.2, liquefaction_da_strain: 0.0015}\n"
-                                       "output: {every: 50, checkpoint_every: 0, checkpoint_minutes: 0}\n");
+                                       "cycles: 2, axial_strain_rate: 1.0, damping: 0.2, liquefaction_da_strain: 0.0015}\n",
+                                       50);
   const std::string out = tmpdir("cyclic_strain");
   const RunResult r = run(cfg, out);
   ASSERT_EQ(r.stages.size(), 1u);
@@ -674,14 +682,11 @@ TEST(Lab, CyclicStrainReversalFollowsThePrescribedPath) {
 // more than 1.2x a step in amplitude (a granular skeleton softens as contacts slide and the fabric changes), D rises
 // with it and stays in (0, 2/pi), and r_u grows with it (undrained: larger loops contract the skeleton more).
 TEST(Lab, CyclicModulusFallsAndDampingRisesWithStrainAmplitude) {
-  const Reference& ref = reference();
   std::string stages;
   for (const auto& [a, rate] : {std::pair<const char*, const char*>{"0.0001", "0.02"}, {"0.001", "0.2"}, {"0.005", "1.0"}})
     stages += std::string("  - {name: a") + a + ", type: cyclic, drainage: undrained, strain_amplitude: " + a +
               ", cycles: 2, axial_strain_rate: " + rate + ", damping: 0.2}\n";
-  const std::string cfg = write_config("cyclic_modulus", "sample: {file: " + ref.out + "/sample_consolidate.h5}\n"
-                                       "material: {mu_r: 0.2}\nstages:\n" + stages +
-                                       "output: {every: 500, checkpoint_every: 0, checkpoint_minutes: 0}\n");
+  const std::string cfg = on_reference("cyclic_modulus", stages, 500);
   const std::string out = tmpdir("cyclic_modulus");
   const RunResult r = run(cfg, out);
   ASSERT_EQ(r.stages.size(), 3u);
@@ -776,11 +781,10 @@ TEST(Lab, CyclicStressReversalResumesAndExtendsBitwise) {
 // uninterrupted run's, byte for byte (the servo walls' state is in the checkpoint).
 TEST(Lab, CyclicDrainedHoldsSigma3AndResumesBitwise) {
   const Reference& ref = reference();
-  const std::string cfg = write_config("cyclic_drained", "sample: {file: " + ref.out + "/sample_consolidate.h5}\n"
-                                       "material: {mu_r: 0.2}\nstages:\n"
+  const std::string cfg = on_reference("cyclic_drained",
                                        "  - {name: cyc, type: cyclic, drainage: drained, q_amplitude: 38000, cycles: 2, "
-                                       "axial_strain_rate: 1.0, damping: 0.2, liquefaction_da_strain: 0.004}\n"
-                                       "output: {every: 50, checkpoint_every: 0, checkpoint_minutes: 0}\n");
+                                       "axial_strain_rate: 1.0, damping: 0.2, liquefaction_da_strain: 0.004}\n",
+                                       50);
   const std::string direct = tmpdir("cyclic_drained"), stopped = tmpdir("cyclic_drained_stopped");
   const RunResult r = run(cfg, direct);
   ASSERT_EQ(r.stages.size(), 1u);
