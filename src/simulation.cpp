@@ -123,8 +123,8 @@ const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
 namespace {
 
 // ------------------------------------------------------------------------------------------------
-// Series: numeric columns plus the stage of each row.
-// A table of rows, each of one stage: the series (series_columns), or a cyclic stage's cycles (cycle_columns).
+// Series: numeric columns plus the stage of each row; the series (series_columns), or a cyclic stage's cycles
+// (cycle_columns).
 struct Series {
   const std::vector<std::pair<std::string, std::string>>* columns = &series_columns();
   std::vector<std::vector<double>> rows;
@@ -172,7 +172,7 @@ struct Lab {
   bool searching = false;
   long half_cycles = 0;  // cyclic stage: load reversals so far
   Real cycle = 0;        // cyclic stage: the cycle number of the last series row (it never decreases)
-  // cyclic stage, the liquefaction criteria (Laboratory::watch_liquefaction): eps_a at the last load reversal (the
+  // cyclic stage, the liquefaction criteria (Laboratory::watch_cycle): eps_a at the last load reversal (the
   // stage's start before the first), and the cycle number N at which each criterion was first met (-1: not yet)
   Real eps_turn = 0, n_ru = -1, n_da = -1;
   CycleLoop loop;  // cyclic stage: the cycle under way (Laboratory::watch_cycle)
