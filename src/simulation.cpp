@@ -1504,7 +1504,6 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
              ": the stage stops before the full pressure is applied");
       p_prev = sc.pressure;
       plan.steps.push_back(double(sc.max_steps) * (sc.target_e0 > 0 ? sc.max_trials : 1));
-      plan.steps_cap.push_back(true);
     } else {
       const char* drainage = sc.drainage == Drainage::Undrained ? "undrained" : "drained";
       const double strain_step = sc.axial_strain_rate * plan.dt;  // eps_a per step: the axial walls move at 1/2 rate H0
@@ -1514,7 +1513,6 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
         os << "triaxial " << drainage << " to eps_a = " << sc.max_axial_strain << " at " << sc.axial_strain_rate
            << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6) << need << " steps";
         plan.steps.push_back(std::min(need, double(sc.max_steps)));
-        plan.steps_cap.push_back(false);
         if (need > double(sc.max_steps)) {
           std::ostringstream w;
           w << std::setprecision(4) << "eps_a = " << sc.max_axial_strain << " takes " << need
@@ -1528,7 +1526,6 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
            << sc.axial_strain_rate << "/s, or until |eps_a| = " << sc.max_axial_strain << ", mu = " << sc.mu
            << ", mu_r = " << sc.mu_r << ": at most " << sc.max_steps << " steps";
         plan.steps.push_back(double(sc.max_steps));
-        plan.steps_cap.push_back(true);
       } else {
         // Strain reversal: eps_a reaches A after n = ceil(A / strain step) steps and turns at the start of the next,
         // so each peak lies n steps from 0 (overshooting A by under a step's strain) and a cycle takes 4 n steps; the
@@ -1538,7 +1535,6 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
            << sc.axial_strain_rate << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6)
            << need << " steps";
         plan.steps.push_back(std::min(need, double(sc.max_steps)));
-        plan.steps_cap.push_back(false);
         if (need > double(sc.max_steps)) {
           std::ostringstream w;
           w << std::setprecision(4) << sc.cycles << " cycles of eps_a = +-" << sc.strain_amplitude << " take " << need

@@ -56,8 +56,6 @@ struct RunPlan {
   std::vector<std::string> stages;    // one line a stage: what it does, for how many steps
   std::vector<double> steps;          // a stage's steps: triaxial to its end strain (at most max_steps),
                                       // isotropic its max_steps (it ends at equilibrium, usually sooner)
-  std::vector<bool> steps_cap;        // a stage's steps is only its cap (max_steps): it ends on a state (isotropic
-                                      // equilibrium; a stress-reversal cyclic stage's cycles, or max_axial_strain)
   std::vector<std::string> warnings;  // a stage that max_steps cuts short, a ramp that never ends
   double inertial_max = 0;            // the largest estimated inertial number of a shear (0: p' unknown)
 };

@@ -342,7 +342,11 @@ StudyPlan plan_study(const Study& s) {
     keep(j, p);
     double n = 0;
     for (double k : p.steps) n += k;
-    if (std::find(p.steps_cap.begin(), p.steps_cap.end(), true) != p.steps_cap.end()) {
+    // a stress-reversal cyclic stage's length depends on the sample: its plan steps are only its max_steps
+    const bool capped = std::any_of(c.stages.begin(), c.stages.end(), [](const StageConfig& st) {
+      return st.type == StageType::Cyclic && st.q_amplitude > 0;
+    });
+    if (capped) {
       ++sp.capped_shears;
       sp.capped_steps_max = std::max(sp.capped_steps_max, long(n));
     } else {
