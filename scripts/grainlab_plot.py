@@ -340,7 +340,9 @@ def study(out):
     finish(fig, ax, ax[0], 6, figs, "stress_paths")
     # Peaks and critical states: the monotonic shears; cyclic ones have their own section.
     mono = [r for r in runs if r[2]["monotonic"].any()]
-    cyc = [r for r in runs if r[2]["cyclic"].any()]
+    # strain_amplitude axis: the modulus-reduction section; the other cyclic tests: the liquefaction section
+    amp = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) > 0]
+    cyc = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) <= 0]
     peak_rows, cs_rows, share_rows = [], [], []
     for j, d, s in mono:
         m = s["shear"]
@@ -359,6 +361,10 @@ def study(out):
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | no: {c['why']} | | | | | |")
     results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
+    cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
+    if amp:
+        cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
+        cyc_figs.append("`figures/modulus_reduction.png`")
     # Shares at critical state, per mu_r (mean over its critical states).
     if states:
         fig, ax = plt.subplots(figsize=(7, 4))
@@ -376,14 +382,14 @@ def study(out):
     head = [f"# Study report: {idx['study']}", "",
             f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
             ""]
-    if cyc and not mono:  # a cyclic study: peaks and critical states are those of monotonic shears
+    if (cyc or amp) and not mono:  # a cyclic study: peaks and critical states are those of monotonic shears
         write_text_atomically(os.path.join(out, "report.md"),
-                              "\n".join(head + ["Figures: `figures/stress_paths.png`, `figures/liquefaction.png`.", ""]
+                              "\n".join(head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + cyc_figs) + ".", ""]
                                          + cyc_lines))
         print(os.path.join(out, "report.md"))
         return
     lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
-             + (", `figures/liquefaction.png`" if cyc else "") + ".", "",
+             + "".join(", " + f for f in cyc_figs) + ".", "",
              "## Peak states", "", "| test | mu_r | drainage | q_peak [kPa] | eps_a at peak [%] | q/p' at peak |",
              "|---|---|---|---|---|---|", *peak_rows, "",
              "## Critical states", "",
@@ -460,6 +466,110 @@ def cyclic_section(cyc, figs, colors):
             "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ".", "",
             "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+
+
+def hyperbolic_fit(eps, E):
+    """The hyperbola of Hardin & Drnevich (1972), E = E_max / (1 + eps/eps_r), fitted by least squares on its
+    linear form 1/E = a + b eps with each residual weighted by E: the residual E (a + b eps) - 1 = E/E_fit - 1 is
+    the relative misfit, so a 1e-5 and a 5e-3 amplitude weigh alike. Returns (E_max, eps_r, rms relative misfit),
+    or None with fewer than two amplitudes, or where E does not fall with strain (a or b <= 0)."""
+    eps, E = np.asarray(eps, float), np.asarray(E, float)
+    if len(set(eps.tolist())) < 2:
+        return None
+    (a, b), *_ = np.linalg.lstsq(np.column_stack([E, E * eps]), np.ones_like(E), rcond=None)
+    if not (a > 0 and b > 0):
+        return None
+    e_max, eps_r = 1 / a, a / b
+    return e_max, eps_r, float(np.sqrt(np.mean((E * (a + b * eps) - 1) ** 2)))
+
+
+def damping_fit(E_ratio, D):
+    """Hardin & Drnevich's damping, D = D_min + (D_max - D_min)(1 - E/E_max), by least squares in x = 1 - E/E_max:
+    returns (D_min, D_max), or None with fewer than two distinct x."""
+    x, D = 1 - np.asarray(E_ratio, float), np.asarray(D, float)
+    if len(set(x.tolist())) < 2:
+        return None
+    (d0, slope), *_ = np.linalg.lstsq(np.column_stack([np.ones_like(x), x]), D, rcond=None)
+    return float(d0), float(d0 + slope)
+
+
+def modulus_section(amp, stage, figs):
+    """Tests of a strain_amplitude axis: each test's last complete cycle of the strain-controlled stage (cycles.csv),
+    its equivalent modulus E_eq and damping ratio D against the measured single-amplitude axial strain, per group of
+    tests that differ only in the amplitude (a sample, a drainage); per group the hyperbolic fit (hyperbolic_fit,
+    damping_fit) and figures/modulus_reduction.png."""
+    groups = {}
+    for j, d, s in amp:
+        key = tuple((k, j[k]) for k in ("mu_r", "e0", "p0", "seed", "count", "drainage", "csr"))
+        groups.setdefault(key, []).append((j, d, s))
+    varying = [k for k in ("mu_r", "e0", "p0", "seed", "count", "drainage")
+               if len({dict(g)[k] for g in groups}) > 1] or ["mu_r"]
+
+    def name(key):
+        g = dict(key)
+        return " ".join(f"{k}={g[k]:g}" if isinstance(g[k], (int, float)) else g[k] for k in varying)
+
+    rows, fits = [], []
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    for i, (key, tests) in enumerate(sorted(groups.items())):
+        pts = []  # (single amplitude, E_eq, D, row text head)
+        for j, d, s in sorted(tests, key=lambda r: r[0]["strain_amplitude"]):
+            path = os.path.join(d, "cycles.csv")
+            cyc = []
+            if os.path.isfile(path):
+                with open(path) as f:
+                    cyc = [r for r in csv.DictReader(f) if not stage or r["stage"] == stage]
+            if not cyc:
+                rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | no complete cycle | | | | | | |")
+                continue
+            r = cyc[-1]
+            p0 = s["p"][s["cyclic"]][0]  # p'_0: the stage's first row
+            ea = (float(r["eps_a_max"]) - float(r["eps_a_min"])) / 2
+            pts.append((ea, float(r["E_eq"]), float(r["damping"]),
+                        f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | {100 * ea:.4g} | {r['cycle']} | "
+                        f"{float(r['E_eq']) / 1e6:.4g} |", f"{float(r['damping']):.3f} | {float(r['p']) / p0:.3f} | "
+                        + (f"{float(r['r_u_max']):.3f} |" if j["drainage"] == "undrained" else "– |")))
+        if not pts:
+            continue
+        ea, E, D = (np.array([p[k] for p in pts]) for k in range(3))
+        e0 = E[0]  # E_0: the group's smallest amplitude (the lab's small-strain modulus)
+        for p, e in zip(pts, E):
+            rows.append(f"{p[3]} {e / e0:.3f} | {p[4]}")
+        c = f"C{i % 10}"
+        ax[0].plot(100 * ea, E / e0, "o", color=c, label=name(key))
+        ax[1].plot(100 * ea, D, "o", color=c)
+        hf = hyperbolic_fit(ea, E)
+        if hf is None:
+            fits.append(f"| {name(key)} | {len(pts)} | no fit: E_eq does not fall with strain | | | | | |")
+            continue
+        e_max, eps_r, rms = hf
+        df = damping_fit(E / e_max, D)
+        xs = np.geomspace(ea.min() / 3, ea.max() * 3, 100)
+        ax[0].plot(100 * xs, e_max / (1 + xs / eps_r) / e0, "--", color=c)
+        if df is not None:
+            ax[1].plot(100 * xs, df[0] + (df[1] - df[0]) * (1 - 1 / (1 + xs / eps_r)), "--", color=c)
+        und = all(t[0]["drainage"] == "undrained" for t in tests)
+        fits.append(f"| {name(key)} | {len(pts)} | {e_max / 1e6:.4g} | {100 * eps_r:.3g} | "
+                    + (f"{150 * eps_r:.3g}" if und else "–") + f" | {100 * rms:.1f} | "
+                    + (f"{df[0]:.3f} | {df[1]:.3f} |" if df else "| |"))
+    ax[0].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="E_eq / E_0",
+              title="modulus reduction (E_0: smallest amplitude; dashed: hyperbola)")
+    ax[1].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="D", title="damping ratio")
+    finish(fig, ax, ax[0], 8, figs, "modulus_reduction")
+    return ["## Modulus reduction and damping", "",
+            "One test per strain amplitude, each on its own specimen of the sample, at one loading frequency (every "
+            "quarter cycle as long as the base's). Each row is the test's last complete cycle"
+            + (f" of stage `{stage}`" if stage else "") + " in cycles.csv: its measured single amplitude "
+            "(eps_a_max - eps_a_min)/2, the equivalent modulus E_eq = (q_max - q_min)/(eps_a_max - eps_a_min), E_eq/E_0 "
+            "with E_0 at the group's smallest amplitude, the damping ratio D = loop area / (2 pi q_a eps_a) (ASTM "
+            "D3999), p'/p'_0 at the cycle's end and its largest r_u. Undrained, G = E_eq/3 and gamma = 1.5 eps_a.", "",
+            "| test | group | eps_a amplitude [%] | measured [%] | cycle | E_eq [MPa] | E_eq/E_0 | D | p'/p'_0 | max r_u |",
+            "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "Per group, the hyperbola E_eq = E_max / (1 + eps_a/eps_r) of Hardin & Drnevich (1972), fitted to the relative "
+            "misfit of E_eq (rms given), and D = D_min + (D_max - D_min)(1 - E_eq/E_max), by least squares; gamma_r = 1.5 "
+            "eps_r where undrained.", "",
+            "| group | tests | E_max [MPa] | eps_r [%] | gamma_r [%] | rms misfit [%] | D_min | D_max |",
+            "|---|---|---|---|---|---|---|---|", *fits, ""]
 
 
 def main():

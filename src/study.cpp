@@ -82,7 +82,11 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     } else {
       if (!shear_only) continue;
       s["drainage"] = j.drainage;
-      if (type == "cyclic" && j.q_amplitude > 0) s["q_amplitude"] = yaml_number(j.q_amplitude);
+      if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
+      if (type == "cyclic" && j.strain_amplitude > 0 && s["strain_amplitude"]) {
+        s["strain_amplitude"] = yaml_number(j.strain_amplitude);
+        s["axial_strain_rate"] = yaml_number(j.strain_rate);
+      }
     }
     stages.push_back(s);
   }
@@ -120,6 +124,10 @@ void check_axis_values(const std::vector<double>& v, const std::string& path, co
   if (ends_with("csr"))
     for (double x : v)
       if (!(x > 0)) fail(path, key, "values must be > 0 (q_amplitude / (2 p'_0)); leave csr out for the base's q_amplitude");
+  if (ends_with("strain_amplitude"))
+    for (double x : v)
+      if (!(x > 0 && x < 0.9))
+        fail(path, key, "values must be in (0, 0.9) (axial strain); leave strain_amplitude out for the base's");
   const bool is_seed = ends_with("seed"), is_count = ends_with("count");
   if (!is_seed && !is_count) return;
   for (double x : v) {
@@ -155,12 +163,23 @@ Study load_study_unchecked(const std::string& path) {
   bool has_q_cyclic = false;
   long base_cycles = 0;
   Real base_p0 = 0;
+  // The strain_amplitude axis sets the amplitude of the base's strain-controlled cyclic stage and scales its rate
+  // with it: the modulus-reduction and damping curves (one test per amplitude, each on a fresh specimen of the
+  // sample, as ASTM D3999 tests are run) at one loading frequency. Only one such stage: with several (a staged
+  // test, configs/modulus_damping.yaml) the axis would not say which it sets.
+  std::vector<std::string> strain_stages;
+  Real base_strain_amp = 0, base_strain_rate = 0;
   for (auto& st : base_cfg.stages) {
     (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
     if (st.type == StageType::Isotropic) base_p0 = st.pressure;
     if (st.type == StageType::Cyclic) {
       has_q_cyclic = has_q_cyclic || st.q_amplitude > 0;
       base_cycles = st.cycles;
+      if (st.strain_amplitude > 0) {
+        strain_stages.push_back(st.name);
+        base_strain_amp = st.strain_amplitude;
+        base_strain_rate = st.axial_strain_rate;
+      }
     }
     if (st.type != StageType::Isotropic && base_drainage.empty())
       base_drainage = st.drainage == Drainage::Drained ? "drained" : "undrained";
@@ -190,8 +209,8 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
-      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "seed", "count", "csr"}.count(k))
-        fail(path, "axes." + k, "unknown axis (known: mu_r, e0, p0, drainage, seed, count, csr)");
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "seed", "count", "csr", "strain_amplitude"}.count(k))
+        fail(path, "axes." + k, "unknown axis (known: mu_r, e0, p0, drainage, seed, count, csr, strain_amplitude)");
     }
   const auto need_q_cyclic = [&](const std::string& key) {
     if (!has_q_cyclic)
@@ -199,6 +218,17 @@ Study load_study_unchecked(const std::string& path) {
                           ") has no cyclic stage with q_amplitude");
   };
   if (ax && ax["csr"]) need_q_cyclic("axes.csr");
+  const auto need_strain_cyclic = [&](const std::string& key) {
+    if (strain_stages.size() != 1)
+      fail(path, key, "sets the strain amplitude of the base's strain-controlled cyclic stage (one with strain_amplitude), "
+                      "and the base (" + s.base + ") has " +
+                          (strain_stages.empty() ? std::string("none")
+                                                 : std::to_string(strain_stages.size()) + " (" + strain_stages[0] + ", " +
+                                                       strain_stages[1] + (strain_stages.size() > 2 ? ", ..." : "") +
+                                                       "): the axis would not say which"));
+    s.strain_stage = strain_stages[0];
+  };
+  if (ax && ax["strain_amplitude"]) need_strain_cyclic("axes.strain_amplitude");
   std::vector<std::string> drain;
   if (ax && ax["drainage"])
     for (auto v : (ax["drainage"].IsSequence() ? ax["drainage"] : YAML::Node(std::vector<YAML::Node>{ax["drainage"]}))) {
@@ -211,7 +241,7 @@ Study load_study_unchecked(const std::string& path) {
     double mu_r, e0, p0;
     long seed, count;
     std::string drainage;
-    double csr;
+    double csr, ea;
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -221,13 +251,15 @@ Study load_study_unchecked(const std::string& path) {
           for (double seed : axis("seed", {double(base_cfg.packing.seed)}))
             for (double count : axis("count", {double(base_cfg.packing.count)}))
               for (auto& d : drain)
-                for (double csr : axis("csr", {0})) points.push_back({mur, e0, p0, long(seed), long(count), d, csr});
+                for (double csr : axis("csr", {0}))
+                  for (double ea : axis("strain_amplitude", {0}))
+                    points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
-      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), base_drainage, 0};
+      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), base_drainage, 0, 0};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -249,7 +281,10 @@ Study load_study_unchecked(const std::string& path) {
         else if (f == "csr") {
           need_q_cyclic(field);
           pt.csr = v;
-        } else fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, seed, count, csr)");
+        } else if (f == "strain_amplitude") {
+          need_strain_cyclic(field);
+          pt.ea = v;
+        } else fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, seed, count, csr, strain_amplitude)");
       }
       points.push_back(pt);
     }
@@ -291,8 +326,22 @@ Study load_study_unchecked(const std::string& path) {
       sh.q_amplitude = 2 * pt.csr * (pt.p0 > 0 ? pt.p0 : base_p0);
       sh.name += "_csr" + fmt(pt.csr);
     }
+    if (pt.ea > 0) {
+      sh.strain_amplitude = pt.ea;
+      // to 12 significant digits: 0.2 x (1e-4 / 1e-3) is 0.020000000000000004 in binary, and job.yaml shows it
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.12g", base_strain_rate * (pt.ea / base_strain_amp));
+      sh.strain_rate = std::strtod(buf, nullptr);
+      sh.name += "_ea" + fmt(pt.ea);
+    }
     bool dup = false;
-    for (auto& o : s.shears) dup = dup || o.name == sh.name;
+    for (auto& o : s.shears) {
+      if (o.name != sh.name) continue;
+      dup = true;
+      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude)  // as for the samples above
+        fail(path, "axes", "two values of csr or strain_amplitude agree to 6 significant digits (job " + sh.name +
+                               "); make them differ sooner or list one of them");
+    }
     if (!dup) s.shears.push_back(sh);
   }
   // Every job's config is checked now, as the run would check it, so that `grainlab validate` of a study
@@ -301,6 +350,10 @@ Study load_study_unchecked(const std::string& path) {
   for (const StudyJob& j : s.shears)
     parse_run_config(job_config(base, j, true, "sample.h5"), path + " (job " + j.name + ")");
   return s;
+}
+
+std::string shear_config(const Study& s, const StudyJob& j, const std::string& sample_file) {
+  return YAML::Dump(job_config(load_yaml_screened(s.base), j, true, sample_file));
 }
 
 StudyPlan plan_study(const Study& s) {
@@ -522,14 +575,15 @@ int run_study(const Study& s, const StudyOptions& o) {
   // Study index for the report.
   {
     std::ostringstream js;
-    js << "{\n  \"study\": " << json_string(s.path) << ",\n  \"critical_state\": {\"window\": " << s.window
+    js << "{\n  \"study\": " << json_string(s.path) << ",\n  \"strain_stage\": " << json_string(s.strain_stage)
+       << ",\n  \"critical_state\": {\"window\": " << s.window
        << ", \"qp_tol\": " << s.qp_tol << ", \"p_tol\": " << s.p_tol << ", \"e_tol\": " << s.e_tol << "},\n  \"jobs\": [\n";
     for (size_t k = 0; k < s.shears.size(); ++k) {
       const StudyJob& j = s.shears[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name
          << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
          << j.drainage << "\", \"seed\": " << j.seed << ", \"count\": " << j.count << ", \"csr\": " << j.csr
-         << ", \"cycles\": " << j.cycles << "}"
+         << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";

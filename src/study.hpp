@@ -17,16 +17,24 @@ struct StudyJob {
   double csr = 0;           // cyclic shears: cyclic stress ratio q_amplitude / (2 p'_0) (0: the base's q_amplitude)
   double q_amplitude = 0;   // the amplitude csr gives at the job's p'_0 [Pa] (0: the base's)
   long cycles = 0;          // the base's cyclic stage's cycles (0: a monotonic shear), for the report
+  // cyclic shears with a strain_amplitude axis: the strain-controlled stage's amplitude, and its axial_strain_rate
+  // scaled from the base's so that every job's quarter cycle lasts as long (a lab test at one loading frequency)
+  double strain_amplitude = 0, strain_rate = 0;
   std::string config_yaml;  // the generated run config
 };
 
 struct Study {
   std::string path, base;
+  std::string strain_stage;  // the base's strain-controlled cyclic stage (the strain_amplitude axis sets it), if any
   std::vector<StudyJob> samples, shears;
   double window = 0.05, qp_tol = 0.05, p_tol = 0.05, e_tol = 0.005;  // critical-state detection
 };
 
 Study load_study(const std::string& path);
+
+// The run config (YAML text) of a shear job of s, its sample read from sample_file: what the study writes to its
+// job.yaml, less the header.
+std::string shear_config(const Study& s, const StudyJob& j, const std::string& sample_file);
 
 // `grainlab validate` of a study: every job planned as it would run (plan_run; a shear planned on the radii its
 // sample job will draw, as the sample file does not exist yet). Throws the first job's error, naming the job.

@@ -217,6 +217,70 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
       << e;
 }
 
+// Modulus-reduction studies: the strain_amplitude axis sets the amplitude of the base's one strain-controlled cyclic
+// stage and scales its rate with it, so every job's quarter cycle A/rate lasts as long as the base's (one loading
+// frequency); the stress-reversal stage of the same base keeps its q_amplitude; the samples are shared between
+// amplitudes. Errors: no such stage, two of them (which would it set?), values outside (0, 0.9), a value the job's
+// own config refuses (at or above its max_axial_strain), and two values that name one job.
+TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
+  const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string loops = "  - {name: loops, type: cyclic, strain_amplitude: 1.0e-3, axial_strain_rate: 0.3, cycles: 3}\n";
+  const std::string base = write_tmp("study_strain_base", head + loops +
+                                     "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 5}\n");
+  const Study s = load_study(write_tmp("study_strain", "base: " + base +
+                                       "\naxes: {strain_amplitude: [1.0e-5, 1.0e-3, 0.02], mu_r: [0, 0.2]}\n"));
+  ASSERT_EQ(s.samples.size(), 2u);
+  ASSERT_EQ(s.shears.size(), 6u);
+  EXPECT_EQ(s.strain_stage, "loops");
+  for (const StudyJob& j : s.shears) {
+    SCOPED_TRACE(j.name);
+    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    ASSERT_EQ(c.stages.size(), 2u);
+    EXPECT_EQ(c.stages[0].strain_amplitude, j.strain_amplitude);
+    // the quarter cycle A / rate of the base's, 1e-3 / 0.3 s, to the 12 digits the rate is written with
+    EXPECT_NEAR(c.stages[0].strain_amplitude / c.stages[0].axial_strain_rate, 1.0e-3 / 0.3, 1e-12 * 1.0e-3 / 0.3);
+    EXPECT_EQ(c.stages[1].q_amplitude, 3e4);  // the stress-reversal stage is not the axis's
+    EXPECT_EQ(c.stages[1].axial_strain_rate, 1.0);
+    EXPECT_NE(j.name.find("_ea" + std::string(j.strain_amplitude == 1e-5 ? "1e-05" : j.strain_amplitude == 1e-3 ? "0.001"
+                                                                                                               : "0.02")),
+              std::string::npos);
+  }
+  EXPECT_EQ(s.shears[0].strain_rate, 0.003) << "0.3 x 1e-5 / 1e-3, written without binary noise";
+  const auto error = [&](const std::string& name, const std::string& text) {
+    try {
+      load_study(write_tmp(name, text));
+    } catch (const ConfigError& x) {
+      return std::string(x.what());
+    }
+    return std::string();
+  };
+  const std::string two = write_tmp("study_strain_two", head + loops + loops);
+  struct Case {
+    const char* name;
+    std::string text, expect;
+  };
+  const Case cases[] = {
+      {"study_ea_none", "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\naxes: {strain_amplitude: [1e-4]}\n",
+       "axes.strain_amplitude: sets the strain amplitude of the base's strain-controlled cyclic stage (one with "
+       "strain_amplitude), and the base (" GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml) has none"},
+      {"study_ea_two", "base: " + two + "\nextra: [{strain_amplitude: 1e-4}]\n",
+       "extra[0].strain_amplitude: sets the strain amplitude of the base's strain-controlled cyclic stage (one with "
+       "strain_amplitude), and the base (" + two + ") has 2 (loops, loops): the axis would not say which"},
+      {"study_ea_zero", "base: " + base + "\naxes: {strain_amplitude: [0]}\n",
+       "axes.strain_amplitude: values must be in (0, 0.9)"},
+      {"study_ea_big", "base: " + base + "\naxes: {strain_amplitude: [0.06]}\n",
+       "(job shear_undrained_mur0_ebase_pbase_s1_n300_ea0.06): stages[0].strain_amplitude = 0.06 must be below "
+       "max_axial_strain = 0.05"},
+      {"study_ea_close", "base: " + base + "\naxes: {strain_amplitude: [1e-4, 1.0000001e-4]}\n",
+       "axes: two values of csr or strain_amplitude agree to 6 significant digits"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = error(c.name, c.text);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
+    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
+  }
+}
+
 TEST(Config, StudySeedZeroIsASeed) {
   const Study s = load_study(write_tmp("study_seed0", "base: " GRAINLAB_SOURCE_DIR
                                                       "/configs/quick-study-base.yaml\naxes: {seed: [0, 1]}\n"));
