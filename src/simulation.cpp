@@ -1482,9 +1482,19 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
   const StableStep st = stable_step(r, density, scaling, ep);
   plan.dt_limit = st.limit(plan.rolling);
   plan.dt = choose_time_step(st, ep);
-  double d_mean = 0;
-  for (Real ri : r) d_mean += 2 * ri;
+  double d_mean = 0, v_solid = 0;
+  for (Real ri : r) {
+    d_mean += 2 * ri;
+    v_solid += 4.0 / 3.0 * M_PI * double(ri) * ri * ri;
+  }
   d_mean /= std::max<size_t>(r.size(), 1);
+  // The time a compression wave takes across the sample, T_w = L / c (choice, beyond SPEC §6.3): c = d sqrt(k_n/m)
+  // for a chain of mean spheres (linear contacts: independent of p'), L the side of a cube of the spheres at solid
+  // fraction 0.6. A cyclic loop measures the material only when its loading is slow against the sample's response:
+  // the loading frequency 1/(4 t_q) (t_q: a quarter cycle) against the sample's fundamental frequency ~ c / (4 L)
+  // (a quarter wavelength over its height) is T_w / t_q.
+  const double m_mean = sphere_mass(Real(d_mean / 2), density, scaling), k_mean = ep.contact.E * d_mean / 2;
+  const double transit = std::cbrt(v_solid / 0.6) / (d_mean * std::sqrt(k_mean / m_mean));
 
   double p_prev = p_start;  // the pressure the previous isotropic stage leaves (a shear's p'_0), 0: unknown
   for (const StageConfig& sc : cfg.stages) {
@@ -1535,6 +1545,21 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
            << sc.axial_strain_rate << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6)
            << need << " steps";
         plan.steps.push_back(std::min(need, double(sc.max_steps)));
+        const double quarter = sc.strain_amplitude / sc.axial_strain_rate;
+        os << ", each quarter cycle " << std::setprecision(3) << quarter * 1e3 << " ms = " << quarter / transit
+           << " wave transits of the sample (~" << transit * 1e3 << " ms)";
+        // Measured on the tests' 250-sphere and the quick 3 000-sphere sample (configs/README.md, cycles.csv): E_eq
+        // within 2 % of its slow limit from 4 transits a quarter cycle, 40 % and 3x too high at 1 and 0.5.
+        if (quarter < kQuasiStaticTransits * transit) {
+          std::ostringstream w;
+          w << std::setprecision(3) << "each quarter cycle (strain_amplitude / axial_strain_rate = " << quarter * 1e3
+            << " ms) lasts only " << quarter / transit << " times the ~" << transit * 1e3
+            << " ms a compression wave takes across the sample: the loops (cycles.csv) will measure its inertia as "
+               "well as the material, E_eq and D too high; axial_strain_rate <= "
+            << sc.strain_amplitude / (kQuasiStaticTransits * transit) << "/s gives " << kQuasiStaticTransits
+            << " transits";
+          warn(w.str());
+        }
         if (need > double(sc.max_steps)) {
           std::ostringstream w;
           w << std::setprecision(4) << sc.cycles << " cycles of eps_a = +-" << sc.strain_amplitude << " take " << need

@@ -65,6 +65,9 @@ struct RunPlan {
 RunPlan plan_run(const RunConfig& cfg, Real p_start = 0);
 // The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3).
 constexpr double kQuasiStaticInertial = 1e-3;
+// A strain-controlled cyclic stage's quarter cycle, in transit times of a compression wave across the sample, below
+// which plan_run warns that its loops are dynamic (choice, beyond SPEC §6.3; measured, configs/README.md).
+constexpr double kQuasiStaticTransits = 4;
 // Empty when the config `now` only extends `then` (both resolved, as a run's checkpoint records its config) for a
 // run whose newest checkpoint lies in stage k (k = the number of stages: finished); otherwise the first differing
 // config key. What --resume accepts: stages appended, the end (max_axial_strain, max_steps) of stage k moved, and
