@@ -1406,7 +1406,9 @@ RunResult Laboratory::run() {
   if (!opt_.quiet) {
     std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g\n",
                 build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_);
-    std::printf("output: %s\nresolved config:\n%s", out_.c_str(), resolved_config_yaml(cfg_).c_str());
+    // The resolved config (every default filled in) is the run's config.yaml, not the console's: 50 lines before
+    // the first progress line buried the plan.
+    std::printf("output: %s (config.yaml: the resolved config, every default filled in)\n", out_.c_str());
     if (!opt_.resume) {
       std::printf("plan:\n");
       for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
@@ -1444,7 +1446,10 @@ RunResult Laboratory::run() {
   }
   flush_outputs();
   write_checkpoint();  // the final state, so a finished run can be extended or inspected
-  if (!opt_.quiet) std::printf("done: %s/series.csv, run.h5, particles.xdmf\n", out_.c_str());
+  if (!opt_.quiet) {
+    std::printf("done: %s/series.csv, run.h5, particles.xdmf, summary.json%s\n", out_.c_str(),
+                lab_.cycles.rows.empty() ? "" : ", cycles.csv");
+  }
   result.stages = lab_.results;
   return result;
 }
