@@ -192,7 +192,8 @@ def fig_cyclic(runs, out):
 def fig_modulus_damping(runs, out):
     """Modulus reduction and damping from each run's cycles.csv: every cycle's equivalent modulus E_eq and damping
     ratio D against its single-amplitude axial strain (eps_a_max - eps_a_min)/2, one colour per run: every cycle a
-    faint point, the curve through each stage's last cycle."""
+    faint point, the curve through each stage's last cycle, and (dotted, E_max and eps_r in the legend) the hyperbola of
+    Hardin & Drnevich fitted to that curve."""
     runs = [(run, s) for run, s in runs if os.path.isfile(os.path.join(run, "cycles.csv"))]
     if not runs:
         return
@@ -207,8 +208,14 @@ def fig_modulus_damping(runs, out):
         ax[1].plot(amp, D, "o", color=color, alpha=0.35, markersize=4)
         # the curve: each stage's last cycle, in order of amplitude
         last = sorted({r["stage"]: k for k, r in enumerate(rows)}.values(), key=lambda k: amp[k])
-        ax[0].plot(amp[last], E[last], "o-", color=color, label=label(run, s))
+        # the Hardin-Drnevich hyperbola through them (hyperbolic_fit), where E_eq falls with strain
+        hf = hyperbolic_fit(amp[last] / 100, E[last])
+        fit = f", E_max {hf[0]:.3g} MPa, eps_r {100 * hf[1]:.2g} %" if hf else ""
+        ax[0].plot(amp[last], E[last], "o-", color=color, label=label(run, s) + fit)
         ax[1].plot(amp[last], D[last], "o-", color=color)
+        if hf:
+            xs = np.geomspace(amp[last].min() / 3, amp[last].max() * 3, 100)
+            ax[0].plot(xs, hf[0] / (1 + xs / 100 / hf[1]), ":", color=color)
     ax[0].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="E_eq [MPa]", title="equivalent modulus")
     ax[1].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="D", title="damping ratio")
     finish(fig, ax, ax[0], 8, out, "modulus_damping")
