@@ -150,14 +150,17 @@ TEST(Config, RejectsBadInputClearly) {
 // Studies: the axes are checked as values, and every job's config is checked as its run would check it, at load
 // (so `grainlab validate` catches it); a seed of 0 on an axis is the seed 0, not "the base's seed".
 namespace {
-std::string study_error(const std::string& name, const std::string& axes) {
-  const std::string p = write_tmp(name, "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n" + axes);
+// The error of loading a study file of this text ("" where it loads).
+std::string error(const std::string& name, const std::string& text) {
   try {
-    load_study(p);
+    load_study(write_tmp(name, text));
   } catch (const ConfigError& e) {
     return e.what();
   }
   return "";
+}
+std::string study_error(const std::string& name, const std::string& axes) {
+  return error(name, "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n" + axes);
 }
 }  // namespace
 
@@ -200,14 +203,6 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
     EXPECT_EQ(j.q_amplitude, 2 * j.csr * j.p0);
     EXPECT_EQ(j.cycles, 5);
   }
-  const auto error = [&](const std::string& name, const std::string& text) {
-    try {
-      load_study(write_tmp(name, text));
-    } catch (const ConfigError& x) {
-      return std::string(x.what());
-    }
-    return std::string();
-  };
   EXPECT_NE(error("study_csr0", "base: " + base + "\naxes: {csr: [0]}\n").find("axes.csr: values must be > 0"),
             std::string::npos);
   const std::string e = error("study_csr_mono", "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n"
@@ -246,14 +241,6 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
               std::string::npos);
   }
   EXPECT_EQ(s.shears[0].strain_rate, 0.003) << "0.3 x 1e-5 / 1e-3, written without binary noise";
-  const auto error = [&](const std::string& name, const std::string& text) {
-    try {
-      load_study(write_tmp(name, text));
-    } catch (const ConfigError& x) {
-      return std::string(x.what());
-    }
-    return std::string();
-  };
   const std::string two = write_tmp("study_strain_two", head + loops + loops);
   struct Case {
     const char* name;
