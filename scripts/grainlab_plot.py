@@ -519,31 +519,28 @@ def modulus_section(amp, stage, figs):
     rows, fits = [], []
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     for i, (key, tests) in enumerate(sorted(groups.items())):
-        pts = []  # (single amplitude, E_eq, D, row text head)
+        pts = []  # (test, its last cycle's cycles.csv row, p'_0)
         for j, d, s in sorted(tests, key=lambda r: r[0]["strain_amplitude"]):
             path = os.path.join(d, "cycles.csv")
             cyc = []
             if os.path.isfile(path):
                 with open(path) as f:
                     cyc = [r for r in csv.DictReader(f) if not stage or r["stage"] == stage]
-            if not cyc:
+            if cyc:
+                pts.append((j, cyc[-1], s["p"][s["cyclic"]][0]))  # p'_0: the stage's first row
+            else:
                 rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | no complete cycle | | | | | | |")
-                continue
-            r = cyc[-1]
-            p0 = s["p"][s["cyclic"]][0]  # p'_0: the stage's first row
-            ea = (float(r["eps_a_max"]) - float(r["eps_a_min"])) / 2
-            pts.append((ea, float(r["E_eq"]), float(r["damping"]),
-                        f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | {100 * ea:.4g} | {r['cycle']} | "
-                        f"{float(r['E_eq']) / 1e6:.4g} |", f"{float(r['damping']):.3f} | {float(r['p']) / p0:.3f} | "
-                        + (f"{float(r['r_u_max']):.3f} |" if j["drainage"] == "undrained" else "– |")))
         if not pts:
             continue
-        ea, E, D = (np.array([p[k] for p in pts]) for k in range(3))
-        e0 = E[0]  # E_0: the group's smallest amplitude (the lab's small-strain modulus)
-        for p, e in zip(pts, E):
-            rows.append(f"{p[3]} {e / e0:.3f} | {p[4]}")
+        ea = np.array([(float(r["eps_a_max"]) - float(r["eps_a_min"])) / 2 for _, r, _ in pts])  # single amplitude
+        E, D = (np.array([float(r[k]) for _, r, _ in pts]) for k in ("E_eq", "damping"))
+        E0 = E[0]  # E_0: the group's smallest amplitude (the lab's small-strain modulus)
+        for (j, r, p0), a, e, dmp in zip(pts, ea, E, D):
+            ru = f"{float(r['r_u_max']):.3f}" if j["drainage"] == "undrained" else "–"
+            rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | {100 * a:.4g} | {r['cycle']} | "
+                        f"{e / 1e6:.4g} | {e / E0:.3f} | {dmp:.3f} | {float(r['p']) / p0:.3f} | {ru} |")
         c = f"C{i % 10}"
-        ax[0].plot(100 * ea, E / e0, "o", color=c, label=name(key))
+        ax[0].plot(100 * ea, E / E0, "o", color=c, label=name(key))
         ax[1].plot(100 * ea, D, "o", color=c)
         hf = hyperbolic_fit(ea, E)
         if hf is None:
@@ -552,7 +549,7 @@ def modulus_section(amp, stage, figs):
         e_max, eps_r, rms = hf
         df = damping_fit(E / e_max, D)
         xs = np.geomspace(ea.min() / 3, ea.max() * 3, 100)
-        ax[0].plot(100 * xs, e_max / (1 + xs / eps_r) / e0, "--", color=c)
+        ax[0].plot(100 * xs, e_max / (1 + xs / eps_r) / E0, "--", color=c)
         if df is not None:
             ax[1].plot(100 * xs, df[0] + (df[1] - df[0]) * (1 - 1 / (1 + xs / eps_r)), "--", color=c)
         und = all(t[0]["drainage"] == "undrained" for t in tests)
