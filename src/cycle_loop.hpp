@@ -6,7 +6,12 @@
 //  - the damping ratio D = W_loop / (4 pi W_e), W_loop the loop's area (the closed integral of q d eps_a),
 //    W_e = q_a eps_a / 2 the elastic energy of the secant at the single amplitudes q_a = (q_max - q_min)/2 and
 //    eps_a = (eps_max - eps_min)/2: D = W_loop / (2 pi q_a eps_a). D is 0 for an elastic loop and 2/pi for a
-//    rigid-plastic one (the rectangle 2 q_a x 2 eps_a).
+//    rigid-plastic one (the rectangle 2 q_a x 2 eps_a);
+//  - the equivalent shear modulus G_eq = (tau_max - tau_min) / (gamma_max - gamma_min) on the plane of largest shear,
+//    tau = q/2 and gamma = eps_a - eps_r (the engineering shear strain there; 1.5 eps_q): the modulus resonant-column
+//    and simple-shear tests report and the G/G_max curves of site response (Darendeli 2001) use. Undrained (eps_v = 0)
+//    gamma = 1.5 eps_a to first order and G_eq = E_eq/3; drained the sample's lateral strain sets it, and
+//    E_eq/G_eq = 2 (1 + nu_eq).
 // Host code, no Kokkos: Laboratory feeds it the measure it turns on, once a step (test_cycle_loop checks it on
 // analytic loops).
 #include <algorithm>
@@ -20,19 +25,21 @@ struct CycleLoop {
   double q_max = 0, q_min = 0, e_max = 0, e_min = 0;
   double work = 0;         // integral of q d eps_a so far (trapezoids between the steps' measures) [Pa]
   double q_prev = 0, e_prev = 0;
+  double g_max = 0, g_min = 0;  // extremes of the shear strain gamma = eps_a - eps_r (NaN: not known, see set_state)
   double u_max = 0;        // the largest excess pore pressure u seen in the cycle [Pa]
   bool open = false;
   double n = 0;            // the stage's cycle number N at the last step fed (it never decreases)
 
   // The cycle starts at this measure.
-  void start(double q, double e, double u) {
+  void start(double q, double e, double g, double u) {
     q_max = q_min = q_prev = q;
     e_max = e_min = e_prev = e;
+    g_max = g_min = g;
     work = 0;
     u_max = u;
     open = true;
   }
-  void add(double q, double e, double u) {
+  void add(double q, double e, double g, double u) {
     work += 0.5 * (q + q_prev) * (e - e_prev);
     q_prev = q;
     e_prev = e;
@@ -40,21 +47,31 @@ struct CycleLoop {
     q_min = std::min(q_min, q);
     e_max = std::max(e_max, e);
     e_min = std::min(e_min, e);
+    // std::max(NaN, g) is NaN (its first argument when the comparison fails): an unknown extreme stays unknown
+    g_max = std::max(g_max, g);
+    g_min = std::min(g_min, g);
     u_max = std::max(u_max, u);
   }
   double modulus() const { return e_max > e_min ? (q_max - q_min) / (e_max - e_min) : 0; }
+  double shear_modulus() const {
+    if (std::isnan(g_max - g_min)) return std::nan("");
+    return g_max > g_min ? 0.5 * (q_max - q_min) / (g_max - g_min) : 0;
+  }
   double damping() const {
     const double qa = 0.5 * (q_max - q_min), ea = 0.5 * (e_max - e_min);
     return qa > 0 && ea > 0 ? work / (2 * M_PI * qa * ea) : 0;
   }
 
-  // For checkpoints: the state as numbers, and back.
-  static constexpr size_t kStateSize = 10;
+  // For checkpoints: the state as numbers, and back. A checkpoint written before gamma was tracked holds the first
+  // kStateSizeNoShear numbers: the open cycle's gamma extremes are then unknown (NaN), and so is its G_eq, rather than
+  // a modulus over the part of the cycle after the restart; the cycles after it are whole again.
+  static constexpr size_t kStateSize = 12, kStateSizeNoShear = 10;
   std::vector<double> state() const {
-    return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n};
+    return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n, g_max, g_min};
   }
   void set_state(const std::vector<double>& s) {
-    if (s.size() != kStateSize) throw std::runtime_error("cycle loop state has the wrong length (corrupt?)");
+    if (s.size() != kStateSize && s.size() != kStateSizeNoShear)
+      throw std::runtime_error("cycle loop state has the wrong length (corrupt?)");
     q_max = s[0];
     q_min = s[1];
     e_max = s[2];
@@ -65,6 +82,8 @@ struct CycleLoop {
     u_max = s[7];
     open = s[8] != 0;
     n = s[9];
+    g_max = s.size() == kStateSize ? s[10] : std::nan("");
+    g_min = s.size() == kStateSize ? s[11] : std::nan("");
   }
 };
 

@@ -112,13 +112,18 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
 }
 
 // cycles.csv: one row per completed cycle of a cyclic stage (CycleLoop): the loop's extremes, its equivalent
-// modulus and damping ratio, p' and eps_v at its end, and its largest r_u.
+// modulus and damping ratio, p' and eps_v at its end, its largest r_u; then the extremes of the shear strain
+// gamma = eps_a - eps_r and the equivalent shear modulus G_eq (after the columns of older builds, so that a script
+// that reads them by position still does).
 const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
   static const std::vector<std::pair<std::string, std::string>> cols = {
       {"cycle", "-"},   {"step", "-"},     {"q_max", "Pa"}, {"q_min", "Pa"},   {"eps_a_max", "-"}, {"eps_a_min", "-"},
-      {"E_eq", "Pa"},   {"damping", "-"},  {"p", "Pa"},     {"eps_v", "-"},    {"r_u_max", "-"}};
+      {"E_eq", "Pa"},   {"damping", "-"},  {"p", "Pa"},     {"eps_v", "-"},    {"r_u_max", "-"},
+      {"gamma_max", "-"}, {"gamma_min", "-"}, {"G_eq", "Pa"}};
   return cols;
 }
+// cycles.csv's columns in builds before gamma_max (their checkpoints hold rows this long)
+constexpr size_t kCycleColumnsNoShear = 11;
 
 namespace {
 
@@ -325,7 +330,7 @@ class Laboratory {
 
  private:
   struct Measure {
-    Real sx, sy, sz, p, q, V, e, eps_a, eps_v, u;
+    Real sx, sy, sz, p, q, V, e, eps_a, eps_v, eps_r, gamma, u;
   };
 
   bool holds_run() const;
@@ -564,6 +569,12 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
   const Real H = e.wall_position(5) - e.wall_position(4);
   m.eps_a = lab_.H0 > 0 ? (lab_.H0 - H) / lab_.H0 : 0;  // SPEC §6.3: strains from wall displacements
   m.eps_v = lab_.V0 > 0 ? (lab_.V0 - m.V) / lab_.V0 : 0;
+  // The radial strain from the volume and the height, as a triaxial cell measures it: (1 - eps_v) = (1 - eps_a)
+  // (1 - eps_r)^2 for the box H x W_x x W_y (exact at finite strain; the geometric mean of the two lateral strains,
+  // which the lateral walls keep near equal). gamma = eps_a - eps_r: 1.5 eps_q, the shear strain on the plane of
+  // largest shear (CycleLoop's G_eq). eps_a < max_axial_strain < 0.9 (config), so the root is of a positive number.
+  m.eps_r = 1 - std::sqrt((1 - m.eps_v) / (1 - m.eps_a));
+  m.gamma = m.eps_a - m.eps_r;
   m.u = 0;
   if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
     m.u = (lab_.p0 + m.q / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + q/3
@@ -702,14 +713,15 @@ void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn)
   CycleLoop& L = lab_.loop;
   const Real N = std::max({lab_.cycle, Real(L.n), cycle_number(sc, m)});
   if (!L.open) {
-    L.start(m.q, m.eps_a, m.u);
+    L.start(m.q, m.eps_a, m.gamma, m.u);
   } else {
-    L.add(m.q, m.eps_a, m.u);
+    L.add(m.q, m.eps_a, m.gamma, m.u);
     if (std::floor(N) > std::floor(L.n)) {
       lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count()), L.q_max, L.q_min, L.e_max, L.e_min,
-                                  L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.p0});
+                                  L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.p0, L.g_max, L.g_min,
+                                  L.shear_modulus()});
       lab_.cycles.stage.push_back(lab_.stage);
-      L.start(m.q, m.eps_a, m.u);
+      L.start(m.q, m.eps_a, m.gamma, m.u);
     }
   }
   L.n = N;
@@ -1264,10 +1276,14 @@ bool Laboratory::load_newest_checkpoint() {
         lab.loop.set_state(r.doubles("/lab/loop"));
         const auto cflat = r.doubles("/lab/cycles");
         lab.cycles.stage = r.ints("/lab/cycles_stage");
-        const size_t cc = cycle_columns().size();
-        if (cflat.size() != lab.cycles.stage.size() * cc) throw H5Error(path + ": cycle rows have the wrong size (corrupt?)");
-        for (size_t k = 0; k < lab.cycles.stage.size(); ++k)
-          lab.cycles.rows.emplace_back(cflat.begin() + long(k * cc), cflat.begin() + long((k + 1) * cc));
+        const size_t nrows = lab.cycles.stage.size(), cc = cycle_columns().size();
+        // 11 columns in a checkpoint from before gamma: its cycles' gamma extremes and G_eq are not known (NaN)
+        const size_t cc_read = nrows > 0 && cflat.size() == nrows * kCycleColumnsNoShear ? kCycleColumnsNoShear : cc;
+        if (cflat.size() != nrows * cc_read) throw H5Error(path + ": cycle rows have the wrong size (corrupt?)");
+        for (size_t k = 0; k < nrows; ++k) {
+          lab.cycles.rows.emplace_back(cflat.begin() + long(k * cc_read), cflat.begin() + long((k + 1) * cc_read));
+          lab.cycles.rows.back().resize(cc, std::nan(""));
+        }
       }
       const auto res = r.doubles("/lab/results");
       const auto names = split(r.string("/lab/result_names"), '\n');

@@ -10,12 +10,14 @@ using grainlab::CycleLoop;
 namespace {
 // The ellipse q = Q sin(t), eps = E sin(t - phi), t over one period in n steps (compression first, as a cyclic stage
 // loads): area pi Q E sin(phi), so D = sin(phi) / 2, and E_eq = Q / E.
+// gamma = 1.3 eps: a drained sample whose lateral strain is -0.3 eps (nu = 0.3), so G_eq = E_eq / (2 x 1.3).
+constexpr double kGammaPerEps = 1.3;
 CycleLoop ellipse(double Q, double E, double phi, int n) {
   CycleLoop L;
-  L.start(0, E * std::sin(-phi), 0);
+  L.start(0, E * std::sin(-phi), kGammaPerEps * E * std::sin(-phi), 0);
   for (int k = 1; k <= n; ++k) {
     const double t = 2 * M_PI * k / n;
-    L.add(Q * std::sin(t), E * std::sin(t - phi), 0);
+    L.add(Q * std::sin(t), E * std::sin(t - phi), kGammaPerEps * E * std::sin(t - phi), 0);
   }
   return L;
 }
@@ -29,6 +31,8 @@ TEST(CycleLoop, EllipseGivesSinPhiOverTwo) {
     const CycleLoop L = ellipse(40e3, 1e-3, phi, 1000);
     EXPECT_NEAR(L.damping(), std::sin(phi) / 2, 1e-4);
     EXPECT_NEAR(L.modulus() / (40e3 / 1e-3), 1.0, 1e-4);
+    // the same sampled extremes in eps and gamma (one is a multiple of the other): the ratio to rounding
+    EXPECT_NEAR(L.shear_modulus() / L.modulus(), 1 / (2 * kGammaPerEps), 1e-14);
     EXPECT_GT(L.work, 0) << "a loop run compression first and lagging in strain dissipates";
   }
 }
@@ -45,25 +49,44 @@ TEST(CycleLoop, ElasticLineHasNoDamping) {
 TEST(CycleLoop, RigidPlasticRectangleGivesTwoOverPi) {
   CycleLoop L;
   const double q = 50e3, e = 2e-3;
-  L.start(q, -e, 0);
-  L.add(q, e, 0);    // loading at +q
-  L.add(-q, e, 0);   // the turn: q drops at constant strain
-  L.add(-q, -e, 0);  // unloading at -q
-  L.add(q, -e, 0);   // back to the start
+  const double g = 1.5 * e;  // undrained: gamma = 1.5 eps_a, G = E / 3
+  L.start(q, -e, -g, 0);
+  L.add(q, e, g, 0);    // loading at +q
+  L.add(-q, e, g, 0);   // the turn: q drops at constant strain
+  L.add(-q, -e, -g, 0);  // unloading at -q
+  L.add(q, -e, -g, 0);   // back to the start
   EXPECT_DOUBLE_EQ(L.damping(), 2 / M_PI);
   EXPECT_DOUBLE_EQ(L.modulus(), q / e);
+  EXPECT_DOUBLE_EQ(L.shear_modulus(), q / e / 3);
 }
 
 // The largest u, and the state round trip a checkpoint relies on (a restored loop goes on to the same numbers).
 TEST(CycleLoop, StateRoundTripAndPorePressure) {
   CycleLoop a = ellipse(40e3, 1e-3, 0.3, 100);
-  a.add(1e3, 2e-4, 7e3);
-  a.add(2e3, 3e-4, 5e3);
+  a.add(1e3, 2e-4, 3e-4, 7e3);
+  a.add(2e3, 3e-4, 4e-4, 5e3);
   EXPECT_EQ(a.u_max, 7e3);
   CycleLoop b;
   b.set_state(a.state());
-  a.add(3e3, 1e-4, 1e3);
-  b.add(3e3, 1e-4, 1e3);
+  a.add(3e3, 1e-4, 2e-4, 1e3);
+  b.add(3e3, 1e-4, 2e-4, 1e3);
   EXPECT_EQ(a.state(), b.state());
   EXPECT_THROW(b.set_state({1.0, 2.0}), std::runtime_error);
+}
+
+// A checkpoint from before gamma was tracked holds the first 10 numbers: the open cycle's gamma extremes, and so its
+// G_eq, are unknown (NaN, not a modulus over part of the cycle) while E_eq and D go on as before; the next cycle, once
+// started, has a G_eq again.
+TEST(CycleLoop, OldStateLeavesTheOpenCyclesShearModulusUnknown) {
+  const CycleLoop a = ellipse(40e3, 1e-3, 0.3, 100);
+  std::vector<double> old = a.state();
+  old.resize(CycleLoop::kStateSizeNoShear);
+  CycleLoop b;
+  b.set_state(old);
+  b.add(3e3, 1e-4, 2e-4, 1e3);
+  EXPECT_TRUE(std::isnan(b.shear_modulus()));
+  EXPECT_GT(b.modulus(), 0);
+  b.start(0, 0, 0, 0);
+  b.add(1e3, 1e-4, 2e-4, 0);
+  EXPECT_DOUBLE_EQ(b.shear_modulus(), 0.5 * 1e3 / 2e-4);
 }

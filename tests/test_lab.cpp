@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 
+#include "src/cycle_loop.hpp"
 #include "src/h5io.hpp"
 #include "src/packing.hpp"
 #include "src/simulation.hpp"
@@ -650,8 +651,15 @@ TEST(Lab, CyclicStrainReversalFollowsThePrescribedPath) {
   const std::string cyc = slurp(out + "/cycles.csv");
   const auto cn = csv_column(cyc, "cycle"), emax = csv_column(cyc, "eps_a_max"), emin = csv_column(cyc, "eps_a_min"),
              qmax = csv_column(cyc, "q_max"), qmin = csv_column(cyc, "q_min"), E = csv_column(cyc, "E_eq"),
-             D = csv_column(cyc, "damping"), cstep = csv_column(cyc, "step");
+             D = csv_column(cyc, "damping"), cstep = csv_column(cyc, "step"), gmax = csv_column(cyc, "gamma_max"),
+             gmin = csv_column(cyc, "gamma_min"), G = csv_column(cyc, "G_eq");
   ASSERT_EQ(cn.size(), 2u) << cyc;
+  // Undrained (V = V0 to round-off) the radial strain is eps_r = 1 - (1 - eps_a)^(-1/2), so gamma = eps_a - eps_r =
+  // 1.5 eps_a + 0.375 eps_a^2 + 0.3125 eps_a^3 + ... is a rising function of eps_a: its extremes are those of eps_a,
+  // at the same steps (eps_v, under 1e-12 above, moves eps_r by half that: 1e-11). G_eq is E_eq/3 but for that
+  // function's curvature: the square term cancels between the extremes A + d1 and -(A + d2) but for 0.25 (d1 - d2),
+  // d1, d2 in [0, step); the cube adds 0.21 A^2. So |3 G_eq / E_eq - 1| < 0.25 step + A^2 (3.5e-6 here).
+  const auto gamma_of = [](double e) { return e - (1 - 1 / std::sqrt(1 - e)); };
   const std::vector<double> sq = h.doubles("/series/q"), sstep = h.doubles("/series/step");
   for (size_t k = 0; k < 2; ++k) {
     SCOPED_TRACE(k);
@@ -662,6 +670,11 @@ TEST(Lab, CyclicStrainReversalFollowsThePrescribedPath) {
     EXPECT_GT(std::stod(emin[k]), -A - step);
     const double e_span = std::stod(emax[k]) - std::stod(emin[k]), q_span = std::stod(qmax[k]) - std::stod(qmin[k]);
     EXPECT_NEAR(std::stod(E[k]), q_span / e_span, 1e-10 * q_span / e_span);  // the CSV's 12 digits
+    EXPECT_NEAR(std::stod(gmax[k]), gamma_of(std::stod(emax[k])), 1e-11);
+    EXPECT_NEAR(std::stod(gmin[k]), gamma_of(std::stod(emin[k])), 1e-11);
+    EXPECT_NEAR(3 * std::stod(G[k]) / std::stod(E[k]), 1.0, 0.25 * step + A * A);
+    std::printf("  cycle %zu: E_eq = %.6g MPa, G_eq = %.6g MPa, 3 G_eq / E_eq - 1 = %.2g\n", k + 1, std::stod(E[k]) / 1e6,
+                std::stod(G[k]) / 1e6, 3 * std::stod(G[k]) / std::stod(E[k]) - 1);
     EXPECT_GT(std::stod(D[k]), 0);
     EXPECT_LT(std::stod(D[k]), 2 / M_PI);
     const double from = k == 0 ? 0 : std::stod(cstep[k - 1]);
@@ -858,4 +871,80 @@ TEST(Lab, CyclicDrainedHoldsSigma3AndResumesBitwise) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(direct + "/series.csv"));
   EXPECT_EQ(slurp(stopped + "/summary.json"), summary);
   EXPECT_EQ(slurp(stopped + "/cycles.csv"), slurp(direct + "/cycles.csv"));
+  // Drained, the shear strain gamma = eps_a - eps_r of cycles.csv follows the lateral walls: each cycle's extremes
+  // bound gamma recomputed from every series row in the cycle (eps_r from eps_a and eps_v, (1 - eps_v) =
+  // (1 - eps_a)(1 - eps_r)^2; the rows' 12 digits give it to 1e-11), and E_eq / G_eq = 2 (1 + nu_eq) gives the
+  // sample's equivalent Poisson ratio.
+  const std::string cyc = slurp(direct + "/cycles.csv");
+  const auto cstep = csv_column(cyc, "step"), gmax = csv_column(cyc, "gamma_max"), gmin = csv_column(cyc, "gamma_min"),
+             E = csv_column(cyc, "E_eq"), G = csv_column(cyc, "G_eq");
+  ASSERT_EQ(cstep.size(), 2u) << cyc;
+  const std::vector<double> ea = h.doubles("/series/eps_a"), ev = h.doubles("/series/eps_v"),
+                            sstep = h.doubles("/series/step");
+  for (size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k);
+    const double from = k == 0 ? 0 : std::stod(cstep[k - 1]), nu = std::stod(E[k]) / (2 * std::stod(G[k])) - 1;
+    double row_max = -1, row_min = 1;
+    for (size_t i = 0; i < ea.size(); ++i)
+      if (sstep[i] > from && sstep[i] <= std::stod(cstep[k])) {
+        const double g = ea[i] - (1 - std::sqrt((1 - ev[i]) / (1 - ea[i])));
+        row_max = std::max(row_max, g);
+        row_min = std::min(row_min, g);
+      }
+    std::printf("  cycle %zu: gamma in [%.5g, %.5g] (rows [%.5g, %.5g]), E_eq = %.4g MPa, G_eq = %.4g MPa, nu_eq = %.3f\n",
+                k + 1, std::stod(gmin[k]), std::stod(gmax[k]), row_min, row_max, std::stod(E[k]) / 1e6,
+                std::stod(G[k]) / 1e6, nu);
+    // nu_eq between 0 (no lateral strain) and the 0.5 of an undrained, volume-constant loop (measured 0.22, 0.19)
+    EXPECT_GT(nu, 0.0);
+    EXPECT_LT(nu, 0.5);
+    EXPECT_GE(std::stod(gmax[k]), row_max - 1e-11);
+    EXPECT_LE(std::stod(gmin[k]), row_min + 1e-11);
+  }
+}
+
+// A cyclic run whose checkpoint an older grainlab wrote, before cycles.csv had gamma and G_eq (a 10-number cycle loop,
+// 11-column cycle rows), resumes to the uninterrupted run's series and cycles.csv but for what that checkpoint could
+// not hold: the gamma extremes and G_eq of the finished cycle and of the cycle under way are "nan" (not a modulus over
+// the part of the cycle after the restart), every other value byte for byte. Stopped in the second of 2 cycles.
+TEST(Lab, ACyclicCheckpointFromBeforeGammaResumes) {
+  const std::string cfg = on_reference("cyclic_pregamma",
+                                       "  - {name: cyc, type: cyclic, drainage: undrained, strain_amplitude: 0.001, "
+                                       "cycles: 2, axial_strain_rate: 1.0, damping: 0.2}\n",
+                                       50);
+  const std::string direct = tmpdir("cyclic_pregamma"), out = tmpdir("cyclic_pregamma_resumed");
+  const RunResult whole = run(cfg, direct);
+  ASSERT_TRUE(whole.stages[0].converged);
+  ASSERT_TRUE(run(cfg, out, whole.stages[0].steps * 3 / 4).interrupted);
+  const std::string ckpt = newest_checkpoint(out);
+  const size_t cc = cycle_columns().size(), cc_old = 11;
+  ASSERT_EQ(cycle_columns()[cc_old].first, "gamma_max") << "the columns a pre-gamma build wrote come first";
+  std::vector<double> loop, rows;
+  {
+    const H5Reader r(ckpt);
+    loop = r.doubles("/lab/loop");
+    const std::vector<double> flat = r.doubles("/lab/cycles");
+    ASSERT_EQ(flat.size(), cc) << "the first cycle is done";
+    rows.assign(flat.begin(), flat.begin() + long(cc_old));
+  }
+  loop.resize(CycleLoop::kStateSizeNoShear);
+  rewrite_dataset(ckpt, "/lab/loop", H5T_NATIVE_DOUBLE, loop.data(), loop.size());
+  rewrite_dataset(ckpt, "/lab/cycles", H5T_NATIVE_DOUBLE, rows.data(), rows.size());
+  ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
+  EXPECT_EQ(slurp(out + "/series.csv"), slurp(direct + "/series.csv"));
+  const std::string a = slurp(direct + "/cycles.csv"), b = slurp(out + "/cycles.csv");
+  for (const auto& [name, unit] : cycle_columns()) {
+    SCOPED_TRACE(name);
+    const auto ca = csv_column(a, name), cb = csv_column(b, name);
+    ASSERT_EQ(ca.size(), 2u);
+    ASSERT_EQ(cb.size(), 2u);
+    const bool shear = name == "gamma_max" || name == "gamma_min" || name == "G_eq";
+    for (size_t k = 0; k < 2; ++k) {
+      if (shear) {
+        EXPECT_EQ(cb[k], "nan") << "cycle " << k + 1;
+        EXPECT_NE(ca[k], "nan") << "cycle " << k + 1;
+      } else {
+        EXPECT_EQ(cb[k], ca[k]) << "cycle " << k + 1;
+      }
+    }
+  }
 }
