@@ -492,7 +492,7 @@ def hyperbolic_fit(eps, E):
 
 def damping_fit(E_ratio, D):
     """Hardin & Drnevich's damping, D = D_min + (D_max - D_min)(1 - E/E_max), by least squares in x = 1 - E/E_max:
-    returns (D_min, D_max), or None with fewer than two distinct x."""
+    returns (D_min, D_max), or None with fewer than two distinct x. (The same for G/G_max.)"""
     x, D = 1 - np.asarray(E_ratio, float), np.asarray(D, float)
     if len(set(x.tolist())) < 2:
         return None
@@ -500,11 +500,39 @@ def damping_fit(E_ratio, D):
     return float(d0), float(d0 + slope)
 
 
+# Darendeli (2001), the modulus reduction of soils from resonant-column and torsional-shear tests:
+# G/G_max = 1 / (1 + (gamma/gamma_r)^a), a = 0.919, gamma_r [%] = (0.0352 + 0.0010 PI OCR^0.3246) (sigma'_0/p_a)^0.3483.
+# For clean sand (PI = 0) OCR drops out. A reference for the DEM's curve, not a fit: real grains are not spheres.
+DARENDELI_A, DARENDELI_PA = 0.919, 101.325e3
+
+
+def darendeli_gamma_r(p):
+    """Darendeli's reference shear strain (single amplitude, as a fraction) of clean sand at mean effective stress p [Pa]."""
+    return 0.0352e-2 * (p / DARENDELI_PA) ** 0.3483
+
+
+def darendeli_modulus(gamma, p):
+    """Darendeli's G/G_max of clean sand at shear strain gamma (single amplitude) and mean effective stress p [Pa]."""
+    return 1 / (1 + (np.asarray(gamma, float) / darendeli_gamma_r(p)) ** DARENDELI_A)
+
+
+def cycle_shear(row, drainage):
+    """A cycles.csv row's single-amplitude shear strain (gamma_max - gamma_min)/2 and G_eq; from a build before those
+    columns, or a cycle a pre-gamma checkpoint left without them (nan): the undrained values gamma = 1.5 eps_a and
+    G = E_eq/3 (constant volume), and (nan, nan) drained, where they depend on the lateral strain it did not record."""
+    g = float(row.get("G_eq") or "nan")
+    if g == g:
+        return (float(row["gamma_max"]) - float(row["gamma_min"])) / 2, g
+    if drainage == "undrained":
+        return 0.75 * (float(row["eps_a_max"]) - float(row["eps_a_min"])), float(row["E_eq"]) / 3
+    return float("nan"), float("nan")
+
+
 def modulus_section(amp, stage, figs):
     """Tests of a strain_amplitude axis: each test's last complete cycle of the strain-controlled stage (cycles.csv),
-    its equivalent modulus E_eq and damping ratio D against the measured single-amplitude axial strain, per group of
-    tests that differ only in the amplitude (a sample, a drainage); per group the hyperbolic fit (hyperbolic_fit,
-    damping_fit) and figures/modulus_reduction.png."""
+    its equivalent moduli E_eq and G_eq and damping ratio D against the measured single-amplitude strains, per group
+    of tests that differ only in the amplitude (a sample, a drainage); per group the hyperbolic fits (hyperbolic_fit,
+    damping_fit) and figures/modulus_reduction.png: G/G_0 and D against gamma, with Darendeli's clean sand."""
     groups = {}
     for j, d, s in amp:
         key = tuple((k, j[k]) for k in ("mu_r", "e0", "p0", "seed", "count", "drainage", "csr"))
@@ -516,7 +544,11 @@ def modulus_section(amp, stage, figs):
         g = dict(key)
         return " ".join(f"{k}={g[k]:g}" if isinstance(g[k], (int, float)) else g[k] for k in varying)
 
+    def pct(x, fmt):
+        return "–" if x != x else f"{100 * x:{fmt}}"
+
     rows, fits = [], []
+    refs, span = set(), (np.inf, 0)  # the groups' p'_0 (3 digits) and the strains the figure spans
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     for i, (key, tests) in enumerate(sorted(groups.items())):
         pts = []  # (test, its last cycle's cycles.csv row, p'_0)
@@ -529,51 +561,68 @@ def modulus_section(amp, stage, figs):
             if cyc:
                 pts.append((j, cyc[-1], s["p"][s["cyclic"]][0]))  # p'_0: the stage's first row
             else:
-                rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | no complete cycle | | | | | | |")
+                rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | no complete cycle "
+                            "| | | | | | | | |")
         if not pts:
             continue
         ea = np.array([(float(r["eps_a_max"]) - float(r["eps_a_min"])) / 2 for _, r, _ in pts])  # single amplitude
         E, D = (np.array([float(r[k]) for _, r, _ in pts]) for k in ("E_eq", "damping"))
-        E0 = E[0]  # E_0: the group's smallest amplitude (the lab's small-strain modulus)
-        for (j, r, p0), a, e, dmp in zip(pts, ea, E, D):
+        ga, G = np.array([cycle_shear(r, j["drainage"]) for j, r, _ in pts]).T
+        # E_0, G_0: the group's smallest amplitude (the lab's small-strain moduli)
+        E0, G0, p0 = E[0], G[0], float(np.mean([p for _, _, p in pts]))
+        for (j, r, p0j), a, g, e, gm, dmp in zip(pts, ea, ga, E, G, D):
             ru = f"{float(r['r_u_max']):.3f}" if j["drainage"] == "undrained" else "–"
-            rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | {100 * a:.4g} | {r['cycle']} | "
-                        f"{e / 1e6:.4g} | {e / E0:.3f} | {dmp:.3f} | {float(r['p']) / p0:.3f} | {ru} |")
+            rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | {100 * a:.4g} | "
+                        f"{pct(g, '.4g')} | {r['cycle']} | {e / 1e6:.4g} | {gm / 1e6:.4g} | {gm / G0:.3f} | {dmp:.3f} | "
+                        f"{float(r['p']) / p0j:.3f} | {ru} |")
         c = f"C{i % 10}"
-        ax[0].plot(100 * ea, E / E0, "o", color=c, label=name(key))
-        ax[1].plot(100 * ea, D, "o", color=c)
-        hf = hyperbolic_fit(ea, E)
+        ok = ga == ga  # cycles with a shear strain (all but a drained pre-gamma build's)
+        ax[0].plot(100 * ga[ok], G[ok] / G0, "o", color=c, label=name(key))
+        ax[1].plot(100 * ga[ok], D[ok], "o", color=c)
+        xs = np.geomspace(max(ga[ok].min(), 1e-7) / 3, ga[ok].max() * 3, 100) if ok.any() else None
+        if xs is not None:
+            span = (min(span[0], xs[0]), max(span[1], xs[-1]))
+            refs.add(float(f"{p0:.3g}"))
+        hf_e, hf = hyperbolic_fit(ea, E), hyperbolic_fit(ga[ok], G[ok])
+        e_txt = f"{hf_e[0] / 1e6:.4g} | {100 * hf_e[1]:.3g}" if hf_e else "– | –"
+        dar = f"{100 * darendeli_gamma_r(p0):.3g}"
         if hf is None:
-            fits.append(f"| {name(key)} | {len(pts)} | no fit: E_eq does not fall with strain | | | | | |")
+            fits.append(f"| {name(key)} | {len(pts)} | {e_txt} | no fit: G_eq does not fall with strain | | | | | {dar} |")
             continue
-        e_max, eps_r, rms = hf
-        df = damping_fit(E / e_max, D)
-        xs = np.geomspace(ea.min() / 3, ea.max() * 3, 100)
-        ax[0].plot(100 * xs, e_max / (1 + xs / eps_r) / E0, "--", color=c)
+        g_max, g_r, rms = hf
+        df = damping_fit(G[ok] / g_max, D[ok])
+        ax[0].plot(100 * xs, g_max / (1 + xs / g_r) / G0, "--", color=c)
         if df is not None:
-            ax[1].plot(100 * xs, df[0] + (df[1] - df[0]) * (1 - 1 / (1 + xs / eps_r)), "--", color=c)
-        und = all(t[0]["drainage"] == "undrained" for t in tests)
-        fits.append(f"| {name(key)} | {len(pts)} | {e_max / 1e6:.4g} | {100 * eps_r:.3g} | "
-                    + (f"{150 * eps_r:.3g}" if und else "–") + f" | {100 * rms:.1f} | "
-                    + (f"{df[0]:.3f} | {df[1]:.3f} |" if df else "| |"))
-    ax[0].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="E_eq / E_0",
-              title="modulus reduction (E_0: smallest amplitude; dashed: hyperbola)")
-    ax[1].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="D", title="damping ratio")
+            ax[1].plot(100 * xs, df[0] + (df[1] - df[0]) * (1 - 1 / (1 + xs / g_r)), "--", color=c)
+        fits.append(f"| {name(key)} | {len(pts)} | {e_txt} | {g_max / 1e6:.4g} | {100 * g_r:.3g} | {100 * rms:.1f} | "
+                    + (f"{df[0]:.3f} | {df[1]:.3f}" if df else "– | –") + f" | {dar} |")
+    for k, p in enumerate(sorted(refs)):  # Darendeli's clean sand, once per p'_0 (groups often share it)
+        xs = np.geomspace(*span, 100)
+        ax[0].plot(100 * xs, darendeli_modulus(xs, p), ":", color=str(0.2 + 0.5 * k / max(1, len(refs) - 1)),
+                   label=f"Darendeli (2001) clean sand, p'_0 = {p / 1e3:g} kPa")
+    ax[0].set(xscale="log", xlabel="single-amplitude gamma = eps_a - eps_r [%]", ylabel="G_eq / G_0",
+              title="modulus reduction (dashed: hyperbola)")
+    ax[1].set(xscale="log", xlabel="single-amplitude gamma [%]", ylabel="D", title="damping ratio")
     finish(fig, ax, ax[0], 8, figs, "modulus_reduction")
     return ["## Modulus reduction and damping", "",
             "One test per strain amplitude, each on its own specimen of the sample, at one loading frequency (every "
             "quarter cycle as long as the base's). Each row is the test's last complete cycle"
-            + (f" of stage `{stage}`" if stage else "") + " in cycles.csv: its measured single amplitude "
-            "(eps_a_max - eps_a_min)/2, the equivalent modulus E_eq = (q_max - q_min)/(eps_a_max - eps_a_min), E_eq/E_0 "
-            "with E_0 at the group's smallest amplitude, the damping ratio D = loop area / (2 pi q_a eps_a) (ASTM "
-            "D3999), p'/p'_0 at the cycle's end and its largest r_u. Undrained, G = E_eq/3 and gamma = 1.5 eps_a.", "",
-            "| test | group | eps_a amplitude [%] | measured [%] | cycle | E_eq [MPa] | E_eq/E_0 | D | p'/p'_0 | max r_u |",
-            "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
-            "Per group, the hyperbola E_eq = E_max / (1 + eps_a/eps_r) of Hardin & Drnevich (1972), fitted to the relative "
-            "misfit of E_eq (rms given), and D = D_min + (D_max - D_min)(1 - E_eq/E_max), by least squares; gamma_r = 1.5 "
-            "eps_r where undrained.", "",
-            "| group | tests | E_max [MPa] | eps_r [%] | gamma_r [%] | rms misfit [%] | D_min | D_max |",
-            "|---|---|---|---|---|---|---|---|", *fits, ""]
+            + (f" of stage `{stage}`" if stage else "") + " in cycles.csv: its measured single amplitudes of axial "
+            "strain (eps_a_max - eps_a_min)/2 and of shear strain gamma = eps_a - eps_r (gamma_max - gamma_min)/2, the "
+            "equivalent moduli E_eq = (q_max - q_min)/(eps_a_max - eps_a_min) and G_eq = (tau_max - tau_min)/(gamma_max "
+            "- gamma_min) with tau = q/2, G_eq/G_0 with G_0 at the group's smallest amplitude, the damping ratio D = loop "
+            "area / (2 pi q_a eps_a) (ASTM D3999), p'/p'_0 at the cycle's end and its largest r_u.", "",
+            "| test | group | eps_a amplitude [%] | measured eps_a [%] | gamma [%] | cycle | E_eq [MPa] | G_eq [MPa] | "
+            "G_eq/G_0 | D | p'/p'_0 | max r_u |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "Per group, the hyperbolas of Hardin & Drnevich (1972), E_eq = E_max / (1 + eps_a/eps_r) and G_eq = G_max / "
+            "(1 + gamma/gamma_r), fitted to the relative misfit (rms given for G), and D = D_min + (D_max - D_min)(1 - "
+            "G_eq/G_max), by least squares. Darendeli's gamma_r is that of clean sand at the group's p'_0 (Darendeli "
+            "2001: 0.0352 % (p'_0/p_a)^0.3483; dotted in the figure, with its curvature 0.919), a reference for real "
+            "sands, not a fit.", "",
+            "| group | tests | E_max [MPa] | eps_r [%] | G_max [MPa] | gamma_r [%] | rms misfit of G [%] | D_min | D_max | "
+            "Darendeli gamma_r [%] |",
+            "|---|---|---|---|---|---|---|---|---|---|", *fits, ""]
 
 
 def main():

@@ -2,14 +2,15 @@
 """Known-answer test of the study report's modulus-reduction fits (scripts/grainlab_plot.py): points on a prescribed
 Hardin-Drnevich hyperbola E = E_max / (1 + eps/eps_r) and damping D = D_min + (D_max - D_min)(1 - E/E_max) must give
 E_max, eps_r, D_min and D_max back; a misfit of +-x % on alternate points gives an rms misfit near x %; an E that
-does not fall with strain, or one amplitude, gives no fit."""
+does not fall with strain, or one amplitude, gives no fit. Darendeli's clean-sand reference against values worked by
+hand from his equation; a cycles.csv row's shear strain and G_eq, and the fallback for rows without them."""
 import os
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
-from grainlab_plot import damping_fit, hyperbolic_fit  # noqa: E402
+from grainlab_plot import cycle_shear, damping_fit, darendeli_gamma_r, darendeli_modulus, hyperbolic_fit  # noqa: E402
 
 fails = []
 
@@ -47,6 +48,27 @@ for what, x, y in (("E rising with strain", eps, E[::-1]), ("one amplitude", eps
         fails.append(f"{what}: a fit, expected none")
 if damping_fit(np.ones(3), D[:3]) is not None:
     fails.append("damping of one E/E_max: a fit, expected none")
+# Darendeli (2001), PI = 0: gamma_r = 0.0352 % at p' = 1 atm, 0.0352 x 4^0.3483 = 0.05705 % at 4 atm; G/G_max = 1/2 at
+# gamma_r (any curvature) and 1 / (1 + 10^0.919) = 0.10755 at 10 gamma_r
+check("Darendeli gamma_r at 1 atm", darendeli_gamma_r(101.325e3), 0.0352e-2, 1e-12)
+check("Darendeli gamma_r at 4 atm", darendeli_gamma_r(405.3e3), 0.05705e-2, 1e-4)
+check("Darendeli G/G_max at gamma_r", float(darendeli_modulus(0.05705e-2, 405.3e3)), 0.5, 1e-4)
+check("Darendeli G/G_max at 10 gamma_r", float(darendeli_modulus(0.352e-2, 101.325e3)), 0.10755, 1e-4)
+# a cycles.csv row: gamma amplitude (gamma_max - gamma_min)/2 and G_eq as written; without them (an older build, or
+# nan after a pre-gamma checkpoint) undrained gives 1.5 eps_a and E_eq/3, drained nothing
+row = dict(eps_a_max="0.001", eps_a_min="-0.001", E_eq="3e7", gamma_max="0.0013", gamma_min="-0.0011", G_eq="1.2e7")
+g, G = cycle_shear(row, "drained")
+check("gamma amplitude of a row", g, 0.0012, 1e-12)
+check("G_eq of a row", G, 1.2e7, 1e-12)
+for old in (dict(row, G_eq="nan", gamma_max="nan", gamma_min="nan"),
+            {k: v for k, v in row.items() if k not in ("G_eq", "gamma_max", "gamma_min")}):
+    g, G = cycle_shear(old, "undrained")
+    check("undrained gamma without the columns", g, 0.0015, 1e-12)
+    check("undrained G without the columns", G, 1e7, 1e-12)
+    g, G = cycle_shear(old, "drained")
+    if g == g or G == G:
+        fails.append(f"drained without the columns: ({g}, {G}), expected (nan, nan)")
 if fails:
     sys.exit("modulus_fit_check: " + "; ".join(fails))
-print("modulus_fit_check: ok (E_max, eps_r, D_min, D_max back to 1e-9; +-3 % data rms in (2, 3] %)")
+print("modulus_fit_check: ok (E_max, eps_r, D_min, D_max back to 1e-9; +-3 % data rms in (2, 3] %; Darendeli; "
+      "cycles.csv rows with and without gamma)")

@@ -23,18 +23,21 @@ grep -q "strain_amplitude: 0.005, axial_strain_rate: 1," "$(job 0.3 0.005)"/job.
   fail "$(job 0.3 0.005)/job.yaml: not 5e-3 at 1/s: $(grep loops "$(job 0.3 0.005)"/job.yaml)"
 grep -q "## Modulus reduction and damping" ss/report.md || fail "report.md lacks its modulus-reduction section"
 [ "$(grep -c '^| shear_undrained_.*_ea0\.0*[15] |' ss/report.md)" -eq 6 ] || fail "report.md: not 6 rows: $(cat ss/report.md)"
-# each row: the job's last cycle in cycles.csv (cycle 2), its E_eq in MPa; E_eq/E_0 = 1 at the smallest amplitude
+# each row: the job's last cycle in cycles.csv (cycle 2): its shear strain amplitude (gamma_max - gamma_min)/2 in %,
+# E_eq and G_eq in MPa (columns 8, 13, 14 and 15); G_eq/G_0 = 1 at the smallest amplitude
 for mur in 0 0.3; do
   for ea in 0.0001 0.001 0.005; do
     d=$(job $mur $ea)
     last=$(tail -1 "$d"/run/cycles.csv)
     [ "$(echo "$last" | cut -d, -f2)" = 2 ] || fail "$d/run/cycles.csv: the last row is not cycle 2: $last"
-    e=$(echo "$last" | awk -F, '{printf "%.4g", $8 / 1e6}')
-    grep -q "^| ${d#ss/jobs/} | mu_r=$mur | [0-9.]* | [0-9.]* | 2 | $e | " ss/report.md ||
-      fail "report.md: ${d#ss/jobs/} does not give cycle 2's E_eq = $e MPa: $(grep "${d#ss/jobs/}" ss/report.md)"
+    want=$(echo "$last" | awk -F, '{printf "%.4g | 2 | %.4g | %.4g", 50 * ($13 - $14), $8 / 1e6, $15 / 1e6}')
+    grep -q "^| ${d#ss/jobs/} | mu_r=$mur | [0-9.]* | [0-9.]* | $want | " ss/report.md ||
+      fail "report.md: ${d#ss/jobs/} does not give cycle 2's gamma, E_eq, G_eq = $want: $(grep "${d#ss/jobs/}" ss/report.md)"
   done
-  grep -q "^| $(job $mur 0.0001 | sed 's|ss/jobs/||') | .* | 1.000 | " ss/report.md || fail "mu_r $mur: E_eq/E_0 is not 1 at 1e-4"
-  grep -q "^| mu_r=$mur | 3 | [0-9.]* | [0-9.]* | [0-9.]* | " ss/report.md || fail "report.md: no hyperbolic fit for mu_r $mur"
+  grep -q "^| $(job $mur 0.0001 | sed 's|ss/jobs/||') | .* | 1.000 | " ss/report.md || fail "mu_r $mur: G_eq/G_0 is not 1 at 1e-4"
+  # the fit: E_max, eps_r, G_max, gamma_r, rms, D_min, D_max, and Darendeli's gamma_r at p'_0
+  grep -q "^| mu_r=$mur | 3 | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* | -*[0-9.]* | [0-9.]* | [0-9.]* |$" ss/report.md ||
+    fail "report.md: no hyperbolic fit for mu_r $mur: $(grep "^| mu_r=$mur | 3" ss/report.md)"
 done
 [ -f ss/figures/modulus_reduction.png ] || fail "no figures/modulus_reduction.png"
 grep -q "figures/modulus_reduction.png" ss/report.md || fail "report.md does not name figures/modulus_reduction.png"
