@@ -293,6 +293,8 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
                                                                                               : Drainage::Drained;
       sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, true);
       sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
+      if (sc.type == StageType::Triaxial)
+        sc.extension = g.choice("direction", "compression", {"compression", "extension"}) == "extension";
       if (sc.type == StageType::Cyclic) {
         sc.cycles = g.integer("cycles", 1, 1, 1000000);
         sc.q_amplitude = g.real("q_amplitude", 0, 0, 1e10);
@@ -410,6 +412,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
       e << YAML::Key << "drainage" << YAML::Value << (sc.drainage == Drainage::Undrained ? "undrained" : "drained")
         << YAML::Key << "axial_strain_rate" << YAML::Value << sc.axial_strain_rate << YAML::Key
         << "max_axial_strain" << YAML::Value << sc.max_axial_strain;
+      if (sc.type == StageType::Triaxial)
+        e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression");
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;

@@ -36,6 +36,10 @@ struct StageConfig {
   Drainage drainage = Drainage::Undrained;
   Real axial_strain_rate = 1.0;    // [1/s]
   Real max_axial_strain = 0.05;    // [-] cyclic: the stage ends when |eps_a| reaches it (large strain, liquefaction)
+  // triaxial: `direction: extension` moves the axial walls apart (eps_a < 0, q < 0: the triaxial extension test at
+  // constant sigma_3 drained, constant volume undrained), to eps_a = -max_axial_strain (choice, beyond SPEC §6.3:
+  // the critical state in extension, M_e = 6 sin(phi) / (3 + sin(phi)), against compression's 6 sin(phi) / (3 - sin(phi)))
+  bool extension = false;
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: strain reversal)   [Pa]

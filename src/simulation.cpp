@@ -348,6 +348,9 @@ class Laboratory {
     return sc.q_amplitude > 0 ? std::pair<Real, Real>{m.q, sc.q_amplitude} : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
   }
   Real cycle_number(const StageConfig& sc, const Measure& m) const;
+  // A triaxial stage's axial strain along its loading: eps_a in compression, -eps_a in extension (what
+  // max_axial_strain, snapshot_strain and the plan count).
+  static Real strain_along(const StageConfig& sc, Real eps_a) { return sc.extension ? -eps_a : eps_a; }
   void watch_cycle(const StageConfig& sc, const Measure& m, bool turn);
   void write_summary() const;
   void assert_healthy();
@@ -659,10 +662,10 @@ bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) con
 }
 
 // A shear stage's end, judged at the start of a step (from wall positions and the wall loads the servo used):
-// triaxial, eps_a reached; cyclic, |eps_a| at max_axial_strain (the sample liquefied or failed), or the cycles
+// triaxial, eps_a (-eps_a in extension) reached; cyclic, |eps_a| at max_axial_strain (the sample liquefied or failed), or the cycles
 // done: after the last extension peak, back at the level the stage started from (q or eps_a = 0).
 bool Laboratory::shear_end(const StageConfig& sc, const Measure& m) const {
-  if (sc.type == StageType::Triaxial) return m.eps_a >= sc.max_axial_strain;
+  if (sc.type == StageType::Triaxial) return strain_along(sc, m.eps_a) >= sc.max_axial_strain;
   if (sc.type != StageType::Cyclic) return false;
   if (std::abs(m.eps_a) >= sc.max_axial_strain) return true;
   return lab_.half_cycles >= 2 * sc.cycles && eng_->wall_control(4).velocity > 0 && cyclic_level(sc, m).first >= 0;
@@ -760,8 +763,8 @@ void Laboratory::start_stage(const StageConfig& sc) {
       c.mode = WallMode::Servo;
       c.target_stress = sc.pressure;
     } else if (k >= 4) {
-      c.mode = WallMode::Velocity;  // axial walls approach each other at the strain rate
-      c.velocity = 0.5 * sc.axial_strain_rate * lab_.H0;
+      c.mode = WallMode::Velocity;  // axial walls approach each other at the strain rate (part, in extension)
+      c.velocity = (sc.extension ? -0.5 : 0.5) * sc.axial_strain_rate * lab_.H0;
     } else if (sc.drainage == Drainage::Drained) {
       c.mode = WallMode::Servo;
       c.target_stress = lab_.p0;  // sigma_3 = p'_0 (SPEC §6.3)
@@ -934,7 +937,8 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
     if (cyclic) watch_cycle(sc, m0, turn);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
-    const bool snap = shear && cfg_.snapshot_strain > 0 && (cyclic ? turn : m0.eps_a >= lab_.next_snap_eps);
+    const bool snap =
+        shear && cfg_.snapshot_strain > 0 && (cyclic ? turn : strain_along(sc, m0.eps_a) >= lab_.next_snap_eps);
     if (!(report || check || snap || strain_end)) {
       // An ordinary step measures nothing between its halves, so it takes the fused step(): bitwise
       // evaluate() + advance() (test Determinism.FusedWallLoadsEqualSeparatePass), one pass fewer over
@@ -957,7 +961,8 @@ bool Laboratory::run_stage(const StageConfig& sc) {
              << " kPa | q = " << m.q / 1e3 << " kPa | e = " << m.e;
         if (sc.type == StageType::Triaxial) {
           line << " | eps_a = " << m.eps_a;
-          const double steps_left = (sc.max_axial_strain - m.eps_a) / std::max(1e-30, sc.axial_strain_rate * e.dt());
+          const double steps_left =
+              (sc.max_axial_strain - strain_along(sc, m.eps_a)) / std::max(1e-30, sc.axial_strain_rate * e.dt());
           line << " | ETA " << std::setprecision(3) << steps_left / std::max(rate, 1e-9) << " s";
         } else if (cyclic) {
           line << " | eps_a = " << m.eps_a << " | cycle " << lab_.cycle << " of " << sc.cycles;
@@ -977,7 +982,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       }
       if (snap) {
         snapshot(sc.name + (cyclic ? "_peak" + std::to_string(lab_.half_cycles) : "_eps" + std::to_string(lab_.snapshots)));
-        while (!cyclic && lab_.next_snap_eps <= m.eps_a) lab_.next_snap_eps += cfg_.snapshot_strain;
+        while (!cyclic && lab_.next_snap_eps <= strain_along(sc, m.eps_a)) lab_.next_snap_eps += cfg_.snapshot_strain;
       }
       if (strain_end) done = true;
       if (done || last_step) {
@@ -1326,7 +1331,7 @@ bool Laboratory::load_newest_checkpoint() {
         const StageConfig& sc = cfg_.stages[lab_.stage - 1];
         const Measure m = measure(sc);
         const bool more = lab_.stage_step < sc.max_steps &&
-                          (sc.type == StageType::Triaxial ? m.eps_a < sc.max_axial_strain
+                          (sc.type == StageType::Triaxial ? strain_along(sc, m.eps_a) < sc.max_axial_strain
                            : sc.type == StageType::Cyclic ? !shear_end(sc, m)
                                                           : !lab_.results.back().converged);
         if (more) {
@@ -1364,6 +1369,7 @@ void Laboratory::write_summary() const {
     js << (k ? "," : "") << "\n    {\"name\": " << json_string(r.name) << ", \"type\": \"" << type << "\"";
     if (sc.type != StageType::Isotropic)
       js << ", \"drainage\": \"" << (sc.drainage == Drainage::Undrained ? "undrained" : "drained") << "\"";
+    if (sc.type == StageType::Triaxial) js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\"";
     js << ", \"done\": " << (r.converged ? "true" : "false") << ", \"steps\": " << r.steps << ", \"mu\": " << num(r.mu)
        << ", \"p\": " << num(r.p) << ", \"q\": " << num(r.q) << ", \"e\": " << num(r.e);
     if (sc.type == StageType::Cyclic) {
@@ -1539,15 +1545,18 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
       const char* drainage = sc.drainage == Drainage::Undrained ? "undrained" : "drained";
       const double strain_step = sc.axial_strain_rate * plan.dt;  // eps_a per step: the axial walls move at 1/2 rate H0
       if (sc.type == StageType::Triaxial) {
-        // The stage ends on the step whose start finds eps_a >= max_axial_strain, one after the strain is reached.
+        // The stage ends on the step whose start finds eps_a >= max_axial_strain (-eps_a in extension), one after the
+        // strain is reached.
         const double need = std::ceil(sc.max_axial_strain / strain_step) + 1;
-        os << "triaxial " << drainage << " to eps_a = " << sc.max_axial_strain << " at " << sc.axial_strain_rate
+        os << "triaxial " << drainage << (sc.extension ? " extension to eps_a = -" : " to eps_a = ") << sc.max_axial_strain
+           << " at " << sc.axial_strain_rate
            << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6) << need << " steps";
         plan.steps.push_back(std::min(need, double(sc.max_steps)));
         if (need > double(sc.max_steps)) {
           std::ostringstream w;
-          w << std::setprecision(4) << "eps_a = " << sc.max_axial_strain << " takes " << need
-            << " steps, but max_steps = " << sc.max_steps << ": the stage would stop at eps_a = "
+          const char* sign = sc.extension ? "-" : "";
+          w << std::setprecision(4) << "eps_a = " << sign << sc.max_axial_strain << " takes " << need
+            << " steps, but max_steps = " << sc.max_steps << ": the stage would stop at eps_a = " << sign
             << double(sc.max_steps) * strain_step << "; raise max_steps (or axial_strain_rate)";
           warn(w.str());
         }

@@ -130,6 +130,10 @@ TEST(Config, RejectsBadInputClearly) {
        "stages[0].cycles = 0 is outside the allowed range [1, 1e+06]"},
       {"cyc_frac", "stages:\n  - {type: cyclic, q_amplitude: 3e4, cycles: 1.5}\n", "stages[0].cycles = 1.5 must be an integer"},
       {"cyc_tri", "stages:\n  - {type: triaxial, cycles: 2}\n", "stages[0].cycles: unknown key"},
+      // triaxial extension: a direction of a triaxial stage only (a cyclic stage goes both ways already)
+      {"dir_bad", "stages:\n  - {type: triaxial, direction: sideways}\n", "stages[0].direction"},
+      {"dir_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, direction: extension}\n", "stages[0].direction: unknown key"},
+      {"dir_iso", "stages:\n  - {type: isotropic, direction: extension}\n", "stages[0].direction: unknown key"},
       // liquefaction criteria: r_u in (0, 1]; a given double amplitude must be reachable below 2 max_axial_strain
       {"liq_ru0", "stages:\n  - {type: cyclic, q_amplitude: 3e4, liquefaction_ru: 0}\n",
        "stages[0].liquefaction_ru = 0 is outside the allowed range (0, 1]"},

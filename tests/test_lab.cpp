@@ -600,6 +600,111 @@ std::string on_reference(const std::string& name, const std::string& stages, int
 }
 }  // namespace
 
+// Triaxial extension (`direction: extension`): the axial walls move apart at the rate, so eps_a falls to
+// -max_axial_strain, where the stage ends within a step's strain after exactly the steps the plan counts, with
+// snapshots every snapshot_strain of -eps_a. Drained, sigma_3 = sigma_x = sigma_y is held at p'_0 (within 1 %, as in
+// compression) and sigma_z falls: q < 0 and p' = p'_0 + q/3; undrained, the volume stays V0. Against compression on
+// the same sample: an isotropically consolidated sample answers a small strain either way with one modulus, so |q|
+// at |eps_a| = 1e-3 agrees within 15 % (measured: extension/compression 0.94 drained, 1.00 undrained); at the end both
+// mobilise a friction angle sin(phi) = (sigma_1 - sigma_3)/(sigma_1 + sigma_3) between 10 and 45 degrees (measured at
+// 2 %: 17.9 and 14.8 degrees drained, 19.0 and 15.5 undrained; extension is further from its peak there). An interrupted extension resumes to
+// the uninterrupted series byte for byte (the walls' outward velocity is in the checkpoint).
+TEST(Lab, TriaxialExtensionMirrorsCompression) {
+  const Reference& ref = reference();
+  const double p0 = H5Reader(ref.out + "/sample_consolidate.h5").attr_double("p"), max = 0.02;
+  struct Shear {
+    std::vector<double> ea, ev, sx, sy, sz, q, p;
+    RunResult r;
+    std::string out;
+  };
+  std::map<std::string, Shear> got;
+  for (const char* drainage : {"drained", "undrained"})
+    for (const char* dir : {"compression", "extension"}) {
+      const std::string tag = std::string(dir) + "_" + drainage;
+      const std::string cfg = on_reference("tx_" + tag,
+                                           std::string("  - {name: shear, type: triaxial, drainage: ") + drainage +
+                                               ", direction: " + dir + ", axial_strain_rate: 1.0, max_axial_strain: 0.02, "
+                                               "damping: 0.2}\n",
+                                           20);
+      const std::string out = tmpdir("tx_" + tag);
+      Shear sh;
+      sh.out = out;
+      sh.r = run(cfg, out);
+      H5Reader h(out + "/run.h5");
+      sh.ea = h.doubles("/series/eps_a");
+      sh.ev = h.doubles("/series/eps_v");
+      sh.sx = h.doubles("/series/sigma_x");
+      sh.sy = h.doubles("/series/sigma_y");
+      sh.sz = h.doubles("/series/sigma_z");
+      sh.q = h.doubles("/series/q");
+      sh.p = h.doubles("/series/p");
+      const bool ext = std::string(dir) == "extension";
+      SCOPED_TRACE(tag);
+      ASSERT_TRUE(sh.r.stages.at(0).converged);
+      const RunPlan plan = plan_run(load_run_config(cfg));
+      const double step = 1.0 * h.doubles("/series/dt").back();
+      EXPECT_EQ(long(plan.steps[0]), sh.r.stages[0].steps);
+      const double along = ext ? -sh.ea.back() : sh.ea.back();
+      EXPECT_GE(along, max - 1e-12);
+      EXPECT_LT(along, max + step);
+      const std::vector<double> snaps = h.doubles("/snapshots/eps_a");
+      ASSERT_EQ(snaps.size(), 2u) << "at 1 % and at 2 %, the end";
+      EXPECT_GE(ext ? -snaps[0] : snaps[0], 0.01 - 1e-12);
+      EXPECT_LT(ext ? -snaps[0] : snaps[0], 0.01 + step);
+      if (ext) {
+        EXPECT_NE(slurp(out + "/summary.json").find("\"direction\": \"extension\""), std::string::npos);
+        EXPECT_NE(slurp(out + "/config.yaml").find("direction: extension"), std::string::npos);
+      }
+      for (size_t k = 1; k < sh.ea.size(); ++k) {
+        EXPECT_LT(ext ? sh.ea[k] : -sh.ea[k], ext ? sh.ea[k - 1] : -sh.ea[k - 1]) << "row " << k;
+        if (std::abs(sh.ea[k]) > 1e-3) {
+          EXPECT_LT(ext ? sh.q[k] : -sh.q[k], 0) << "row " << k;
+        }
+        if (std::string(drainage) == "drained") {
+          EXPECT_NEAR(sh.sx[k], p0, 0.01 * p0) << "row " << k;
+          EXPECT_NEAR(sh.sy[k], p0, 0.01 * p0) << "row " << k;
+          EXPECT_NEAR(sh.p[k] - sh.q[k] / 3, p0, 0.01 * p0) << "row " << k;
+        } else {
+          EXPECT_LT(std::abs(sh.ev[k]), 1e-12) << "row " << k;
+        }
+      }
+      got[tag] = sh;
+    }
+  for (const char* drainage : {"drained", "undrained"}) {
+    const Shear &c = got[std::string("compression_") + drainage], &x = got[std::string("extension_") + drainage];
+    auto q_at = [](const Shear& sh, double e) {
+      for (size_t k = 1; k < sh.ea.size(); ++k)
+        if (std::abs(sh.ea[k]) >= e)  // linear between the rows around |eps_a| = e
+          return std::abs(sh.q[k - 1]) + (std::abs(sh.q[k]) - std::abs(sh.q[k - 1])) * (e - std::abs(sh.ea[k - 1])) /
+                                             (std::abs(sh.ea[k]) - std::abs(sh.ea[k - 1]));
+      return 0.0;
+    };
+    auto phi = [](const Shear& sh) {
+      const double sr = 0.5 * (sh.sx.back() + sh.sy.back()), s1 = std::max(sh.sz.back(), sr), s3 = std::min(sh.sz.back(), sr);
+      return std::asin((s1 - s3) / (s1 + s3)) * 180 / M_PI;
+    };
+    const double qc = q_at(c, 1e-3), qx = q_at(x, 1e-3);
+    std::printf("  %s: |q| at |eps_a| = 0.1 %%: %.4g kPa compression, %.4g kPa extension (ratio %.3f); at 2 %%: q = %.4g, "
+                "%.4g kPa, p' = %.4g, %.4g kPa, mobilised phi %.2f, %.2f deg\n",
+                drainage, qc / 1e3, qx / 1e3, qx / qc, c.q.back() / 1e3, x.q.back() / 1e3, c.p.back() / 1e3,
+                x.p.back() / 1e3, phi(c), phi(x));
+    EXPECT_NEAR(qx / qc, 1.0, 0.15) << drainage;
+    for (double f : {phi(c), phi(x)}) {
+      EXPECT_GT(f, 10.0) << drainage;
+      EXPECT_LT(f, 45.0) << drainage;
+    }
+  }
+  // interrupted halfway and resumed: the uninterrupted extension, byte for byte
+  const std::string cfg = on_reference("tx_extension_drained",
+                                       "  - {name: shear, type: triaxial, drainage: drained, direction: extension, "
+                                       "axial_strain_rate: 1.0, max_axial_strain: 0.02, damping: 0.2}\n",
+                                       20);
+  const std::string stopped = tmpdir("tx_extension_stopped");
+  ASSERT_TRUE(run(cfg, stopped, got["extension_drained"].r.stages[0].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(got["extension_drained"].out + "/series.csv"));
+}
+
 // Cyclic triaxial loading (StageType::Cyclic). Strain reversal on the reference sample, undrained: the axial walls
 // turn at the start of the step that finds |eps_a| >= A, so each peak's eps_a (the snapshot taken there) lies in
 // [A, A + one step's strain); the cycles end on the step that finds eps_a back at 0; the box volume stays V0 to
