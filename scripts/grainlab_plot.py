@@ -231,11 +231,14 @@ def legend(ax, **kw):
 def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     """Final state of the shear stage, and whether it is critical: over the last `window` of axial strain,
     q/p', p' and e must each be steady: the drift of a fitted line over the window below qp_tol (q/p'),
-    p_tol (p' relative) and e_tol (e). The reported state is the mean over the window."""
+    p_tol (p' relative) and e_tol (e). The reported state is the mean over the window. A triaxial extension
+    (eps_a < 0 at the end) counts its window along -eps_a; its state says ext=True, and M = |q/p'| with the friction
+    angle of that state, sin(phi) = 3 M / (6 + M) in compression and 3 M / (6 - M) in extension (Mohr-Coulomb)."""
     m = s["monotonic"]
     if not m.any():
         return None
-    ea = s["eps_a"][m]
+    ext = bool(s["eps_a"][m][-1] < 0)
+    ea = -s["eps_a"][m] if ext else s["eps_a"][m]  # strain along the loading
     w = ea >= ea[-1] - window
     if ea[-1] - ea[0] < window or w.sum() < 3:
         return dict(ok=False, why="shear shorter than the window")
@@ -253,7 +256,10 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
         window, spread["qp"], qp_tol, spread["p"], p_tol, spread["e"], e_tol)
     last = {k: s[k][m][-1] for k in ("a_c", "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n",
                                       "sff_share_t", "q", "sff") if k in s}
-    return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), **last)
+    M = abs(float(np.mean(qp)))
+    phi = math.degrees(math.asin(min(1.0, 3 * M / ((6 - M) if ext else (6 + M)))))
+    return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext, M=M, phi=phi,
+                **last)
 
 
 def fit(x, y):
@@ -276,29 +282,38 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             print(f"{run}: not at critical state ({cs['why']}); not fitted")
         else:
             states.append((run, cs))
+    # per mu_r and direction: compression and extension reach the critical state at other stress ratios (M_c, M_e) and
+    # fabrics (a_c changes sign with the loading axis), so their lines are fitted apart
     groups = {}
     for run, cs in states:
-        groups.setdefault(cs["mu_r"], []).append(cs)
-    lines = ["| mu_r | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) |", "|---|---|---|---|"]
+        groups.setdefault((cs["mu_r"], cs["ext"]), []).append(cs)
+    lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) |",
+             "|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     results = {}
-    for mur, g in sorted(groups.items()):
+    for (mur, ext), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
         e = np.array([c["e"] for c in g])
         ac = np.array([c["a_c"] for c in g])
-        (ln,) = ax[0].plot(p, e, "o", label=f"mu_r = {mur:g}")
-        ax[1].plot(np.log(p), ac, "o", color=ln.get_color(), label=f"mu_r = {mur:g}")
+        M = np.array([c["M"] for c in g])
+        direction = "extension" if ext else "compression"
+        # the mean M's friction angle (as critical_state gives it per run)
+        phi = math.degrees(math.asin(min(1.0, 3 * M.mean() / ((6 - M.mean()) if ext else (6 + M.mean())))))
+        m_txt = f"{M.mean():.3f} ± {M.std(ddof=1) if len(M) > 1 else 0:.3f} ({phi:.1f}°)"
+        tag = f"mu_r = {mur:g}" + (" extension" if ext else "")
+        (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
+        ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
         if len(g) >= 3:
             b, a, sb, sa = fit(p, e)
             d, c, sd, sc = fit(np.log(p), ac)
             xs = np.linspace(p.min(), p.max(), 20)
             ax[0].plot(xs, a + b * xs, "-", color=ln.get_color())
             ax[1].plot(np.log(xs), c + d * np.log(xs), "-", color=ln.get_color())
-            lines.append(f"| {mur:g} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
-                         f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} |")
-            results[mur] = dict(n=len(g), a=a, b=b, sa=sa, sb=sb, c=c, d=d, sc=sc, sd=sd)
+            lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
+                         f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} | {m_txt} |")
+            results[(mur, ext)] = dict(n=len(g), a=a, b=b, sa=sa, sb=sb, c=c, d=d, sc=sc, sd=sd, M=M.mean(), phi=phi)
         else:
-            lines.append(f"| {mur:g} | {len(g)} | fewer than 3 critical states: no fit | |")
+            lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states: no fit | | {m_txt} |")
     ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c", title="critical-state line e_c - p'")
     ax[1].set(xlabel="ln p'_c [kPa]", ylabel="a_c at critical state", title="a_c - ln p'")
     for a_ in ax:
@@ -306,7 +321,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         legend(a_, fontsize=8)
     save(fig, out, "csl")
     if not groups:
-        lines.append(f"| – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | |")
+        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | |")
     text = "\n".join(lines)
     if not quiet:
         print(text)
@@ -353,7 +368,7 @@ def study(out):
     peak_rows, cs_rows, share_rows = [], [], []
     for j, d, s in mono:
         m = s["shear"]
-        k = int(np.argmax(s["q"][m]))
+        k = int(np.argmax((-1 if s["eps_a"][m][-1] < 0 else 1) * s["q"][m]))  # the largest |q| of the loading (q < 0 in extension)
         peak_rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {s['q'][m][k] / 1e3:.1f} | "
                          f"{100 * s['eps_a'][m][k]:.2f} | {s['q_p'][m][k]:.3f} |")
         c = critical_state(s, cs_cfg["window"], *tol)

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Known-answer test of `grainlab csl`: synthetic runs whose final states lie on prescribed lines
 e_c = a + b p' and a_c = c + d ln p' (per mu_r) must give those slopes and intercepts back; a run that is
-not steady over the window must be reported and left out of the fit."""
+not steady over the window must be reported and left out of the fit. Triaxial extensions (eps_a < 0) of mu_r 0.1 on
+other lines are fitted apart, their window counted along -eps_a; M = |q/p'| = 0.6 gives phi_cs = asin(3 M/(6 + M)) =
+15.8 degrees in compression and asin(3 M/(6 - M)) = 19.5 in extension."""
 import csv, os, shutil, subprocess, sys
 
 grainlab, work = sys.argv[1], sys.argv[2]
@@ -24,6 +26,21 @@ for mur, (a, b, c, d) in truth.items():
                 ac = c + d * __import__("math").log(pc)
                 w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1])
         runs.append(run)
+# Extensions of mu_r 0.1: eps_a to -40 %, q/p' = -0.6, on their own lines
+ext_truth = (0.85, -1.0e-4, -0.15, 0.01)
+for k, pc in enumerate([100.0, 190.0, 300.0]):
+    run = os.path.join(work, f"ext_{k}")
+    os.makedirs(run)
+    a, b, c, d = ext_truth
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i in range(41):
+            ea = 0.01 * i
+            p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
+            w.writerow(["shear", i, i, -ea, p, -0.6, a + b * pc if ea >= 0.3 else 0.7,
+                        c + d * __import__("math").log(pc), 0.1, 1])
+    runs.append(run)
 # One run still moving at the end: not a critical state.
 bad = os.path.join(work, "moving")
 os.makedirs(bad)
@@ -39,8 +56,14 @@ assert out.returncode == 0, "csl failed"
 assert "moving: not at critical state" in out.stdout, "the moving run must be reported"
 table = open(os.path.join(work, "fig", "csl.md")).read()
 for mur, (a, b, c, d) in truth.items():
-    line = next(l for l in table.splitlines() if l.startswith(f"| {mur:g} |"))
+    line = next(l for l in table.splitlines() if l.startswith(f"| {mur:g} | compression |"))
     assert f"| 4 |" in line, line  # the moving run (mu_r 0.1) was not fitted
     assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
+    assert "| 0.600 ± 0.000 (15.8°) |" in line, line
+a, b, c, d = ext_truth
+line = next(l for l in table.splitlines() if l.startswith("| 0.1 | extension |"))
+assert "| 3 |" in line, line
+assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
+assert "| 0.600 ± 0.000 (19.5°) |" in line, line
 assert os.path.isfile(os.path.join(work, "fig", "csl.png"))
 print("csl ok")
