@@ -61,13 +61,15 @@ for sec in "## Peak states" "## Critical states" "## Critical-state lines" "## S
 done
 verdicts=$(grep -cE '^\| shear_.* \| (yes|no: )' "$work/report.md")
 [ "$verdicts" -eq 6 ] || { echo "expected a critical-state verdict for each of 6 tests, got $verdicts"; exit 1; }
-# Critical-state lines: one fitted row per mu_r, each from at least three critical states, with the e_c - p'
-# slope negative (a CSL that rises with p' would mean the steadiness test or the fit is broken).
-lines=$(sed -n '/^## Critical-state lines/,/^## /p' "$work/report.md" | grep -E '^\| [0-9.]+ \| [0-9]+ \|')
+# Critical-state lines: one fitted row per mu_r (all compression), each from at least three critical states, with the
+# e_c - p' slope negative (a CSL that rises with p' would mean the steadiness test or the fit is broken) and M with
+# its friction angle.
+lines=$(sed -n '/^## Critical-state lines/,/^## /p' "$work/report.md" | grep -E '^\| [0-9.]+ \| compression \| [0-9]+ \|')
 [ "$(printf '%s\n' "$lines" | grep -c .)" -eq 2 ] || { echo "expected a critical-state line row for each of 2 mu_r: $lines"; exit 1; }
 printf '%s\n' "$lines" | awk -F'|' '{
-  n = $3 + 0
-  if (n < 3 || $4 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = -[0-9.e+-]+ ±/ || $5 !~ /c = [-0-9.e+]+ ± /) {
+  n = $4 + 0
+  if (n < 3 || $5 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = -[0-9.e+-]+ ±/ || $6 !~ /c = [-0-9.e+]+ ± / ||
+      $7 !~ /[0-9.]+ ± [0-9.]+ \([0-9.]+°\)/) {
     print "critical-state line not fitted from >= 3 critical states (or e_c rises with p\x27): " $0; bad = 1 }
 } END { exit bad }' || exit 1
 [ -f "$work/figures/stress_paths.png" ] || { echo "no stress-path figure"; exit 1; }
