@@ -763,7 +763,7 @@ void Laboratory::start_stage(const StageConfig& sc) {
       c.mode = WallMode::Servo;
       c.target_stress = sc.pressure;
     } else if (k >= 4) {
-      c.mode = WallMode::Velocity;  // axial walls approach each other at the strain rate (part, in extension)
+      c.mode = WallMode::Velocity;  // axial walls approach each other at the strain rate (recede, in extension)
       c.velocity = (sc.extension ? -0.5 : 0.5) * sc.axial_strain_rate * lab_.H0;
     } else if (sc.drainage == Drainage::Drained) {
       c.mode = WallMode::Servo;
