@@ -232,8 +232,7 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     """Final state of the shear stage, and whether it is critical: over the last `window` of axial strain,
     q/p', p' and e must each be steady: the drift of a fitted line over the window below qp_tol (q/p'),
     p_tol (p' relative) and e_tol (e). The reported state is the mean over the window. A triaxial extension
-    (eps_a < 0 at the end) counts its window along -eps_a; its state says ext=True, and M = |q/p'| with the friction
-    angle of that state, sin(phi) = 3 M / (6 + M) in compression and 3 M / (6 - M) in extension (Mohr-Coulomb)."""
+    (eps_a < 0 at the end) counts its window along -eps_a; its state says ext=True; M = |q/p'| (friction_angle)."""
     m = s["monotonic"]
     if not m.any():
         return None
@@ -256,10 +255,14 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
         window, spread["qp"], qp_tol, spread["p"], p_tol, spread["e"], e_tol)
     last = {k: s[k][m][-1] for k in ("a_c", "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n",
                                       "sff_share_t", "q", "sff") if k in s}
-    M = abs(float(np.mean(qp)))
-    phi = math.degrees(math.asin(min(1.0, 3 * M / ((6 - M) if ext else (6 + M)))))
-    return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext, M=M, phi=phi,
-                **last)
+    return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
+                M=abs(float(np.mean(qp))), **last)
+
+
+def friction_angle(M, ext):
+    """The Mohr-Coulomb friction angle [deg] of a triaxial state at M = |q/p'|: sin(phi) = 3 M / (6 + M) in
+    compression, 3 M / (6 - M) in extension (where the axial stress is the minor principal one)."""
+    return math.degrees(math.asin(min(1.0, 3 * M / ((6 - M) if ext else (6 + M)))))
 
 
 def fit(x, y):
@@ -297,8 +300,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         ac = np.array([c["a_c"] for c in g])
         M = np.array([c["M"] for c in g])
         direction = "extension" if ext else "compression"
-        # the mean M's friction angle (as critical_state gives it per run)
-        phi = math.degrees(math.asin(min(1.0, 3 * M.mean() / ((6 - M.mean()) if ext else (6 + M.mean())))))
+        phi = friction_angle(M.mean(), ext)
         m_txt = f"{M.mean():.3f} ± {M.std(ddof=1) if len(M) > 1 else 0:.3f} ({phi:.1f}°)"
         tag = f"mu_r = {mur:g}" + (" extension" if ext else "")
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
