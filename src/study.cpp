@@ -82,6 +82,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     } else {
       if (!shear_only) continue;
       s["drainage"] = j.drainage;
+      if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
       if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
       if (type == "cyclic" && j.strain_amplitude > 0 && s["strain_amplitude"]) {
         s["strain_amplitude"] = yaml_number(j.strain_amplitude);
@@ -158,6 +159,7 @@ Study load_study_unchecked(const std::string& path) {
   }
   bool has_iso = false, has_tri = false;
   std::string base_drainage;  // the base's first shear's, the default of the drainage axis and of extra jobs
+  std::string base_direction;  // the base's first triaxial stage's (none: a cyclic base), likewise for direction
   // A cyclic stage's stress amplitude is what the csr axis sets, from the p'_0 of each job (the pressure of the
   // base's last isotropic stage, or the p0 axis): CSR = q_amplitude / (2 p'_0), the cyclic liquefaction test's measure.
   bool has_q_cyclic = false;
@@ -183,6 +185,7 @@ Study load_study_unchecked(const std::string& path) {
     }
     if (st.type != StageType::Isotropic && base_drainage.empty())
       base_drainage = st.drainage == Drainage::Drained ? "drained" : "undrained";
+    if (st.type == StageType::Triaxial && base_direction.empty()) base_direction = st.extension ? "extension" : "compression";
   }
   if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial or cyclic stage");
   if (const YAML::Node cs = root["critical_state"]) {
@@ -209,8 +212,10 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
-      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "seed", "count", "csr", "strain_amplitude"}.count(k))
-        fail(path, "axes." + k, "unknown axis (known: mu_r, e0, p0, drainage, seed, count, csr, strain_amplitude)");
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "seed", "count", "csr", "strain_amplitude"}
+               .count(k))
+        fail(path, "axes." + k,
+             "unknown axis (known: mu_r, e0, p0, drainage, direction, seed, count, csr, strain_amplitude)");
     }
   const auto need_q_cyclic = [&](const std::string& key) {
     if (!has_q_cyclic)
@@ -237,11 +242,33 @@ Study load_study_unchecked(const std::string& path) {
       drain.push_back(d);
     }
   if (drain.empty()) drain = {base_drainage};
+  // The direction axis sets every triaxial stage of the base (a cyclic stage reverses by itself): triaxial
+  // compression and extension of the same sample, the pair that shows whether the friction angle depends on the
+  // intermediate principal stress (Mohr-Coulomb says not: one phi, M = 6 sin phi / (3 -+ sin phi)). Left out, the
+  // base's stages keep their own.
+  const auto check_direction = [&](const std::string& key, const std::string& d) {
+    if (base_direction.empty())
+      fail(path, key, "sets the loading direction of the base's triaxial stages, and the base (" + s.base +
+                          ") has none (a cyclic stage reverses by itself)");
+    if (d != "compression" && d != "extension") fail(path, key, "'" + d + "' is not compression or extension");
+  };
+  std::vector<std::string> directions;
+  if (ax && ax["direction"])
+    for (auto v : (ax["direction"].IsSequence() ? ax["direction"] : YAML::Node(std::vector<YAML::Node>{ax["direction"]}))) {
+      directions.push_back(v.as<std::string>());
+      check_direction("axes.direction", directions.back());
+    }
+  if (ax && ax["direction"] && directions.empty())
+    fail(path, "axes.direction", "an empty list: give compression, extension or both, or leave the axis out");
+  const bool direction_axis = !directions.empty();
+  if (directions.empty()) directions = {base_direction};
   struct Point {
     double mu_r, e0, p0;
     long seed, count;
     std::string drainage;
     double csr, ea;
+    std::string direction;
+    bool set_direction;
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -251,20 +278,28 @@ Study load_study_unchecked(const std::string& path) {
           for (double seed : axis("seed", {double(base_cfg.packing.seed)}))
             for (double count : axis("count", {double(base_cfg.packing.count)}))
               for (auto& d : drain)
-                for (double csr : axis("csr", {0}))
-                  for (double ea : axis("strain_amplitude", {0}))
-                    points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea});
+                for (auto& dir : directions)
+                  for (double csr : axis("csr", {0}))
+                    for (double ea : axis("strain_amplitude", {0}))
+                      points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
-      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count), base_drainage, 0, 0};
+      Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
+               base_drainage, 0, 0, base_direction, false};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
           pt.drainage = it.second.as<std::string>();
           if (pt.drainage != "drained" && pt.drainage != "undrained") fail(path, key + ".drainage", "drained or undrained");
+          continue;
+        }
+        if (f == "direction") {
+          pt.direction = it.second.as<std::string>();
+          pt.set_direction = true;
+          check_direction(key + ".direction", pt.direction);
           continue;
         }
         std::string field = key;
@@ -284,7 +319,8 @@ Study load_study_unchecked(const std::string& path) {
         } else if (f == "strain_amplitude") {
           need_strain_cyclic(field);
           pt.ea = v;
-        } else fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, seed, count, csr, strain_amplitude)");
+        } else
+          fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, direction, seed, count, csr, strain_amplitude)");
       }
       points.push_back(pt);
     }
@@ -320,6 +356,9 @@ Study load_study_unchecked(const std::string& path) {
     sh.sample_name = sn.str();
     sh.drainage = pt.drainage;
     sh.name = "shear_" + pt.drainage + "_" + sn.str().substr(7);
+    sh.direction = pt.direction;
+    sh.set_direction = pt.set_direction;
+    if (pt.direction == "extension") sh.name += "_ext";  // compression keeps the names studies had before the axis
     sh.cycles = base_cycles;
     if (pt.csr > 0) {
       sh.csr = pt.csr;
@@ -582,7 +621,7 @@ int run_study(const Study& s, const StudyOptions& o) {
       const StudyJob& j = s.shears[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name
          << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
-         << j.drainage << "\", \"seed\": " << j.seed << ", \"count\": " << j.count << ", \"csr\": " << j.csr
+         << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"seed\": " << j.seed << ", \"count\": " << j.count << ", \"csr\": " << j.csr
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }

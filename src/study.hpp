@@ -14,6 +14,10 @@ struct StudyJob {
   double mu_r = 0, e0 = 0, p0 = 0;  // e0 = 0: the base config's preparation without a target
   long seed = 0, count = 0;
   std::string drainage;
+  // triaxial stages' loading direction, "compression" or "extension": the study's (direction axis or an extra job's
+  // key; set_direction) or else the base's first triaxial stage's, for the name and the report
+  std::string direction;
+  bool set_direction = false;
   double csr = 0;           // cyclic shears: cyclic stress ratio q_amplitude / (2 p'_0) (0: the base's q_amplitude)
   double q_amplitude = 0;   // the amplitude csr gives at the job's p'_0 [Pa] (0: the base's)
   long cycles = 0;          // the base's cyclic stage's cycles (0: a monotonic shear), for the report

@@ -272,6 +272,65 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
   }
 }
 
+// Triaxial compression against extension: the direction axis sets every triaxial stage of the base (its cyclic stage
+// is left alone), shares the sample between directions, and names extension shears "_ext" (compression keeps the
+// names of studies from before the axis); an extra job may set it; left out, the base's direction is the job's and
+// nothing is written. Errors: a value other than compression/extension, an empty list, a base without a triaxial
+// stage.
+TEST(Config, StudyDirectionAxisSetsTheTriaxialStages) {
+  const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string base = write_tmp("study_dir_base", head +
+                                     "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n"
+                                     "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
+  const Study s = load_study(write_tmp("study_dir", "base: " + base +
+                                       "\naxes: {direction: [compression, extension], mu_r: [0, 0.2]}\n"
+                                       "extra: [{mu_r: 0.4, direction: extension}, {mu_r: 0.4}]\n"));
+  ASSERT_EQ(s.samples.size(), 3u);
+  ASSERT_EQ(s.shears.size(), 6u);
+  int ext = 0;
+  for (const StudyJob& j : s.shears) {
+    SCOPED_TRACE(j.name);
+    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    ASSERT_EQ(c.stages.size(), 2u);
+    EXPECT_EQ(c.stages[0].extension, j.direction == "extension");
+    EXPECT_EQ(j.name.size() > 4 && j.name.compare(j.name.size() - 4, 4, "_ext") == 0, j.direction == "extension");
+    EXPECT_EQ(c.stages[1].type, StageType::Cyclic);
+    ext += j.direction == "extension";
+  }
+  EXPECT_EQ(ext, 3);
+  EXPECT_EQ(s.shears[0].name, "shear_undrained_mur0_ebase_pbase_s1_n300");
+  EXPECT_EQ(s.shears[1].name, "shear_undrained_mur0_ebase_pbase_s1_n300_ext");
+  EXPECT_FALSE(s.shears[5].set_direction);  // the extra job without the key: the base's, not written
+  EXPECT_EQ(shear_config(s, s.shears[5], "sample.h5").find("direction"), std::string::npos);
+  EXPECT_EQ(s.shears[5].direction, "compression");
+  // An extension base without the axis: its jobs are extension shears, named so.
+  const std::string ext_base = write_tmp("study_dir_ext_base", head +
+                                         "  - {name: shear, type: triaxial, max_axial_strain: 0.05, direction: extension}\n");
+  const Study se = load_study(write_tmp("study_dir_ext", "base: " + ext_base + "\naxes: {mu_r: [0.1]}\n"));
+  ASSERT_EQ(se.shears.size(), 1u);
+  EXPECT_EQ(se.shears[0].direction, "extension");
+  EXPECT_EQ(se.shears[0].name, "shear_undrained_mur0.1_ebase_pbase_s1_n300_ext");
+  const std::string cyc = write_tmp("study_dir_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
+  struct Case {
+    const char* name;
+    std::string text, expect;
+  };
+  const Case cases[] = {
+      {"study_dir_bad", "base: " + base + "\naxes: {direction: [compresion]}\n",
+       "axes.direction: 'compresion' is not compression or extension"},
+      {"study_dir_empty", "base: " + base + "\naxes: {direction: []}\n", "axes.direction: an empty list"},
+      {"study_dir_extra", "base: " + base + "\nextra: [{direction: shear}]\n",
+       "extra[0].direction: 'shear' is not compression or extension"},
+      {"study_dir_cyclic", "base: " + cyc + "\naxes: {direction: [extension]}\n",
+       "axes.direction: sets the loading direction of the base's triaxial stages, and the base (" + cyc + ") has none"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = error(c.name, c.text);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
+    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
+  }
+}
+
 TEST(Config, StudySeedZeroIsASeed) {
   const Study s = load_study(write_tmp("study_seed0", "base: " GRAINLAB_SOURCE_DIR
                                                       "/configs/quick-study-base.yaml\naxes: {seed: [0, 1]}\n"));
