@@ -354,7 +354,8 @@ def study(out):
     for j, d, s in runs:
         m = s["shear"]
         ls = "-" if j["drainage"] == "undrained" else "--"
-        lab = f"mu_r={j['mu_r']:g} {j['drainage']} p0={j['p0'] / 1e3:g}k e0={j['e0']:g}"
+        lab = (f"mu_r={j['mu_r']:g} {j['drainage']}" + (" extension" if s["eps_a"][m][-1] < 0 else "")
+               + f" p0={j['p0'] / 1e3:g}k e0={j['e0']:g}")
         ax[0].plot(100 * s["eps_a"][m], s["q"][m] / 1e3, ls, color=colors[j["mu_r"]], label=lab)
         ax[1].plot(s["p"][m] / 1e3, s["q"][m] / 1e3, ls, color=colors[j["mu_r"]])
         ax[2].plot(s["p"][m] / 1e3, s["e"][m], ls, color=colors[j["mu_r"]])
@@ -370,37 +371,46 @@ def study(out):
     peak_rows, cs_rows, share_rows = [], [], []
     for j, d, s in mono:
         m = s["shear"]
-        k = int(np.argmax((-1 if s["eps_a"][m][-1] < 0 else 1) * s["q"][m]))  # the largest |q| of the loading (q < 0 in extension)
-        peak_rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {s['q'][m][k] / 1e3:.1f} | "
-                         f"{100 * s['eps_a'][m][k]:.2f} | {s['q_p'][m][k]:.3f} |")
+        ext = bool(s["eps_a"][m][-1] < 0)  # as critical_state tells it: older study.json files have no direction
+        direction = "extension" if ext else "compression"
+        k = int(np.argmax((-1 if ext else 1) * s["q"][m]))  # the largest |q| of the loading (q < 0 in extension)
+        # The mobilised friction angle at its largest, at the largest stress ratio (maximum obliquity): past the peak
+        # of q in an undrained test, where p' still grows along the failure line (Mohr-Coulomb, friction_angle). q_p is
+        # the contacts' sqrt(3/2 s:s) / p' (SPEC §7), >= 0 in either direction, as critical_state reads it.
+        M_max = float(np.max(s["q_p"][m]))
+        peak_rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | {s['q'][m][k] / 1e3:.1f} | "
+                         f"{100 * s['eps_a'][m][k]:.2f} | {s['q_p'][m][k]:.3f} | {M_max:.3f} ({friction_angle(M_max, ext):.1f}°) |")
         c = critical_state(s, cs_cfg["window"], *tol)
         if c is None:
             continue
         if c["ok"]:
-            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | {c['e']:.4f} | "
-                           f"{c['qp']:.3f} | {c['a_c']:.3f} |")
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | "
+                           f"{c['e']:.4f} | {c['qp']:.3f} | {friction_angle(c['M'], ext):.1f} | {c['a_c']:.3f} |")
             share_rows.append(f"| {j['name']} | {j['mu_r']:g} | {c['sff_share_c']:.2f} | {c['sff_share_d']:.2f} | "
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
-            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | no: {c['why']} | | | | | |")
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | |")
     results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
         cyc_figs.append("`figures/modulus_reduction.png`")
-    # Shares at critical state, per mu_r (mean over its critical states).
+    # Shares at critical state, per mu_r and direction (mean over its critical states; the anisotropies change sign
+    # with the loading axis, the shares do not, but compression and extension need not share them out alike).
     if states:
         fig, ax = plt.subplots(figsize=(7, 4))
-        bottom = np.zeros(len(murs))
+        keys = sorted({(c["mu_r"], c["ext"]) for _, c in states})
+        bottom = np.zeros(len(keys))
         for key, lab in zip("cdnt", ["a_c", "a_d", "a_n", "3/2 a_t"]):
             vals = []
-            for mu in murs:
-                g = [c["sff_share_" + key] for _, c in states if c["mu_r"] == mu]
-                vals.append(np.mean(g) if g else 0)
-            ax.bar([f"{mu:g}" for mu in murs], vals, bottom=bottom, label=lab)
+            for mu, ext in keys:
+                g = [c["sff_share_" + key] for _, c in states if c["mu_r"] == mu and c["ext"] == ext]
+                vals.append(np.mean(g))
+            ax.bar([f"{mu:g}" + (" ext." if ext else "") for mu, ext in keys], vals, bottom=bottom, label=lab)
             bottom += np.array(vals)
-        ax.set(xlabel="mu_r", ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)", title="stress-force-fabric shares at critical state")
+        ax.set(xlabel="mu_r (ext.: triaxial extension)", ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)",
+               title="stress-force-fabric shares at critical state")
         legend(ax, fontsize=8)
         save(fig, figs, "sff_shares")
     head = [f"# Study report: {idx['study']}", "",
@@ -414,12 +424,17 @@ def study(out):
         return
     lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
              + "".join(", " + f for f in cyc_figs) + ".", "",
-             "## Peak states", "", "| test | mu_r | drainage | q_peak [kPa] | eps_a at peak [%] | q/p' at peak |",
-             "|---|---|---|---|---|---|", *peak_rows, "",
+             "## Peak states", "",
+             "The peak of |q| along the loading (q from the walls, < 0 in extension); the stress ratio M = q/p' of the "
+             "contact stress (q = sqrt(3/2 s:s) >= 0) there and at its largest, with the mobilised friction angle "
+             "(Mohr-Coulomb: sin phi' = 3M / (6 + M) in compression, 3M / (6 - M) in extension).", "",
+             "| test | mu_r | drainage | direction | q_peak [kPa] | eps_a at peak [%] | q/p' at peak | max q/p' (phi'_max) |",
+             "|---|---|---|---|---|---|---|---|", *peak_rows, "",
              "## Critical states", "",
              f"A test is at critical state when, over the last {cs_cfg['window']:g} of axial strain, the drift of q/p' (slope of a least-squares line times the window) is below "
              f"{tol[0]:g}, of p'/p'_end below {tol[1]:g} and of e below {tol[2]:g}; other tests are listed but not fitted.", "",
-             "| test | mu_r | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | a_c |", "|---|---|---|---|---|---|---|---|",
+             "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c |",
+             "|---|---|---|---|---|---|---|---|---|---|",
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",

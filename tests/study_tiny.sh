@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # tests/data/tiny-study.yaml end to end: the study driver (jobs forked and waited for, samples reused, report,
-# rerun, extension) on 300 spheres, fast enough to run under AddressSanitizer + UBSan in make check, where
+# rerun, a study extended, the direction axis) on 300 spheres, fast enough to run under AddressSanitizer + UBSan in make check, where
 # study_quick's 5 000-sphere shears to 40 % outran its 900 s limit. study_quick checks the rest (signals, report
 # contents) in make test.
 set -u
@@ -10,20 +10,33 @@ cp "$src"/tiny-study.yaml "$src"/tiny-study-base.yaml "$work"/ || exit 1
 cd "$work" || exit 1
 fail() { echo "study_tiny: $*"; exit 1; }
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "2 samples, 2 shears; 4 to run" || fail "unexpected plan: $out"
-[ "$(ls st/jobs/*/done | wc -l)" -eq 4 ] || fail "expected 4 finished jobs: $(ls st/jobs)"
+printf '%s\n' "$out" | grep -q "2 samples, 4 shears; 6 to run" || fail "unexpected plan: $out"
+[ "$(ls st/jobs/*/done | wc -l)" -eq 6 ] || fail "expected 6 finished jobs: $(ls st/jobs)"
 grep -q "## Critical states" st/report.md || fail "report.md lacks its critical-state section"
+# The direction axis: one extension shear per sample (named _ext, job.yaml says so), q < 0 at its peak, and its
+# mobilised friction angle from the extension relation (3M / (6 - M)), recomputed here from the row's own M.
+[ "$(ls -d st/jobs/shear_*_ext | wc -l)" -eq 2 ] || fail "expected 2 extension shears: $(ls st/jobs)"
+for s in st/jobs/shear_*_ext; do
+  grep -q "direction: extension" "$s/job.yaml" || fail "$s/job.yaml does not say direction: extension"
+done
+rows=$(grep -E '^\| shear_.*_ext \| [0-9.]+ \| drained \| extension \| -' st/report.md)
+[ "$(printf '%s\n' "$rows" | grep -c .)" -eq 2 ] || fail "expected 2 extension peak rows with q < 0: $(cat st/report.md)"
+printf '%s\n' "$rows" | awk -F'|' '{ split($9, a, /[ (°)]+/); M = a[2]; phi = a[3];
+  s = 3 * M / (6 - M); want = atan2(s, sqrt(1 - s * s)) * 180 / 3.141592653589793;
+  if (!(M > 0) || (phi - want) > 0.051 || (want - phi) > 0.051) { print "bad phi: " $0; exit 1 } }' ||
+  fail "an extension row's friction angle is not Mohr-Coulomb's of its M"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
-# An extension: the shears taken from 2 % to 3 % resume from their checkpoints.
+# A study extended: the shears taken from 2 % to 3 % (along the loading) resume from their checkpoints.
 sed -i 's/max_axial_strain: 0.02/max_axial_strain: 0.03/' tiny-study-base.yaml
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the extended study failed: $out"
-printf '%s\n' "$out" | grep -q "2 shear(s) extended" || fail "the shears were not extended: $out"
-printf '%s\n' "$out" | grep -q "; 2 to run" || fail "not exactly the 2 shears rerun: $out"
+printf '%s\n' "$out" | grep -q "4 shear(s) extended" || fail "the shears were not extended: $out"
+printf '%s\n' "$out" | grep -q "; 4 to run" || fail "not exactly the 4 shears rerun: $out"
 for s in st/jobs/shear_*; do
   [ -f "$s/done" ] || fail "$s did not finish"
   [ "$(head -1 "$s/run/series.csv" | cut -d, -f4)" = eps_a ] || fail "series.csv column 4 is not eps_a"
   eps=$(tail -1 "$s/run/series.csv" | cut -d, -f4)
-  awk -v e="$eps" 'BEGIN { exit !(e >= 0.03) }' || fail "$s ended at eps_a = $eps, not 0.03"
+  case $s in *_ext) along=-1 ;; *) along=1 ;; esac
+  awk -v e="$eps" -v a="$along" 'BEGIN { exit !(a * e >= 0.03) }' || fail "$s ended at eps_a = $eps, not $along x 0.03"
 done
 echo "study_tiny: ok"
