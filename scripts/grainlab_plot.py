@@ -189,36 +189,64 @@ def fig_cyclic(runs, out):
     finish(fig, ax, ax[0], 8, out, "cyclic")
 
 
+def modulus_curves(run, s):
+    """A run's cycles.csv as modulus-reduction curves (None without rows): every cycle's single-amplitude axial strain
+    amp [%] = 50 (eps_a_max - eps_a_min), E [MPa], D, and single-amplitude shear strain ga [%] with G [MPa]
+    (cycle_shear; nan for a drained cycle of a build before gamma); `last`, each stage's last cycle in order of
+    amplitude (the curve), `known` those of them with a gamma; hf = (E_max [MPa], eps_r, rms) and gf = (G_max [MPa],
+    gamma_r, rms), the Hardin-Drnevich hyperbolas through the curves (hyperbolic_fit), or None."""
+    with open(os.path.join(run, "cycles.csv")) as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        return None
+    # each stage's drainage, for cycle_shear's fallback on rows without gamma (stage_type 3: cyclic undrained)
+    drainage = {st: "undrained" if ty == 3 else "drained" for st, ty in zip(s["stage"], s["stage_type"])}
+    amp = np.array([50 * (float(r["eps_a_max"]) - float(r["eps_a_min"])) for r in rows])
+    E, D = np.array([float(r["E_eq"]) / 1e6 for r in rows]), np.array([float(r["damping"]) for r in rows])
+    ga, G = np.array([cycle_shear(r, drainage.get(r["stage"], "drained")) for r in rows]).T
+    ga, G = 100 * ga, G / 1e6
+    last = sorted({r["stage"]: k for k, r in enumerate(rows)}.values(), key=lambda k: amp[k])
+    known = [k for k in last if ga[k] == ga[k]]
+    return dict(amp=amp, E=E, D=D, ga=ga, G=G, last=last, known=known, hf=hyperbolic_fit(amp[last] / 100, E[last]),
+                gf=hyperbolic_fit(ga[known] / 100, G[known]) if known else None)
+
+
 def fig_modulus_damping(runs, out):
-    """Modulus reduction and damping from each run's cycles.csv: every cycle's equivalent modulus E_eq and damping
-    ratio D against its single-amplitude axial strain (eps_a_max - eps_a_min)/2, one colour per run: every cycle a
-    faint point, the curve through each stage's last cycle, and (dotted, E_max and eps_r in the legend) the hyperbola of
-    Hardin & Drnevich fitted to that curve."""
+    """Modulus reduction and damping from each run's cycles.csv (modulus_curves), one colour per run: the equivalent
+    Young's modulus E_eq against the single-amplitude axial strain, and the equivalent shear modulus G_eq and the
+    damping ratio D against the single-amplitude shear strain, the G - gamma curve a site-response code takes. Every
+    cycle a faint point, the curve through each stage's last cycle, and (dotted, the fit in the legend) the hyperbola
+    of Hardin & Drnevich fitted to that curve."""
     runs = [(run, s) for run, s in runs if os.path.isfile(os.path.join(run, "cycles.csv"))]
     if not runs:
         return
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4.2))
     for i, (run, s) in enumerate(runs):
-        with open(os.path.join(run, "cycles.csv")) as f:
-            rows = list(csv.DictReader(f))
+        c = modulus_curves(run, s)
+        if c is None:
+            continue
         color = f"C{i % 10}"
-        amp = np.array([50 * (float(r["eps_a_max"]) - float(r["eps_a_min"])) for r in rows])  # single amplitude, %
-        E, D = np.array([float(r["E_eq"]) / 1e6 for r in rows]), np.array([float(r["damping"]) for r in rows])
+        amp, E, D, ga, G, last, known, hf, gf = (c[k] for k in ("amp", "E", "D", "ga", "G", "last", "known", "hf", "gf"))
         ax[0].plot(amp, E, "o", color=color, alpha=0.35, markersize=4)
-        ax[1].plot(amp, D, "o", color=color, alpha=0.35, markersize=4)
-        # the curve: each stage's last cycle, in order of amplitude
-        last = sorted({r["stage"]: k for k, r in enumerate(rows)}.values(), key=lambda k: amp[k])
-        # the Hardin-Drnevich hyperbola through them (hyperbolic_fit), where E_eq falls with strain
-        hf = hyperbolic_fit(amp[last] / 100, E[last])
+        ax[1].plot(ga, G, "o", color=color, alpha=0.35, markersize=4)
+        ax[2].plot(ga, D, "o", color=color, alpha=0.35, markersize=4)
         fit = f", E_max {hf[0]:.3g} MPa, eps_r {100 * hf[1]:.2g} %" if hf else ""
         ax[0].plot(amp[last], E[last], "o-", color=color, label=label(run, s) + fit)
-        ax[1].plot(amp[last], D[last], "o-", color=color)
-        if hf:
-            xs = np.geomspace(amp[last].min() / 3, amp[last].max() * 3, 100)
-            ax[0].plot(xs, hf[0] / (1 + xs / 100 / hf[1]), ":", color=color)
-    ax[0].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="E_eq [MPa]", title="equivalent modulus")
-    ax[1].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="D", title="damping ratio")
-    finish(fig, ax, ax[0], 8, out, "modulus_damping")
+        gfit = f", G_max {gf[0]:.3g} MPa, gamma_r {100 * gf[1]:.2g} %" if gf else ""
+        ax[1].plot(ga[known], G[known], "o-", color=color, label=label(run, s) + gfit)
+        ax[2].plot(ga[known], D[known], "o-", color=color)
+        for a, x, h in ((ax[0], amp[last], hf), (ax[1], ga[known], gf)):
+            if h:
+                xs = np.geomspace(x.min() / 3, x.max() * 3, 100)
+                a.plot(xs, h[0] / (1 + xs / 100 / h[1]), ":", color=color)
+    ax[0].set(xscale="log", xlabel="single-amplitude eps_a [%]", ylabel="E_eq [MPa]", title="equivalent Young's modulus")
+    ax[1].set(xscale="log", xlabel="single-amplitude gamma [%]", ylabel="G_eq [MPa]", title="equivalent shear modulus")
+    ax[2].set(xscale="log", xlabel="single-amplitude gamma [%]", ylabel="D", title="damping ratio")
+    for a in np.ravel(ax):
+        a.grid(alpha=0.3)
+    legend(ax[0], fontsize=8)
+    legend(ax[1], fontsize=8)
+    save(fig, out, "modulus_damping")
 
 
 def legend(ax, **kw):
@@ -286,7 +314,8 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         else:
             states.append((run, cs))
     # per mu_r and direction: compression and extension reach the critical state at other stress ratios (M_c, M_e) and
-    # fabrics (a_c changes sign with the loading axis), so their lines are fitted apart
+    # fabric anisotropies (a_c is signed against the stress deviator, SPEC §7, so > 0 in both: its size differs), so
+    # their lines are fitted apart
     groups = {}
     for run, cs in states:
         groups.setdefault((cs["mu_r"], cs["ext"]), []).append(cs)
@@ -301,7 +330,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         M = np.array([c["M"] for c in g])
         direction = "extension" if ext else "compression"
         phi = friction_angle(M.mean(), ext)
-        m_txt = f"{M.mean():.3f} ± {M.std(ddof=1) if len(M) > 1 else 0:.3f} ({phi:.1f}°)"
+        m_txt = f"{M.mean():.3f}" + (f" ± {M.std(ddof=1):.3f}" if len(M) > 1 else "") + f" ({phi:.1f}°)"
         tag = f"mu_r = {mur:g}" + (" extension" if ext else "")
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
         ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
@@ -396,8 +425,8 @@ def study(out):
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
         cyc_figs.append("`figures/modulus_reduction.png`")
-    # Shares at critical state, per mu_r and direction (mean over its critical states; the anisotropies change sign
-    # with the loading axis, the shares do not, but compression and extension need not share them out alike).
+    # Shares at critical state, per mu_r and direction (mean over its critical states): compression and extension
+    # need not share the stress ratio out alike between fabric and forces.
     if states:
         fig, ax = plt.subplots(figsize=(7, 4))
         keys = sorted({(c["mu_r"], c["ext"]) for _, c in states})

@@ -3,14 +3,17 @@
 Hardin-Drnevich hyperbola E = E_max / (1 + eps/eps_r) and damping D = D_min + (D_max - D_min)(1 - E/E_max) must give
 E_max, eps_r, D_min and D_max back; a misfit of +-x % on alternate points gives an rms misfit near x %; an E that
 does not fall with strain, or one amplitude, gives no fit. Darendeli's clean-sand reference against values worked by
-hand from his equation; a cycles.csv row's shear strain and G_eq, and the fallback for rows without them."""
+hand from his equation; a cycles.csv row's shear strain and G_eq, and the fallback for rows without them; `grainlab
+plot`'s curves of a run (modulus_curves): each stage's last cycle, G - gamma fitted beside E - eps_a."""
 import os
 import sys
+import tempfile
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
-from grainlab_plot import cycle_shear, damping_fit, darendeli_gamma_r, darendeli_modulus, hyperbolic_fit  # noqa: E402
+from grainlab_plot import (cycle_shear, damping_fit, darendeli_gamma_r, darendeli_modulus, hyperbolic_fit,  # noqa: E402
+                           modulus_curves)
 
 fails = []
 
@@ -68,7 +71,37 @@ for old in (dict(row, G_eq="nan", gamma_max="nan", gamma_min="nan"),
     g, G = cycle_shear(old, "drained")
     if g == g or G == G:
         fails.append(f"drained without the columns: ({g}, {G}), expected (nan, nan)")
+# `grainlab plot`'s curves of a run (modulus_curves): four strain-controlled stages, two cycles each, on the hyperbola;
+# the undrained stages with gamma = 1.5 eps_a and G = E/3 (constant volume) as cycles.csv would write them, the last
+# stage's rows as an older build wrote them (no gamma columns: undrained by its stage_type 3, so 1.5 eps_a and E/3) ->
+# G_max = E_max/3 and gamma_r = 1.5 eps_r to round-off; a drained stage (type 4) without gamma is left off the G curve.
+with tempfile.TemporaryDirectory() as run:
+    def write(stages):
+        cols = ["cycle", "step", "q_max", "q_min", "eps_a_max", "eps_a_min", "E_eq", "damping", "p", "eps_v", "r_u_max",
+                "gamma_max", "gamma_min", "G_eq", "stage"]
+        with open(os.path.join(run, "cycles.csv"), "w") as f:
+            f.write(",".join(cols) + "\n")
+            for k, (name, ea, old_row) in enumerate(stages):
+                e = E_max / (1 + ea / eps_r)
+                for n in (1, 2):  # the first cycle off the curve: the last one counts
+                    ee = e * (1.1 if n == 1 else 1.0)
+                    g = "nan,nan,nan" if old_row else f"{1.5 * ea!r},{-1.5 * ea!r},{ee / 3!r}"
+                    f.write(f"{n},{100 * k + n},1,-1,{ea!r},{-ea!r},{ee!r},0.1,1e5,0,0,{g},{name}\n")
+    amps = [1e-5, 1e-4, 1e-3, 5e-3]
+    s = dict(stage=np.array(["iso", "a", "b", "c", "d"]), stage_type=np.array([0, 3, 3, 3, 3]))
+    write([(n, ea, n == "d") for n, ea in zip("abcd", amps)])
+    c = modulus_curves(run, s)
+    if [round(float(x), 9) for x in c["amp"][c["last"]]] != [100 * a for a in amps]:
+        fails.append(f"curve amplitudes {c['amp'][c['last']]}, expected each stage's last cycle {amps} x 100")
+    check("plot E_max", c["hf"][0], E_max / 1e6, 1e-9)
+    check("plot eps_r", c["hf"][1], eps_r, 1e-9)
+    check("plot G_max = E_max/3", c["gf"][0], E_max / 3e6, 1e-9)
+    check("plot gamma_r = 1.5 eps_r", c["gf"][1], 1.5 * eps_r, 1e-9)
+    s["stage_type"][4] = 4  # the old-row stage drained: no gamma, off the G curve
+    c = modulus_curves(run, s)
+    if len(c["known"]) != 3 or len(c["last"]) != 4:
+        fails.append(f"drained stage without gamma: {len(c['known'])} of {len(c['last'])} on the G curve, expected 3 of 4")
 if fails:
     sys.exit("modulus_fit_check: " + "; ".join(fails))
 print("modulus_fit_check: ok (E_max, eps_r, D_min, D_max back to 1e-9; +-3 % data rms in (2, 3] %; Darendeli; "
-      "cycles.csv rows with and without gamma)")
+      "cycles.csv rows with and without gamma; a run's E and G curves)")
