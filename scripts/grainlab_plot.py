@@ -553,11 +553,16 @@ def hyperbolic_fit(eps, E):
 
 def damping_fit(E_ratio, D):
     """Hardin & Drnevich's damping, D = D_min + (D_max - D_min)(1 - E/E_max), by least squares in x = 1 - E/E_max:
-    returns (D_min, D_max), or None with fewer than two distinct x. (The same for G/G_max.)"""
+    returns (D_min, D_max), or None with fewer than two distinct x. (The same for G/G_max.) A damping ratio is not
+    negative: where the free line's D_min is (measured: -0.002 for configs/modulus-study.yaml's mu_r 0), the least
+    squares under D_min >= 0, which for a convex quadratic in two unknowns lie on the bound: D_min = 0 and
+    D_max = sum(x D) / sum(x^2)."""
     x, D = 1 - np.asarray(E_ratio, float), np.asarray(D, float)
     if len(set(x.tolist())) < 2:
         return None
     (d0, slope), *_ = np.linalg.lstsq(np.column_stack([np.ones_like(x), x]), D, rcond=None)
+    if d0 < 0:
+        return 0.0, float(np.dot(x, D) / np.dot(x, x))
     return float(d0), float(d0 + slope)
 
 
@@ -678,7 +683,7 @@ def modulus_section(amp, stage, figs):
             "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
             "Per group, the hyperbolas of Hardin & Drnevich (1972), E_eq = E_max / (1 + eps_a/eps_r) and G_eq = G_max / "
             "(1 + gamma/gamma_r), fitted to the relative misfit (rms given for G), and D = D_min + (D_max - D_min)(1 - "
-            "G_eq/G_max), by least squares. Darendeli's gamma_r is that of clean sand at the group's p'_0 (Darendeli "
+            "G_eq/G_max), by least squares with D_min >= 0 (a D_min of 0 is the bound). Darendeli's gamma_r is that of clean sand at the group's p'_0 (Darendeli "
             "2001: 0.0352 % (p'_0/p_a)^0.3483; dotted in the figure, with its curvature 0.919), a reference for real "
             "sands, not a fit.", "",
             "| group | tests | E_max [MPa] | eps_r [%] | G_max [MPa] | gamma_r [%] | rms misfit of G [%] | D_min | D_max | "

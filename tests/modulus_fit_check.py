@@ -36,6 +36,13 @@ if rms > 1e-9:
 d0, d1 = damping_fit(E / e_max, D)
 check("D_min", d0, D_min, 1e-9)
 check("D_max", d1, D_max, 1e-9)
+# a line that would cross D = 0 above E = E_max (D_min = -0.01): the fit holds D_min at 0 and takes the least squares
+# of D = D_max x, sum(x D) / sum(x^2), worked here by hand; the free fit's -0.01 would be a negative damping ratio
+x = 1 - E / E_max
+neg = -0.01 + 0.3 * x
+d0, d1 = damping_fit(E / E_max, neg)
+check("D_min held at 0 (a free fit: -0.01)", d0 + 1, 1.0, 1e-12)
+check("D_max with D_min = 0", d1, float(np.sum(x * neg) / np.sum(x * x)), 1e-12)
 # +-3 % on alternate points: a weighted fit's rms relative misfit lies near 3 % (the fit absorbs a little of it)
 noisy = E * (1 + 0.03 * np.array([1, -1, 1, -1, 1, -1]))
 _, _, rms = hyperbolic_fit(eps, noisy)
@@ -103,5 +110,5 @@ with tempfile.TemporaryDirectory() as run:
         fails.append(f"drained stage without gamma: {len(c['known'])} of {len(c['last'])} on the G curve, expected 3 of 4")
 if fails:
     sys.exit("modulus_fit_check: " + "; ".join(fails))
-print("modulus_fit_check: ok (E_max, eps_r, D_min, D_max back to 1e-9; +-3 % data rms in (2, 3] %; Darendeli; "
+print("modulus_fit_check: ok (E_max, eps_r, D_min, D_max back to 1e-9; D_min >= 0; +-3 % data rms in (2, 3] %; Darendeli; "
       "cycles.csv rows with and without gamma; a run's E and G curves)")
