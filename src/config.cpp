@@ -293,8 +293,16 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
                                                                                               : Drainage::Drained;
       sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, true);
       sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
-      if (sc.type == StageType::Triaxial)
+      if (sc.type == StageType::Triaxial) {
         sc.extension = g.choice("direction", "compression", {"compression", "extension"}) == "extension";
+        sc.b = g.real("b", 0, 0, 1);
+        // b sets a stress: a drained compression stage's lateral servo (undrained, the walls keep the volume; in
+        // extension the axial stress is the minor one, sigma_3 = sigma_z, which the axial walls' velocity sets)
+        if (sc.b > 0 && (sc.drainage != Drainage::Drained || sc.extension))
+          g.fail(g.key_path("b"), "= " + fmt(sc.b) + " needs a drained compression stage (here " +
+                                      (sc.drainage != Drainage::Drained ? "undrained" : "direction: extension") +
+                                      "); leave b out or give 0");
+      }
       if (sc.type == StageType::Cyclic) {
         sc.cycles = g.integer("cycles", 1, 1, 1000000);
         sc.q_amplitude = g.real("q_amplitude", 0, 0, 1e10);
@@ -413,7 +421,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
         << YAML::Key << "axial_strain_rate" << YAML::Value << sc.axial_strain_rate << YAML::Key
         << "max_axial_strain" << YAML::Value << sc.max_axial_strain;
       if (sc.type == StageType::Triaxial)
-        e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression");
+        e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression") << YAML::Key << "b"
+          << YAML::Value << sc.b;
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;

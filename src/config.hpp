@@ -40,6 +40,12 @@ struct StageConfig {
   // constant sigma_3 drained, constant volume undrained), to eps_a = -max_axial_strain (choice, beyond SPEC §6.3:
   // the critical state in extension, M_e = 6 sin(phi) / (3 + sin(phi)), against compression's 6 sin(phi) / (3 - sin(phi)))
   bool extension = false;
+  // triaxial, drained, compression: the intermediate principal stress ratio b = (sigma_2 - sigma_3) / (sigma_1 - sigma_3)
+  // held through the stage (choice, beyond SPEC §6.3: the true-triaxial test): the x walls' servo target is
+  // sigma_3 + b (sigma_z - sigma_3), sigma_z as the step finds it (the wall loads the servo used), sigma_y = sigma_3 = p'_0.
+  // 0: the standard test (sigma_x = sigma_y); 1: sigma_x = sigma_z, the Lode angle of triaxial extension under
+  // compression's kinematics.
+  Real b = 0;
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: strain reversal)   [Pa]

@@ -935,6 +935,13 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // report or snapshot step: up to check_every - 1 steps past max_axial_strain).
     const bool strain_end = shear_end(sc, m0);
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
+    if (sc.b > 0) {
+      // True triaxial (StageConfig::b): the x walls hold sigma_3 + b (sigma_z - sigma_3) as this step finds sigma_z,
+      // from what a checkpoint restores, so a resumed run sets the same targets; sigma_3 = p'_0 on the y walls.
+      const Real target = lab_.p0 + sc.b * (m0.sz - lab_.p0);
+      e.wall_control(0).target_stress = target;
+      e.wall_control(1).target_stress = target;
+    }
     if (cyclic) watch_cycle(sc, m0, turn);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
     const bool snap =
@@ -1369,7 +1376,8 @@ void Laboratory::write_summary() const {
     js << (k ? "," : "") << "\n    {\"name\": " << json_string(r.name) << ", \"type\": \"" << type << "\"";
     if (sc.type != StageType::Isotropic)
       js << ", \"drainage\": \"" << (sc.drainage == Drainage::Undrained ? "undrained" : "drained") << "\"";
-    if (sc.type == StageType::Triaxial) js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\"";
+    if (sc.type == StageType::Triaxial)
+      js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
     js << ", \"done\": " << (r.converged ? "true" : "false") << ", \"steps\": " << r.steps << ", \"mu\": " << num(r.mu)
        << ", \"p\": " << num(r.p) << ", \"q\": " << num(r.q) << ", \"e\": " << num(r.e);
     if (sc.type == StageType::Cyclic) {
@@ -1548,8 +1556,9 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
         // The stage ends on the step whose start finds eps_a >= max_axial_strain (-eps_a in extension), one after the
         // strain is reached.
         const double need = std::ceil(sc.max_axial_strain / strain_step) + 1;
-        os << "triaxial " << drainage << (sc.extension ? " extension to eps_a = -" : " to eps_a = ") << sc.max_axial_strain
-           << " at " << sc.axial_strain_rate
+        os << "triaxial " << drainage;
+        if (sc.b > 0) os << " (true triaxial, b = " << sc.b << ")";
+        os << (sc.extension ? " extension to eps_a = -" : " to eps_a = ") << sc.max_axial_strain << " at " << sc.axial_strain_rate
            << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6) << need << " steps";
         plan.steps.push_back(std::min(need, double(sc.max_steps)));
         if (need > double(sc.max_steps)) {

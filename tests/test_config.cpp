@@ -134,6 +134,14 @@ TEST(Config, RejectsBadInputClearly) {
       {"dir_bad", "stages:\n  - {type: triaxial, direction: sideways}\n", "stages[0].direction"},
       {"dir_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, direction: extension}\n", "stages[0].direction: unknown key"},
       {"dir_iso", "stages:\n  - {type: isotropic, direction: extension}\n", "stages[0].direction: unknown key"},
+      // true triaxial: b in [0, 1], on a drained compression stage (it sets the x walls' servo target)
+      {"b_big", "stages:\n  - {type: triaxial, drainage: drained, b: 1.5}\n",
+       "stages[0].b = 1.5 is outside the allowed range [0, 1]"},
+      {"b_und", "stages:\n  - {type: triaxial, b: 0.5}\n",
+       "stages[0].b = 0.5 needs a drained compression stage (here undrained)"},
+      {"b_ext", "stages:\n  - {type: triaxial, drainage: drained, direction: extension, b: 0.5}\n",
+       "stages[0].b = 0.5 needs a drained compression stage (here direction: extension)"},
+      {"b_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, b: 0.5}\n", "stages[0].b: unknown key"},
       // liquefaction criteria: r_u in (0, 1]; a given double amplitude must be reachable below 2 max_axial_strain
       {"liq_ru0", "stages:\n  - {type: cyclic, q_amplitude: 3e4, liquefaction_ru: 0}\n",
        "stages[0].liquefaction_ru = 0 is outside the allowed range (0, 1]"},
