@@ -9,6 +9,7 @@ Several runs are overlaid with a legend (e.g. the mu_r study).
 """
 import argparse
 import csv
+import json
 import glob
 import math
 import os
@@ -36,6 +37,15 @@ def load(run):
     cols["shear"] = cols["stage_type"] > 0  # every sheared row (the stress figures draw cyclic loops too)
     cols["monotonic"] = (cols["stage_type"] > 0) & (cols["stage_type"] < 3)  # critical states come from these
     cols["cyclic"] = cols["stage_type"] >= 3
+    # a true-triaxial stage's b (summary.json; 0 where it has none, or for a run of a build before b): its friction
+    # angles come from the principal stresses, not from M's axisymmetric relations (critical_state)
+    cols["b"] = 0.0
+    try:
+        with open(os.path.join(run, "summary.json")) as f:
+            cols["b"] = max([float(st.get("b", 0)) for st in json.load(f).get("stages", []) if st.get("type") == "triaxial"]
+                            or [0.0])
+    except (OSError, ValueError):
+        pass
     return cols
 
 
@@ -283,8 +293,20 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
         window, spread["qp"], qp_tol, spread["p"], p_tol, spread["e"], e_tol)
     last = {k: s[k][m][-1] for k in ("a_c", "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n",
                                       "sff_share_t", "q", "sff") if k in s}
+    M, b = abs(float(np.mean(qp))), float(s.get("b", 0.0))
+    # phi_cs: M's relation, or for a true-triaxial test (b > 0) the principal stresses' mean angle over the window
+    phi = float(np.mean(principal_angle(s)[m][w])) if b > 0 else friction_angle(M, ext)
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
-                M=abs(float(np.mean(qp))), **last)
+                M=M, b=b, phi=phi, **last)
+
+
+def principal_angle(s):
+    """The mobilised Mohr-Coulomb angle [deg] of each series row from the wall stresses' principal values,
+    sin(phi) = (sigma_1 - sigma_3) / (sigma_1 + sigma_3): any b, where friction_angle's relations of M hold at b = 0
+    (compression) and b = 1 (extension) only."""
+    st = np.vstack([s["sigma_x"], s["sigma_y"], s["sigma_z"]])
+    s1, s3 = st.max(axis=0), st.min(axis=0)
+    return np.degrees(np.arcsin(np.clip((s1 - s3) / np.maximum(s1 + s3, 1e-300), 0, 1)))
 
 
 def friction_angle(M, ext):
@@ -318,20 +340,20 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     # their lines are fitted apart
     groups = {}
     for run, cs in states:
-        groups.setdefault((cs["mu_r"], cs["ext"]), []).append(cs)
+        groups.setdefault((cs["mu_r"], cs["ext"], cs["b"]), []).append(cs)
     lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) |",
              "|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     results = {}
-    for (mur, ext), g in sorted(groups.items()):
+    for (mur, ext, bv), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
         e = np.array([c["e"] for c in g])
         ac = np.array([c["a_c"] for c in g])
         M = np.array([c["M"] for c in g])
-        direction = "extension" if ext else "compression"
-        phi = friction_angle(M.mean(), ext)
+        direction = ("extension" if ext else "compression") + (f", b = {bv:g}" if bv > 0 else "")
+        phi = float(np.mean([c["phi"] for c in g])) if bv > 0 else friction_angle(M.mean(), ext)
         m_txt = f"{M.mean():.3f}" + (f" ± {M.std(ddof=1):.3f}" if len(M) > 1 else "") + f" ({phi:.1f}°)"
-        tag = f"mu_r = {mur:g}" + (" extension" if ext else "")
+        tag = f"mu_r = {mur:g}" + (" extension" if ext else "") + (f" b = {bv:g}" if bv > 0 else "")
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
         ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
         if len(g) >= 3:
@@ -342,7 +364,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             ax[1].plot(np.log(xs), c + d * np.log(xs), "-", color=ln.get_color())
             lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
                          f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} | {m_txt} |")
-            results[(mur, ext)] = dict(n=len(g), a=a, b=b, sa=sa, sb=sb, c=c, d=d, sc=sc, sd=sd, M=M.mean(), phi=phi)
+            results[(mur, ext, bv)] = dict(n=len(g), a=a, b=b, sa=sa, sb=sb, c=c, d=d, sc=sc, sd=sd, M=M.mean(), phi=phi)
         else:
             lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states: no fit | | {m_txt} |")
     ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c", title="critical-state line e_c - p'")
@@ -407,14 +429,18 @@ def study(out):
         # of q in an undrained test, where p' still grows along the failure line (Mohr-Coulomb, friction_angle). q_p is
         # the contacts' sqrt(3/2 s:s) / p' (SPEC §7), >= 0 in either direction, as critical_state reads it.
         M_max = float(np.max(s["q_p"][m]))
+        b = float(s.get("b", 0.0))
+        phi_max = float(np.max(principal_angle(s)[m])) if b > 0 else friction_angle(M_max, ext)
+        if b > 0:
+            direction += f", b = {b:g}"
         peak_rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | {s['q'][m][k] / 1e3:.1f} | "
-                         f"{100 * s['eps_a'][m][k]:.2f} | {s['q_p'][m][k]:.3f} | {M_max:.3f} ({friction_angle(M_max, ext):.1f}°) |")
+                         f"{100 * s['eps_a'][m][k]:.2f} | {s['q_p'][m][k]:.3f} | {M_max:.3f} ({phi_max:.1f}°) |")
         c = critical_state(s, cs_cfg["window"], *tol)
         if c is None:
             continue
         if c["ok"]:
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | "
-                           f"{c['e']:.4f} | {c['qp']:.3f} | {friction_angle(c['M'], ext):.1f} | {c['a_c']:.3f} |")
+                           f"{c['e']:.4f} | {c['qp']:.3f} | {c['phi']:.1f} | {c['a_c']:.3f} |")
             share_rows.append(f"| {j['name']} | {j['mu_r']:g} | {c['sff_share_c']:.2f} | {c['sff_share_d']:.2f} | "
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
@@ -429,14 +455,15 @@ def study(out):
     # need not share the stress ratio out alike between fabric and forces.
     if states:
         fig, ax = plt.subplots(figsize=(7, 4))
-        keys = sorted({(c["mu_r"], c["ext"]) for _, c in states})
+        keys = sorted({(c["mu_r"], c["ext"], c["b"]) for _, c in states})
         bottom = np.zeros(len(keys))
         for key, lab in zip("cdnt", ["a_c", "a_d", "a_n", "3/2 a_t"]):
             vals = []
-            for mu, ext in keys:
-                g = [c["sff_share_" + key] for _, c in states if c["mu_r"] == mu and c["ext"] == ext]
+            for mu, ext, bv in keys:
+                g = [c["sff_share_" + key] for _, c in states if (c["mu_r"], c["ext"], c["b"]) == (mu, ext, bv)]
                 vals.append(np.mean(g))
-            ax.bar([f"{mu:g}" + (" ext." if ext else "") for mu, ext in keys], vals, bottom=bottom, label=lab)
+            ax.bar([f"{mu:g}" + (" ext." if ext else "") + (f" b={bv:g}" if bv > 0 else "") for mu, ext, bv in keys], vals,
+                   bottom=bottom, label=lab)
             bottom += np.array(vals)
         ax.set(xlabel="mu_r (ext.: triaxial extension)", ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)",
                title="stress-force-fabric shares at critical state")
@@ -456,7 +483,8 @@ def study(out):
              "## Peak states", "",
              "The peak of |q| along the loading (q from the walls, < 0 in extension); the stress ratio M = q/p' of the "
              "contact stress (q = sqrt(3/2 s:s) >= 0) there and at its largest, with the mobilised friction angle "
-             "(Mohr-Coulomb: sin phi' = 3M / (6 + M) in compression, 3M / (6 - M) in extension).", "",
+             "(Mohr-Coulomb: sin phi' = 3M / (6 + M) in compression, 3M / (6 - M) in extension; a true-triaxial test, b > 0: "
+             "sin phi' = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses).", "",
              "| test | mu_r | drainage | direction | q_peak [kPa] | eps_a at peak [%] | q/p' at peak | max q/p' (phi'_max) |",
              "|---|---|---|---|---|---|---|---|", *peak_rows, "",
              "## Critical states", "",

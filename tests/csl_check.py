@@ -3,7 +3,8 @@
 e_c = a + b p' and a_c = c + d ln p' (per mu_r) must give those slopes and intercepts back; a run that is
 not steady over the window must be reported and left out of the fit. Triaxial extensions (eps_a < 0) of mu_r 0.1 on
 other lines are fitted apart, their window counted along -eps_a; M = |q/p'| = 0.6 gives phi_cs = asin(3 M/(6 + M)) =
-15.8 degrees in compression and asin(3 M/(6 - M)) = 19.5 in extension."""
+15.8 degrees in compression and asin(3 M/(6 - M)) = 19.5 in extension. True-triaxial runs (b > 0 in summary.json) are
+fitted apart, their phi_cs from the principal wall stresses (30 degrees for 300/200/100 kPa)."""
 import csv, os, shutil, subprocess, sys
 
 grainlab, work = sys.argv[1], sys.argv[2]
@@ -41,6 +42,23 @@ for k, pc in enumerate([100.0, 190.0, 300.0]):
             w.writerow(["shear", i, i, -ea, p, -0.6, a + b * pc if ea >= 0.3 else 0.7,
                         c + d * __import__("math").log(pc), 0.1, 1])
     runs.append(run)
+# True-triaxial runs of mu_r 0.1 (summary.json: b = 0.5): fitted apart again, phi_cs from the wall stresses' principal
+# values, sigma_3 = 100, sigma_2 = 200, sigma_1 = 300 kPa at the end: sin phi = 200/400, 30 degrees (M's relation
+# would give asin(3 x 0.6/6.6) = 15.8)
+for k, pc in enumerate([100.0, 190.0, 300.0]):
+    run = os.path.join(work, f"b05_{k}")
+    os.makedirs(run)
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        f.write('{"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": 0.5}]}\n')
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols + ["sigma_x", "sigma_y", "sigma_z"])
+        for i in range(41):
+            ea = 0.01 * i
+            ramp = min(1.0, ea / 0.3)
+            w.writerow(["shear", i, i, ea, 1e3 * (190 + (pc - 190) * ramp), 0.6, 0.75 - 1e-4 * pc if ea >= 0.3 else 0.7,
+                        0.1, 0.1, 1, 1e5 * (1 + ramp), 1e5, 1e5 * (1 + 2 * ramp)])
+    runs.append(run)
 # One run still moving at the end: not a critical state.
 bad = os.path.join(work, "moving")
 os.makedirs(bad)
@@ -65,5 +83,7 @@ line = next(l for l in table.splitlines() if l.startswith("| 0.1 | extension |")
 assert "| 3 |" in line, line
 assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
 assert "| 0.600 ± 0.000 (19.5°) |" in line, line
+line = next(l for l in table.splitlines() if l.startswith("| 0.1 | compression, b = 0.5 |"))
+assert "| 3 |" in line and "(30.0°) |" in line, line
 assert os.path.isfile(os.path.join(work, "fig", "csl.png"))
 print("csl ok")
