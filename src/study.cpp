@@ -234,13 +234,23 @@ Study load_study_unchecked(const std::string& path) {
     s.strain_stage = strain_stages[0];
   };
   if (ax && ax["strain_amplitude"]) need_strain_cyclic("axes.strain_amplitude");
-  std::vector<std::string> drain;
-  if (ax && ax["drainage"])
-    for (auto v : (ax["drainage"].IsSequence() ? ax["drainage"] : YAML::Node(std::vector<YAML::Node>{ax["drainage"]}))) {
-      const std::string d = v.as<std::string>();
-      if (d != "drained" && d != "undrained") fail(path, "axes.drainage", "'" + d + "' is not drained or undrained");
-      drain.push_back(d);
+  // The word axes (drainage, direction): a list or one word, each value checked by `check`; an empty list is an
+  // error, as for the number axes (it would silently mean the base's value).
+  const auto words = [&](const char* k, const auto& check) {
+    std::vector<std::string> v;
+    if (!ax || !ax[k]) return v;
+    const std::string key = std::string("axes.") + k;
+    for (auto w : (ax[k].IsSequence() ? ax[k] : YAML::Node(std::vector<YAML::Node>{ax[k]}))) {
+      v.push_back(w.as<std::string>());
+      check(key, v.back());
     }
+    if (v.empty()) fail(path, key, "an empty list: give at least one value, or leave the axis out");
+    return v;
+  };
+  const auto check_drainage = [&](const std::string& key, const std::string& d) {
+    if (d != "drained" && d != "undrained") fail(path, key, "'" + d + "' is not drained or undrained");
+  };
+  std::vector<std::string> drain = words("drainage", check_drainage);
   if (drain.empty()) drain = {base_drainage};
   // The direction axis sets every triaxial stage of the base (a cyclic stage reverses by itself): triaxial
   // compression and extension of the same sample, the pair that shows whether the friction angle depends on the
@@ -252,14 +262,7 @@ Study load_study_unchecked(const std::string& path) {
                           ") has none (a cyclic stage reverses by itself)");
     if (d != "compression" && d != "extension") fail(path, key, "'" + d + "' is not compression or extension");
   };
-  std::vector<std::string> directions;
-  if (ax && ax["direction"])
-    for (auto v : (ax["direction"].IsSequence() ? ax["direction"] : YAML::Node(std::vector<YAML::Node>{ax["direction"]}))) {
-      directions.push_back(v.as<std::string>());
-      check_direction("axes.direction", directions.back());
-    }
-  if (ax && ax["direction"] && directions.empty())
-    fail(path, "axes.direction", "an empty list: give compression, extension or both, or leave the axis out");
+  std::vector<std::string> directions = words("direction", check_direction);
   const bool direction_axis = !directions.empty();
   if (directions.empty()) directions = {base_direction};
   struct Point {
@@ -293,7 +296,7 @@ Study load_study_unchecked(const std::string& path) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
           pt.drainage = it.second.as<std::string>();
-          if (pt.drainage != "drained" && pt.drainage != "undrained") fail(path, key + ".drainage", "drained or undrained");
+          check_drainage(key + ".drainage", pt.drainage);
           continue;
         }
         if (f == "direction") {
@@ -621,7 +624,8 @@ int run_study(const Study& s, const StudyOptions& o) {
       const StudyJob& j = s.shears[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name
          << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
-         << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"seed\": " << j.seed << ", \"count\": " << j.count << ", \"csr\": " << j.csr
+         << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"seed\": " << j.seed
+         << ", \"count\": " << j.count << ", \"csr\": " << j.csr
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }

@@ -184,6 +184,9 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
   };
   const Case cases[] = {
       {"study_empty", "axes: {mu_r: []}\n", "axes.mu_r: an empty list"},
+      {"study_drain_empty", "axes: {drainage: []}\n", "axes.drainage: an empty list"},
+      {"study_drain_bad", "axes: {drainage: [drainded]}\n", "axes.drainage: 'drainded' is not drained or undrained"},
+      {"study_extra_drain", "extra: [{drainage: wet}]\n", "extra[0].drainage: 'wet' is not drained or undrained"},
       {"study_frac", "axes: {count: [2.5]}\n", "axes.count: values must be whole numbers"},
       {"study_zero", "axes: {count: [0]}\n", "axes.count: values must be in [1, 1e8]"},
       {"study_extra", "extra: [{seed: 1.5}]\n", "extra[0].seed: values must be whole numbers"},
