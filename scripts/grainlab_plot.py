@@ -309,6 +309,117 @@ def principal_angle(s):
     return np.degrees(np.arcsin(np.clip((s1 - s3) / np.maximum(s1 + s3, 1e-300), 0, 1)))
 
 
+def principal_b(s):
+    """The intermediate principal stress ratio b = (sigma_2 - sigma_3) / (sigma_1 - sigma_3) of each series row from
+    the wall stresses (0 where sigma_1 = sigma_3): what a true-triaxial stage held, against its target."""
+    s3, s2, s1 = np.sort(np.vstack([s["sigma_x"], s["sigma_y"], s["sigma_z"]]), axis=0)
+    d = s1 - s3
+    return np.where(d > 0, (s2 - s3) / np.where(d > 0, d, 1.0), 0.0)
+
+
+def failure_criteria(phi_tc, b):
+    """The Mohr-Coulomb angles [deg] at b that two three-invariant failure criteria predict, each calibrated on the
+    triaxial-compression angle phi_tc [deg] (b = 0): Matsuoka-Nakai, I1 I2 / I3 constant (Matsuoka & Nakai 1974,
+    the spatially mobilised plane), and Lade-Duncan, I1^3 / I3 constant (Lade & Duncan 1975). Returns (phi_MN,
+    phi_LD). Solved for N = sigma_1 / sigma_3 with sigma_2 = sigma_3 + b (sigma_1 - sigma_3) by bisection: at fixed b
+    both ratios grow with N from their isotropic values 9 and 27. Matsuoka-Nakai gives phi_tc back at b = 1 (its
+    ratio is symmetric in the principal stresses, and b = 1 is compression with sigma_1 and sigma_3 swapped in
+    rank); Lade-Duncan gives more there; Mohr-Coulomb, phi_tc at every b."""
+    def ratios(N, bb):
+        s1, s2, s3 = N, 1 + bb * (N - 1), 1.0
+        i1, i2, i3 = s1 + s2 + s3, s1 * s2 + s2 * s3 + s3 * s1, s1 * s2 * s3
+        return i1 * i2 / i3, i1 ** 3 / i3
+    sn = math.sin(math.radians(phi_tc))
+    targets = ratios((1 + sn) / (1 - sn), 0.0)
+    out = []
+    for k in range(2):
+        lo, hi = 1.0, 1e8
+        for _ in range(200):  # on log N: 200 halvings of ln(1e8) reach double precision
+            mid = math.sqrt(lo * hi)
+            lo, hi = (mid, hi) if ratios(mid, b)[k] < targets[k] else (lo, mid)
+        N = math.sqrt(lo * hi)
+        out.append(math.degrees(math.asin((N - 1) / (N + 1))))
+    return tuple(out)
+
+
+def failure_section(mono, window, figs):
+    """The true-triaxial series: per sample and drainage, the drained compression tests at several b against the
+    failure criteria calibrated on its b = 0 test, at the largest obliquity and at the critical state. Every angle
+    here is the wall stresses' (principal_angle), the b = 0 test's too, so that the criteria compare like with like;
+    the b of each state is the measured one (principal_b), which the criteria are evaluated at. Empty without such
+    a series."""
+    groups = {}
+    for j, d, s in mono:
+        m = s["monotonic"]
+        if s["eps_a"][m][-1] < 0 or j["drainage"] != "drained":
+            continue
+        ang, bm = principal_angle(s)[m], principal_b(s)[m]
+        k = int(np.argmax(ang))
+        row = dict(name=j["name"], mu_r=j["mu_r"], b=float(s.get("b", 0.0)), peak=(float(ang[k]), float(bm[k])), cs=None)
+        c = critical_state(s, window)
+        if c is not None and c["ok"]:
+            ea = s["eps_a"][m]
+            w = ea >= ea[-1] - window
+            row["cs"] = (float(np.mean(ang[w])), float(np.mean(bm[w])))
+        groups.setdefault((j["sample"], j["drainage"]), []).append(row)
+    series = {k: sorted(g, key=lambda r: r["b"]) for k, g in groups.items()
+              if any(r["b"] == 0 for r in g) and any(r["b"] > 0 for r in g)}
+    if not series:
+        return []
+    rows, dev = [], {("peak", c): [] for c in range(3)}
+    dev.update({("cs", c): [] for c in range(3)})
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    bs = np.linspace(0, 1, 51)
+    for (sample, _), g in sorted(series.items()):
+        ref = next(r for r in g if r["b"] == 0)
+        cells = {}
+        for i, state in enumerate(("peak", "cs")):
+            if ref[state] is None:
+                continue
+            phi0 = ref[state][0]
+            line = ax[i].plot([r[state][1] for r in g if r[state]], [r[state][0] for r in g if r[state]], "o",
+                              label=f"mu_r = {ref['mu_r']:g} ({sample})")
+            col = line[0].get_color()
+            pred = np.array([failure_criteria(phi0, b) for b in bs])
+            ax[i].plot(bs, pred[:, 0], "-", color=col, lw=1)
+            ax[i].plot(bs, pred[:, 1], ":", color=col, lw=1)
+            ax[i].axhline(phi0, color=col, lw=0.6, ls="--")
+            for r in g:
+                if r[state] is None:
+                    continue
+                phi, bm = r[state]
+                mc, mn, ld = phi0, *failure_criteria(phi0, bm)
+                cells[(r["name"], state)] = f"{bm:.2f} | {phi:.1f} | {mc:.1f} | {mn:.1f} | {ld:.1f}"
+                if r["b"] > 0:
+                    for c, p in enumerate((mc, mn, ld)):
+                        dev[(state, c)].append(phi - p)
+        for r in g:
+            rows.append(f"| {r['name']} | {r['mu_r']:g} | {r['b']:g} | "
+                        + " | ".join(cells.get((r["name"], st), "| | | |") for st in ("peak", "cs")) + " |")
+    for i, title in enumerate(("largest obliquity (phi'_max)", "critical state (phi_cs)")):
+        ax[i].set(xlabel="b measured", ylabel="phi [deg] (wall stresses)",
+                  title=title + ": -- Mohr-Coulomb, - Matsuoka-Nakai, : Lade-Duncan")
+        ax[i].grid(alpha=0.3)
+    legend(ax[0], fontsize=7)
+    save(fig, figs, "failure_criteria")
+
+    def rms(v):
+        return f"{math.sqrt(np.mean(np.square(v))):.2f}° ({len(v)})" if v else "-"
+    return ["## Failure criteria (true triaxial)", "",
+            "Drained compression tests of one sample at several b = (sigma_2 - sigma_3) / (sigma_1 - sigma_3), against "
+            "three criteria calibrated on the sample's b = 0 test: Mohr-Coulomb (phi independent of b), Matsuoka-Nakai "
+            "(I1 I2 / I3 constant) and Lade-Duncan (I1^3 / I3 constant), each evaluated at the measured b. Every angle "
+            "is sin phi = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses, the b = 0 test's too (the "
+            "peak table takes that one from the contacts' q/p'); the critical state's is the mean over the window. "
+            "Figure: `figures/failure_criteria.png`.", "",
+            "| test | mu_r | b | b at phi'_max | phi'_max [°] | MC | MN | LD | b at c.s. | phi_cs [°] | MC | MN | LD |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "Root-mean-square of measured minus predicted over the b > 0 tests (count):", "",
+            "| state | Mohr-Coulomb | Matsuoka-Nakai | Lade-Duncan |", "|---|---|---|---|",
+            *(f"| {lab} | " + " | ".join(rms(dev[(st, c)]) for c in range(3)) + " |"
+              for st, lab in (("peak", "largest obliquity"), ("cs", "critical state"))), ""]
+
+
 def friction_angle(M, ext):
     """The Mohr-Coulomb friction angle [deg] of a triaxial state at M = |q/p'|: sin(phi) = 3 M / (6 + M) in
     compression, 3 M / (6 - M) in extension (where the axial stress is the minor principal one)."""
@@ -447,6 +558,7 @@ def study(out):
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | |")
     results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
+    fail_lines = failure_section(mono, cs_cfg["window"], figs)
     cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
@@ -495,7 +607,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
-             *cyc_lines]
+             *fail_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 

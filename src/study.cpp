@@ -83,6 +83,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
       if (!shear_only) continue;
       s["drainage"] = j.drainage;
       if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
+      if (type == "triaxial" && j.set_b) s["b"] = yaml_number(j.b);
       if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
       if (type == "cyclic" && j.strain_amplitude > 0 && s["strain_amplitude"]) {
         s["strain_amplitude"] = yaml_number(j.strain_amplitude);
@@ -129,6 +130,9 @@ void check_axis_values(const std::vector<double>& v, const std::string& path, co
     for (double x : v)
       if (!(x > 0 && x < 0.9))
         fail(path, key, "values must be in (0, 0.9) (axial strain); leave strain_amplitude out for the base's");
+  if (ends_with(".b"))
+    for (double x : v)
+      if (!(x <= 1)) fail(path, key, "values must be in [0, 1] ((sigma_2 - sigma_3) / (sigma_1 - sigma_3)); leave b out for the base's");
   const bool is_seed = ends_with("seed"), is_count = ends_with("count");
   if (!is_seed && !is_count) return;
   for (double x : v) {
@@ -160,6 +164,7 @@ Study load_study_unchecked(const std::string& path) {
   bool has_iso = false, has_tri = false;
   std::string base_drainage;  // the base's first shear's, the default of the drainage axis and of extra jobs
   std::string base_direction;  // the base's first triaxial stage's (none: a cyclic base), likewise for direction
+  Real base_b = 0;              // and for b
   // A cyclic stage's stress amplitude is what the csr axis sets, from the p'_0 of each job (the pressure of the
   // base's last isotropic stage, or the p0 axis): CSR = q_amplitude / (2 p'_0), the cyclic liquefaction test's measure.
   bool has_q_cyclic = false;
@@ -185,7 +190,10 @@ Study load_study_unchecked(const std::string& path) {
     }
     if (st.type != StageType::Isotropic && base_drainage.empty())
       base_drainage = st.drainage == Drainage::Drained ? "drained" : "undrained";
-    if (st.type == StageType::Triaxial && base_direction.empty()) base_direction = st.extension ? "extension" : "compression";
+    if (st.type == StageType::Triaxial && base_direction.empty()) {
+      base_direction = st.extension ? "extension" : "compression";
+      base_b = st.b;
+    }
   }
   if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial or cyclic stage");
   if (const YAML::Node cs = root["critical_state"]) {
@@ -212,10 +220,10 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
-      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "seed", "count", "csr", "strain_amplitude"}
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "b", "seed", "count", "csr", "strain_amplitude"}
                .count(k))
         fail(path, "axes." + k,
-             "unknown axis (known: mu_r, e0, p0, drainage, direction, seed, count, csr, strain_amplitude)");
+             "unknown axis (known: mu_r, e0, p0, drainage, direction, b, seed, count, csr, strain_amplitude)");
     }
   const auto need_q_cyclic = [&](const std::string& key) {
     if (!has_q_cyclic)
@@ -265,6 +273,16 @@ Study load_study_unchecked(const std::string& path) {
   std::vector<std::string> directions = words("direction", check_direction);
   const bool direction_axis = !directions.empty();
   if (directions.empty()) directions = {base_direction};
+  // The b axis sets every triaxial stage of the base too: the true-triaxial series at one p'_0 and sigma_3, from which
+  // the report tells which failure criterion the packing follows (Mohr-Coulomb: phi independent of b; Matsuoka-Nakai,
+  // Lade-Duncan: phi rising from b = 0). b > 0 needs a drained compression shear (the stage's own check, config.cpp):
+  // a job of the grid that crosses it with undrained or extension is an error naming the axis, not skipped.
+  const auto need_triaxial = [&](const std::string& key) {
+    if (base_direction.empty())
+      fail(path, key, "sets b of the base's triaxial stages, and the base (" + s.base + ") has none");
+  };
+  if (ax && ax["b"]) need_triaxial("axes.b");
+  const bool b_axis = ax && ax["b"];
   struct Point {
     double mu_r, e0, p0;
     long seed, count;
@@ -272,6 +290,9 @@ Study load_study_unchecked(const std::string& path) {
     double csr, ea;
     std::string direction;
     bool set_direction;
+    double b;
+    bool set_b;
+    std::string b_key;  // where b was set, for the error below
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -282,16 +303,18 @@ Study load_study_unchecked(const std::string& path) {
             for (double count : axis("count", {double(base_cfg.packing.count)}))
               for (auto& d : drain)
                 for (auto& dir : directions)
-                  for (double csr : axis("csr", {0}))
-                    for (double ea : axis("strain_amplitude", {0}))
-                      points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis});
+                  for (double b : axis("b", {base_b}))
+                    for (double csr : axis("csr", {0}))
+                      for (double ea : axis("strain_amplitude", {0}))
+                        points.push_back(
+                            {mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis, b, b_axis, "axes.b"});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
       Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
-               base_drainage, 0, 0, base_direction, false};
+               base_drainage, 0, 0, base_direction, false, base_b, false, ""};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -322,8 +345,13 @@ Study load_study_unchecked(const std::string& path) {
         } else if (f == "strain_amplitude") {
           need_strain_cyclic(field);
           pt.ea = v;
+        } else if (f == "b") {
+          need_triaxial(field);
+          pt.b = v;
+          pt.set_b = true;
+          pt.b_key = field;
         } else
-          fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, direction, seed, count, csr, strain_amplitude)");
+          fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, direction, b, seed, count, csr, strain_amplitude)");
       }
       points.push_back(pt);
     }
@@ -331,6 +359,10 @@ Study load_study_unchecked(const std::string& path) {
   // Distinct samples, each prepared once.
   std::map<std::string, size_t> sample_index;
   for (const Point& pt : points) {
+    if (pt.set_b && pt.b > 0 && (pt.drainage != "drained" || pt.direction != "compression"))
+      fail(path, pt.b_key, "b = " + fmt(pt.b) + " needs a drained compression shear, and this job's is " + pt.drainage + " " +
+                               pt.direction + " (true triaxial holds sigma_2 by the lateral walls' servo; list the pairs "
+                               "as extra jobs to cross b with other drainages or directions)");
     std::ostringstream sn;
     sn << "sample_mur" << fmt(pt.mu_r) << "_e" << (pt.e0 > 0 ? fmt(pt.e0) : "base") << "_p"
        << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base") << "_s" << pt.seed << "_n" << pt.count;
@@ -362,6 +394,9 @@ Study load_study_unchecked(const std::string& path) {
     sh.direction = pt.direction;
     sh.set_direction = pt.set_direction;
     if (pt.direction == "extension") sh.name += "_ext";  // compression keeps the names studies had before the axis
+    sh.b = pt.b;
+    sh.set_b = pt.set_b;
+    if (pt.set_b && pt.b > 0) sh.name += "_b" + fmt(pt.b);  // b = 0 likewise
     sh.cycles = base_cycles;
     if (pt.csr > 0) {
       sh.csr = pt.csr;
@@ -380,8 +415,8 @@ Study load_study_unchecked(const std::string& path) {
     for (auto& o : s.shears) {
       if (o.name != sh.name) continue;
       dup = true;
-      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude)  // as for the samples above
-        fail(path, "axes", "two values of csr or strain_amplitude agree to 6 significant digits (job " + sh.name +
+      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b)  // as for the samples above
+        fail(path, "axes", "two values of csr, strain_amplitude or b agree to 6 significant digits (job " + sh.name +
                                "); make them differ sooner or list one of them");
     }
     if (!dup) s.shears.push_back(sh);
@@ -624,7 +659,7 @@ int run_study(const Study& s, const StudyOptions& o) {
       const StudyJob& j = s.shears[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name
          << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
-         << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"seed\": " << j.seed
+         << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"b\": " << j.b << ", \"seed\": " << j.seed
          << ", \"count\": " << j.count << ", \"csr\": " << j.csr
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";

@@ -18,6 +18,10 @@ struct StudyJob {
   // key; set_direction) or else the base's first triaxial stage's, for the name and the report
   std::string direction;
   bool set_direction = false;
+  // triaxial stages' b = (sigma_2 - sigma_3) / (sigma_1 - sigma_3) (true triaxial, drained compression): the study's
+  // (b axis or an extra job's key; set_b) or else the base's first triaxial stage's, for the name and the report
+  double b = 0;
+  bool set_b = false;
   double csr = 0;           // cyclic shears: cyclic stress ratio q_amplitude / (2 p'_0) (0: the base's q_amplitude)
   double q_amplitude = 0;   // the amplitude csr gives at the job's p'_0 [Pa] (0: the base's)
   long cycles = 0;          // the base's cyclic stage's cycles (0: a monotonic shear), for the report

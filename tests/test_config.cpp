@@ -274,7 +274,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
        "(job shear_undrained_mur0_ebase_pbase_s1_n300_ea0.06): stages[0].strain_amplitude = 0.06 must be below "
        "max_axial_strain = 0.05"},
       {"study_ea_close", "base: " + base + "\naxes: {strain_amplitude: [1e-4, 1.0000001e-4]}\n",
-       "axes: two values of csr or strain_amplitude agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude or b agree to 6 significant digits"},
   };
   for (const Case& c : cases) {
     const std::string e = error(c.name, c.text);
@@ -334,6 +334,68 @@ TEST(Config, StudyDirectionAxisSetsTheTriaxialStages) {
        "extra[0].direction: 'shear' is not compression or extension"},
       {"study_dir_cyclic", "base: " + cyc + "\naxes: {direction: [extension]}\n",
        "axes.direction: sets the loading direction of the base's triaxial stages, and the base (" + cyc + ") has none"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = error(c.name, c.text);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
+    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
+  }
+}
+
+// The true-triaxial series: the b axis sets b on every triaxial stage of the base, shares the sample between its
+// values, and names b > 0 shears "_b<value>" (b = 0 keeps the names of studies from before the axis); an extra job
+// may set it; left out, the base's b is the job's (study.json, the report) and nothing is written. Errors: a value
+// outside [0, 1], an empty list, a base without a triaxial stage, and b > 0 crossed with an undrained or extension
+// shear (the stage's own rule, named at the study's key rather than as a job's config error).
+TEST(Config, StudyBAxisSetsTheTriaxialStages) {
+  const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string base = write_tmp("study_b_base", head +
+                                     "  - {name: shear, type: triaxial, drainage: drained, max_axial_strain: 0.05}\n");
+  const Study s = load_study(write_tmp("study_b", "base: " + base + "\naxes: {b: [0, 0.5, 1], mu_r: [0, 0.2]}\n"
+                                                  "extra: [{mu_r: 0.4, b: 0.25}, {mu_r: 0.4}]\n"));
+  ASSERT_EQ(s.samples.size(), 3u);
+  ASSERT_EQ(s.shears.size(), 8u);
+  const double expect_b[] = {0, 0.5, 1, 0, 0.5, 1, 0.25, 0};
+  for (size_t k = 0; k < s.shears.size(); ++k) {
+    const StudyJob& j = s.shears[k];
+    SCOPED_TRACE(j.name);
+    EXPECT_EQ(j.b, expect_b[k]);
+    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    ASSERT_EQ(c.stages.size(), 1u);
+    EXPECT_EQ(c.stages[0].b, expect_b[k]);
+    EXPECT_EQ(j.name.find("_b") != std::string::npos, expect_b[k] > 0);
+  }
+  EXPECT_EQ(s.shears[0].name, "shear_drained_mur0_ebase_pbase_s1_n300");
+  EXPECT_EQ(s.shears[1].name, "shear_drained_mur0_ebase_pbase_s1_n300_b0.5");
+  EXPECT_EQ(s.shears[6].name, "shear_drained_mur0.4_ebase_pbase_s1_n300_b0.25");
+  EXPECT_EQ(s.shears[1].sample_name, s.shears[0].sample_name);  // one sample for every b
+  EXPECT_FALSE(s.shears[7].set_b);  // the extra job without the key: the base's, not written
+  EXPECT_EQ(shear_config(s, s.shears[7], "sample.h5").find("b:"), std::string::npos);
+  // A true-triaxial base without the axis: its jobs carry its b (for the report), under the names of before.
+  const std::string tt_base = write_tmp("study_b_tt_base", head +
+                                        "  - {name: shear, type: triaxial, drainage: drained, max_axial_strain: 0.05, b: 0.3}\n");
+  const Study st = load_study(write_tmp("study_b_tt", "base: " + tt_base + "\naxes: {mu_r: [0.1]}\n"));
+  ASSERT_EQ(st.shears.size(), 1u);
+  EXPECT_EQ(st.shears[0].b, 0.3);
+  EXPECT_EQ(st.shears[0].name, "shear_drained_mur0.1_ebase_pbase_s1_n300");
+  const std::string cyc = write_tmp("study_b_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
+  struct Case {
+    const char* name;
+    std::string text, expect;
+  };
+  const Case cases[] = {
+      {"study_b_big", "base: " + base + "\naxes: {b: [0.5, 1.5]}\n", "axes.b: values must be in [0, 1]"},
+      {"study_b_neg", "base: " + base + "\naxes: {b: [-0.5]}\n", "axes.b"},
+      {"study_b_empty", "base: " + base + "\naxes: {b: []}\n", "axes.b: an empty list"},
+      {"study_b_extra_big", "base: " + base + "\nextra: [{b: 2}]\n", "extra[0].b: values must be in [0, 1]"},
+      {"study_b_cyclic", "base: " + cyc + "\naxes: {b: [0.5]}\n",
+       "axes.b: sets b of the base's triaxial stages, and the base (" + cyc + ") has none"},
+      {"study_b_undrained", "base: " + base + "\naxes: {b: [0, 0.5], drainage: [drained, undrained]}\n",
+       "axes.b: b = 0.5 needs a drained compression shear, and this job's is undrained compression"},
+      {"study_b_ext", "base: " + base + "\nextra: [{b: 0.5, direction: extension}]\n",
+       "extra[0].b: b = 0.5 needs a drained compression shear, and this job's is drained extension"},
+      {"study_b_close", "base: " + base + "\naxes: {b: [0.5, 0.50000001]}\n",
+       "axes: two values of csr, strain_amplitude or b agree to 6 significant digits"},
   };
   for (const Case& c : cases) {
     const std::string e = error(c.name, c.text);

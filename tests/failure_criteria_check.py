@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's failure-criteria section (scripts/grainlab_plot.py, true triaxial).
+
+1. failure_criteria(phi_tc, b): at b = 0 both criteria give phi_tc back; the angle each returns at b reproduces its
+   invariant ratio (Matsuoka-Nakai I1 I2 / I3, Lade-Duncan I1^3 / I3) of the b = 0 state; Matsuoka-Nakai is phi_tc
+   again at b = 1 (its ratio is symmetric in the principal stresses) and above it in between; Lade-Duncan lies above
+   Matsuoka-Nakai for 0 < b <= 1.
+2. A synthetic study of three drained compression tests of one sample, b = 0, 0.5, 1, whose final wall stresses lie
+   exactly on Matsuoka-Nakai's surface through the b = 0 state (sigma_3 = 100 kPa, phi_tc = 30 deg; the b = 0.5 state
+   solved as a polynomial's root by numpy, not by the bisection under test): the report must give Matsuoka-Nakai a
+   misfit of 0.00 deg at the peak and at the critical state, Mohr-Coulomb and Lade-Duncan the misfits worked out here
+   from those roots, and the figure.
+"""
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+from numpy.polynomial import Polynomial as P
+
+here = os.path.dirname(os.path.abspath(__file__))
+script = os.path.join(here, "..", "scripts", "grainlab_plot.py")
+sys.path.insert(0, os.path.dirname(script))
+from grainlab_plot import failure_criteria  # noqa: E402
+
+fails = []
+
+
+def check(what, got, want, tol):
+    if not abs(got - want) <= tol:
+        fails.append(f"{what}: {got:.12g}, expected {want:.12g} (tolerance {tol:g})")
+
+
+def ratios(s1, s2, s3):
+    i1, i2, i3 = s1 + s2 + s3, s1 * s2 + s2 * s3 + s3 * s1, s1 * s2 * s3
+    return i1 * i2 / i3, i1 ** 3 / i3
+
+
+def state(phi, b):
+    """sigma_1, sigma_2, sigma_3 of a Mohr-Coulomb angle phi [deg] at b, sigma_3 = 1."""
+    N = (1 + math.sin(math.radians(phi))) / (1 - math.sin(math.radians(phi)))
+    return N, 1 + b * (N - 1), 1.0
+
+
+# 1. The criteria. Tolerances: the bisection stops at double precision on ln N (1e-15 relative); through asin the
+# angle is good to ~1e-12 deg, and the invariant ratios of the returned state to ~1e-12 relative.
+for phi_tc in (15.0, 30.0, 45.0):
+    mn0, ld0 = failure_criteria(phi_tc, 0.0)
+    check(f"MN({phi_tc}, b=0)", mn0, phi_tc, 1e-9)
+    check(f"LD({phi_tc}, b=0)", ld0, phi_tc, 1e-9)
+    check(f"MN({phi_tc}, b=1)", failure_criteria(phi_tc, 1.0)[0], phi_tc, 1e-9)
+    ref = ratios(*state(phi_tc, 0.0))
+    for b in (0.1, 0.3, 0.5, 0.8, 1.0):
+        mn, ld = failure_criteria(phi_tc, b)
+        check(f"MN ratio at b={b}, phi_tc={phi_tc}", ratios(*state(mn, b))[0] / ref[0], 1.0, 1e-10)
+        check(f"LD ratio at b={b}, phi_tc={phi_tc}", ratios(*state(ld, b))[1] / ref[1], 1.0, 1e-10)
+        if b < 1 and not mn > phi_tc + 0.1:
+            fails.append(f"MN({phi_tc}, b={b}) = {mn:.3f} must exceed phi_tc (the criterion's known rise)")
+        if not ld > mn:
+            fails.append(f"LD({phi_tc}, b={b}) = {ld:.3f} must exceed MN = {mn:.3f}")
+
+# 2. The report. The b = 0.5 and b = 1 states on each criterion's surface through (3, 1, 1), the b = 0 state of
+# phi = 30 deg: roots of I1 I2 - k I3 (resp. I1^3 - k I3) in N = sigma_1 / sigma_3, sigma_2 = 1 + b (N - 1).
+
+
+def root(b, which):
+    N = P([0, 1])
+    s2 = 1 + b * (N - 1)
+    i1, i2, i3 = N + s2 + 1, N * s2 + s2 + N, N * s2
+    k = ratios(3.0, 1.0, 1.0)[which]
+    poly = i1 * i2 - k * i3 if which == 0 else i1 ** 3 - k * i3
+    r = [x.real for x in poly.roots() if abs(x.imag) < 1e-9 and x.real > 1 + 1e-9]
+    assert len(r) == 1, (b, which, poly.roots())
+    return r[0]
+
+
+def angle(N):
+    return math.degrees(math.asin((N - 1) / (N + 1)))
+
+
+N_mn = {b: (3.0 if b == 0 else root(b, 0)) for b in (0.0, 0.5, 1.0)}
+phi = {b: angle(N) for b, N in N_mn.items()}
+phi_ld = {b: angle(root(b, 1)) for b in (0.5, 1.0)}
+check("MN at b = 1 (by roots)", phi[1.0], 30.0, 1e-9)
+
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/failure_criteria_check"
+shutil.rmtree(work, ignore_errors=True)
+cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "sigma_x", "sigma_y", "sigma_z", "a_c",
+        "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff"]
+jobs = []
+for b, N in N_mn.items():
+    name = "shear_drained_mur0.3_ebase_pbase_s1_n300" + (f"_b{b:g}" if b > 0 else "")
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": b}]}, f)
+    s1, s2 = 1e5 * N, 1e5 * (1 + b * (N - 1))
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i in range(41):  # to 40 % axial strain, steady from 30 %: the peak obliquity and the critical state agree
+            ea = 0.01 * i
+            ramp = min(1.0, ea / 0.3)
+            sx, sy, sz = 1e5 + ramp * (s2 - 1e5), 1e5, 1e5 + ramp * (s1 - 1e5)
+            p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
+            w.writerow(["shear", i, i, ea, p, q, q / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25,
+                        0.25, q / p])
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300", "mu_r": 0.3,
+                 "e0": 0, "p0": 0, "drainage": "drained", "direction": "compression", "b": b, "seed": 1, "count": 300,
+                 "csr": 0, "cycles": 0, "strain_amplitude": 0})
+with open(os.path.join(work, "study.json"), "w") as f:
+    json.dump({"study": "synthetic", "strain_stage": "",
+               "critical_state": {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005}, "jobs": jobs}, f)
+out = subprocess.run([sys.executable, script, "study", work], capture_output=True, text=True)
+print(out.stdout, out.stderr)
+if out.returncode != 0:
+    sys.exit("the study report failed")
+report = open(os.path.join(work, "report.md")).read()
+if "## Failure criteria (true triaxial)" not in report:
+    sys.exit("no failure-criteria section in report.md")
+if not os.path.isfile(os.path.join(work, "figures", "failure_criteria.png")):
+    fails.append("figures/failure_criteria.png missing")
+section = report.split("## Failure criteria (true triaxial)")[1]
+line = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |")), "")
+# the row: measured b and angles, then the three predictions, at the peak and at the critical state
+want = f"| 0.50 | {phi[0.5]:.1f} | 30.0 | {phi[0.5]:.1f} | {phi_ld[0.5]:.1f}"  # twice: the cells share a "|"
+if line.count(want) != 2:
+    fails.append(f"b = 0.5 row: expected twice '{want}', got '{line}'")
+mc = math.sqrt(((phi[0.5] - 30) ** 2 + (phi[1.0] - 30) ** 2) / 2)
+ld = math.sqrt(((phi[0.5] - phi_ld[0.5]) ** 2 + (phi[1.0] - phi_ld[1.0]) ** 2) / 2)
+for lab in ("largest obliquity", "critical state"):
+    row = next((l for l in section.splitlines() if l.startswith(f"| {lab} |")), "")
+    want = f"| {lab} | {mc:.2f}° (2) | 0.00° (2) | {ld:.2f}° (2) |"
+    if row != want:
+        fails.append(f"misfit row: expected '{want}', got '{row}'")
+print(f"MN surface through phi_tc = 30 deg: phi(b=0.5) = {phi[0.5]:.3f}, LD there {phi_ld[0.5]:.3f}; "
+      f"misfits MC {mc:.3f}, LD {ld:.3f} deg")
+if fails:
+    sys.exit("\n".join(fails))
+print("failure criteria: ok")
