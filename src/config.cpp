@@ -293,6 +293,7 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
                                                                                               : Drainage::Drained;
       sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, true);
       sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
+      sc.max_servo_error = g.real("max_servo_error", 0.25, 0, 1, true);
       if (sc.type == StageType::Triaxial) {
         sc.extension = g.choice("direction", "compression", {"compression", "extension"}) == "extension";
         sc.b = g.real("b", 0, 0, 1);
@@ -419,7 +420,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
     } else {
       e << YAML::Key << "drainage" << YAML::Value << (sc.drainage == Drainage::Undrained ? "undrained" : "drained")
         << YAML::Key << "axial_strain_rate" << YAML::Value << sc.axial_strain_rate << YAML::Key
-        << "max_axial_strain" << YAML::Value << sc.max_axial_strain;
+        << "max_axial_strain" << YAML::Value << sc.max_axial_strain << YAML::Key << "max_servo_error" << YAML::Value
+        << sc.max_servo_error;
       if (sc.type == StageType::Triaxial)
         e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression") << YAML::Key << "b"
           << YAML::Value << sc.b;

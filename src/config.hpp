@@ -36,6 +36,11 @@ struct StageConfig {
   Drainage drainage = Drainage::Undrained;
   Real axial_strain_rate = 1.0;    // [1/s]
   Real max_axial_strain = 0.05;    // [-] cyclic: the stage ends when |eps_a| reaches it (large strain, liquefaction)
+  // drained shear: the run stops (exit 3, like a blow-up) when a lateral wall stress on a series row is further than
+  // this from its servo target, relative (Laboratory::servo_error): sigma_3 = p'_0 not held is not the test asked for,
+  // and a servo that fell this far behind its walls' speed (true triaxial at large b and strain moves the y walls out
+  // fastest) squeezed the packing to a blow-up in the one case seen (b = 1, mu_r = 0 at 1/s, configs/true-triaxial-study.yaml). (choice)
+  Real max_servo_error = 0.25;     // [-]
   // triaxial: `direction: extension` moves the axial walls apart (eps_a < 0, q < 0: the triaxial extension test at
   // constant sigma_3 drained, constant volume undrained), to eps_a = -max_axial_strain (choice, beyond SPEC §6.3:
   // the critical state in extension, M_e = 6 sin(phi) / (3 + sin(phi)), against compression's 6 sin(phi) / (3 - sin(phi)))

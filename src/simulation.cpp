@@ -354,6 +354,10 @@ class Laboratory {
   void watch_cycle(const StageConfig& sc, const Measure& m, bool turn);
   void write_summary() const;
   void assert_healthy();
+  [[noreturn]] void stop_run(const std::string& what);
+  Real servo_error(const StageConfig& sc, const Measure& m) const;
+  Real stage_servo_error(const StageConfig& sc) const;
+  void check_servo(const StageConfig& sc, const Measure& m);
   void place_lateral_walls();
   void ramp_pressure(const StageConfig& sc, long stage_step);
   // Runs the stage from lab_.stage_step; returns false when interrupted.
@@ -982,6 +986,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
           flush_outputs();
           rows_since_flush = 0;
         }
+        check_servo(sc, m);
       }
       if (check) {
         assert_healthy();
@@ -997,6 +1002,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         if (!report) {
           lab_.series.rows.push_back(row(sc, m, d));
           lab_.series.stage.push_back(lab_.stage);
+          check_servo(sc, m);
         }
         final_m = m;
         if (!snap) snapshot(sc.name + "_end");
@@ -1029,6 +1035,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     res.n_ru = lab_.n_ru;
     res.n_da = lab_.n_da;
   }
+  res.servo_error = stage_servo_error(sc);
   lab_.results.push_back(res);
   write_summary();
   if (sc.type == StageType::Isotropic && sc.save_sample) save_sample(sc);
@@ -1175,7 +1182,61 @@ void Laboratory::save_sample(const StageConfig& sc) {
 
 void Laboratory::assert_healthy() {
   const HealthReport h = eng_->check_health(cfg_.health);
-  if (h.ok) return;
+  if (!h.ok) stop_run(h.what);
+}
+
+// How far a drained shear's lateral walls are from their servo targets, relative, the larger of the two axes:
+// sigma_y against p'_0, sigma_x against p'_0 + b (sigma_z - p'_0) (true triaxial's target, here from the same
+// instant's sigma_z, where the servo used the step's start). 0 where no wall is servoed (undrained: placed).
+Real Laboratory::servo_error(const StageConfig& sc, const Measure& m) const {
+  if (sc.type == StageType::Isotropic || sc.drainage != Drainage::Drained) return 0;
+  const Real p0 = lab_.p0, tx = std::max<Real>(p0 + sc.b * (m.sz - p0), 1e-30);
+  return std::max(std::abs(m.sy - p0) / p0, std::abs(m.sx - tx) / tx);
+}
+
+// The largest servo_error over the current stage's series rows (what a checkpoint restores, so a resumed run
+// reports the same); NaN for a stage without a lateral servo.
+Real Laboratory::stage_servo_error(const StageConfig& sc) const {
+  if (sc.type == StageType::Isotropic || sc.drainage != Drainage::Drained) return std::numeric_limits<Real>::quiet_NaN();
+  const auto& cols = series_columns();
+  const auto col = [&](const char* name) {
+    return size_t(std::find_if(cols.begin(), cols.end(), [&](const auto& c) { return c.first == name; }) - cols.begin());
+  };
+  const size_t ix = col("sigma_x"), iy = col("sigma_y"), iz = col("sigma_z");
+  Real worst = 0;
+  for (size_t r = 0; r < lab_.series.rows.size(); ++r) {
+    if (lab_.series.stage[r] != lab_.stage) continue;
+    Measure m{};
+    m.sx = lab_.series.rows[r][ix];
+    m.sy = lab_.series.rows[r][iy];
+    m.sz = lab_.series.rows[r][iz];
+    worst = std::max(worst, servo_error(sc, m));
+  }
+  return worst;
+}
+
+// Every series row of a drained shear: a lateral wall stress further than max_servo_error from its target stops
+// the run (StageConfig::max_servo_error), with the row that found it written.
+void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
+  const Real se = servo_error(sc, m);
+  if (!(se > sc.max_servo_error)) return;
+  std::ostringstream os;
+  os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
+     << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
+     << " kPa against p'_0 = " << lab_.p0 / 1e3 << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
+     << (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = ") << (lab_.p0 + sc.b * (m.sz - lab_.p0)) / 1e3
+     << " kPa: the worst "
+     << 100 * se << " % off (max_servo_error " << sc.max_servo_error
+     << "). A servo lags its target by a share that grows with the speed its walls must keep (true triaxial at "
+        "large b and strain drives the y walls out fastest): lower axial_strain_rate (now "
+     << sc.axial_strain_rate << "), raise the stage's servo_gain (now " << sc.servo_gain
+     << ", at most 1) or numerics.servo_max_step (now " << cfg_.engine.servo_max_step << " r_min a step)";
+  stop_run(os.str());
+}
+
+// Stops the run on `what` (a blow-up, a servo that lost its target): the series up to here and blowup.txt are
+// written, the newest checkpoint (written before the event: never a broken state) is named, exit 3.
+void Laboratory::stop_run(const std::string& what) {
   std::string last = "none";
   if (fs::is_directory(out_ + "/checkpoints")) {
     std::vector<std::string> all;
@@ -1184,7 +1245,7 @@ void Laboratory::assert_healthy() {
     std::sort(all.begin(), all.end());
     if (!all.empty()) last = all.back();
   }
-  const std::string msg = h.what + "; the last good checkpoint is " + last;
+  const std::string msg = what + "; the last good checkpoint is " + last;
   try {
     write_file_atomic(out_ + "/blowup.txt", msg + "\n");
     flush_outputs();  // the series up to the event, for the post-mortem
@@ -1213,7 +1274,8 @@ std::string Laboratory::write_checkpoint() {
     std::vector<double> res;
     std::vector<std::string> names;
     for (auto& r : lab_.results) {
-      res.insert(res.end(), {double(r.converged), double(r.steps), r.p, r.q, r.e, r.mu, r.cycle, r.n_ru, r.n_da});
+      res.insert(res.end(), {double(r.converged), double(r.steps), r.p, r.q, r.e, r.mu, r.cycle, r.n_ru, r.n_da,
+                             r.servo_error});
       names.push_back(r.name);
     }
     w.write("/lab/results", res);
@@ -1299,8 +1361,9 @@ bool Laboratory::load_newest_checkpoint() {
       }
       const auto res = r.doubles("/lab/results");
       const auto names = split(r.string("/lab/result_names"), '\n');
-      // 9 values a stage; 6 in a checkpoint from before the liquefaction criteria (it has no N to give)
-      const size_t nv = names.empty() || res.size() == 9 * names.size() ? 9 : 6;
+      // 10 values a stage; 9 in a checkpoint from before servo_error, 6 from before the liquefaction criteria (it
+      // has no N to give)
+      const size_t nv = names.empty() || res.size() == 10 * names.size() ? 10 : res.size() == 9 * names.size() ? 9 : 6;
       if (res.size() != nv * names.size()) throw H5Error(path + ": stage results have the wrong size (corrupt?)");
       for (size_t k = 0; k < names.size(); ++k) {
         const double* v = res.data() + nv * k;
@@ -1312,11 +1375,12 @@ bool Laboratory::load_newest_checkpoint() {
         sr.q = v[3];
         sr.e = v[4];
         sr.mu = v[5];
-        if (nv == 9) {
+        if (nv >= 9) {
           sr.cycle = v[6];
           sr.n_ru = v[7];
           sr.n_da = v[8];
         }
+        if (nv == 10) sr.servo_error = v[9];
         lab.results.push_back(sr);
       }
       lab.snapshot_files = split(r.string("/lab/snapshot_files"), '\n');
@@ -1386,6 +1450,8 @@ void Laboratory::write_summary() const {
          << num(sc.liquefaction_ru) << ", \"n_ru\": " << met(r.n_ru) << ", \"liquefaction_da_strain\": "
          << num(sc.liquefaction_da_strain) << ", \"n_da\": " << met(r.n_da);
     }
+    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Drained)
+      js << ", \"servo_error\": " << num(r.servo_error);
     js << "}";
   }
   js << "\n  ]\n}\n";

@@ -2,6 +2,7 @@
 // The virtual laboratory (SPEC §6): generate or load a sample, run its stages (isotropic consolidation
 // with an optional void-ratio target, triaxial undrained/drained shear), write the series, snapshots,
 // samples and checkpoints of one run directory, and resume it exactly.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct StageResult {
   Real mu = 0;             // friction used (the search result when target_e0 is set)
   // cyclic stages: the cycle number N reached, and N at each liquefaction criterion (-1: not met; StageConfig)
   Real cycle = 0, n_ru = -1, n_da = -1;
+  // drained shear stages: the largest servo_error over the stage's series rows (NaN: none measured, or a stage
+  // finished by a build before it)
+  Real servo_error = std::numeric_limits<Real>::quiet_NaN();
 };
 
 // A numerical blow-up stopped the run: the message names step, particles, quantity and a suggested dt;

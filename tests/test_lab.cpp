@@ -770,6 +770,50 @@ TEST(Lab, TrueTriaxialHoldsTheIntermediateStressRatio) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(outs[0.5] + "/series.csv"));
 }
 
+// A drained shear whose lateral servo falls further behind its target than max_servo_error stops like a blow-up
+// (BlowUpError: exit 3), naming the stage, the stresses and the remedies, with series.csv written up to the row that
+// found it. summary.json gives each drained stage's largest error over its series rows: the same test bounded just
+// above that value finishes, bounded at 0.9 of it stops. So the summary is exactly what the guard measures, and the
+// guard is live. b = 1 on the reference sample: the x walls chase sigma_z, the largest lag of a drained test.
+TEST(Lab, DrainedShearStopsWhenItsServoLosesTheTarget) {
+  const std::string head = "  - {name: shear, type: triaxial, drainage: drained, b: 1, axial_strain_rate: 1.0, "
+                           "max_axial_strain: 0.01, damping: 0.2";
+  const auto servo_error = [](const std::string& out) {
+    const std::string js = slurp(out + "/summary.json"), key = "\"servo_error\": ";
+    const size_t at = js.find(key);
+    return at == std::string::npos ? -1.0 : std::strtod(js.c_str() + at + key.size(), nullptr);
+  };
+  const std::string free_out = tmpdir("servo_free");
+  ASSERT_TRUE(run(on_reference("servo_free", head + "}\n", 20), free_out).stages.at(0).converged);
+  const double worst = servo_error(free_out);
+  std::printf("  b = 1 to 1 %%: largest lateral servo error %.5f (default bound 0.25)\n", worst);
+  ASSERT_GT(worst, 1e-3) << "a lag this small could not tell the bounds below apart";
+  ASSERT_LT(worst, 0.25);
+  const auto bounded = [&](const char* tag, double bound) {
+    std::ostringstream st;
+    st << head << ", max_servo_error: " << std::setprecision(17) << bound << "}\n";
+    const std::string out = tmpdir(tag);
+    std::string what;
+    try {
+      run(on_reference(tag, st.str(), 20), out);
+    } catch (const BlowUpError& e) {
+      what = e.what();
+    }
+    return std::make_pair(out, what);
+  };
+  const auto [above_out, above] = bounded("servo_above", worst * 1.000001);
+  EXPECT_EQ(above, "");
+  EXPECT_EQ(slurp(above_out + "/series.csv"), slurp(free_out + "/series.csv"));
+  const auto [below_out, below] = bounded("servo_below", worst * 0.9);
+  EXPECT_NE(below.find("stage 'shear' stopped at step"), std::string::npos) << below;
+  EXPECT_NE(below.find("servo lost its target"), std::string::npos) << below;
+  EXPECT_NE(below.find("lower axial_strain_rate"), std::string::npos) << below;
+  EXPECT_TRUE(fs::exists(below_out + "/blowup.txt"));
+  const std::string part = slurp(below_out + "/series.csv"), whole = slurp(free_out + "/series.csv");
+  EXPECT_LT(part.size(), whole.size());
+  EXPECT_EQ(whole.compare(0, part.size(), part), 0) << "the stopped run's rows are the free run's first rows";
+}
+
 // Cyclic triaxial loading (StageType::Cyclic). Strain reversal on the reference sample, undrained: the axial walls
 // turn at the start of the step that finds |eps_a| >= A, so each peak's eps_a (the snapshot taken there) lies in
 // [A, A + one step's strain); the cycles end on the step that finds eps_a back at 0; the box volume stays V0 to
