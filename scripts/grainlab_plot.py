@@ -39,12 +39,15 @@ def load(run):
     cols["cyclic"] = cols["stage_type"] >= 3
     # a true-triaxial stage's b (summary.json; 0 where it has none, or for a run of a build before b): its friction
     # angles come from the principal stresses, not from M's axisymmetric relations (critical_state)
-    cols["b"] = 0.0
+    # and the largest lateral servo error of its drained shear stages (summary.json servo_error; None: not given)
+    cols["b"], cols["servo_error"] = 0.0, None
     try:
         with open(os.path.join(run, "summary.json")) as f:
-            cols["b"] = max([float(st.get("b", 0)) for st in json.load(f).get("stages", []) if st.get("type") == "triaxial"]
-                            or [0.0])
-    except (OSError, ValueError):
+            stages = json.load(f).get("stages", [])
+        cols["b"] = max([float(st.get("b", 0)) for st in stages if st.get("type") == "triaxial"] or [0.0])
+        errs = [float(st["servo_error"]) for st in stages if st.get("servo_error") is not None]
+        cols["servo_error"] = max(errs) if errs else None
+    except (OSError, ValueError, TypeError):
         pass
     return cols
 
@@ -355,7 +358,8 @@ def failure_section(mono, window, figs):
             continue
         ang, bm = principal_angle(s)[m], principal_b(s)[m]
         k = int(np.argmax(ang))
-        row = dict(name=j["name"], mu_r=j["mu_r"], b=float(s.get("b", 0.0)), peak=(float(ang[k]), float(bm[k])), cs=None)
+        row = dict(name=j["name"], mu_r=j["mu_r"], b=float(s.get("b", 0.0)), peak=(float(ang[k]), float(bm[k])), cs=None,
+                   servo=s.get("servo_error"))
         c = critical_state(s, window)
         if c is not None and c["ok"]:
             ea = s["eps_a"][m]
@@ -394,8 +398,9 @@ def failure_section(mono, window, figs):
                     for c, p in enumerate((mc, mn, ld)):
                         dev[(state, c)].append(phi - p)
         for r in g:
+            servo = "-" if r["servo"] is None else f"{100 * r['servo']:.1f}"
             rows.append(f"| {r['name']} | {r['mu_r']:g} | {r['b']:g} | "
-                        + " | ".join(cells.get((r["name"], st), "| | | |") for st in ("peak", "cs")) + " |")
+                        + " | ".join(cells.get((r["name"], st), "| | | |") for st in ("peak", "cs")) + f" | {servo} |")
     for i, title in enumerate(("largest obliquity (phi'_max)", "critical state (phi_cs)")):
         ax[i].set(xlabel="b measured", ylabel="phi [deg] (wall stresses)",
                   title=title + ": -- Mohr-Coulomb, - Matsuoka-Nakai, : Lade-Duncan")
@@ -411,9 +416,12 @@ def failure_section(mono, window, figs):
             "(I1 I2 / I3 constant) and Lade-Duncan (I1^3 / I3 constant), each evaluated at the measured b. Every angle "
             "is sin phi = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses, the b = 0 test's too (the "
             "peak table takes that one from the contacts' q/p'); the critical state's is the mean over the window. "
+            "The last column is the largest distance of a lateral wall stress from its servo target over the shear "
+            "(summary.json servo_error: sigma_3 from p'_0, sigma_2 from p'_0 + b (sigma_1 - p'_0)), in % of the target. "
             "Figure: `figures/failure_criteria.png`.", "",
-            "| test | mu_r | b | b at phi'_max | phi'_max [°] | MC | MN | LD | b at c.s. | phi_cs [°] | MC | MN | LD |",
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "| test | mu_r | b | b at phi'_max | phi'_max [°] | MC | MN | LD | b at c.s. | phi_cs [°] | MC | MN | LD | "
+            "servo error [%] |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
             "Root-mean-square of measured minus predicted over the b > 0 tests (count):", "",
             "| state | Mohr-Coulomb | Matsuoka-Nakai | Lade-Duncan |", "|---|---|---|---|",
             *(f"| {lab} | " + " | ".join(rms(dev[(st, c)]) for c in range(3)) + " |"

@@ -9,7 +9,7 @@
    exactly on Matsuoka-Nakai's surface through the b = 0 state (sigma_3 = 100 kPa, phi_tc = 30 deg; the b = 0.5 state
    solved as a polynomial's root by numpy, not by the bisection under test): the report must give Matsuoka-Nakai a
    misfit of 0.00 deg at the peak and at the critical state, Mohr-Coulomb and Lade-Duncan the misfits worked out here
-   from those roots, and the figure.
+   from those roots, the servo error of summary.json (or '-' without it), and the figure.
 """
 import csv
 import json
@@ -98,7 +98,10 @@ for b, N in N_mn.items():
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
     with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": b}]}, f)
+        shear = {"name": "shear", "type": "triaxial", "b": b}
+        if b == 0.5:
+            shear["servo_error"] = 0.034  # the table's last column, in %; a summary without it (older build): "-"
+        json.dump({"stages": [{"name": "c", "type": "isotropic"}, shear]}, f)
     s1, s2 = 1e5 * N, 1e5 * (1 + b * (N - 1))
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
@@ -129,8 +132,11 @@ section = report.split("## Failure criteria (true triaxial)")[1]
 line = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |")), "")
 # the row: measured b and angles, then the three predictions, at the peak and at the critical state
 want = f"| 0.50 | {phi[0.5]:.1f} | 30.0 | {phi[0.5]:.1f} | {phi_ld[0.5]:.1f}"  # twice: the cells share a "|"
-if line.count(want) != 2:
-    fails.append(f"b = 0.5 row: expected twice '{want}', got '{line}'")
+if line.count(want) != 2 or not line.endswith("| 3.4 |"):
+    fails.append(f"b = 0.5 row: expected twice '{want}' and servo error 3.4 %, got '{line}'")
+line0 = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300 |")), "")
+if not line0.endswith("| - |"):
+    fails.append(f"b = 0 row: a summary without servo_error must show '-', got '{line0}'")
 mc = math.sqrt(((phi[0.5] - 30) ** 2 + (phi[1.0] - 30) ** 2) / 2)
 ld = math.sqrt(((phi[0.5] - phi_ld[0.5]) ** 2 + (phi[1.0] - phi_ld[1.0]) ** 2) / 2)
 for lab in ("largest obliquity", "critical state"):
