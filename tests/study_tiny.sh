@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # tests/data/tiny-study.yaml end to end: the study driver (jobs forked and waited for, samples reused, report,
-# rerun, a study extended, the direction axis) on 300 spheres, fast enough to run under AddressSanitizer + UBSan in make check, where
+# rerun, a study extended, the direction axis, a b extra job) on 300 spheres, fast enough to run under AddressSanitizer + UBSan in make check, where
 # study_quick's 5 000-sphere shears to 40 % outran its 900 s limit. study_quick checks the rest (signals, report
 # contents) in make test.
 set -u
@@ -10,8 +10,8 @@ cp "$src"/tiny-study.yaml "$src"/tiny-study-base.yaml "$work"/ || exit 1
 cd "$work" || exit 1
 fail() { echo "study_tiny: $*"; exit 1; }
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "2 samples, 4 shears; 6 to run" || fail "unexpected plan: $out"
-[ "$(ls st/jobs/*/done | wc -l)" -eq 6 ] || fail "expected 6 finished jobs: $(ls st/jobs)"
+printf '%s\n' "$out" | grep -q "2 samples, 5 shears; 7 to run" || fail "unexpected plan: $out"
+[ "$(ls st/jobs/*/done | wc -l)" -eq 7 ] || fail "expected 7 finished jobs: $(ls st/jobs)"
 grep -q "## Critical states" st/report.md || fail "report.md lacks its critical-state section"
 # The direction axis: one extension shear per sample (named _ext, job.yaml says so), q < 0 at its peak, and its
 # mobilised friction angle from the extension relation (3M / (6 - M)), recomputed here from the row's own M.
@@ -25,13 +25,22 @@ printf '%s\n' "$rows" | awk -F'|' '{ split($9, a, /[ (°)]+/); M = a[2]; phi = a
   s = 3 * M / (6 - M); want = atan2(s, sqrt(1 - s * s)) * 180 / 3.141592653589793;
   if (!(M > 0) || (phi - want) > 0.051 || (want - phi) > 0.051) { print "bad phi: " $0; exit 1 } }' ||
   fail "an extension row's friction angle is not Mohr-Coulomb's of its M"
+# The b extra job: named _b1, b: 1 in its job.yaml and summary.json, in the failure-criteria section beside its
+# sample's b = 0 test, with its measured b at the largest obliquity near 1 (the x walls' servo lags a few %).
+tt=st/jobs/shear_drained_mur0_ebase_p100k_s3_n300_b1
+grep -q "b: 1" "$tt/job.yaml" || fail "$tt/job.yaml does not say b: 1"
+grep -q '"b": 1,' "$tt/run/summary.json" || fail "$tt/run/summary.json does not say b = 1"
+grep -q '"servo_error": [0-9]' "$tt/run/summary.json" || fail "$tt/run/summary.json gives no servo_error"
+grep -q "## Failure criteria (true triaxial)" st/report.md || fail "report.md lacks its failure-criteria section"
+row=$(sed -n '/## Failure criteria/,$p' st/report.md | grep -E '^\| shear_drained_mur0_ebase_p100k_s3_n300_b1 \|')
+printf '%s\n' "$row" | awk -F'|' '{ exit !($5 > 0.9 && $5 <= 1) }' || fail "b = 1 row without a measured b near 1: $row"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
 # A study extended: the shears taken from 2 % to 3 % (along the loading) resume from their checkpoints.
 sed -i 's/max_axial_strain: 0.02/max_axial_strain: 0.03/' tiny-study-base.yaml
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the extended study failed: $out"
-printf '%s\n' "$out" | grep -q "4 shear(s) extended" || fail "the shears were not extended: $out"
-printf '%s\n' "$out" | grep -q "; 4 to run" || fail "not exactly the 4 shears rerun: $out"
+printf '%s\n' "$out" | grep -q "5 shear(s) extended" || fail "the shears were not extended: $out"
+printf '%s\n' "$out" | grep -q "; 5 to run" || fail "not exactly the 5 shears rerun: $out"
 for s in st/jobs/shear_*; do
   [ -f "$s/done" ] || fail "$s did not finish"
   [ "$(head -1 "$s/run/series.csv" | cut -d, -f4)" = eps_a ] || fail "series.csv column 4 is not eps_a"
