@@ -378,7 +378,10 @@ def failure_section(mono, window, figs):
         ref = next(r for r in g if r["b"] == 0)
         cells = {}
         for i, state in enumerate(("peak", "cs")):
-            if ref[state] is None:
+            if ref[state] is None:  # no b = 0 critical state to calibrate on: the measured angles alone
+                for r in g:
+                    if r[state] is not None:
+                        cells[(r["name"], state)] = f"{r[state][1]:.2f} | {r[state][0]:.1f} | - | - | -"
                 continue
             phi0 = ref[state][0]
             line = ax[i].plot([r[state][1] for r in g if r[state]], [r[state][0] for r in g if r[state]], "o",
