@@ -391,8 +391,8 @@ void rewrite_dataset(const std::string& ckpt, const char* name, hid_t type, cons
 void rewrite_config(const std::string& ckpt, const std::string& text) {
   rewrite_dataset(ckpt, "/lab/config", H5T_NATIVE_CHAR, text.data(), text.size());
 }
-// Before cyclic stages a checkpoint held 13 lab scalars (no reversal count, no cycle number) and series rows
-// without the last column, `cycle`.
+// Before cyclic stages a checkpoint held 13 lab scalars (no reversal count, no cycle number), 6 values of each
+// finished stage's result (nor servo_error, which came later) and series rows without the last column, `cycle`.
 void as_before_cyclic_stages(const std::string& ckpt) {
   std::vector<double> scalars, series, results;
   size_t rows = 0;
@@ -405,7 +405,7 @@ void as_before_cyclic_stages(const std::string& ckpt) {
   }
   const size_t nc = series_columns().size();
   ASSERT_EQ(scalars.size(), 18u);
-  ASSERT_EQ(results.size(), 9u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da";
+  ASSERT_EQ(results.size(), 10u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error";
   results.resize(6);
   ASSERT_EQ(series_columns().back().first, "cycle");
   ASSERT_EQ(series.size(), rows * nc);
