@@ -345,7 +345,7 @@ def failure_criteria(phi_tc, b):
     return tuple(out)
 
 
-def failure_section(mono, window, figs):
+def failure_section(mono, window, tol, figs):
     """The true-triaxial series: per sample and drainage, the drained compression tests at several b against the
     failure criteria calibrated on its b = 0 test, at the largest obliquity and at the critical state. Every angle
     here is the wall stresses' (principal_angle), the b = 0 test's too, so that the criteria compare like with like;
@@ -360,7 +360,7 @@ def failure_section(mono, window, figs):
         k = int(np.argmax(ang))
         row = dict(name=j["name"], mu_r=j["mu_r"], b=float(s.get("b", 0.0)), peak=(float(ang[k]), float(bm[k])), cs=None,
                    servo=s.get("servo_error"))
-        c = critical_state(s, window)
+        c = critical_state(s, window, *tol)  # the study's steadiness test, as its critical-state table
         if c is not None and c["ok"]:
             ea = s["eps_a"][m]
             w = ea >= ea[-1] - window
@@ -569,7 +569,7 @@ def study(out):
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | |")
     results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
-    fail_lines = failure_section(mono, cs_cfg["window"], figs)
+    fail_lines = failure_section(mono, cs_cfg["window"], tol, figs)
     cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)

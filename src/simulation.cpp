@@ -320,6 +320,11 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
 
 namespace {
 
+// A drained shear servos its lateral walls (start_stage): sigma_y to p'_0, sigma_x to x_wall_target.
+bool lateral_servo(const StageConfig& sc) { return sc.type != StageType::Isotropic && sc.drainage == Drainage::Drained; }
+// True triaxial (StageConfig::b): sigma_x = sigma_3 + b (sigma_z - sigma_3), sigma_3 = p'_0; p'_0 itself at b = 0.
+Real x_wall_target(const StageConfig& sc, Real p0, Real sz) { return p0 + sc.b * (sz - p0); }
+
 // ------------------------------------------------------------------------------------------------
 class Laboratory {
  public:
@@ -942,7 +947,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     if (sc.b > 0) {
       // True triaxial (StageConfig::b): the x walls hold sigma_3 + b (sigma_z - sigma_3) as this step finds sigma_z,
       // from what a checkpoint restores, so a resumed run sets the same targets; sigma_3 = p'_0 on the y walls.
-      const Real target = lab_.p0 + sc.b * (m0.sz - lab_.p0);
+      const Real target = x_wall_target(sc, lab_.p0, m0.sz);
       e.wall_control(0).target_stress = target;
       e.wall_control(1).target_stress = target;
     }
@@ -1189,15 +1194,15 @@ void Laboratory::assert_healthy() {
 // sigma_y against p'_0, sigma_x against p'_0 + b (sigma_z - p'_0) (true triaxial's target, here from the same
 // instant's sigma_z, where the servo used the step's start). 0 where no wall is servoed (undrained: placed).
 Real Laboratory::servo_error(const StageConfig& sc, const Measure& m) const {
-  if (sc.type == StageType::Isotropic || sc.drainage != Drainage::Drained) return 0;
-  const Real p0 = lab_.p0, tx = std::max<Real>(p0 + sc.b * (m.sz - p0), 1e-30);
+  if (!lateral_servo(sc)) return 0;
+  const Real p0 = lab_.p0, tx = std::max<Real>(x_wall_target(sc, p0, m.sz), 1e-30);
   return std::max(std::abs(m.sy - p0) / p0, std::abs(m.sx - tx) / tx);
 }
 
 // The largest servo_error over the current stage's series rows (what a checkpoint restores, so a resumed run
 // reports the same); NaN for a stage without a lateral servo.
 Real Laboratory::stage_servo_error(const StageConfig& sc) const {
-  if (sc.type == StageType::Isotropic || sc.drainage != Drainage::Drained) return std::numeric_limits<Real>::quiet_NaN();
+  if (!lateral_servo(sc)) return std::numeric_limits<Real>::quiet_NaN();
   const auto& cols = series_columns();
   const auto col = [&](const char* name) {
     return size_t(std::find_if(cols.begin(), cols.end(), [&](const auto& c) { return c.first == name; }) - cols.begin());
@@ -1224,7 +1229,7 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
   os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
      << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
      << " kPa against p'_0 = " << lab_.p0 / 1e3 << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
-     << (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = ") << (lab_.p0 + sc.b * (m.sz - lab_.p0)) / 1e3
+     << (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = ") << x_wall_target(sc, lab_.p0, m.sz) / 1e3
      << " kPa: the worst "
      << 100 * se << " % off (max_servo_error " << sc.max_servo_error
      << "). A servo lags its target by a share that grows with the speed its walls must keep (true triaxial at "
@@ -1450,8 +1455,7 @@ void Laboratory::write_summary() const {
          << num(sc.liquefaction_ru) << ", \"n_ru\": " << met(r.n_ru) << ", \"liquefaction_da_strain\": "
          << num(sc.liquefaction_da_strain) << ", \"n_da\": " << met(r.n_da);
     }
-    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Drained)
-      js << ", \"servo_error\": " << num(r.servo_error);
+    if (lateral_servo(sc)) js << ", \"servo_error\": " << num(r.servo_error);
     js << "}";
   }
   js << "\n  ]\n}\n";
