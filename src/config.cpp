@@ -278,6 +278,9 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
     sc.max_steps = g.integer("max_steps", 1000000, 1, 1000000000000L);
     sc.check_every = g.integer("check_every", 200, 1, 1000000000L);
     sc.servo_gain = g.real("servo_gain", 0.5, 0, 1, true);
+    // The loop on an ideal wall is stable below 1 (WallControl::integral); a packing answers slower than its
+    // wall contacts, so the range stops well short of it.
+    sc.servo_integral = g.real("servo_integral", 0, 0, 0.5);
     if (sc.type == StageType::Isotropic) {
       sc.pressure_tolerance = g.real("pressure_tolerance", 0.01, 0, 1, true);
       sc.pressure_ramp_steps = g.integer("pressure_ramp_steps", 0, 0, 1000000000000L);
@@ -407,6 +410,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
       << YAML::Key << "mu" << YAML::Value << sc.mu << YAML::Key << "mu_r" << YAML::Value << sc.mu_r << YAML::Key << "damping" << YAML::Value << sc.damping
       << YAML::Key << "max_steps" << YAML::Value << sc.max_steps << YAML::Key << "check_every" << YAML::Value
       << sc.check_every << YAML::Key << "servo_gain" << YAML::Value << sc.servo_gain;
+    if (sc.servo_integral > 0) e << YAML::Key << "servo_integral" << YAML::Value << sc.servo_integral;
     if (sc.type == StageType::Isotropic) {
       e << YAML::Key << "pressure" << YAML::Value << sc.pressure << YAML::Key << "pressure_ramp_steps" << YAML::Value
         << sc.pressure_ramp_steps << YAML::Key << "pressure_tolerance" << YAML::Value << sc.pressure_tolerance

@@ -32,6 +32,7 @@ struct StageConfig {
   Real ufr_tolerance = 0.01;       // unbalanced-force ratio                         [-]
   Real ke_tolerance = 1e-4;        // kinetic / elastic energy                       [-]
   Real servo_gain = 0.5;           // see WallControl::gain                          [-]
+  Real servo_integral = 0;         // see WallControl::integral; 0 = off, [0, 0.5]   [-]
   // triaxial shear (SPEC §6.3)
   Drainage drainage = Drainage::Undrained;
   Real axial_strain_rate = 1.0;    // [1/s]

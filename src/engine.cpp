@@ -298,7 +298,7 @@ void Engine::move_walls() {
   const Real dt = params_.contact.dt;
   const Real smax = params_.servo_max_step * r_min_;
   for (int k = 0; k < walls_.count; ++k) {
-    const WallControl& c = control_[k];
+    WallControl& c = control_[k];
     Real s = 0;  // displacement along the inward normal this step
     if (c.mode == WallMode::Velocity) {
       s = c.velocity * dt;
@@ -307,8 +307,13 @@ void Engine::move_walls() {
       // the fraction `gain` of the force error at the measured wall stiffness K_w; bounded by smax.
       const Real area = wall_area(k);
       const Real ferr = (c.target_stress * area - loads_.force[k]);
-      s = loads_.stiffness[k] > 0 ? c.gain * ferr / loads_.stiffness[k] : (ferr > 0 ? smax : -smax);
-      s = std::max(-smax, std::min(smax, s));
+      const Real sp = loads_.stiffness[k] > 0 ? c.gain * ferr / loads_.stiffness[k] : (ferr > 0 ? smax : -smax);
+      s = std::max(-smax, std::min(smax, sp + c.drift));
+      // Integral action (WallControl::integral): learned only while the step is not at its bound, and only from
+      // a wall in contact (a free wall's sp is the bound itself, not an error measured): no wind-up while the
+      // wall closes a gap at smax, or while smax holds it back.
+      if (c.integral > 0 && loads_.stiffness[k] > 0 && std::abs(sp + c.drift) < smax)
+        c.drift = std::max(-smax, std::min(smax, c.drift + c.integral * sp));
     }
     walls_.w[k].offset += s;  // plane n.x = offset moves by s along n
   }

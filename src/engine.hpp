@@ -32,6 +32,16 @@ struct WallControl {
   Real gain = 0.5;         // servo relaxation: fraction of the force error corrected per step, using
                            // the measured wall stiffness (choice; bounded by servo_max_step)   [-]
   Real area = 0;           // used only when the walls are not a box                  [m^2]
+  // Integral action (choice, beyond SPEC §3; 0 = off, the proportional servo alone): each step adds this
+  // fraction of the step's proportional displacement to `drift`, a displacement the wall then keeps making
+  // every step. A proportional servo follows a target that needs its wall to keep moving (a drained shear's
+  // lateral walls, out as the sample shortens and dilates) only by keeping the error that makes it move:
+  // e / sigma = v dt / (gain delta_w), delta_w the mean wall overlap. `drift` learns that speed instead, so the
+  // error decays to zero on a steady ramp. On a wall that answers its own stiffness at once the loop is
+  // e' = (1 - gain) e - K drift, drift' = drift + integral gain e / K: stable for integral < 1 (the product of
+  // the roots is 1 - gain + integral * gain); keep it small (1e-3..1e-2) where the packing answers slower.
+  Real integral = 0;       // [-]
+  Real drift = 0;          // state: the learned displacement a step (inward positive)   [m]
 };
 
 struct EngineParams {

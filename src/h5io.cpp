@@ -242,7 +242,8 @@ void write_state(H5Writer& w, const EngineState& s) {
     const Wall& wl = s.walls.w[k];
     const WallControl& c = s.control[k];
     walls.insert(walls.end(), {wl.n.x, wl.n.y, wl.n.z, wl.offset, double(int(c.mode)), c.velocity, c.target_stress,
-                               c.gain, c.area, s.loads.force[k], s.loads.stiffness[k], double(s.loads.touching[k])});
+                               c.gain, c.area, s.loads.force[k], s.loads.stiffness[k], double(s.loads.touching[k]),
+                               c.integral, c.drift});
   }
   w.write("/state/walls", walls);
 }
@@ -271,10 +272,12 @@ EngineState read_state(const H5Reader& r) {
   s.mr = r.vec3("/state/mr");
   s.flags = r.bytes("/state/flags");
   const auto walls = r.doubles("/state/walls");
-  if (walls.size() != size_t(12) * kMaxWalls || s.walls.count < 0 || s.walls.count > kMaxWalls)
+  // 14 values a wall; 12 in a checkpoint from before the servo's integral action (off there: integral = drift = 0).
+  const size_t nw = walls.size() / kMaxWalls;
+  if ((nw != 12 && nw != 14) || walls.size() != nw * kMaxWalls || s.walls.count < 0 || s.walls.count > kMaxWalls)
     throw H5Error("state walls have the wrong length (corrupt file?)");
   for (int k = 0; k < kMaxWalls; ++k) {
-    const double* q = &walls[12 * k];
+    const double* q = &walls[nw * k];
     s.walls.w[k].n = Vec3(q[0], q[1], q[2]);
     s.walls.w[k].offset = q[3];
     s.control[k].mode = WallMode(int(q[4]));
@@ -285,6 +288,10 @@ EngineState read_state(const H5Reader& r) {
     s.loads.force[k] = q[9];
     s.loads.stiffness[k] = q[10];
     s.loads.touching[k] = int(q[11]);
+    if (nw == 14) {
+      s.control[k].integral = q[12];
+      s.control[k].drift = q[13];
+    }
   }
   const size_t n = s.x.size();
   if (s.v.size() != n || s.w.size() != n || s.f.size() != n || s.t.size() != n || s.r.size() != n)

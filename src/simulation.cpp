@@ -768,6 +768,7 @@ void Laboratory::start_stage(const StageConfig& sc) {
     WallControl& c = e.wall_control(k);
     c = WallControl{};
     c.gain = sc.servo_gain;
+    c.integral = sc.servo_integral;
     if (sc.type == StageType::Isotropic) {
       c.mode = WallMode::Servo;
       c.target_stress = sc.pressure;

@@ -142,6 +142,10 @@ TEST(Config, RejectsBadInputClearly) {
       {"b_ext", "stages:\n  - {type: triaxial, drainage: drained, direction: extension, b: 0.5}\n",
        "stages[0].b = 0.5 needs a drained compression stage (here direction: extension)"},
       {"b_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, b: 0.5}\n", "stages[0].b: unknown key"},
+      // the servo's integral action: [0, 0.5] (WallControl::integral: stable below 1 on an ideal wall)
+      {"ki_big", "stages:\n  - {type: triaxial, drainage: drained, servo_integral: 0.8}\n",
+       "stages[0].servo_integral = 0.8 is outside the allowed range [0, 0.5]"},
+      {"ki_neg", "stages:\n  - {type: isotropic, servo_integral: -0.1}\n", "stages[0].servo_integral"},
       // liquefaction criteria: r_u in (0, 1]; a given double amplitude must be reachable below 2 max_axial_strain
       {"liq_ru0", "stages:\n  - {type: cyclic, q_amplitude: 3e4, liquefaction_ru: 0}\n",
        "stages[0].liquefaction_ru = 0 is outside the allowed range (0, 1]"},
