@@ -40,11 +40,14 @@ def load(run):
     # a true-triaxial stage's b (summary.json; 0 where it has none, or for a run of a build before b): its friction
     # angles come from the principal stresses, not from M's axisymmetric relations (critical_state)
     # and the largest lateral servo error of its drained shear stages (summary.json servo_error; None: not given)
-    cols["b"], cols["servo_error"] = 0.0, None
+    # and its stress path (constant_p where a triaxial stage held p' = p'_0; constant_sigma3 otherwise and before it)
+    cols["b"], cols["servo_error"], cols["stress_path"] = 0.0, None, "constant_sigma3"
     try:
         with open(os.path.join(run, "summary.json")) as f:
             stages = json.load(f).get("stages", [])
         cols["b"] = max([float(st.get("b", 0)) for st in stages if st.get("type") == "triaxial"] or [0.0])
+        if any(st.get("stress_path") == "constant_p" for st in stages if st.get("type") == "triaxial"):
+            cols["stress_path"] = "constant_p"
         errs = [float(st["servo_error"]) for st in stages if st.get("servo_error") is not None]
         cols["servo_error"] = max(errs) if errs else None
     except (OSError, ValueError, TypeError):
@@ -365,7 +368,8 @@ def failure_section(mono, window, tol, figs):
             ea = s["eps_a"][m]
             w = ea >= ea[-1] - window
             row["cs"] = (float(np.mean(ang[w])), float(np.mean(bm[w])))
-        groups.setdefault((j["sample"], j["drainage"]), []).append(row)
+        # one calibration per stress path: a constant-p' series (stress_path: constant_p) has its own b = 0 test
+        groups.setdefault((j["sample"], j["drainage"], s["stress_path"]), []).append(row)
     series = {k: sorted(g, key=lambda r: r["b"]) for k, g in groups.items()
               if any(r["b"] == 0 for r in g) and any(r["b"] > 0 for r in g)}
     if not series:
@@ -374,7 +378,9 @@ def failure_section(mono, window, tol, figs):
     dev.update({("cs", c): [] for c in range(3)})
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     bs = np.linspace(0, 1, 51)
-    for (sample, _), g in sorted(series.items()):
+    paths = {k[2] for k in series}
+    for (sample, _, path), g in sorted(series.items()):
+        at = " at constant p'" if path == "constant_p" else ""
         ref = next(r for r in g if r["b"] == 0)
         cells = {}
         for i, state in enumerate(("peak", "cs")):
@@ -385,7 +391,7 @@ def failure_section(mono, window, tol, figs):
                 continue
             phi0 = ref[state][0]
             line = ax[i].plot([r[state][1] for r in g if r[state]], [r[state][0] for r in g if r[state]], "o",
-                              label=f"mu_r = {ref['mu_r']:g} ({sample})")
+                              label=f"mu_r = {ref['mu_r']:g} ({sample}){at}")
             col = line[0].get_color()
             pred = np.array([failure_criteria(phi0, b) for b in bs])
             ax[i].plot(bs, pred[:, 0], "-", color=col, lw=1)
@@ -401,8 +407,8 @@ def failure_section(mono, window, tol, figs):
                     for c, p in enumerate((mc, mn, ld)):
                         dev[(state, c)].append(phi - p)
         for r in g:
-            servo = "-" if r["servo"] is None else f"{100 * r['servo']:.1f}"
-            rows.append(f"| {r['name']} | {r['mu_r']:g} | {r['b']:g} | "
+            servo = "-" if r["servo"] is None else f"{100 * r['servo']:.2f}"
+            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {r['b']:g} | "
                         + " | ".join(cells.get((r["name"], st), "| | | |") for st in ("peak", "cs")) + f" | {servo} |")
     for i, title in enumerate(("largest obliquity (phi'_max)", "critical state (phi_cs)")):
         ax[i].set(xlabel="b measured", ylabel="phi [deg] (wall stresses)",
@@ -421,7 +427,10 @@ def failure_section(mono, window, tol, figs):
             "peak table takes that one from the contacts' q/p'); the critical state's is the mean over the window. "
             "The last column is the largest distance of a lateral wall stress from its servo target over the shear "
             "(summary.json servo_error: sigma_3 from p'_0, sigma_2 from p'_0 + b (sigma_1 - p'_0)), in % of the target. "
-            "Figure: `figures/failure_criteria.png`.", "",
+            + ("Tests marked at constant p' (stress_path: constant_p) hold p' = p'_0, sigma_3 falling as sigma_1 rises "
+               "(their servo targets are those of that path); each path is calibrated on its own b = 0 test. "
+               if "constant_p" in paths else "")
+            + "Figure: `figures/failure_criteria.png`.", "",
             "| test | mu_r | b | b at phi'_max | phi'_max [°] | MC | MN | LD | b at c.s. | phi_cs [°] | MC | MN | LD | "
             "servo error [%] |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",

@@ -306,6 +306,10 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
           g.fail(g.key_path("b"), "= " + fmt(sc.b) + " needs a drained compression stage (here " +
                                       (sc.drainage != Drainage::Drained ? "undrained" : "direction: extension") +
                                       "); leave b out or give 0");
+        sc.constant_p = g.choice("stress_path", "constant_sigma3", {"constant_sigma3", "constant_p"}) == "constant_p";
+        if (sc.constant_p && sc.drainage != Drainage::Drained)
+          g.fail(g.key_path("stress_path"), "= constant_p needs a drained stage (undrained, the walls keep the volume "
+                                            "and p' is the test's result); leave stress_path out or give constant_sigma3");
       }
       if (sc.type == StageType::Cyclic) {
         sc.cycles = g.integer("cycles", 1, 1, 1000000);
@@ -429,6 +433,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
       if (sc.type == StageType::Triaxial)
         e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression") << YAML::Key << "b"
           << YAML::Value << sc.b;
+      if (sc.constant_p) e << YAML::Key << "stress_path" << YAML::Value << "constant_p";
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;

@@ -52,6 +52,12 @@ struct StageConfig {
   // 0: the standard test (sigma_x = sigma_y); 1: sigma_x = sigma_z, the Lode angle of triaxial extension under
   // compression's kinematics.
   Real b = 0;
+  // triaxial, drained: the stress path the lateral servo follows (choice, beyond SPEC §6.3's constant sigma_3).
+  // constant_p: sigma_3 = (3 p'_0 - (1 + b) sigma_z) / (2 - b) and sigma_2 = sigma_3 + b (sigma_z - sigma_3), so
+  // p' = p'_0 through the stage at the stage's b (in extension sigma_x = sigma_y = (3 p'_0 - sigma_z) / 2), sigma_z as
+  // the step finds it: the constant-mean-stress tests of the b-effect literature (Thornton 2000, Geotechnique 50(1);
+  // Ng 2004, J. Eng. Mech. 130(3)), whose results at several b are then at one p' and one void-ratio state.
+  bool constant_p = false;
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: strain reversal)   [Pa]

@@ -320,10 +320,21 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
 
 namespace {
 
-// A drained shear servos its lateral walls (start_stage): sigma_y to p'_0, sigma_x to x_wall_target.
+// A drained shear servos its lateral walls (start_stage) to lateral_targets.
 bool lateral_servo(const StageConfig& sc) { return sc.type != StageType::Isotropic && sc.drainage == Drainage::Drained; }
-// True triaxial (StageConfig::b): sigma_x = sigma_3 + b (sigma_z - sigma_3), sigma_3 = p'_0; p'_0 itself at b = 0.
-Real x_wall_target(const StageConfig& sc, Real p0, Real sz) { return p0 + sc.b * (sz - p0); }
+// Whether the lateral targets move with sigma_z (set every step in run_stage); otherwise both are p'_0 throughout.
+bool moving_lateral_targets(const StageConfig& sc) { return sc.b > 0 || sc.constant_p; }
+// The lateral walls' servo targets of a drained shear, given the step's sigma_z. sigma_y = sigma_3 and sigma_x =
+// sigma_3 + b (sigma_z - sigma_3) (true triaxial, StageConfig::b; sigma_x = sigma_y at b = 0), with sigma_3 = p'_0
+// (SPEC §6.3), or on the constant-p' path (StageConfig::constant_p) the sigma_3 that makes (sigma_x + sigma_y +
+// sigma_z) / 3 = p'_0: sigma_3 (2 - b) + sigma_z (1 + b) = 3 p'_0. Both hold in extension too (b = 0 there).
+struct LateralTargets {
+  Real sx, sy;
+};
+LateralTargets lateral_targets(const StageConfig& sc, Real p0, Real sz) {
+  const Real s3 = sc.constant_p ? (3 * p0 - (1 + sc.b) * sz) / (2 - sc.b) : p0;
+  return {s3 + sc.b * (sz - s3), s3};
+}
 
 // ------------------------------------------------------------------------------------------------
 class Laboratory {
@@ -945,12 +956,21 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // report or snapshot step: up to check_every - 1 steps past max_axial_strain).
     const bool strain_end = shear_end(sc, m0);
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
-    if (sc.b > 0) {
-      // True triaxial (StageConfig::b): the x walls hold sigma_3 + b (sigma_z - sigma_3) as this step finds sigma_z,
-      // from what a checkpoint restores, so a resumed run sets the same targets; sigma_3 = p'_0 on the y walls.
-      const Real target = x_wall_target(sc, lab_.p0, m0.sz);
-      e.wall_control(0).target_stress = target;
-      e.wall_control(1).target_stress = target;
+    if (lateral_servo(sc) && moving_lateral_targets(sc)) {
+      // True triaxial (StageConfig::b), the constant-p' path (StageConfig::constant_p): the lateral walls' targets
+      // as this step finds sigma_z, from what a checkpoint restores, so a resumed run sets the same targets.
+      const LateralTargets t = lateral_targets(sc, lab_.p0, m0.sz);
+      // On the constant-p' path sigma_3 falls as sigma_z rises; at sigma_z = 3 p'_0 / (1 + b) it would reach 0
+      // (q/p' = 3 at b = 0: beyond any frictional packing's strength, so a packing there is no longer a soil sample).
+      if (t.sy < 0.01 * lab_.p0) {
+        std::ostringstream os;
+        os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << e.step_count() << " (eps_a = "
+           << m0.eps_a << "): on the constant-p' path sigma_3 would be " << t.sy / 1e3 << " kPa with sigma_z = "
+           << m0.sz / 1e3 << " kPa (p'_0 = " << lab_.p0 / 1e3 << " kPa): the lateral walls cannot hold p'_0 with a "
+           << "positive confinement";
+        stop_run(os.str());
+      }
+      for (int k = 0; k < 4; ++k) e.wall_control(k).target_stress = k < 2 ? t.sx : t.sy;
     }
     if (cyclic) watch_cycle(sc, m0, turn);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
@@ -1191,13 +1211,14 @@ void Laboratory::assert_healthy() {
   if (!h.ok) stop_run(h.what);
 }
 
-// How far a drained shear's lateral walls are from their servo targets, relative, the larger of the two axes:
-// sigma_y against p'_0, sigma_x against p'_0 + b (sigma_z - p'_0) (true triaxial's target, here from the same
-// instant's sigma_z, where the servo used the step's start). 0 where no wall is servoed (undrained: placed).
+// How far a drained shear's lateral walls are from their servo targets (lateral_targets, here from the same instant's
+// sigma_z, where the servo used the step's start), relative, the larger of the two axes. 0 where no wall is servoed
+// (undrained: placed).
 Real Laboratory::servo_error(const StageConfig& sc, const Measure& m) const {
   if (!lateral_servo(sc)) return 0;
-  const Real p0 = lab_.p0, tx = std::max<Real>(x_wall_target(sc, p0, m.sz), 1e-30);
-  return std::max(std::abs(m.sy - p0) / p0, std::abs(m.sx - tx) / tx);
+  const LateralTargets t = lateral_targets(sc, lab_.p0, m.sz);
+  const Real tx = std::max<Real>(t.sx, 1e-30), ty = std::max<Real>(t.sy, 1e-30);
+  return std::max(std::abs(m.sy - ty) / ty, std::abs(m.sx - tx) / tx);
 }
 
 // The largest servo_error over the current stage's series rows (what a checkpoint restores, so a resumed run
@@ -1226,17 +1247,22 @@ Real Laboratory::stage_servo_error(const StageConfig& sc) const {
 void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
   const Real se = servo_error(sc, m);
   if (!(se > sc.max_servo_error)) return;
+  const LateralTargets t = lateral_targets(sc, lab_.p0, m.sz);
   std::ostringstream os;
   os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
      << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
-     << " kPa against p'_0 = " << lab_.p0 / 1e3 << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
-     << (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = ") << x_wall_target(sc, lab_.p0, m.sz) / 1e3
-     << " kPa: the worst "
+     << " kPa against " << (sc.constant_p ? "sigma_3 on the constant-p' path = " : "p'_0 = ") << t.sy / 1e3
+     << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
+     << (sc.constant_p ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")
+                       : (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = "))
+     << t.sx / 1e3 << " kPa: the worst "
      << 100 * se << " % off (max_servo_error " << sc.max_servo_error
      << "). A servo lags its target by a share that grows with the speed its walls must keep (true triaxial at "
-        "large b and strain drives the y walls out fastest): lower axial_strain_rate (now "
-     << sc.axial_strain_rate << "), raise the stage's servo_gain (now " << sc.servo_gain
-     << ", at most 1) or numerics.servo_max_step (now " << cfg_.engine.servo_max_step << " r_min a step)";
+        "large b and strain drives the y walls out fastest): "
+     << (sc.servo_integral > 0 ? "" : "set the stage's servo_integral (0.1 removes the lag; now 0), ")
+     << "lower axial_strain_rate (now " << sc.axial_strain_rate << "), raise the stage's servo_gain (now "
+     << sc.servo_gain << ", at most 1) or numerics.servo_max_step (now " << cfg_.engine.servo_max_step
+     << " r_min a step)";
   stop_run(os.str());
 }
 
@@ -1448,6 +1474,8 @@ void Laboratory::write_summary() const {
       js << ", \"drainage\": \"" << (sc.drainage == Drainage::Undrained ? "undrained" : "drained") << "\"";
     if (sc.type == StageType::Triaxial)
       js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
+    if (lateral_servo(sc) && sc.type == StageType::Triaxial)
+      js << ", \"stress_path\": \"" << (sc.constant_p ? "constant_p" : "constant_sigma3") << "\"";
     js << ", \"done\": " << (r.converged ? "true" : "false") << ", \"steps\": " << r.steps << ", \"mu\": " << num(r.mu)
        << ", \"p\": " << num(r.p) << ", \"q\": " << num(r.q) << ", \"e\": " << num(r.e);
     if (sc.type == StageType::Cyclic) {
@@ -1629,6 +1657,7 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
         const double need = std::ceil(sc.max_axial_strain / strain_step) + 1;
         os << "triaxial " << drainage;
         if (sc.b > 0) os << " (true triaxial, b = " << sc.b << ")";
+        if (sc.constant_p) os << " at constant p'";
         os << (sc.extension ? " extension to eps_a = -" : " to eps_a = ") << sc.max_axial_strain << " at " << sc.axial_strain_rate
            << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6) << need << " steps";
         plan.steps.push_back(std::min(need, double(sc.max_steps)));

@@ -67,11 +67,11 @@ for phi_tc in (15.0, 30.0, 45.0):
 # phi = 30 deg: roots of I1 I2 - k I3 (resp. I1^3 - k I3) in N = sigma_1 / sigma_3, sigma_2 = 1 + b (N - 1).
 
 
-def root(b, which):
+def root(b, which, N0=3.0):
     N = P([0, 1])
     s2 = 1 + b * (N - 1)
     i1, i2, i3 = N + s2 + 1, N * s2 + s2 + N, N * s2
-    k = ratios(3.0, 1.0, 1.0)[which]
+    k = ratios(N0, 1.0, 1.0)[which]
     poly = i1 * i2 - k * i3 if which == 0 else i1 ** 3 - k * i3
     r = [x.real for x in poly.roots() if abs(x.imag) < 1e-9 and x.real > 1 + 1e-9]
     assert len(r) == 1, (b, which, poly.roots())
@@ -86,20 +86,28 @@ N_mn = {b: (3.0 if b == 0 else root(b, 0)) for b in (0.0, 0.5, 1.0)}
 phi = {b: angle(N) for b, N in N_mn.items()}
 phi_ld = {b: angle(root(b, 1)) for b in (0.5, 1.0)}
 check("MN at b = 1 (by roots)", phi[1.0], 30.0, 1e-9)
+# A second series of the same sample on the constant-p' path (summary.json stress_path: constant_p), on MN's surface
+# through sigma_1 / sigma_3 = 3.5 at b = 0 (33.7 deg): calibrated on its own b = 0 test, MN fits it exactly too; a
+# report that pooled the two paths would calibrate both on one b = 0 test and give MN a misfit.
+N_cp = {b: (3.5 if b == 0 else root(b, 0, 3.5)) for b in (0.0, 0.5, 1.0)}
+phi_cp = {b: angle(N) for b, N in N_cp.items()}
+phi_ld_cp = {b: angle(root(b, 1, 3.5)) for b in (0.5, 1.0)}
 
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/failure_criteria_check"
 shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "sigma_x", "sigma_y", "sigma_z", "a_c",
         "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff"]
 jobs = []
-for b, N in N_mn.items():
-    name = "shear_drained_mur0.3_ebase_pbase_s1_n300" + (f"_b{b:g}" if b > 0 else "")
+for path, b, N in [("", b, N) for b, N in N_mn.items()] + [("constant_p", b, N) for b, N in N_cp.items()]:
+    name = "shear_drained_mur0.3_ebase_pbase_s1_n300" + (f"_b{b:g}" if b > 0 else "") + ("_cp" if path else "")
     run = os.path.join(work, "jobs", name, "run")
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
     with open(os.path.join(run, "summary.json"), "w") as f:
         shear = {"name": "shear", "type": "triaxial", "b": b}
-        if b == 0.5:
+        if path:
+            shear["stress_path"] = path  # the constant-sigma_3 series has none (an older build's summary)
+        if b == 0.5 and not path:
             shear["servo_error"] = 0.034  # the table's last column, in %; a summary without it (older build): "-"
         json.dump({"stages": [{"name": "c", "type": "isotropic"}, shear]}, f)
     s1, s2 = 1e5 * N, 1e5 * (1 + b * (N - 1))
@@ -132,16 +140,22 @@ section = report.split("## Failure criteria (true triaxial)")[1]
 line = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |")), "")
 # the row: measured b and angles, then the three predictions, at the peak and at the critical state
 want = f"| 0.50 | {phi[0.5]:.1f} | 30.0 | {phi[0.5]:.1f} | {phi_ld[0.5]:.1f}"  # twice: the cells share a "|"
-if line.count(want) != 2 or not line.endswith("| 3.4 |"):
-    fails.append(f"b = 0.5 row: expected twice '{want}' and servo error 3.4 %, got '{line}'")
+if line.count(want) != 2 or not line.endswith("| 3.40 |"):
+    fails.append(f"b = 0.5 row: expected twice '{want}' and servo error 3.40 %, got '{line}'")
+cp = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5_cp at constant p' |")), "")
+want = f"| 0.50 | {phi_cp[0.5]:.1f} | {phi_cp[0.0]:.1f} | {phi_cp[0.5]:.1f} | {phi_ld_cp[0.5]:.1f}"
+if cp.count(want) != 2:
+    fails.append(f"constant-p' b = 0.5 row: expected twice '{want}' (its own b = 0 test's {phi_cp[0.0]:.1f} deg), got '{cp}'")
+if "each path is calibrated on its own b = 0 test" not in section:
+    fails.append("the section does not say that the constant-p' tests are calibrated apart")
 line0 = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300 |")), "")
 if not line0.endswith("| - |"):
     fails.append(f"b = 0 row: a summary without servo_error must show '-', got '{line0}'")
-mc = math.sqrt(((phi[0.5] - 30) ** 2 + (phi[1.0] - 30) ** 2) / 2)
-ld = math.sqrt(((phi[0.5] - phi_ld[0.5]) ** 2 + (phi[1.0] - phi_ld[1.0]) ** 2) / 2)
+mc = math.sqrt(sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) / 4)
+ld = math.sqrt(sum((ph[b] - pl[b]) ** 2 for ph, pl in ((phi, phi_ld), (phi_cp, phi_ld_cp)) for b in (0.5, 1.0)) / 4)
 for lab in ("largest obliquity", "critical state"):
     row = next((l for l in section.splitlines() if l.startswith(f"| {lab} |")), "")
-    want = f"| {lab} | {mc:.2f}° (2) | 0.00° (2) | {ld:.2f}° (2) |"
+    want = f"| {lab} | {mc:.2f}° (4) | 0.00° (4) | {ld:.2f}° (4) |"
     if row != want:
         fails.append(f"misfit row: expected '{want}', got '{row}'")
 print(f"MN surface through phi_tc = 30 deg: phi(b=0.5) = {phi[0.5]:.3f}, LD there {phi_ld[0.5]:.3f}; "

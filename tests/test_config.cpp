@@ -142,6 +142,12 @@ TEST(Config, RejectsBadInputClearly) {
       {"b_ext", "stages:\n  - {type: triaxial, drainage: drained, direction: extension, b: 0.5}\n",
        "stages[0].b = 0.5 needs a drained compression stage (here direction: extension)"},
       {"b_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, b: 0.5}\n", "stages[0].b: unknown key"},
+      // the constant-p' path: a drained triaxial stage's (undrained, the walls keep the volume)
+      {"path_und", "stages:\n  - {type: triaxial, stress_path: constant_p}\n",
+       "stages[0].stress_path = constant_p needs a drained stage"},
+      {"path_bad", "stages:\n  - {type: triaxial, drainage: drained, stress_path: constant_q}\n", "stages[0].stress_path"},
+      {"path_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, stress_path: constant_p}\n",
+       "stages[0].stress_path: unknown key"},
       // the servo's integral action: [0, 0.5] (WallControl::integral: stable below 1 on an ideal wall)
       {"ki_big", "stages:\n  - {type: triaxial, drainage: drained, servo_integral: 0.8}\n",
        "stages[0].servo_integral = 0.8 is outside the allowed range [0, 0.5]"},

@@ -779,6 +779,89 @@ TEST(Lab, TrueTriaxialHoldsTheIntermediateStressRatio) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(outs[0.5] + "/series.csv"));
 }
 
+// The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
+// sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
+// sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
+// Every row past the first 0.1 % of strain: p' within kPTol of p'_0 (measured largest 0.013-0.017 %); in compression b
+// within kBTol once the deviator is 20 % of p'_0 (as Lab.TrueTriaxialHoldsTheIntermediateStressRatio; measured within
+// 0.0008); in extension sigma_x = sigma_y within kPTol. Against constant sigma_3 on the same sample, where p' climbs
+// with q/3 (measured 190 -> 246 kPa): there p' ends more than 10 % above p'_0 while here sigma_3 ends more than 5 %
+// below it (measured 143 kPa at b = 0, 115 kPa at b = 0.5). config.yaml and summary.json name the
+// path, validate's plan says it; interrupted halfway and resumed = uninterrupted byte for byte (the targets come from
+// the wall loads the checkpoint restores).
+TEST(Lab, ConstantPPathHoldsTheMeanStress) {
+  const double kPTol = 0.01, kBTol = 0.03;
+  const auto cfg = [](const std::string& tag, const std::string& extra) {
+    return on_reference("cp_" + tag,
+                        "  - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 1.0, max_axial_strain: "
+                        "0.02, damping: 0.2, servo_integral: 0.1" + extra + "}\n", 20);
+  };
+  struct Case {
+    std::string tag, extra;
+    double b;
+    bool extension;
+  };
+  const std::vector<Case> cases = {{"c0", ", stress_path: constant_p", 0, false},
+                                   {"c5", ", stress_path: constant_p, b: 0.5", 0.5, false},
+                                   {"e0", ", stress_path: constant_p, direction: extension", 0, true},
+                                   {"s3", "", 0, false}};
+  std::map<std::string, std::string> outs;
+  std::map<std::string, long> steps;
+  std::map<std::string, double> p_end, s3_end, p0s;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.tag);
+    const std::string out = tmpdir("cp_" + c.tag);
+    const RunResult r = run(cfg(c.tag, c.extra), out);
+    ASSERT_TRUE(r.stages.at(0).converged);
+    outs[c.tag] = out;
+    steps[c.tag] = r.stages[0].steps;
+    H5Reader h(out + "/run.h5");
+    const auto sx = h.doubles("/series/sigma_x"), sy = h.doubles("/series/sigma_y"), sz = h.doubles("/series/sigma_z"),
+               ea = h.doubles("/series/eps_a");
+    const double p0 = (sx[0] + sy[0] + sz[0]) / 3;  // the stage's p'_0 (its first row: before any wall moved)
+    double worst_p = 0, worst_b = 0;
+    int rows = 0;
+    for (size_t k = 1; k < sz.size(); ++k) {
+      if (std::abs(ea[k]) < 1e-3) continue;
+      ++rows;
+      const double p = (sx[k] + sy[k] + sz[k]) / 3;
+      if (c.tag != "s3") {
+        worst_p = std::max(worst_p, std::abs(p - p0) / p0);
+        EXPECT_NEAR(p, p0, kPTol * p0) << "row " << k;
+        if (c.extension) {
+          EXPECT_NEAR(sx[k], sy[k], kPTol * p0) << "row " << k;
+        }
+      }
+      if (!c.extension && sz[k] - sy[k] > 0.2 * p0) {
+        const double b = (sx[k] - sy[k]) / (sz[k] - sy[k]);
+        worst_b = std::max(worst_b, std::abs(b - c.b));
+        EXPECT_NEAR(b, c.b, kBTol) << "row " << k;
+      }
+    }
+    EXPECT_GT(rows, 100);
+    p0s[c.tag] = p0;
+    p_end[c.tag] = (sx.back() + sy.back() + sz.back()) / 3;
+    s3_end[c.tag] = c.extension ? sz.back() : sy.back();
+    std::printf("  %s: largest |p' - p'_0| / p'_0 %.5f, |b - %.1f| %.4f; at the end sigma_x, sigma_y, sigma_z = %.4g, "
+                "%.4g, %.4g kPa, p' %.4g kPa (p'_0 %.4g)\n", c.tag.c_str(), worst_p, c.b, worst_b, sx.back() / 1e3,
+                sy.back() / 1e3, sz.back() / 1e3, p_end[c.tag] / 1e3, p0 / 1e3);
+    const std::string js = slurp(out + "/summary.json");
+    EXPECT_NE(js.find(c.tag == "s3" ? "\"stress_path\": \"constant_sigma3\"" : "\"stress_path\": \"constant_p\""),
+              std::string::npos) << js;
+    EXPECT_EQ(slurp(out + "/config.yaml").find("stress_path: constant_p") != std::string::npos, c.tag != "s3");
+    EXPECT_EQ(plan_run(load_run_config(cfg(c.tag, c.extra))).stages.at(0).find("at constant p'") != std::string::npos,
+              c.tag != "s3");
+  }
+  EXPECT_GT(p_end["s3"], 1.1 * p0s["s3"]) << "constant sigma_3: p' climbs with q / 3";
+  EXPECT_LT(s3_end["c0"], 0.95 * p0s["c0"]) << "constant p': sigma_3 gives way as sigma_z rises";
+  EXPECT_LT(s3_end["c5"], 0.95 * p0s["c5"]);
+  // interrupted halfway and resumed: the uninterrupted run, byte for byte
+  const std::string stopped = tmpdir("cp_stopped");
+  ASSERT_TRUE(run(cfg("c5", cases[1].extra), stopped, steps["c5"] / 2).interrupted);
+  ASSERT_FALSE(run(cfg("c5", cases[1].extra), stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(outs["c5"] + "/series.csv"));
+}
+
 // A drained shear whose lateral servo falls further behind its target than max_servo_error stops like a blow-up
 // (BlowUpError: exit 3), naming the stage, the stresses and the remedies, with series.csv written up to the row that
 // found it. summary.json gives each drained stage's largest error over its series rows: the same test bounded just
@@ -817,6 +900,7 @@ TEST(Lab, DrainedShearStopsWhenItsServoLosesTheTarget) {
   EXPECT_NE(below.find("stage 'shear' stopped at step"), std::string::npos) << below;
   EXPECT_NE(below.find("servo lost its target"), std::string::npos) << below;
   EXPECT_NE(below.find("lower axial_strain_rate"), std::string::npos) << below;
+  EXPECT_NE(below.find("set the stage's servo_integral"), std::string::npos) << below;
   EXPECT_TRUE(fs::exists(below_out + "/blowup.txt"));
   const std::string part = slurp(below_out + "/series.csv"), whole = slurp(free_out + "/series.csv");
   EXPECT_LT(part.size(), whole.size());
