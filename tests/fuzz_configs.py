@@ -17,7 +17,8 @@ hostile = ["-1", "0", "1e308", "-1e308", ".nan", ".inf", "-.inf", "NaN", "abc", 
 keys = ["count", "D", "r_min", "r_max", "seed", "mu", "mu_r", "E", "dt", "dt_factor", "skin", "inner_skin", "type", "stages",
         "pressure", "target_e0", "drainage", "file", "dir", "every", "sample", "material", "numerics", "output",
         "ключ", "😀", "", "max_steps", "max_axial_strain", "axial_strain_rate", "keep_checkpoints",
-        "cycles", "q_amplitude", "strain_amplitude", "liquefaction_ru", "liquefaction_da_strain"]
+        "cycles", "q_amplitude", "strain_amplitude", "liquefaction_ru", "liquefaction_da_strain", "b", "direction",
+        "servo_gain", "servo_integral", "stress_path", "max_servo_error"]
 
 
 def mutate(text):
