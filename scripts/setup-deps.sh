@@ -30,8 +30,14 @@ fi
 if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   say "installing Debian packages: ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+  # Two setups at once (make test in two clones) used to fail on dpkg's lock ("Could not get lock"): grainlab's
+  # own setups queue on a lock file, and apt waits up to 10 minutes for any other holder of dpkg's.
+  mkdir -p "$DEPS_DIR"
+  exec 8>"$DEPS_DIR/.apt-lock"; flock 8
+  APTWAIT=(-o DPkg::Lock::Timeout=600)
+  $SUDO apt-get "${APTWAIT[@]}" update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get "${APTWAIT[@]}" install -y -qq --no-install-recommends "${missing[@]}" >&2
+  exec 8>&-
 fi
 
 # ---- 2. Kokkos -------------------------------------------------------------------------------

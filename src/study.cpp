@@ -34,7 +34,8 @@ namespace {
 
 std::vector<double> numbers(const YAML::Node& n, const std::string& path, const std::string& key) {
   std::vector<double> out;
-  if (!n) return out;
+  // An absent axis (a study without `axes:` passes a null node for each) or one left blank has no values.
+  if (!n || n.IsNull()) return out;
   const YAML::Node seq = n.IsSequence() ? n : YAML::Node(std::vector<YAML::Node>{n});
   for (auto v : seq) {
     double x = 0;
@@ -146,10 +147,10 @@ Study load_study_unchecked(const std::string& path) {
   s.path = path;
   const YAML::Node root = load_yaml_screened(path);
   if (!root.IsMap()) throw ConfigError(path + ": (top level): must be a mapping");
-  const std::set<std::string> known = {"base", "axes", "extra", "critical_state"};
+  const std::set<std::string> known = {"base", "axes", "extra", "critical_state", "peak"};
   for (auto it : root)
     if (!known.count(it.first.as<std::string>()))
-      fail(path, it.first.as<std::string>(), "unknown key (known: base, axes, extra, critical_state)");
+      fail(path, it.first.as<std::string>(), "unknown key (known: base, axes, extra, critical_state, peak)");
   if (!root["base"]) fail(path, "base", "is required (a run config whose stages prepare and shear a sample)");
   s.base = root["base"].as<std::string>();
   if (s.base[0] != '/') s.base = (fs::path(path).parent_path() / s.base).string();
@@ -206,6 +207,25 @@ Study load_study_unchecked(const std::string& path) {
       else if (k == "p_tol") s.p_tol = v;
       else if (k == "e_tol") s.e_tol = v;
       else fail(path, "critical_state." + k, "unknown key (known: window, qp_tol, p_tol, e_tol)");
+    }
+  }
+  if (const YAML::Node pk = root["peak"]) {
+    if (!pk.IsMap()) fail(path, "peak", "must be a mapping ({window: W, max_ke_ratio: X})");
+    for (auto it : pk) {
+      const std::string k = it.first.as<std::string>(), key = "peak." + k;
+      if (k != "window" && k != "max_ke_ratio") fail(path, key, "unknown key (known: window, max_ke_ratio)");
+      // window in [0, 0.2] of axial strain (0: single rows; a fifth of a 40 % test at most, or no peak is left);
+      // max_ke_ratio in (0, 10] (above 10 kinetic energy dwarfs the elastic and no row is left out).
+      const bool win = k == "window";
+      const std::string range = win ? "[0, 0.2] (axial strain)" : "(0, 10] (kinetic / elastic energy)";
+      double v = 0;
+      try {
+        v = it.second.as<double>();
+      } catch (const YAML::Exception&) {
+        fail(path, key, "must be a number in " + range);
+      }
+      if (win ? !(v >= 0 && v <= 0.2) : !(v > 0 && v <= 10)) fail(path, key, "must be in " + range);
+      (win ? s.peak_window : s.peak_max_ke) = v;
     }
   }
   // Axes: the full grid; each axis defaults to the base config's value (drainage: its first shear's).
@@ -654,7 +674,9 @@ int run_study(const Study& s, const StudyOptions& o) {
     std::ostringstream js;
     js << "{\n  \"study\": " << json_string(s.path) << ",\n  \"strain_stage\": " << json_string(s.strain_stage)
        << ",\n  \"critical_state\": {\"window\": " << s.window
-       << ", \"qp_tol\": " << s.qp_tol << ", \"p_tol\": " << s.p_tol << ", \"e_tol\": " << s.e_tol << "},\n  \"jobs\": [\n";
+       << ", \"qp_tol\": " << s.qp_tol << ", \"p_tol\": " << s.p_tol << ", \"e_tol\": " << s.e_tol
+       << "},\n  \"peak\": {\"window\": " << s.peak_window << ", \"max_ke_ratio\": " << s.peak_max_ke
+       << "},\n  \"jobs\": [\n";
     for (size_t k = 0; k < s.shears.size(); ++k) {
       const StudyJob& j = s.shears[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name

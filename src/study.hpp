@@ -36,6 +36,11 @@ struct Study {
   std::string strain_stage;  // the base's strain-controlled cyclic stage (the strain_amplitude axis sets it), if any
   std::vector<StudyJob> samples, shears;
   double window = 0.05, qp_tol = 0.05, p_tol = 0.05, e_tol = 0.005;  // critical-state detection
+  // How the report takes a shear's peaks (largest |q|, q/p', obliquity; `peak: {window: W, max_ke_ratio: X}`): each
+  // measure averaged over W of axial strain about each row first (0: single rows), since the stress ratio of a few
+  // thousand spheres fluctuates by degrees from row to row and the largest of single rows is its largest fluctuation;
+  // and over the rows whose kinetic / elastic energy (series ke_ratio) is at most max_ke_ratio (0: every row).
+  double peak_window = 0, peak_max_ke = 0;
 };
 
 Study load_study(const std::string& path);

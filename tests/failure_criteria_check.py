@@ -10,6 +10,10 @@
    solved as a polynomial's root by numpy, not by the bisection under test): the report must give Matsuoka-Nakai a
    misfit of 0.00 deg at the peak and at the critical state, Mohr-Coulomb and Lade-Duncan the misfits worked out here
    from those roots, the servo error of summary.json (or '-' without it), and the figure.
+3. How the peaks are taken (study.json peak block): a dynamic row (kinetic / elastic energy 0.1) whose angle
+   overshoots every other is the peak of single rows (no block: an older build's study.json; or the block at its
+   defaults); peak.max_ke_ratio leaves it out and the last column names it; peak.window averages each row's angle
+   over its neighbours within the window first (checked against a plain loop).
 """
 import csv
 import json
@@ -96,7 +100,17 @@ phi_ld_cp = {b: angle(root(b, 1, 3.5)) for b in (0.5, 1.0)}
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/failure_criteria_check"
 shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "sigma_x", "sigma_y", "sigma_z", "a_c",
-        "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff"]
+        "a_d", "a_n", "a_t", "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff", "ke_ratio"]
+# A dynamic event in the constant-sigma_3 b = 0.5 test: at 28 % strain one row whose deviator overshoots 1.5 times the
+# final one (b unchanged) with kinetic / elastic energy 0.1, every other row 0.005. Single rows and every row (the
+# study.json of an older build, without a peak block): the spike is the peak. With peak.max_ke_ratio 0.02 the peak
+# leaves it out, and the last column names it. With peak.window 0.05 the angles are averaged over the rows within
+# 2.5 % of strain (5 rows at this 1 % spacing, no row on the window's edge) before the largest is taken: worked out
+# here by a plain loop over the rows, not by the cumulative sums under test.
+KE_MAX, SPIKE_ROW, SPIKE_KE, SPIKE, WINDOW = 0.02, 28, 0.1, 1.5, 0.05
+s1_sp, s3_sp = 1 + SPIKE * (N_mn[0.5] - 1), 1.0
+phi_spike = math.degrees(math.asin((s1_sp - s3_sp) / (s1_sp + s3_sp)))
+b05_angles = []  # the b = 0.5 (constant sigma_3) test's angle of every row, for the window's oracle
 jobs = []
 for path, b, N in [("", b, N) for b, N in N_mn.items()] + [("constant_p", b, N) for b, N in N_cp.items()]:
     name = "shear_drained_mur0.3_ebase_pbase_s1_n300" + (f"_b{b:g}" if b > 0 else "") + ("_cp" if path else "")
@@ -118,20 +132,59 @@ for path, b, N in [("", b, N) for b, N in N_mn.items()] + [("constant_p", b, N) 
             ea = 0.01 * i
             ramp = min(1.0, ea / 0.3)
             sx, sy, sz = 1e5 + ramp * (s2 - 1e5), 1e5, 1e5 + ramp * (s1 - 1e5)
+            ke = 0.005
+            if b == 0.5 and not path and i == SPIKE_ROW:
+                sx, sz, ke = 1e5 + SPIKE * (s2 - 1e5), 1e5 + SPIKE * (s1 - 1e5), SPIKE_KE
             p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
+            if b == 0.5 and not path:
+                b05_angles.append(math.degrees(math.asin((sz - sy) / (sz + sy))))
             w.writerow(["shear", i, i, ea, p, q, q / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25,
-                        0.25, q / p])
+                        0.25, q / p, ke])
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300", "mu_r": 0.3,
                  "e0": 0, "p0": 0, "drainage": "drained", "direction": "compression", "b": b, "seed": 1, "count": 300,
                  "csr": 0, "cycles": 0, "strain_amplitude": 0})
-with open(os.path.join(work, "study.json"), "w") as f:
-    json.dump({"study": "synthetic", "strain_stage": "",
-               "critical_state": {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005}, "jobs": jobs}, f)
-out = subprocess.run([sys.executable, script, "study", work], capture_output=True, text=True)
-print(out.stdout, out.stderr)
-if out.returncode != 0:
-    sys.exit("the study report failed")
-report = open(os.path.join(work, "report.md")).read()
+
+
+def report_of(peak):
+    """The report of the synthetic study with this peak block in its study.json (None: without the block)."""
+    with open(os.path.join(work, "study.json"), "w") as f:
+        json.dump({"study": "synthetic", "strain_stage": "",
+                   "critical_state": {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005}, "jobs": jobs,
+                   **({"peak": peak} if peak is not None else {})}, f)
+    out = subprocess.run([sys.executable, script, "study", work], capture_output=True, text=True)
+    print(out.stdout, out.stderr)
+    if out.returncode != 0:
+        sys.exit("the study report failed")
+    return open(os.path.join(work, "report.md")).read()
+
+
+def b05_rows(report):
+    """The b = 0.5 (constant sigma_3) test's rows of the failure-criteria section and of the peak table."""
+    name = "| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |"
+    return (next((l for l in report.split("## Failure criteria (true triaxial)")[1].splitlines() if l.startswith(name)), ""),
+            next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(name)), ""))
+
+
+single = f"{phi_spike:.1f}° at {SPIKE_ROW:.1f} % (ke_ratio {SPIKE_KE:.3f})"  # the largest single row, named in every report
+# Single rows, every row (an older build's study.json; the block at its defaults says the same): the spike is the peak.
+for blk in (None, {"window": 0, "max_ke_ratio": 0}):
+    old_report = report_of(blk)
+    fc, pk = b05_rows(old_report)
+    if not fc.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 | 0.3 | 0.5 | 0.50 | " + f"{phi_spike:.1f} |") \
+            or not fc.endswith(f"| {single} |") or not pk.endswith(f"({phi_spike:.1f}°) | {single} |") \
+            or "Peaks are the largest of single rows;" not in old_report:
+        fails.append(f"peak block {blk}: the spike ({phi_spike:.1f} deg) must be the b = 0.5 peak, got '{fc}' and '{pk}'")
+# The window: the largest 5-row mean of the angle, about the spike (above the steady 33.7 deg, below the spike's own).
+e = [0.01 * i for i in range(41)]
+means = [np.mean([a for a, ej in zip(b05_angles, e) if abs(ej - ei) < WINDOW / 2]) for ei in e]
+phi_w = max(means)
+win_report = report_of({"window": WINDOW, "max_ke_ratio": 0})
+fc, pk = b05_rows(win_report)
+if f"| 0.50 | {phi_w:.1f} | 30.0 |" not in fc or not pk.endswith(f"({phi_w:.1f}°) | {single} |") \
+        or "averaged over 5 % of axial strain" not in win_report:
+    fails.append(f"peak window {WINDOW}: expected phi'_max {phi_w:.3f} deg (the largest 5-row mean), got '{fc}' and '{pk}'")
+print(f"b = 0.5 with the spike: single rows {phi_spike:.3f} deg, 5-row means {phi_w:.3f} deg, without it {phi[0.5]:.3f}")
+report = report_of({"window": 0, "max_ke_ratio": KE_MAX})
 if "## Failure criteria (true triaxial)" not in report:
     sys.exit("no failure-criteria section in report.md")
 if not os.path.isfile(os.path.join(work, "figures", "failure_criteria.png")):
@@ -140,8 +193,15 @@ section = report.split("## Failure criteria (true triaxial)")[1]
 line = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |")), "")
 # the row: measured b and angles, then the three predictions, at the peak and at the critical state
 want = f"| 0.50 | {phi[0.5]:.1f} | 30.0 | {phi[0.5]:.1f} | {phi_ld[0.5]:.1f}"  # twice: the cells share a "|"
-if line.count(want) != 2 or not line.endswith("| 3.40 |"):
-    fails.append(f"b = 0.5 row: expected twice '{want}' and servo error 3.40 %, got '{line}'")
+dyn = f"{single}; 1 row above ke_ratio {KE_MAX:g} left out"
+if line.count(want) != 2 or not line.endswith(f"| 3.40 | {dyn} |"):
+    fails.append(f"b = 0.5 row: expected twice '{want}', servo error 3.40 % and '{dyn}', got '{line}'")
+peak = next((l for l in report.split("## Peak states")[1].splitlines()
+             if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |")), "")
+if not peak.endswith(f"({phi[0.5]:.1f}°) | {dyn} |"):
+    fails.append(f"peak table, b = 0.5: expected phi'_max {phi[0.5]:.1f} deg and '{dyn}', got '{peak}'")
+if f"ke_ratio) is at most {KE_MAX:g} (peak.max_ke_ratio)" not in report:
+    fails.append("the report does not state the ke_ratio threshold")
 cp = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5_cp at constant p' |")), "")
 want = f"| 0.50 | {phi_cp[0.5]:.1f} | {phi_cp[0.0]:.1f} | {phi_cp[0.5]:.1f} | {phi_ld_cp[0.5]:.1f}"
 if cp.count(want) != 2:
@@ -149,7 +209,7 @@ if cp.count(want) != 2:
 if "each path is calibrated on its own b = 0 test" not in section:
     fails.append("the section does not say that the constant-p' tests are calibrated apart")
 line0 = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300 |")), "")
-if not line0.endswith("| - |"):
+if "| - | " not in line0 or not line0.endswith("(ke_ratio 0.005) |"):
     fails.append(f"b = 0 row: a summary without servo_error must show '-', got '{line0}'")
 mc = math.sqrt(sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) / 4)
 ld = math.sqrt(sum((ph[b] - pl[b]) ** 2 for ph, pl in ((phi, phi_ld), (phi_cp, phi_ld_cp)) for b in (0.5, 1.0)) / 4)

@@ -13,6 +13,9 @@ out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study fa
 printf '%s\n' "$out" | grep -q "2 samples, 5 shears; 7 to run" || fail "unexpected plan: $out"
 [ "$(ls st/jobs/*/done | wc -l)" -eq 7 ] || fail "expected 7 finished jobs: $(ls st/jobs)"
 grep -q "## Critical states" st/report.md || fail "report.md lacks its critical-state section"
+# The report's peak settings reach study.json (defaults: single rows, every row) and the report says so.
+grep -q '"peak": {"window": 0, "max_ke_ratio": 0}' st/study.json || fail "study.json lacks the default peak block"
+grep -q "Peaks are the largest of single rows;" st/report.md || fail "report.md does not say how its peaks are taken"
 # The direction axis: one extension shear per sample (named _ext, job.yaml says so), q < 0 at its peak, and its
 # mobilised friction angle from the extension relation (3M / (6 - M)), recomputed here from the row's own M.
 [ "$(ls -d st/jobs/shear_*_ext | wc -l)" -eq 2 ] || fail "expected 2 extension shears: $(ls st/jobs)"

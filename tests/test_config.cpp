@@ -204,12 +204,36 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
       {"study_close", "axes: {mu_r: [0.1, 0.10000001]}\n", "axes: two values of mu_r, e0 or p0 agree to 6 significant"},
       // Valid on the axis (>= 0), outside the run config's [0, 10]: found in the job's config.
       {"study_job", "axes: {mu_r: [50]}\n", "(job sample_mur50_ebase_pbase_s11_n5000): material.mu_r = 50 is outside"},
+      // How the report takes its peaks (Study::peak_window, peak_max_ke).
+      {"study_pk_win", "peak: {window: 0.3}\n", "peak.window: must be in [0, 0.2] (axial strain)"},
+      {"study_pk_win_neg", "peak: {window: -0.01}\n", "peak.window: must be in [0, 0.2] (axial strain)"},
+      {"study_pk_zero", "peak: {max_ke_ratio: 0}\n", "peak.max_ke_ratio: must be in (0, 10] (kinetic / elastic"},
+      {"study_pk_big", "peak: {max_ke_ratio: 11}\n", "peak.max_ke_ratio: must be in (0, 10]"},
+      {"study_pk_word", "peak: {max_ke_ratio: high}\n", "peak.max_ke_ratio: must be a number in (0, 10]"},
+      {"study_pk_key", "peak: {width: 0.1}\n", "peak.width: unknown key (known: window, max_ke_ratio)"},
+      {"study_pk_map", "peak: 0.1\n", "peak: must be a mapping"},
+      {"study_top", "peaks: {window: 0.01}\n", "peaks: unknown key (known: base, axes, extra, critical_state, peak)"},
   };
   for (const Case& c : cases) {
     const std::string e = study_error(c.name, c.axes);
     EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
     EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
   }
+}
+
+// How the report takes its peaks: single rows and every row unless the study's `peak` block says otherwise. A study
+// of a base alone (no axes: the base's own test, once) loads: it used to fail with "axes.mu_r: must be a number", an
+// absent axes block reading as a null value on every axis.
+TEST(Config, StudyPeakSettingsDefaultAndAreRead) {
+  const std::string base = "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n";
+  const Study alone = load_study(write_tmp("study_pk_default", base));
+  EXPECT_EQ(alone.peak_window, 0.0);
+  EXPECT_EQ(alone.peak_max_ke, 0.0);
+  EXPECT_EQ(alone.samples.size(), 1u);
+  EXPECT_EQ(alone.shears.size(), 1u);
+  const Study set = load_study(write_tmp("study_pk_set", base + "peak: {window: 0.02, max_ke_ratio: 0.05}\n"));
+  EXPECT_EQ(set.peak_window, 0.02);
+  EXPECT_EQ(set.peak_max_ke, 0.05);
 }
 
 // Cyclic studies: the csr axis sets each cyclic job's q_amplitude to 2 csr p'_0 (the p0 axis, else the base's

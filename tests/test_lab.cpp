@@ -862,6 +862,50 @@ TEST(Lab, ConstantPPathHoldsTheMeanStress) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(outs["c5"] + "/series.csv"));
 }
 
+// The constant-p' path's floor: sigma_3 = (3 p'_0 - sigma_z) / 2 at b = 0 reaches 0 at sigma_z = 3 p'_0, beyond any
+// frictional packing's quasi-static strength, but not beyond a wall that strikes the sample: at 400/s (1.2e-3 strain a
+// step, undamped) the top wall's impact lifts sigma_z above 3 p'_0 within a few steps (measured: 694 kPa against
+// p'_0 = 190 kPa at step 5; rows every 20 steps, so the servo's own bound, checked on rows, does not see the impact
+// first). The run must stop there like a blow-up (BlowUpError: exit 3, blowup.txt, the series so far: the stage's
+// first row), its message giving the sigma_3 the path asked for, which must be (3 p'_0 - sigma_z) / 2 of the stresses it
+// names (to their 4 printed digits) and below 1 % of p'_0. The same loading on the constant-sigma_3 path never asks
+// for a vanishing sigma_3, so that message cannot come from it.
+TEST(Lab, ConstantPPathStopsWhereSigma3WouldVanish) {
+  const auto cfg = [](const std::string& tag, const std::string& path) {
+    return on_reference("cp_floor_" + tag,
+                        "  - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 400, max_axial_strain: "
+                        "0.05, damping: 0.0, servo_integral: 0.1" + path + "}\n", 20);
+  };
+  const auto stopped = [&](const std::string& tag, const std::string& path) {
+    const std::string out = tmpdir("cp_floor_" + tag);
+    std::string what;
+    try {
+      run(cfg(tag, path), out);
+    } catch (const BlowUpError& e) {
+      what = e.what();
+    }
+    return std::make_pair(out, what);
+  };
+  const auto [out, what] = stopped("p", ", stress_path: constant_p");
+  const std::string key = "on the constant-p' path sigma_3 would be ";
+  const size_t at = what.find(key);
+  ASSERT_NE(at, std::string::npos) << what;
+  EXPECT_NE(what.find("stage 'shear' stopped at step"), std::string::npos) << what;
+  EXPECT_NE(what.find("cannot hold p'_0 with a positive confinement"), std::string::npos) << what;
+  double s3 = 0, sz = 0, p0 = 0;
+  ASSERT_EQ(std::sscanf(what.c_str() + at + key.size(), "%lf kPa with sigma_z = %lf kPa (p'_0 = %lf kPa)", &s3, &sz, &p0),
+            3) << what;
+  std::printf("  constant p' at 400/s: stopped with sigma_z %.4g kPa, sigma_3 asked %.4g kPa, p'_0 %.4g kPa\n", sz, s3,
+              p0);
+  EXPECT_NEAR(s3, (3 * p0 - sz) / 2, 1e-3 * std::max(std::abs(sz), std::abs(s3)));  // 4 significant digits each
+  EXPECT_LT(s3, 0.01 * p0);
+  EXPECT_GT(sz, 2.97 * p0);
+  EXPECT_TRUE(fs::exists(out + "/blowup.txt"));
+  EXPECT_EQ(csv_column(slurp(out + "/series.csv"), "sigma_z").size(), 1u) << "the stage's first row, written";
+  const auto [out3, what3] = stopped("s3", "");
+  EXPECT_EQ(what3.find("constant-p' path"), std::string::npos) << what3;
+}
+
 // A drained shear whose lateral servo falls further behind its target than max_servo_error stops like a blow-up
 // (BlowUpError: exit 3), naming the stage, the stresses and the remedies, with series.csv written up to the row that
 // found it. summary.json gives each drained stage's largest error over its series rows: the same test bounded just
