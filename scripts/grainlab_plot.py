@@ -341,9 +341,9 @@ def peak_rows(s, m, max_ke):
 
 def running_mean(s, rows, y, window):
     """y at each of `rows` averaged over those of `rows` within window / 2 of its axial strain (y[rows] itself at
-    window 0). A few thousand spheres' stress ratio fluctuates by degrees from row to row (measured at b = 1 on the
-    5 000-sphere sample: 20.6 to 30.7 deg within 3 % of strain), and the largest single row is then the largest
-    fluctuation, not the material's peak."""
+    window 0). A few thousand spheres' stress ratio fluctuates from row to row (the 5 000-sphere constant-p' study:
+    standard deviation 0.25 deg at b <= 0.25, 1.1-1.4 deg at b = 1, single steps of up to 15 deg at b = 1 past 30 %
+    strain), and the largest single row is then the largest fluctuation, not the material's peak."""
     y = np.asarray(y, dtype=float)[rows]
     if window <= 0 or len(rows) == 0:
         return y
@@ -851,7 +851,7 @@ def modulus_section(amp, stage, figs):
     def pct(x, fmt):
         return "–" if x != x else f"{100 * x:{fmt}}"
 
-    rows, fits = [], []
+    rows, fits, notes = [], [], []
     refs, span = set(), (np.inf, 0)  # the groups' p'_0 (3 digits) and the strains the figure spans
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     for i, (key, tests) in enumerate(sorted(groups.items())):
@@ -872,8 +872,13 @@ def modulus_section(amp, stage, figs):
         ea = np.array([(float(r["eps_a_max"]) - float(r["eps_a_min"])) / 2 for _, r, _ in pts])  # single amplitude
         E, D = (np.array([float(r[k]) for _, r, _ in pts]) for k in ("E_eq", "damping"))
         ga, G = np.array([cycle_shear(r, j["drainage"]) for j, r, _ in pts]).T
-        # E_0, G_0: the group's smallest amplitude (the lab's small-strain moduli)
+        # E_0, G_0: the group's smallest amplitude (the lab's small-strain moduli); where that test has no complete
+        # cycle, the smallest that has one, and the report says so (every G_eq/G_0 of the group is relative to it)
         E0, G0, p0 = E[0], G[0], float(np.mean([p for _, _, p in pts]))
+        smallest = min(j["strain_amplitude"] for j, _, _ in tests)
+        if pts[0][0]["strain_amplitude"] > smallest:
+            notes.append(f"Group {name(key)}: G_0 is the {100 * pts[0][0]['strain_amplitude']:.3g} % test's G_eq, since "
+                         f"the group's smallest amplitude ({100 * smallest:.3g} %) has no complete cycle.")
         for (j, r, p0j), a, g, e, gm, dmp in zip(pts, ea, ga, E, G, D):
             ru = f"{float(r['r_u_max']):.3f}" if j["drainage"] == "undrained" else "–"
             rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | {100 * a:.4g} | "
@@ -918,7 +923,7 @@ def modulus_section(amp, stage, figs):
             "area / (2 pi q_a eps_a) (ASTM D3999), p'/p'_0 at the cycle's end and its largest r_u.", "",
             "| test | group | eps_a amplitude [%] | measured eps_a [%] | gamma [%] | cycle | E_eq [MPa] | G_eq [MPa] | "
             "G_eq/G_0 | D | p'/p'_0 | max r_u |",
-            "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "", *(notes + [""] if notes else []),
             "Per group, the hyperbolas of Hardin & Drnevich (1972), E_eq = E_max / (1 + eps_a/eps_r) and G_eq = G_max / "
             "(1 + gamma/gamma_r), fitted to the relative misfit (rms given for G), and D = D_min + (D_max - D_min)(1 - "
             "G_eq/G_max), by least squares with D_min >= 0 (a D_min of 0 is the bound). Darendeli's gamma_r is that of clean sand at the group's p'_0 (Darendeli "

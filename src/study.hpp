@@ -38,8 +38,9 @@ struct Study {
   double window = 0.05, qp_tol = 0.05, p_tol = 0.05, e_tol = 0.005;  // critical-state detection
   // How the report takes a shear's peaks (largest |q|, q/p', obliquity; `peak: {window: W, max_ke_ratio: X}`): each
   // measure averaged over W of axial strain about each row first (0: single rows), since the stress ratio of a few
-  // thousand spheres fluctuates by degrees from row to row and the largest of single rows is its largest fluctuation;
-  // and over the rows whose kinetic / elastic energy (series ke_ratio) is at most max_ke_ratio (0: every row).
+  // thousand spheres fluctuates from row to row (0.25 to 1.4 deg) and the largest of single rows is its largest
+  // fluctuation; and over the rows whose kinetic / elastic energy (series ke_ratio) is at most max_ke_ratio (0: every
+  // row).
   double peak_window = 0, peak_max_ke = 0;
 };
 

@@ -4,7 +4,9 @@ Hardin-Drnevich hyperbola E = E_max / (1 + eps/eps_r) and damping D = D_min + (D
 E_max, eps_r, D_min and D_max back; a misfit of +-x % on alternate points gives an rms misfit near x %; an E that
 does not fall with strain, or one amplitude, gives no fit. Darendeli's clean-sand reference against values worked by
 hand from his equation; a cycles.csv row's shear strain and G_eq, and the fallback for rows without them; `grainlab
-plot`'s curves of a run (modulus_curves): each stage's last cycle, G - gamma fitted beside E - eps_a."""
+plot`'s curves of a run (modulus_curves): each stage's last cycle, G - gamma fitted beside E - eps_a. The study
+report's modulus section (modulus_section) when a group's smallest amplitude has no complete cycle: G_0 is the next
+test's, and the report says so."""
 import os
 import sys
 import tempfile
@@ -13,7 +15,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
 from grainlab_plot import (cycle_shear, damping_fit, darendeli_gamma_r, darendeli_modulus, hyperbolic_fit,  # noqa: E402
-                           modulus_curves)
+                           modulus_curves, modulus_section)
 
 fails = []
 
@@ -108,7 +110,43 @@ with tempfile.TemporaryDirectory() as run:
     c = modulus_curves(run, s)
     if len(c["known"]) != 3 or len(c["last"]) != 4:
         fails.append(f"drained stage without gamma: {len(c['known'])} of {len(c['last'])} on the G curve, expected 3 of 4")
+# modulus_section: a group of three amplitudes (0.001, 0.01, 0.1 %) whose smallest test stopped before a complete cycle
+# (no cycles.csv). Its row says so; G_0 is the 0.01 % test's G_eq (its G_eq/G_0 exactly 1, the 0.1 % test's the
+# ratio of the two G_eq on the hyperbola); and the section names the stand-in. With the smallest test's cycle there,
+# no such note (and G_eq/G_0 of the 0.01 % test below 1).
+with tempfile.TemporaryDirectory() as work:
+    def section(with_smallest):
+        amp = []
+        for k, a in enumerate((1e-5, 1e-4, 1e-3)):
+            d = os.path.join(work, f"t{k}")
+            os.makedirs(d, exist_ok=True)
+            path = os.path.join(d, "cycles.csv")
+            if os.path.exists(path):
+                os.remove(path)
+            if k > 0 or with_smallest:
+                g = E_max / 3 / (1 + a / eps_r)  # G on its hyperbola (G = E/3, gamma = 1.5 eps_a: undrained)
+                with open(path, "w") as f:
+                    f.write("cycle,step,q_max,q_min,eps_a_max,eps_a_min,E_eq,damping,p,eps_v,r_u_max,gamma_max,gamma_min,"
+                            "G_eq,stage\n")
+                    f.write(f"1,100,1,-1,{a!r},{-a!r},{3 * g!r},0.1,1e5,0,0.1,{1.5 * a!r},{-1.5 * a!r},{g!r},cyc\n")
+            j = dict(name=f"t{k}", mu_r=0.0, e0=0, p0=1e5, seed=1, count=300, drainage="undrained", csr=0,
+                     strain_amplitude=a)
+            amp.append((j, d, dict(p=np.array([1e5, 1e5]), cyclic=np.array([False, True]))))
+        return "\n".join(modulus_section(amp, "cyc", work))
+    G = [E_max / 3 / (1 + a / eps_r) for a in (1e-5, 1e-4, 1e-3)]
+    text = section(False)
+    rows = {l.split(" | ")[0][2:]: l.split(" | ") for l in text.splitlines() if l.startswith("| t")}
+    if "no complete cycle" not in " ".join(rows.get("t0", [])):
+        fails.append(f"modulus section: the smallest test's row must say 'no complete cycle': {rows.get('t0')}")
+    if rows.get("t1", [""] * 9)[8] != "1.000" or rows.get("t2", [""] * 9)[8] != f"{G[2] / G[1]:.3f}":
+        fails.append(f"modulus section: G_eq/G_0 of t1, t2 {rows.get('t1')}, {rows.get('t2')}: expected 1.000 and "
+                     f"{G[2] / G[1]:.3f} (G_0 from the 0.01 % test)")
+    if "G_0 is the 0.01 % test's G_eq, since the group's smallest amplitude (0.001 %) has no complete cycle" not in text:
+        fails.append("modulus section: the stand-in G_0 is not named")
+    text = section(True)
+    if "has no complete cycle." in text:
+        fails.append("modulus section: a stand-in G_0 named where the smallest test has its cycle")
 if fails:
     sys.exit("modulus_fit_check: " + "; ".join(fails))
 print("modulus_fit_check: ok (E_max, eps_r, D_min, D_max back to 1e-9; D_min >= 0; +-3 % data rms in (2, 3] %; Darendeli; "
-      "cycles.csv rows with and without gamma; a run's E and G curves)")
+      "cycles.csv rows with and without gamma; a run's E and G curves; a stand-in G_0 named)")
