@@ -85,6 +85,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
       s["drainage"] = j.drainage;
       if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
       if (type == "triaxial" && j.set_b) s["b"] = yaml_number(j.b);
+      if (type == "triaxial" && j.set_stress_path) s["stress_path"] = j.stress_path;
       if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
       if (type == "cyclic" && j.strain_amplitude > 0 && s["strain_amplitude"]) {
         s["strain_amplitude"] = yaml_number(j.strain_amplitude);
@@ -166,6 +167,7 @@ Study load_study_unchecked(const std::string& path) {
   std::string base_drainage;  // the base's first shear's, the default of the drainage axis and of extra jobs
   std::string base_direction;  // the base's first triaxial stage's (none: a cyclic base), likewise for direction
   Real base_b = 0;              // and for b
+  std::string base_path;        // and for stress_path
   // A cyclic stage's stress amplitude is what the csr axis sets, from the p'_0 of each job (the pressure of the
   // base's last isotropic stage, or the p0 axis): CSR = q_amplitude / (2 p'_0), the cyclic liquefaction test's measure.
   bool has_q_cyclic = false;
@@ -194,6 +196,7 @@ Study load_study_unchecked(const std::string& path) {
     if (st.type == StageType::Triaxial && base_direction.empty()) {
       base_direction = st.extension ? "extension" : "compression";
       base_b = st.b;
+      base_path = st.constant_p ? "constant_p" : "constant_sigma3";
     }
   }
   if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial or cyclic stage");
@@ -240,10 +243,12 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
-      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "b", "seed", "count", "csr", "strain_amplitude"}
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "b", "stress_path", "seed", "count", "csr",
+                                 "strain_amplitude"}
                .count(k))
         fail(path, "axes." + k,
-             "unknown axis (known: mu_r, e0, p0, drainage, direction, b, seed, count, csr, strain_amplitude)");
+             "unknown axis (known: mu_r, e0, p0, drainage, direction, b, stress_path, seed, count, csr, "
+             "strain_amplitude)");
     }
   const auto need_q_cyclic = [&](const std::string& key) {
     if (!has_q_cyclic)
@@ -303,6 +308,17 @@ Study load_study_unchecked(const std::string& path) {
   };
   if (ax && ax["b"]) need_triaxial("axes.b");
   const bool b_axis = ax && ax["b"];
+  // The stress_path axis sets every triaxial stage of the base as well: the same b series at constant sigma_3 and at
+  // constant p' (Thornton 2000's path) in one study; the report calibrates the failure criteria per path. constant_p
+  // needs a drained shear (the stage's own rule, named at the study's key below).
+  const auto check_path = [&](const std::string& key, const std::string& v) {
+    if (base_direction.empty())
+      fail(path, key, "sets the stress path of the base's triaxial stages, and the base (" + s.base + ") has none");
+    if (v != "constant_sigma3" && v != "constant_p") fail(path, key, "'" + v + "' is not constant_sigma3 or constant_p");
+  };
+  std::vector<std::string> paths = words("stress_path", check_path);
+  const bool path_axis = !paths.empty();
+  if (paths.empty()) paths = {base_path};
   struct Point {
     double mu_r, e0, p0;
     long seed, count;
@@ -313,6 +329,9 @@ Study load_study_unchecked(const std::string& path) {
     double b;
     bool set_b;
     std::string b_key;  // where b was set, for the error below
+    std::string stress_path;
+    bool set_stress_path;
+    std::string path_key;  // where stress_path was set, likewise
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -324,17 +343,18 @@ Study load_study_unchecked(const std::string& path) {
               for (auto& d : drain)
                 for (auto& dir : directions)
                   for (double b : axis("b", {base_b}))
-                    for (double csr : axis("csr", {0}))
-                      for (double ea : axis("strain_amplitude", {0}))
-                        points.push_back(
-                            {mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis, b, b_axis, "axes.b"});
+                    for (auto& sp : paths)
+                      for (double csr : axis("csr", {0}))
+                        for (double ea : axis("strain_amplitude", {0}))
+                          points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis, b,
+                                            b_axis, "axes.b", sp, path_axis, "axes.stress_path"});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
       Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
-               base_drainage, 0, 0, base_direction, false, base_b, false, ""};
+               base_drainage, 0, 0, base_direction, false, base_b, false, "", base_path, false, ""};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -346,6 +366,13 @@ Study load_study_unchecked(const std::string& path) {
           pt.direction = it.second.as<std::string>();
           pt.set_direction = true;
           check_direction(key + ".direction", pt.direction);
+          continue;
+        }
+        if (f == "stress_path") {
+          pt.stress_path = it.second.as<std::string>();
+          pt.set_stress_path = true;
+          pt.path_key = key + ".stress_path";
+          check_path(pt.path_key, pt.stress_path);
           continue;
         }
         std::string field = key;
@@ -371,7 +398,8 @@ Study load_study_unchecked(const std::string& path) {
           pt.set_b = true;
           pt.b_key = field;
         } else
-          fail(path, field, "unknown key (known: mu_r, e0, p0, drainage, direction, b, seed, count, csr, strain_amplitude)");
+          fail(path, field,
+               "unknown key (known: mu_r, e0, p0, drainage, direction, b, stress_path, seed, count, csr, strain_amplitude)");
       }
       points.push_back(pt);
     }
@@ -383,6 +411,10 @@ Study load_study_unchecked(const std::string& path) {
       fail(path, pt.b_key, "b = " + fmt(pt.b) + " needs a drained compression shear, and this job's is " + pt.drainage + " " +
                                pt.direction + " (true triaxial holds sigma_2 by the lateral walls' servo; list the pairs "
                                "as extra jobs to cross b with other drainages or directions)");
+    if (pt.set_stress_path && pt.stress_path == "constant_p" && pt.drainage != "drained")
+      fail(path, pt.path_key, "constant_p needs a drained shear, and this job's is " + pt.drainage + " (undrained, the "
+                              "walls keep the volume and p' is the test's result; list the pairs as extra jobs to cross "
+                              "stress_path with drainage)");
     std::ostringstream sn;
     sn << "sample_mur" << fmt(pt.mu_r) << "_e" << (pt.e0 > 0 ? fmt(pt.e0) : "base") << "_p"
        << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base") << "_s" << pt.seed << "_n" << pt.count;
@@ -417,6 +449,9 @@ Study load_study_unchecked(const std::string& path) {
     sh.b = pt.b;
     sh.set_b = pt.set_b;
     if (pt.set_b && pt.b > 0) sh.name += "_b" + fmt(pt.b);  // b = 0 likewise
+    sh.stress_path = pt.stress_path;
+    sh.set_stress_path = pt.set_stress_path;
+    if (pt.set_stress_path && pt.stress_path == "constant_p") sh.name += "_cp";  // constant sigma_3 likewise
     sh.cycles = base_cycles;
     if (pt.csr > 0) {
       sh.csr = pt.csr;
@@ -681,7 +716,7 @@ int run_study(const Study& s, const StudyOptions& o) {
       const StudyJob& j = s.shears[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"sample\": \"" << j.sample_name
          << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
-         << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"b\": " << j.b << ", \"seed\": " << j.seed
+         << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"b\": " << j.b << ", \"stress_path\": " << json_string(j.stress_path) << ", \"seed\": " << j.seed
          << ", \"count\": " << j.count << ", \"csr\": " << j.csr
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";

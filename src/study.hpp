@@ -22,6 +22,10 @@ struct StudyJob {
   // (b axis or an extra job's key; set_b) or else the base's first triaxial stage's, for the name and the report
   double b = 0;
   bool set_b = false;
+  // triaxial stages' stress path of a drained shear, "constant_sigma3" or "constant_p" (StageConfig::constant_p): the
+  // study's (stress_path axis or an extra job's key; set_stress_path) or else the base's first triaxial stage's
+  std::string stress_path;
+  bool set_stress_path = false;
   double csr = 0;           // cyclic shears: cyclic stress ratio q_amplitude / (2 p'_0) (0: the base's q_amplitude)
   double q_amplitude = 0;   // the amplitude csr gives at the job's p'_0 [Pa] (0: the base's)
   long cycles = 0;          // the base's cyclic stage's cycles (0: a monotonic shear), for the report

@@ -376,6 +376,69 @@ TEST(Config, StudyDirectionAxisSetsTheTriaxialStages) {
   }
 }
 
+// Both stress paths in one study: the stress_path axis sets every triaxial stage of the base, crossed with b (the
+// true-triaxial series at constant sigma_3 and at constant p'), shares the sample between paths, and names
+// constant-p' shears "_cp" (constant sigma_3 keeps the names of before); an extra job may set it; left out, the base's
+// path is the job's and nothing is written. Errors: a word other than the two, an empty list, a base without a
+// triaxial stage, and constant_p crossed with an undrained shear (named at the study's key).
+TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
+  const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string base = write_tmp("study_sp_base", head +
+                                     "  - {name: shear, type: triaxial, drainage: drained, max_axial_strain: 0.05}\n");
+  const Study s = load_study(write_tmp("study_sp", "base: " + base +
+                                       "\naxes: {stress_path: [constant_sigma3, constant_p], b: [0, 0.5]}\n"
+                                       "extra: [{mu_r: 0.4, stress_path: constant_p}, {mu_r: 0.4}]\n"));
+  ASSERT_EQ(s.samples.size(), 2u);
+  ASSERT_EQ(s.shears.size(), 6u);
+  const char* names[] = {"shear_drained_mur0_ebase_pbase_s1_n300", "shear_drained_mur0_ebase_pbase_s1_n300_cp",
+                         "shear_drained_mur0_ebase_pbase_s1_n300_b0.5", "shear_drained_mur0_ebase_pbase_s1_n300_b0.5_cp",
+                         "shear_drained_mur0.4_ebase_pbase_s1_n300_cp", "shear_drained_mur0.4_ebase_pbase_s1_n300"};
+  const bool cp[] = {false, true, false, true, true, false};
+  for (size_t k = 0; k < s.shears.size(); ++k) {
+    const StudyJob& j = s.shears[k];
+    SCOPED_TRACE(j.name);
+    EXPECT_EQ(j.name, names[k]);
+    EXPECT_EQ(j.stress_path, cp[k] ? "constant_p" : "constant_sigma3");
+    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    ASSERT_EQ(c.stages.size(), 1u);
+    EXPECT_EQ(c.stages[0].constant_p, cp[k]);
+    EXPECT_EQ(c.stages[0].b, k == 2 || k == 3 ? 0.5 : 0.0);
+  }
+  EXPECT_EQ(s.shears[1].sample_name, s.shears[0].sample_name);  // one sample for both paths
+  EXPECT_FALSE(s.shears[5].set_stress_path);  // the extra job without the key: the base's, not written
+  EXPECT_EQ(shear_config(s, s.shears[5], "sample.h5").find("stress_path"), std::string::npos);
+  // A constant-p' base without the axis: its jobs carry its path, under the names of before.
+  const std::string cp_base = write_tmp("study_sp_cp_base", head + "  - {name: shear, type: triaxial, drainage: "
+                                                                   "drained, max_axial_strain: 0.05, stress_path: constant_p}\n");
+  const Study sc = load_study(write_tmp("study_sp_cp", "base: " + cp_base + "\naxes: {mu_r: [0.1]}\n"));
+  ASSERT_EQ(sc.shears.size(), 1u);
+  EXPECT_EQ(sc.shears[0].stress_path, "constant_p");
+  EXPECT_EQ(sc.shears[0].name, "shear_drained_mur0.1_ebase_pbase_s1_n300");
+  const std::string cyc = write_tmp("study_sp_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
+  struct Case {
+    const char* name;
+    std::string text, expect;
+  };
+  const Case cases[] = {
+      {"study_sp_bad", "base: " + base + "\naxes: {stress_path: [constant_q]}\n",
+       "axes.stress_path: 'constant_q' is not constant_sigma3 or constant_p"},
+      {"study_sp_empty", "base: " + base + "\naxes: {stress_path: []}\n", "axes.stress_path: an empty list"},
+      {"study_sp_extra", "base: " + base + "\nextra: [{stress_path: p}]\n",
+       "extra[0].stress_path: 'p' is not constant_sigma3 or constant_p"},
+      {"study_sp_cyclic", "base: " + cyc + "\naxes: {stress_path: [constant_p]}\n",
+       "axes.stress_path: sets the stress path of the base's triaxial stages, and the base (" + cyc + ") has none"},
+      {"study_sp_undrained", "base: " + base + "\naxes: {stress_path: [constant_p], drainage: [drained, undrained]}\n",
+       "axes.stress_path: constant_p needs a drained shear, and this job's is undrained"},
+      {"study_sp_extra_undrained", "base: " + base + "\nextra: [{stress_path: constant_p, drainage: undrained}]\n",
+       "extra[0].stress_path: constant_p needs a drained shear, and this job's is undrained"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = error(c.name, c.text);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
+    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
+  }
+}
+
 // The true-triaxial series: the b axis sets b on every triaxial stage of the base, shares the sample between its
 // values, and names b > 0 shears "_b<value>" (b = 0 keeps the names of studies from before the axis); an extra job
 // may set it; left out, the base's b is the job's (study.json, the report) and nothing is written. Errors: a value
