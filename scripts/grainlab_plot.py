@@ -331,11 +331,19 @@ def peak_settings(idx):
     return float(pk.get("window", 0) or 0), (float(pk["max_ke_ratio"]) if pk.get("max_ke_ratio") else None)
 
 
+def ke_column(s):
+    """The series' quasi-static measure: ke_fluct_ratio, the skeleton's kinetic energy about its best-fit affine motion
+    over the elastic energy (the walls' imposed deformation left out), or ke_ratio in a run of a build before it."""
+    return "ke_fluct_ratio" if "ke_fluct_ratio" in s else "ke_ratio" if "ke_ratio" in s else None
+
+
 def peak_rows(s, m, max_ke):
-    """The rows (indices) of mask m that a peak is taken over: those whose kinetic / elastic energy ratio (series
-    ke_ratio) is at most max_ke; all of m where there is no threshold or no ke_ratio column."""
-    if max_ke is not None and "ke_ratio" in s:
-        m = m & (s["ke_ratio"] <= max_ke)
+    """The rows (indices) of mask m that a peak is taken over: those whose kinetic / elastic energy (ke_column) is
+    at most max_ke; all of m where there is no threshold or no such column. A row that did not measure it (NaN: rows
+    a checkpoint of an older build restored) is kept."""
+    col = ke_column(s)
+    if max_ke is not None and col:
+        m = m & ~(s[col] > max_ke)
     return np.flatnonzero(m)
 
 
@@ -362,11 +370,12 @@ def single_row_note(s, m, rows, ang, max_ke):
     strain and kinetic / elastic energy, and how many rows the ke_ratio threshold left out (rows: those kept)."""
     k = int(np.argmax(np.where(m, ang, -np.inf)))
     note = f"{ang[k]:.1f}° at {100 * abs(s['eps_a'][k]):.1f} %"
-    if "ke_ratio" in s:
-        note += f" (ke_ratio {s['ke_ratio'][k]:.3f})"
+    col = ke_column(s)
+    if col:
+        note += f" ({col} {s[col][k]:.3f})"
     n = int(np.count_nonzero(m)) - len(rows)
     if n > 0:
-        note += f"; {n} row{'s' if n > 1 else ''} above ke_ratio {max_ke:g} left out"
+        note += f"; {n} row{'s' if n > 1 else ''} above {col} {max_ke:g} left out"
     return note
 
 
@@ -399,7 +408,8 @@ def peak_text(window, max_ke):
     """How the report's peaks were taken, in words (peak_settings)."""
     how = (f"each measure averaged over {100 * window:g} % of axial strain about each row before its largest is "
            f"taken (the study's peak.window)" if window > 0 else "the largest of single rows")
-    keep = (f", over the rows whose kinetic / elastic energy (ke_ratio) is at most {max_ke:g} (peak.max_ke_ratio)"
+    keep = (f", over the rows whose kinetic energy about the specimen's affine motion over the elastic energy "
+            f"(ke_fluct_ratio; ke_ratio in runs of older builds) is at most {max_ke:g} (peak.max_ke_ratio)"
             if max_ke is not None else "")
     return (f"Peaks are {how}{keep}; the last column gives the largest angle of a single row, with its strain and "
             "kinetic / elastic energy" + (" and the rows left out." if max_ke is not None else "."))

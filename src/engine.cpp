@@ -319,6 +319,46 @@ void Engine::move_walls() {
   }
 }
 
+namespace {
+// Index of (a, b), a <= b, in the 6 stored entries of a symmetric 3x3 matrix (row by row: xx xy xz yy yz zz).
+KOKKOS_INLINE_FUNCTION constexpr int kSym(int a, int b) { return a == 0 ? b : a == 1 ? 2 + b : 5; }
+constexpr int kMoments = 23;  // the moments Engine::diagnostics sums for kinetic_fluct
+
+// Half the mass-weighted squared residual of the velocities about their least-squares affine field v = a + L x,
+// from the moments of Diagnostics (pa[4..26]). With r = x - X about the centre of mass X and u = v - V about the
+// mean velocity V: S_rr = sum m r r^T, S_ur = sum m u r^T; the minimiser is L = S_ur S_rr^-1, a = V - L X, and the
+// residual sum m |u - L r|^2 = sum m |u|^2 - tr(S_ur S_rr^-1 S_ur^T) (normal equations). Cancellation leaves it
+// good to ~1e-16 of sum m |v|^2; clamped at 0. Fewer than four spheres, or all in a plane (S_rr singular): about
+// the mean velocity alone.
+Real affine_residual(const Real* mo) {
+  const double M = mo[0];
+  if (!(M > 0)) return 0;
+  double X[3], V[3], S[3][3], U[3][3];
+  for (int a = 0; a < 3; ++a) X[a] = mo[1 + a] / M, V[a] = mo[4 + a] / M;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      S[a][b] = mo[7 + kSym(std::min(a, b), std::max(a, b))] - M * X[a] * X[b];
+      U[a][b] = mo[13 + 3 * a + b] - M * V[a] * X[b];
+    }
+  double res = mo[22] - M * (V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
+  // S_rr^-1 by its adjugate (host code, 3x3: no library; the engine is also compiled by nvcc)
+  double C[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      const int a1 = (a + 1) % 3, a2 = (a + 2) % 3, b1 = (b + 1) % 3, b2 = (b + 2) % 3;
+      C[b][a] = S[a1][b1] * S[a2][b2] - S[a1][b2] * S[a2][b1];  // transposed cofactor
+    }
+  const double det = S[0][0] * C[0][0] + S[0][1] * C[1][0] + S[0][2] * C[2][0];
+  const double tr = S[0][0] + S[1][1] + S[2][2];
+  if (det > 1e-12 * tr * tr * tr) {  // not (nearly) planar
+    for (int a = 0; a < 3; ++a)     // tr(U S^-1 U^T) = sum_a u_a^T S^-1 u_a over the rows u_a of U
+      for (int b = 0; b < 3; ++b)
+        for (int c = 0; c < 3; ++c) res -= U[a][b] * C[b][c] * U[a][c] / det;
+  }
+  return Real(std::max(0.0, 0.5 * res));
+}
+}  // namespace
+
 Diagnostics Engine::diagnostics() {
   // Between evaluate() and advance() P.f still holds the previous step's forces (the gather runs in
   // advance()), so the unbalanced force would lag the contacts by one step: gather them at this instant.
@@ -339,9 +379,11 @@ Diagnostics Engine::diagnostics() {
   const PairList& L = lists_[cur_];
   const PairHistory& H = hist_[cur_];
   const TouchCounter touch{L.offsets, L.t_offsets, L.t_pairs, H.flags};
-  Real pa[4] = {};
+  // pa[4..26]: the skeleton's mass moments for kinetic_fluct: sum m, m x (3), m v (3), m x x^T (6, upper), m v x^T (9),
+  // m v.v (1).
+  Real pa[4 + kMoments] = {};
   red_.run(
-      "grainlab::diag::particles", P_.n, 4,
+      "grainlab::diag::particles", P_.n, 4 + kMoments,
       KOKKOS_LAMBDA(int i, Real* acc) {
         const Real kt = 0.5 * m(i) * norm2(load(v, i));
         acc[0] += kt + 0.5 * I(i) * norm2(load(w, i));
@@ -356,7 +398,20 @@ Diagnostics Engine::diagnostics() {
           }
         }
         if (!touching) touching = touch(i, 1);
-        if (touching) acc[3] += kt;  // the load-bearing skeleton's translational kinetic energy
+        if (touching) {
+          acc[3] += kt;  // the load-bearing skeleton's translational kinetic energy
+          const Vec3 vi = load(v, i);
+          const Real mi = m(i), xv[3] = {xi.x, xi.y, xi.z}, vv[3] = {vi.x, vi.y, vi.z};
+          Real* mo = acc + 4;
+          mo[0] += mi;
+          for (int a = 0; a < 3; ++a) {
+            mo[1 + a] += mi * xv[a];
+            mo[4 + a] += mi * vv[a];
+            for (int b = a; b < 3; ++b) mo[7 + kSym(a, b)] += mi * xv[a] * xv[b];
+            for (int b = 0; b < 3; ++b) mo[13 + 3 * a + b] += mi * vv[a] * xv[b];
+          }
+          mo[22] += 2 * kt;
+        }
       },
       pa);
   auto pi = L.pair_i;
@@ -394,6 +449,7 @@ Diagnostics Engine::diagnostics() {
       ca);
   d.kinetic = pa[0];
   d.kinetic_skeleton = pa[3];
+  d.kinetic_fluct = affine_residual(pa + 4);
   d.contacts = int(ca[0]);
   d.sliding = int(ca[1]);
   d.rolling_sliding = int(ca[2]);

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iterator>
+#include <limits>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
@@ -107,6 +108,9 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       {"overlap_max", "-"},
       // cyclic stages: the cycle number N, continuous (Laboratory::cycle_number); 0 in other stages
       {"cycle", "-"},
+      // ke_ratio about the skeleton's best-fit affine motion (Diagnostics::kinetic_fluct): the quasi-static measure
+      // of a shear, whose walls deform the specimen as a whole (ke_ratio counts that motion too)
+      {"ke_fluct_ratio", "-"},
   };
   return cols;
 }
@@ -671,7 +675,8 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
               ? 0.0
               : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0) + (sc.type == StageType::Cyclic ? 2.0 : 0.0),
           std::max(Real(0), e.deepest_overlap().ratio),
-          sc.type == StageType::Cyclic ? (lab_.cycle = std::max(lab_.cycle, cycle_number(sc, m))) : 0.0};
+          sc.type == StageType::Cyclic ? (lab_.cycle = std::max(lab_.cycle, cycle_number(sc, m))) : 0.0,
+          d.potential > 0 ? d.kinetic_fluct / d.potential : 0};
 }
 
 bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) const {
@@ -1362,15 +1367,20 @@ bool Laboratory::load_newest_checkpoint() {
       auto flat = r.doubles("/lab/series");
       lab.series.stage = r.ints("/lab/series_stage");
       const size_t nc = series_columns().size();
-      // A checkpoint from before the `cycle` column (the last) has one column fewer: the rows get its 0.
-      const size_t rows = lab.series.stage.size(), nc_old = nc - 1;
-      if (flat.size() == rows * nc_old && rows > 0) {
+      // A checkpoint from before the trailing columns `cycle` and `ke_fluct_ratio` has one or two columns fewer:
+      // its rows get 0 for `cycle` (no cyclic stage measured it) and NaN for `ke_fluct_ratio` (not measured).
+      const size_t rows = lab.series.stage.size();
+      for (size_t missing = 1; missing <= 2; ++missing) {
+        const size_t nc_old = nc - missing;
+        if (flat.size() != rows * nc_old || rows == 0) continue;
         std::vector<double> padded;
         for (size_t k = 0; k < rows; ++k) {
           padded.insert(padded.end(), flat.begin() + long(k * nc_old), flat.begin() + long((k + 1) * nc_old));
-          padded.push_back(0);
+          if (missing == 2) padded.push_back(0);
+          padded.push_back(std::numeric_limits<double>::quiet_NaN());
         }
         flat = padded;
+        break;
       }
       if (flat.size() != lab.series.stage.size() * nc)
         throw H5Error(path + ": series has " + std::to_string(flat.size()) + " values for " +

@@ -331,3 +331,60 @@ TEST(Diagnostics, StepLeavesForcesAndTheRatioSaysSo) {
   EXPECT_NE(eng.forces(), f0);
   EXPECT_TRUE(std::isfinite(eng.diagnostics().unbalanced_ratio));
 }
+
+// Diagnostics::kinetic_fluct, the skeleton's translational kinetic energy about its mass-weighted least-squares affine
+// velocity field, against a direct least-squares fit. The oracle learns which spheres form the skeleton, and their
+// masses, by probing: one sphere moving at 1 m/s, every other at rest, gives kinetic_skeleton = m_i / 2 for a sphere
+// that touches something and 0 for a rattler. Velocities v = a + L x + delta (L ~ 10/s, the fluctuation delta ~ 1 mm/s
+// seeded): the oracle fits the 12 coefficients by Eigen's QR on sqrt(m)-weighted rows and sums the residual. Tolerance
+// 1e-9 relative: the engine subtracts moments (sum m |v|^2 is ~1e3 times the residual here, ~1e-16 each), the oracle
+// does not. A purely affine field (delta = 0) leaves nothing: below 1e-10 of kinetic_skeleton.
+TEST(Diagnostics, FluctuatingKineticEnergyIsAboutTheAffineField) {
+  const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  const EngineState s0 = eng.capture();
+  const int n = eng.num_particles();
+  std::vector<double> mass(n, 0.0);
+  int skeleton = 0;
+  for (int i = 0; i < n; ++i) {
+    EngineState s = s0;
+    for (auto& v : s.v) v = {0, 0, 0};
+    s.v[i] = {1, 0, 0};
+    eng.restore(s);
+    mass[i] = 2 * eng.diagnostics().kinetic_skeleton;
+    skeleton += mass[i] > 0;
+  }
+  ASSERT_GT(skeleton, n / 2);
+  const Eigen::Matrix3d L = (Eigen::Matrix3d() << 10, 2, -1, 0.5, -4, 3, 1, -2, -6).finished();
+  const Eigen::Vector3d a(1e-3, -2e-3, 5e-4);
+  std::mt19937_64 gen(11);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  for (const bool fluct : {false, true}) {
+    SCOPED_TRACE(fluct ? "affine + fluctuation" : "affine");
+    EngineState s = s0;
+    Eigen::MatrixXd A(skeleton, 4), B(skeleton, 3);
+    for (int i = 0, row = 0; i < n; ++i) {
+      const Eigen::Vector3d x(s.x[i][0], s.x[i][1], s.x[i][2]);
+      Eigen::Vector3d v = a + L * x;
+      if (fluct) v += Eigen::Vector3d(u(gen), u(gen), u(gen));
+      s.v[i] = {v(0), v(1), v(2)};
+      if (mass[i] > 0) {
+        const double w = std::sqrt(mass[i]);
+        A.row(row) << w, w * x(0), w * x(1), w * x(2);
+        B.row(row++) = w * v.transpose();
+      }
+    }
+    eng.restore(s);
+    const Diagnostics d = eng.diagnostics();
+    const Eigen::MatrixXd coef = A.colPivHouseholderQr().solve(B);
+    const double oracle = 0.5 * (B - A * coef).squaredNorm();
+    std::printf("  %s: kinetic_skeleton %.6e J, kinetic_fluct %.6e J (oracle %.6e)\n", fluct ? "fluctuating" : "affine",
+                d.kinetic_skeleton, d.kinetic_fluct, oracle);
+    if (fluct) {
+      EXPECT_NEAR(d.kinetic_fluct, oracle, 1e-9 * oracle);
+      EXPECT_LT(d.kinetic_fluct, 1e-2 * d.kinetic_skeleton) << "the affine motion dominates this field";
+    } else {
+      EXPECT_LE(d.kinetic_fluct, 1e-10 * d.kinetic_skeleton);
+    }
+  }
+}
