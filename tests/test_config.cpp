@@ -181,6 +181,18 @@ std::string error(const std::string& name, const std::string& text) {
   }
   return "";
 }
+// Each study text must fail to load with a one-line error that contains `expect`.
+struct StudyErrorCase {
+  const char* name;
+  std::string text, expect;
+};
+void expect_study_errors(const std::vector<StudyErrorCase>& cases) {
+  for (const StudyErrorCase& c : cases) {
+    const std::string e = error(c.name, c.text);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
+    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
+  }
+}
 std::string study_error(const std::string& name, const std::string& axes) {
   return error(name, "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n" + axes);
 }
@@ -291,11 +303,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
   }
   EXPECT_EQ(s.shears[0].strain_rate, 0.003) << "0.3 x 1e-5 / 1e-3, written without binary noise";
   const std::string two = write_tmp("study_strain_two", head + loops + loops);
-  struct Case {
-    const char* name;
-    std::string text, expect;
-  };
-  const Case cases[] = {
+  expect_study_errors({
       {"study_ea_none", "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\naxes: {strain_amplitude: [1e-4]}\n",
        "axes.strain_amplitude: sets the strain amplitude of the base's strain-controlled cyclic stage (one with "
        "strain_amplitude), and the base (" GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml) has none"},
@@ -309,12 +317,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
        "max_axial_strain = 0.05"},
       {"study_ea_close", "base: " + base + "\naxes: {strain_amplitude: [1e-4, 1.0000001e-4]}\n",
        "axes: two values of csr, strain_amplitude or b agree to 6 significant digits"},
-  };
-  for (const Case& c : cases) {
-    const std::string e = error(c.name, c.text);
-    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
-    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
-  }
+  });
 }
 
 // Triaxial compression against extension: the direction axis sets every triaxial stage of the base (its cyclic stage
@@ -356,11 +359,7 @@ TEST(Config, StudyDirectionAxisSetsTheTriaxialStages) {
   EXPECT_EQ(se.shears[0].direction, "extension");
   EXPECT_EQ(se.shears[0].name, "shear_undrained_mur0.1_ebase_pbase_s1_n300_ext");
   const std::string cyc = write_tmp("study_dir_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
-  struct Case {
-    const char* name;
-    std::string text, expect;
-  };
-  const Case cases[] = {
+  expect_study_errors({
       {"study_dir_bad", "base: " + base + "\naxes: {direction: [compresion]}\n",
        "axes.direction: 'compresion' is not compression or extension"},
       {"study_dir_empty", "base: " + base + "\naxes: {direction: []}\n", "axes.direction: an empty list"},
@@ -368,12 +367,7 @@ TEST(Config, StudyDirectionAxisSetsTheTriaxialStages) {
        "extra[0].direction: 'shear' is not compression or extension"},
       {"study_dir_cyclic", "base: " + cyc + "\naxes: {direction: [extension]}\n",
        "axes.direction: sets the loading direction of the base's triaxial stages, and the base (" + cyc + ") has none"},
-  };
-  for (const Case& c : cases) {
-    const std::string e = error(c.name, c.text);
-    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
-    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
-  }
+  });
 }
 
 // Both stress paths in one study: the stress_path axis sets every triaxial stage of the base, crossed with b (the
@@ -415,11 +409,7 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
   EXPECT_EQ(sc.shears[0].stress_path, "constant_p");
   EXPECT_EQ(sc.shears[0].name, "shear_drained_mur0.1_ebase_pbase_s1_n300");
   const std::string cyc = write_tmp("study_sp_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
-  struct Case {
-    const char* name;
-    std::string text, expect;
-  };
-  const Case cases[] = {
+  expect_study_errors({
       {"study_sp_bad", "base: " + base + "\naxes: {stress_path: [constant_q]}\n",
        "axes.stress_path: 'constant_q' is not constant_sigma3 or constant_p"},
       {"study_sp_empty", "base: " + base + "\naxes: {stress_path: []}\n", "axes.stress_path: an empty list"},
@@ -431,12 +421,7 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
        "axes.stress_path: constant_p needs a drained shear, and this job's is undrained"},
       {"study_sp_extra_undrained", "base: " + base + "\nextra: [{stress_path: constant_p, drainage: undrained}]\n",
        "extra[0].stress_path: constant_p needs a drained shear, and this job's is undrained"},
-  };
-  for (const Case& c : cases) {
-    const std::string e = error(c.name, c.text);
-    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
-    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
-  }
+  });
 }
 
 // The true-triaxial series: the b axis sets b on every triaxial stage of the base, shares the sample between its
@@ -476,11 +461,7 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
   EXPECT_EQ(st.shears[0].b, 0.3);
   EXPECT_EQ(st.shears[0].name, "shear_drained_mur0.1_ebase_pbase_s1_n300");
   const std::string cyc = write_tmp("study_b_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
-  struct Case {
-    const char* name;
-    std::string text, expect;
-  };
-  const Case cases[] = {
+  expect_study_errors({
       {"study_b_big", "base: " + base + "\naxes: {b: [0.5, 1.5]}\n", "axes.b: values must be in [0, 1]"},
       {"study_b_neg", "base: " + base + "\naxes: {b: [-0.5]}\n", "axes.b"},
       {"study_b_empty", "base: " + base + "\naxes: {b: []}\n", "axes.b: an empty list"},
@@ -493,12 +474,7 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
        "extra[0].b: b = 0.5 needs a drained compression shear, and this job's is drained extension"},
       {"study_b_close", "base: " + base + "\naxes: {b: [0.5, 0.50000001]}\n",
        "axes: two values of csr, strain_amplitude or b agree to 6 significant digits"},
-  };
-  for (const Case& c : cases) {
-    const std::string e = error(c.name, c.text);
-    EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
-    EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
-  }
+  });
 }
 
 TEST(Config, StudySeedZeroIsASeed) {
