@@ -24,6 +24,11 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from atomic_write import write_atomically, write_text_atomically  # noqa: E402
 
+# The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3), as
+# kQuasiStaticInertial in src/simulation.hpp: above it the stress ratio of a steady flow rises with I (the mu(I)
+# rheology, Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2), so a critical state reached there is rate-dependent.
+QUASI_STATIC_I = 1e-3
+
 
 def load(run):
     path = os.path.join(run, "series.csv")
@@ -302,8 +307,39 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     M, b = abs(float(np.mean(qp))), float(s.get("b", 0.0))
     # phi_cs: M's relation, or for a true-triaxial test (b > 0) the principal stresses' mean angle over the window
     phi = float(np.mean(principal_angle(s)[m][w])) if b > 0 else friction_angle(M, ext)
+    # How quasi-static the state is (SPEC §6, step 3): the mean inertial number and skeleton kinetic / elastic energy over
+    # the window (None where the series has no such column, or none finite).
+    kc = ke_column(s)
+    I, ke = (window_mean(s, col, m, w) if col else None for col in ("inertial_number", kc))
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
-                M=M, b=b, phi=phi, **last)
+                M=M, b=b, phi=phi, I=I, ke=ke, **last)
+
+
+def window_mean(s, col, m, w):
+    """The mean of column `col` over the rows `w` of the rows `m`, its NaN rows (restored from a checkpoint of a build
+    before the column) left out; None where the series has no such column or no finite value there."""
+    if col not in s:
+        return None
+    y = s[col][m][w]
+    y = y[np.isfinite(y)]
+    return float(np.mean(y)) if len(y) else None
+
+
+def quasi_static_text(I, ke):
+    """A critical state's inertial number and kinetic / elastic energy as table cells ("-" where not measured)."""
+    return (f"{I:.1e}" if I is not None else "-") + " | " + (f"{ke:.3f}" if ke is not None else "-")
+
+
+def inertial_note(states):
+    """A line for the critical states reached above the quasi-static inertial number (none: empty)."""
+    fast = [c["I"] for c in states if c.get("I") is not None and c["I"] > QUASI_STATIC_I]
+    if not fast:
+        return ""
+    return (f"{len(fast)} of {len(states)} critical states were reached at an inertial number above the quasi-static "
+            f"limit I < {QUASI_STATIC_I:g} (up to {max(fast):.1e}; GDR MiDi 2004): the stress ratio of a steady flow "
+            "rises with I (mu(I) rheology, Jop et al. 2006), so their q/p', M and e_c are those of a slow dense flow, "
+            "above the rate-independent values. Lower the shear's axial_strain_rate (or density_scaling, which I "
+            "counts) to measure those.")
 
 
 def principal_angle(s):
@@ -547,8 +583,8 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     groups = {}
     for run, cs in states:
         groups.setdefault((cs["mu_r"], cs["ext"], cs["b"]), []).append(cs)
-    lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) |",
-             "|---|---|---|---|---|---|"]
+    lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) "
+             "| largest I |", "|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     results = {}
     for (mur, ext, bv), g in sorted(groups.items()):
@@ -559,6 +595,8 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         direction = ("extension" if ext else "compression") + (f", b = {bv:g}" if bv > 0 else "")
         phi = float(np.mean([c["phi"] for c in g])) if bv > 0 else friction_angle(M.mean(), ext)
         m_txt = f"{M.mean():.3f}" + (f" ± {M.std(ddof=1):.3f}" if len(M) > 1 else "") + f" ({phi:.1f}°)"
+        Is = [c["I"] for c in g if c.get("I") is not None]
+        m_txt += " | " + (f"{max(Is):.1e}" if len(Is) == len(g) else "-")  # a group with an unmeasured I: unknown
         tag = f"mu_r = {mur:g}" + (" extension" if ext else "") + (f" b = {bv:g}" if bv > 0 else "")
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
         ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
@@ -580,8 +618,9 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         legend(a_, fontsize=8)
     save(fig, out, "csl")
     if not groups:
-        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | |")
-    text = "\n".join(lines)
+        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | |")
+    note = inertial_note([c for _, c in states])
+    text = "\n".join(lines + (["", note] if note else []))
     if not quiet:
         print(text)
     write_text_atomically(os.path.join(out, "csl.md"), text + "\n")
@@ -658,11 +697,12 @@ def study(out):
             continue
         if c["ok"]:
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | "
-                           f"{c['e']:.4f} | {c['qp']:.3f} | {c['phi']:.1f} | {c['a_c']:.3f} |")
+                           f"{c['e']:.4f} | {c['qp']:.3f} | {c['phi']:.1f} | {c['a_c']:.3f} | "
+                           f"{quasi_static_text(c['I'], c['ke'])} |")
             share_rows.append(f"| {j['name']} | {j['mu_r']:g} | {c['sff_share_c']:.2f} | {c['sff_share_d']:.2f} | "
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
-            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | |")
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | |")
     results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
@@ -709,9 +749,12 @@ def study(out):
              "|---|---|---|---|---|---|---|---|---|", *peak_lines, "",
              "## Critical states", "",
              f"A test is at critical state when, over the last {cs_cfg['window']:g} of axial strain, the drift of q/p' (slope of a least-squares line times the window) is below "
-             f"{tol[0]:g}, of p'/p'_end below {tol[1]:g} and of e below {tol[2]:g}; other tests are listed but not fitted.", "",
-             "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c |",
-             "|---|---|---|---|---|---|---|---|---|---|",
+             f"{tol[0]:g}, of p'/p'_end below {tol[1]:g} and of e below {tol[2]:g}; other tests are listed but not fitted. "
+             "I is the mean inertial number eps_dot d_mean sqrt(rho / p') over the window (quasi-static below "
+             f"{QUASI_STATIC_I:g}) and KE/E_el the mean kinetic energy of the skeleton about its affine motion over "
+             "its elastic energy (ke_fluct_ratio; ke_ratio, with the imposed motion, in runs of older builds).", "",
+             "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c | I | KE/E_el |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|",
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",

@@ -4,12 +4,16 @@ e_c = a + b p' and a_c = c + d ln p' (per mu_r) must give those slopes and inter
 not steady over the window must be reported and left out of the fit. Triaxial extensions (eps_a < 0) of mu_r 0.1 on
 other lines are fitted apart, their window counted along -eps_a; M = |q/p'| = 0.6 gives phi_cs = asin(3 M/(6 + M)) =
 15.8 degrees in compression and asin(3 M/(6 - M)) = 19.5 in extension. True-triaxial runs (b > 0 in summary.json) are
-fitted apart, their phi_cs from the principal wall stresses (30 degrees for 300/200/100 kPa)."""
+fitted apart, their phi_cs from the principal wall stresses (30 degrees for 300/200/100 kPa).
+Each line gives the largest mean inertial number I of its critical states over the window ("-" where a series has no
+such column): mu_r 0.1 compressions I = 4e-4 (1 - eps_a), mean 2.6e-4 over 30-40 % (3.2e-4 over the whole shear);
+mu_r 0.5 compressions I = (k + 1) 1e-3, one NaN row (a checkpoint of an older build) in the window of the last; the
+4 critical states above the quasi-static 1e-3 are named below the table."""
 import csv, os, shutil, subprocess, sys
 
 grainlab, work = sys.argv[1], sys.argv[2]
 shutil.rmtree(work, ignore_errors=True)
-cols = ["time", "step", "eps_a", "p", "q_p", "e", "a_c", "mu_r", "stage_type"]
+cols = ["time", "step", "eps_a", "p", "q_p", "e", "a_c", "mu_r", "stage_type", "inertial_number"]
 truth = {0.1: (0.80, -2.0e-4, 0.10, 0.02), 0.5: (0.95, -3.0e-4, 0.20, 0.03)}
 runs = []
 for mur, (a, b, c, d) in truth.items():
@@ -25,7 +29,8 @@ for mur, (a, b, c, d) in truth.items():
                 p = 1e3 * (190 + (pc - 190) * approach)
                 e = a + b * pc if ea >= 0.3 else 0.7
                 ac = c + d * __import__("math").log(pc)
-                w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1])
+                I = 4e-4 * (1 - ea) if mur == 0.1 else ("nan" if (k, i) == (3, 35) else (k + 1) * 1e-3)
+                w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1, I])
         runs.append(run)
 # Extensions of mu_r 0.1: eps_a to -40 %, q/p' = -0.6, on their own lines
 ext_truth = (0.85, -1.0e-4, -0.15, 0.01)
@@ -35,7 +40,7 @@ for k, pc in enumerate([100.0, 190.0, 300.0]):
     a, b, c, d = ext_truth
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["stage"] + cols)
+        w.writerow(["stage"] + cols[:-1])
         for i in range(41):
             ea = 0.01 * i
             p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
@@ -52,7 +57,7 @@ for k, pc in enumerate([100.0, 190.0, 300.0]):
         f.write('{"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": 0.5}]}\n')
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["stage"] + cols + ["sigma_x", "sigma_y", "sigma_z"])
+        w.writerow(["stage"] + cols[:-1] + ["sigma_x", "sigma_y", "sigma_z"])
         for i in range(41):
             ea = 0.01 * i
             ramp = min(1.0, ea / 0.3)
@@ -64,7 +69,7 @@ bad = os.path.join(work, "moving")
 os.makedirs(bad)
 with open(os.path.join(bad, "series.csv"), "w", newline="") as f:
     w = csv.writer(f)
-    w.writerow(["stage"] + cols)
+    w.writerow(["stage"] + cols[:-1])
     for i in range(41):
         w.writerow(["shear", i, i, 0.01 * i, 1e3 * (100 + 10 * i), 0.6, 0.7 - 0.002 * i, 0.1, 0.1, 1])
 out = subprocess.run([grainlab, "csl", *runs, bad, "--out", os.path.join(work, "fig"), "--window", "0.1"],
@@ -77,13 +82,15 @@ for mur, (a, b, c, d) in truth.items():
     line = next(l for l in table.splitlines() if l.startswith(f"| {mur:g} | compression |"))
     assert f"| 4 |" in line, line  # the moving run (mu_r 0.1) was not fitted
     assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
-    assert "| 0.600 ± 0.000 (15.8°) |" in line, line
+    assert "| 0.600 ± 0.000 (15.8°) | " + ("2.6e-04 |" if mur == 0.1 else "4.0e-03 |") in line, line
 a, b, c, d = ext_truth
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | extension |"))
 assert "| 3 |" in line, line
 assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
-assert "| 0.600 ± 0.000 (19.5°) |" in line, line
+assert "| 0.600 ± 0.000 (19.5°) | - |" in line, line
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | compression, b = 0.5 |"))
-assert "| 3 |" in line and "(30.0°) |" in line, line
+assert "| 3 |" in line and "(30.0°) | - |" in line, line
+assert "\n4 of 14 critical states were reached at an inertial number above the quasi-static limit I < 0.001 " \
+    "(up to 4.0e-03;" in table, table
 assert os.path.isfile(os.path.join(work, "fig", "csl.png"))
 print("csl ok")

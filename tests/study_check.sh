@@ -61,6 +61,17 @@ for sec in "## Peak states" "## Critical states" "## Critical-state lines" "## S
 done
 verdicts=$(grep -cE '^\| shear_.* \| (yes|no: )' "$work/report.md")
 [ "$verdicts" -eq 6 ] || { echo "expected a critical-state verdict for each of 6 tests, got $verdicts"; exit 1; }
+# Each critical state's I is the mean inertial_number of its series over the window (recomputed here), and the
+# critical-state lines name the largest.
+win=$(grep -o 'over the last [0-9.]* of axial strain' "$work/report.md" | head -1 | cut -d' ' -f4)
+grep -E '^\| shear_.* \| yes \|' "$work/report.md" | while IFS='|' read -r _ name _ _ _ _ _ _ _ _ _ I _; do
+  name=$(echo $name); I=$(echo $I)
+  want=$(awk -F, -v w="$win" 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
+    $c["stage_type"] == 1 || $c["stage_type"] == 2 { n++; ea[n] = $c["eps_a"]; v[n] = $c["inertial_number"] }
+    END { for (i = 1; i <= n; ++i) if (ea[i] >= ea[n] - w) { s += v[i]; k++ } printf "%.1e", s / k }' \
+    "$work/jobs/$name/run/series.csv")
+  [ -n "$win" ] && [ "$I" = "$want" ] || { echo "$name: I = $I in the critical-state table, $want from its series"; exit 1; }
+done || exit 1
 # Critical-state lines: one fitted row per mu_r (all compression), each from at least three critical states, with the
 # e_c - p' slope negative (a CSL that rises with p' would mean the steadiness test or the fit is broken) and M with
 # its friction angle.
