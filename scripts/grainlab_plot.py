@@ -46,11 +46,14 @@ def load(run):
     # angles come from the principal stresses, not from M's axisymmetric relations (critical_state)
     # and the largest lateral servo error of its drained shear stages (summary.json servo_error; None: not given)
     # and its stress path (constant_p where a triaxial stage held p' = p'_0; constant_sigma3 otherwise and before it)
-    cols["b"], cols["servo_error"], cols["stress_path"] = 0.0, None, "constant_sigma3"
+    # and its triaxial stages' axial strain rate (the largest; 0: not given, a build before it or no triaxial stage)
+    cols["b"], cols["servo_error"], cols["stress_path"], cols["rate"] = 0.0, None, "constant_sigma3", 0.0
     try:
         with open(os.path.join(run, "summary.json")) as f:
             stages = json.load(f).get("stages", [])
         cols["b"] = max([float(st.get("b", 0)) for st in stages if st.get("type") == "triaxial"] or [0.0])
+        cols["rate"] = max([float(st.get("axial_strain_rate", 0)) for st in stages if st.get("type") == "triaxial"]
+                           or [0.0])
         if any(st.get("stress_path") == "constant_p" for st in stages if st.get("type") == "triaxial"):
             cols["stress_path"] = "constant_p"
         errs = [float(st["servo_error"]) for st in stages if st.get("servo_error") is not None]
@@ -312,7 +315,7 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     kc = ke_column(s)
     I, ke = (window_mean(s, col, m, w) if col else None for col in ("inertial_number", kc))
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
-                M=M, b=b, phi=phi, I=I, ke=ke, **last)
+                M=M, b=b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)), **last)
 
 
 def window_mean(s, col, m, w):
@@ -339,7 +342,8 @@ def inertial_note(states):
             f"limit I < {QUASI_STATIC_I:g} (up to {max(fast):.1e}; GDR MiDi 2004): the stress ratio of a steady flow "
             "rises with I (mu(I) rheology, Jop et al. 2006), so their q/p', M and e_c are those of a slow dense flow, "
             "above the rate-independent values. Lower the shear's axial_strain_rate (or density_scaling, which I "
-            "counts) to measure those.")
+            "counts) to measure those, or give the study an axial_strain_rate axis, whose report extrapolates them to "
+            "I -> 0 (configs/rate-study.yaml).")
 
 
 def principal_angle(s):
@@ -557,6 +561,11 @@ def friction_angle(M, ext):
     return math.degrees(math.asin(min(1.0, 3 * M / ((6 - M) if ext else (6 + M)))))
 
 
+def rate_text(rate, sep):
+    """A critical-state line's rate in its label: summary.json's axial_strain_rate (0: a run of a build before it)."""
+    return sep + (f"{rate:g}/s" if rate > 0 else "rate not recorded")
+
+
 def fit(x, y):
     """Least-squares line with standard errors (needs >= 3 points)."""
     A = np.vstack([x, np.ones_like(x)]).T
@@ -579,28 +588,32 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             states.append((run, cs))
     # per mu_r and direction: compression and extension reach the critical state at other stress ratios (M_c, M_e) and
     # fabric anisotropies (a_c is signed against the stress deviator, SPEC §7, so > 0 in both: its size differs), so
-    # their lines are fitted apart
+    # their lines are fitted apart; so are the rates of a rate series (the same p'_0 at several I: a line through them
+    # would be a rate effect, or singular), named where the runs have more than one
     groups = {}
     for run, cs in states:
-        groups.setdefault((cs["mu_r"], cs["ext"], cs["b"]), []).append(cs)
+        groups.setdefault((cs["mu_r"], cs["ext"], cs["b"], cs["rate"]), []).append(cs)
+    several_rates = len({k[3] for k in groups}) > 1
     lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) "
              "| largest I |", "|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     results = {}
-    for (mur, ext, bv), g in sorted(groups.items()):
+    for (mur, ext, bv, rate), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
         e = np.array([c["e"] for c in g])
         ac = np.array([c["a_c"] for c in g])
         M = np.array([c["M"] for c in g])
-        direction = ("extension" if ext else "compression") + (f", b = {bv:g}" if bv > 0 else "")
+        direction = (("extension" if ext else "compression") + (f", b = {bv:g}" if bv > 0 else "")
+                     + (rate_text(rate, ", ") if several_rates else ""))
         phi = float(np.mean([c["phi"] for c in g])) if bv > 0 else friction_angle(M.mean(), ext)
         m_txt = f"{M.mean():.3f}" + (f" ± {M.std(ddof=1):.3f}" if len(M) > 1 else "") + f" ({phi:.1f}°)"
         Is = [c["I"] for c in g if c.get("I") is not None]
         m_txt += " | " + (f"{max(Is):.1e}" if len(Is) == len(g) else "-")  # a group with an unmeasured I: unknown
-        tag = f"mu_r = {mur:g}" + (" extension" if ext else "") + (f" b = {bv:g}" if bv > 0 else "")
+        tag = (f"mu_r = {mur:g}" + (" extension" if ext else "") + (f" b = {bv:g}" if bv > 0 else "")
+               + (rate_text(rate, " ") if several_rates else ""))
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
         ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
-        if len(g) >= 3:
+        if len(np.unique(p)) >= 3:  # (three tests at one p'_0 but not three p'_c: no line to fit)
             b, a, sb, sa = fit(p, e)
             d, c, sd, sc = fit(np.log(p), ac)
             xs = np.linspace(p.min(), p.max(), 20)
@@ -608,9 +621,10 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             ax[1].plot(np.log(xs), c + d * np.log(xs), "-", color=ln.get_color())
             lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
                          f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} | {m_txt} |")
-            results[(mur, ext, bv)] = dict(n=len(g), a=a, b=b, sa=sa, sb=sb, c=c, d=d, sc=sc, sd=sd, M=M.mean(), phi=phi)
+            results[(mur, ext, bv, rate)] = dict(n=len(g), a=a, b=b, sa=sa, sb=sb, c=c, d=d, sc=sc, sd=sd, M=M.mean(), phi=phi)
         else:
-            lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states: no fit | | {m_txt} |")
+            lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states at distinct p'_c: no fit | | "
+                         f"{m_txt} |")
     ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c", title="critical-state line e_c - p'")
     ax[1].set(xlabel="ln p'_c [kPa]", ylabel="a_c at critical state", title="a_c - ln p'")
     for a_ in ax:
@@ -706,6 +720,7 @@ def study(out):
     results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
+    fail_lines += rate_section(mono, cs_cfg["window"], tol, figs, peak)
     cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
@@ -761,6 +776,105 @@ def study(out):
              *fail_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
+
+
+def line_to_zero(x, y):
+    """The intercept at x = 0 of the least-squares line through (x, y), with its standard error (None with two points,
+    which the line meets exactly), and the slope; None where fewer than two distinct x."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    if len(x) < 2 or np.ptp(x) <= 0:
+        return None
+    if len(x) == 2:
+        slope = (y[1] - y[0]) / (x[1] - x[0])
+        return y[0] - slope * x[0], None, slope
+    slope, icpt, _, s_icpt = fit(x, y)
+    return icpt, s_icpt, slope
+
+
+def rate_section(mono, window, tol, figs, peak=(0.0, None)):
+    """Tests of an axial_strain_rate axis (study.json: rate_group, the test's name without its rate): per series of
+    the same test at several rates, the largest stress ratio and the critical state against the inertial number I,
+    each extrapolated to I -> 0 by a line in I: the low-I form of the mu(I) rheology, mu_s + (mu_2 - mu_s) I / I_0
+    for I << I_0 ~ 0.3 (Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2). The slowest test's distance from that
+    limit says whether the study's rates are slow enough. Peaks as the peak table takes them (`peak`)."""
+    groups = {}
+    for j, d, s in mono:
+        if j.get("rate_group"):
+            groups.setdefault(j["rate_group"], []).append((j, s))
+    if not groups:
+        return []
+    rows_out = ["| test | axial_strain_rate [1/s] | I at max q/p' | max q/p' (phi'_max) | I at critical state | "
+                "q/p' at critical state (phi_cs) | e_c |", "|---|---|---|---|---|---|---|"]
+    fits = ["| rate series | tests | max q/p' at I -> 0 (phi'_max) | slowest test's max q/p' above it | "
+            "critical q/p' at I -> 0 (phi_cs) | e_c at I -> 0 | slowest test's critical q/p' above it |",
+            "|---|---|---|---|---|---|---|"]
+    fig, ax = plt.subplots(1, 3, figsize=(17, 4.5))
+    for g, tests in sorted(groups.items()):
+        pk, cs = [], []  # (I, M, phi) at the largest stress ratio; (I, M, phi, e) at critical state
+        for j, s in sorted(tests, key=lambda t: t[0]["axial_strain_rate"]):
+            m = s["shear"]
+            ext = bool(s["eps_a"][m][-1] < 0)
+            b = float(s.get("b", 0.0))
+            ang = principal_angle(s) if b > 0 else np.array([friction_angle(M, ext) for M in s["q_p"]])
+            rows = peak_rows(s, m, peak[1])
+            cells = [f"| {j['name']} | {j['axial_strain_rate']:g} |"]
+            if len(rows) and "inertial_number" in s:
+                qp = running_mean(s, rows, s["q_p"], peak[0])
+                k = int(np.argmax(qp))
+                I_pk = float(running_mean(s, rows, s["inertial_number"], peak[0])[k])
+                phi = float(np.max(running_mean(s, rows, ang, peak[0]))) if b > 0 else friction_angle(qp[k], ext)
+                pk.append((I_pk, float(qp[k]), phi))
+                cells.append(f" {I_pk:.1e} | {qp[k]:.3f} ({phi:.1f}°) |")
+            else:
+                cells.append(" - | - |")
+            c = critical_state(s, window, *tol)
+            if c is not None and c["ok"] and c["I"] is not None:
+                cs.append((c["I"], c["M"], c["phi"], c["e"]))
+                cells.append(f" {c['I']:.1e} | {c['M']:.3f} ({c['phi']:.1f}°) | {c['e']:.4f} |")
+            else:
+                cells.append(" - | not at critical state | - |")
+            rows_out.append("".join(cells))
+        ext, b = bool(tests[0][1]["eps_a"][tests[0][1]["shear"]][-1] < 0), float(tests[0][1].get("b", 0.0))
+
+        def limit(pts, col, digits, angle=False):
+            """Column col of pts at I -> 0 as 'value ± se' (with its angle: Mohr-Coulomb's of M at b = 0, the angles'
+            own line at b > 0), and the slowest test's excess over it."""
+            f = line_to_zero([q[0] for q in pts], [q[col] for q in pts])
+            if f is None:
+                return f"fewer than 2 tests ({len(pts)})", "-"
+            v, se, _ = f
+            txt = f"{v:.{digits}f}" + (f" ± {se:.{digits}f}" if se is not None else "")
+            if angle:
+                phi0 = friction_angle(v, ext) if b <= 0 else line_to_zero([q[0] for q in pts], [q[2] for q in pts])[0]
+                txt += f" ({phi0:.1f}°)"
+            slow = min(pts, key=lambda q: q[0])
+            return txt, f"{slow[col] - v:+.{digits}f} (I = {slow[0]:.1e})"
+
+        pk_txt, pk_gap = limit(pk, 1, 3, True)
+        cs_txt, cs_gap = limit(cs, 1, 3, True)
+        fits.append(f"| {g} | {len(tests)} | {pk_txt} | {pk_gap} | {cs_txt} | {limit(cs, 3, 4)[0]} | {cs_gap} |")
+        for a_, pts, col, lab in ((ax[0], pk, 1, "max q/p'"), (ax[1], cs, 1, "critical q/p'"), (ax[2], cs, 3, "e_c")):
+            if not pts:
+                continue
+            (ln,) = a_.plot([q[0] for q in pts], [q[col] for q in pts], "o", label=g)
+            f = line_to_zero([q[0] for q in pts], [q[col] for q in pts])
+            if f is not None:
+                xs = np.linspace(0, max(q[0] for q in pts), 20)
+                a_.plot(xs, f[0] + f[2] * xs, "-", color=ln.get_color())
+            a_.set(xlabel="inertial number I", ylabel=lab, title=lab + " against I (line to I = 0)")
+    for a_ in ax:
+        a_.grid(alpha=0.3)
+        a_.set_xlim(left=0)
+        legend(a_, fontsize=7)
+    save(fig, figs, "rate")
+    return ["## Rate dependence", "",
+            "The same test at several axial strain rates (the study's axial_strain_rate axis). Per test the inertial "
+            "number I = eps_dot d_mean sqrt(rho / p') at its largest stress ratio (as the peak table takes it) and its "
+            "mean over the critical-state window; per series each measure extrapolated to I -> 0 by a least-squares "
+            "line in I (± one standard error from three tests on), the low-I form of the mu(I) rheology, mu_s + "
+            "(mu_2 - mu_s) I / I_0 for I << I_0 (Jop et al. 2006, eq. 2). The slowest test's excess over that limit "
+            f"is what its rate still adds (quasi-static is commonly taken as I < {QUASI_STATIC_I:g}). "
+            "Figure: `figures/rate.png`.", "", *rows_out, "", *fits, ""]
 
 
 def cyclic_section(cyc, figs, colors):
@@ -925,9 +1039,9 @@ def modulus_section(amp, stage, figs):
         ea = np.array([(float(r["eps_a_max"]) - float(r["eps_a_min"])) / 2 for _, r, _ in pts])  # single amplitude
         E, D = (np.array([float(r[k]) for _, r, _ in pts]) for k in ("E_eq", "damping"))
         ga, G = np.array([cycle_shear(r, j["drainage"]) for j, r, _ in pts]).T
-        # E_0, G_0: the group's smallest amplitude (the lab's small-strain moduli); where that test has no complete
+        # G_0: the group's smallest amplitude (the lab's small-strain modulus); where that test has no complete
         # cycle, the smallest that has one, and the report says so (every G_eq/G_0 of the group is relative to it)
-        E0, G0, p0 = E[0], G[0], float(np.mean([p for _, _, p in pts]))
+        G0, p0 = G[0], float(np.mean([p for _, _, p in pts]))
         smallest = min(j["strain_amplitude"] for j, _, _ in tests)
         if pts[0][0]["strain_amplitude"] > smallest:
             notes.append(f"Group {name(key)}: G_0 is the {100 * pts[0][0]['strain_amplitude']:.3g} % test's G_eq, since "

@@ -1481,7 +1481,8 @@ void Laboratory::write_summary() const {
     const char* type = sc.type == StageType::Isotropic ? "isotropic" : sc.type == StageType::Triaxial ? "triaxial" : "cyclic";
     js << (k ? "," : "") << "\n    {\"name\": " << json_string(r.name) << ", \"type\": \"" << type << "\"";
     if (sc.type != StageType::Isotropic)
-      js << ", \"drainage\": \"" << (sc.drainage == Drainage::Undrained ? "undrained" : "drained") << "\"";
+      js << ", \"drainage\": \"" << (sc.drainage == Drainage::Undrained ? "undrained" : "drained")
+         << "\", \"axial_strain_rate\": " << num(sc.axial_strain_rate);
     if (sc.type == StageType::Triaxial)
       js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
     if (lateral_servo(sc) && sc.type == StageType::Triaxial)

@@ -86,6 +86,15 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
       if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
       if (type == "triaxial" && j.set_b) s["b"] = yaml_number(j.b);
       if (type == "triaxial" && j.set_stress_path) s["stress_path"] = j.stress_path;
+      if (type == "triaxial" && j.rate > 0) {
+        // The step cap the base gave its rate covers the same strain at a slower one: scaled up with the duration
+        // (never down), so that the slow tests of a rate series are not cut short by a cap meant for the fast one.
+        const StageConfig def;
+        const double old_rate = s["axial_strain_rate"] ? s["axial_strain_rate"].as<double>() : def.axial_strain_rate;
+        const double old_cap = s["max_steps"] ? s["max_steps"].as<double>() : double(def.max_steps);
+        s["axial_strain_rate"] = yaml_number(j.rate);
+        if (old_rate > j.rate) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (old_rate / j.rate))));
+      }
       if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
       if (type == "cyclic" && j.strain_amplitude > 0 && s["strain_amplitude"]) {
         s["strain_amplitude"] = yaml_number(j.strain_amplitude);
@@ -132,6 +141,10 @@ void check_axis_values(const std::vector<double>& v, const std::string& path, co
     for (double x : v)
       if (!(x > 0 && x < 0.9))
         fail(path, key, "values must be in (0, 0.9) (axial strain); leave strain_amplitude out for the base's");
+  if (ends_with("axial_strain_rate"))
+    for (double x : v)
+      if (!(x > 0 && x <= 1e6))
+        fail(path, key, "values must be in (0, 1e6] (1/s); leave axial_strain_rate out for the base's");
   if (ends_with(".b"))
     for (double x : v)
       if (!(x <= 1)) fail(path, key, "values must be in [0, 1] ((sigma_2 - sigma_3) / (sigma_1 - sigma_3)); leave b out for the base's");
@@ -243,12 +256,12 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
-      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "b", "stress_path", "seed", "count", "csr",
-                                 "strain_amplitude"}
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "b", "stress_path", "axial_strain_rate",
+                                 "seed", "count", "csr", "strain_amplitude"}
                .count(k))
         fail(path, "axes." + k,
-             "unknown axis (known: mu_r, e0, p0, drainage, direction, b, stress_path, seed, count, csr, "
-             "strain_amplitude)");
+             "unknown axis (known: mu_r, e0, p0, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
+             "csr, strain_amplitude)");
     }
   const auto need_q_cyclic = [&](const std::string& key) {
     if (!has_q_cyclic)
@@ -308,6 +321,15 @@ Study load_study_unchecked(const std::string& path) {
   };
   if (ax && ax["b"]) need_triaxial("axes.b");
   const bool b_axis = ax && ax["b"];
+  // The axial_strain_rate axis sets every triaxial stage's rate as well (a cyclic stage's rate is its loading
+  // frequency, which the strain_amplitude axis scales): the same test at several inertial numbers, from which the
+  // report tells how far its peak and critical state still depend on the rate (the mu(I) rheology) and extrapolates
+  // them to I -> 0.
+  const auto need_rate_triaxial = [&](const std::string& key) {
+    if (base_direction.empty())
+      fail(path, key, "sets axial_strain_rate of the base's triaxial stages, and the base (" + s.base + ") has none");
+  };
+  if (ax && ax["axial_strain_rate"]) need_rate_triaxial("axes.axial_strain_rate");
   // The stress_path axis sets every triaxial stage of the base as well: the same b series at constant sigma_3 and at
   // constant p' (Thornton 2000's path) in one study; the report calibrates the failure criteria per path. constant_p
   // needs a drained shear (the stage's own rule, named at the study's key below).
@@ -332,6 +354,7 @@ Study load_study_unchecked(const std::string& path) {
     std::string stress_path;
     bool set_stress_path;
     std::string path_key;  // where stress_path was set, likewise
+    double rate;           // the triaxial stages' axial_strain_rate (0: the base's)
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -344,17 +367,18 @@ Study load_study_unchecked(const std::string& path) {
                 for (auto& dir : directions)
                   for (double b : axis("b", {base_b}))
                     for (auto& sp : paths)
-                      for (double csr : axis("csr", {0}))
-                        for (double ea : axis("strain_amplitude", {0}))
-                          points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis, b,
-                                            b_axis, "axes.b", sp, path_axis, "axes.stress_path"});
+                      for (double rate : axis("axial_strain_rate", {0}))
+                        for (double csr : axis("csr", {0}))
+                          for (double ea : axis("strain_amplitude", {0}))
+                            points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis, b,
+                                              b_axis, "axes.b", sp, path_axis, "axes.stress_path", rate});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
       Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
-               base_drainage, 0, 0, base_direction, false, base_b, false, "", base_path, false, ""};
+               base_drainage, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -392,6 +416,9 @@ Study load_study_unchecked(const std::string& path) {
         } else if (f == "strain_amplitude") {
           need_strain_cyclic(field);
           pt.ea = v;
+        } else if (f == "axial_strain_rate") {
+          need_rate_triaxial(field);
+          pt.rate = v;
         } else if (f == "b") {
           need_triaxial(field);
           pt.b = v;
@@ -399,7 +426,8 @@ Study load_study_unchecked(const std::string& path) {
           pt.b_key = field;
         } else
           fail(path, field,
-               "unknown key (known: mu_r, e0, p0, drainage, direction, b, stress_path, seed, count, csr, strain_amplitude)");
+               "unknown key (known: mu_r, e0, p0, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
+               "csr, strain_amplitude)");
       }
       points.push_back(pt);
     }
@@ -466,13 +494,19 @@ Study load_study_unchecked(const std::string& path) {
       sh.strain_rate = std::strtod(buf, nullptr);
       sh.name += "_ea" + fmt(pt.ea);
     }
+    if (pt.rate > 0) {
+      sh.rate = pt.rate;
+      sh.rate_group = sh.name;  // the same test at other rates: the report's rate series
+      sh.name += "_rate" + fmt(pt.rate);  // without the axis, the names studies had before it
+    }
     bool dup = false;
     for (auto& o : s.shears) {
       if (o.name != sh.name) continue;
       dup = true;
-      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b)  // as for the samples above
-        fail(path, "axes", "two values of csr, strain_amplitude or b agree to 6 significant digits (job " + sh.name +
-                               "); make them differ sooner or list one of them");
+      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate)  // as above
+        fail(path, "axes",
+             "two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits (job " + sh.name +
+                 "); make them differ sooner or list one of them");
     }
     if (!dup) s.shears.push_back(sh);
   }
@@ -718,7 +752,8 @@ int run_study(const Study& s, const StudyOptions& o) {
          << "\", \"mu_r\": " << j.mu_r << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"drainage\": \""
          << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"b\": " << j.b << ", \"stress_path\": " << json_string(j.stress_path) << ", \"seed\": " << j.seed
          << ", \"count\": " << j.count << ", \"csr\": " << j.csr
-         << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude << "}"
+         << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude
+         << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group) << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";

@@ -32,6 +32,10 @@ struct StudyJob {
   // cyclic shears with a strain_amplitude axis: the strain-controlled stage's amplitude, and its axial_strain_rate
   // scaled from the base's so that every job's quarter cycle lasts as long (a lab test at one loading frequency)
   double strain_amplitude = 0, strain_rate = 0;
+  // triaxial stages' axial_strain_rate from the axial_strain_rate axis or an extra job's key (0: the base's), and the
+  // job's name without its _rate suffix, which the tests of one rate series share ("" without a rate)
+  double rate = 0;
+  std::string rate_group;
   std::string config_yaml;  // the generated run config
 };
 

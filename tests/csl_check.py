@@ -80,7 +80,7 @@ assert "moving: not at critical state" in out.stdout, "the moving run must be re
 table = open(os.path.join(work, "fig", "csl.md")).read()
 for mur, (a, b, c, d) in truth.items():
     line = next(l for l in table.splitlines() if l.startswith(f"| {mur:g} | compression |"))
-    assert f"| 4 |" in line, line  # the moving run (mu_r 0.1) was not fitted
+    assert "| 4 |" in line, line  # the moving run (mu_r 0.1) was not fitted
     assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
     assert "| 0.600 ± 0.000 (15.8°) | " + ("2.6e-04 |" if mur == 0.1 else "4.0e-03 |") in line, line
 a, b, c, d = ext_truth

@@ -316,7 +316,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
        "(job shear_undrained_mur0_ebase_pbase_s1_n300_ea0.06): stages[0].strain_amplitude = 0.06 must be below "
        "max_axial_strain = 0.05"},
       {"study_ea_close", "base: " + base + "\naxes: {strain_amplitude: [1e-4, 1.0000001e-4]}\n",
-       "axes: two values of csr, strain_amplitude or b agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
   });
 }
 
@@ -473,7 +473,62 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
       {"study_b_ext", "base: " + base + "\nextra: [{b: 0.5, direction: extension}]\n",
        "extra[0].b: b = 0.5 needs a drained compression shear, and this job's is drained extension"},
       {"study_b_close", "base: " + base + "\naxes: {b: [0.5, 0.50000001]}\n",
-       "axes: two values of csr, strain_amplitude or b agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+  });
+}
+
+// A rate series: the axial_strain_rate axis sets every triaxial stage's rate (a cyclic stage's, its loading frequency,
+// is left alone), shares the sample between rates, names each shear "_rate<value>" and gives it the rate group the
+// report's rate section gathers (its name without the suffix). A slower rate scales the stage's step cap up with the
+// duration (2 /s and max_steps 1000 -> 0.5 /s and 4000; the default 1e6 at 1 /s -> 4e6 at 0.25 /s), a faster one
+// keeps it. An extra job may set it; left out, the base's rate, the names of before and no group. Errors: a value
+// outside (0, 1e6], a base without a triaxial stage (axis and extra key), two values equal to 6 digits.
+TEST(Config, StudyRateAxisSetsTheTriaxialStages) {
+  const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string base = write_tmp("study_rate_base", head +
+                                     "  - {name: shear, type: triaxial, drainage: drained, max_axial_strain: 0.05, "
+                                     "axial_strain_rate: 2, max_steps: 1000}\n"
+                                     "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2, axial_strain_rate: 3}\n");
+  const Study s = load_study(write_tmp("study_rate", "base: " + base + "\naxes: {axial_strain_rate: [0.5, 2, 4]}\n"
+                                                     "extra: [{mu_r: 0.4, axial_strain_rate: 1}, {mu_r: 0.4}]\n"));
+  ASSERT_EQ(s.samples.size(), 2u);
+  ASSERT_EQ(s.shears.size(), 5u);
+  const double rate[] = {0.5, 2, 4, 1, 2};
+  const long cap[] = {4000, 1000, 1000, 2000, 1000};
+  const char* names[] = {"shear_drained_mur0_ebase_pbase_s1_n300_rate0.5", "shear_drained_mur0_ebase_pbase_s1_n300_rate2",
+                         "shear_drained_mur0_ebase_pbase_s1_n300_rate4", "shear_drained_mur0.4_ebase_pbase_s1_n300_rate1",
+                         "shear_drained_mur0.4_ebase_pbase_s1_n300"};
+  for (size_t k = 0; k < s.shears.size(); ++k) {
+    const StudyJob& j = s.shears[k];
+    SCOPED_TRACE(j.name);
+    EXPECT_EQ(j.name, names[k]);
+    EXPECT_EQ(j.rate_group, k < 4 ? j.name.substr(0, j.name.rfind("_rate")) : "");
+    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    ASSERT_EQ(c.stages.size(), 2u);
+    EXPECT_EQ(c.stages[0].axial_strain_rate, rate[k]);
+    EXPECT_EQ(c.stages[0].max_steps, cap[k]);
+    EXPECT_EQ(c.stages[1].axial_strain_rate, 3.0);  // the cyclic stage's own
+  }
+  EXPECT_EQ(s.shears[1].sample_name, s.shears[0].sample_name);  // one sample for every rate
+  EXPECT_EQ(s.shears[4].rate, 0.0);  // the extra job without the key: the base's
+  const std::string plain = write_tmp("study_rate_plain", head + "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n");
+  const Study sp = load_study(write_tmp("study_rate_default", "base: " + plain + "\naxes: {axial_strain_rate: [0.25]}\n"));
+  ASSERT_EQ(sp.shears.size(), 1u);
+  EXPECT_EQ(parse_run_config(YAML::Load(shear_config(sp, sp.shears[0], "sample.h5")), "j").stages[0].max_steps, 4000000);
+  const std::string cyc = write_tmp("study_rate_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
+  expect_study_errors({
+      {"study_rate_zero", "base: " + base + "\naxes: {axial_strain_rate: [0]}\n",
+       "axes.axial_strain_rate: values must be in (0, 1e6] (1/s)"},
+      {"study_rate_big", "base: " + base + "\nextra: [{axial_strain_rate: 2e6}]\n",
+       "extra[0].axial_strain_rate: values must be in (0, 1e6] (1/s)"},
+      {"study_rate_empty", "base: " + base + "\naxes: {axial_strain_rate: []}\n", "axes.axial_strain_rate: an empty list"},
+      {"study_rate_cyclic", "base: " + cyc + "\naxes: {axial_strain_rate: [1]}\n",
+       "axes.axial_strain_rate: sets axial_strain_rate of the base's triaxial stages, and the base (" + cyc + ") has none"},
+      {"study_rate_extra_cyclic", "base: " + cyc + "\nextra: [{axial_strain_rate: 1}]\n",
+       "extra[0].axial_strain_rate: sets axial_strain_rate of the base's triaxial stages, and the base (" + cyc +
+           ") has none"},
+      {"study_rate_close", "base: " + base + "\naxes: {axial_strain_rate: [1, 1.0000001]}\n",
+       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
   });
 }
 

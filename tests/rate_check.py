@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's rate-dependence section (scripts/grainlab_plot.py rate_section).
+
+A synthetic study of drained compressions whose stress ratio and void ratio lie exactly on lines in the inertial
+number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' = 0.75 + 50 I, at critical state
+(steady from 30 %) q/p' = 0.60 + 25 I and e = 0.70 + 10 I, with I = 4e-4 x the axial strain rate.
+- Series A, rates 0.5, 1, 2 /s: the report must give q/p' 0.750 and 0.600 and e_c 0.7000 at I -> 0, each ± 0.000 (an
+  exact line, three tests), the Mohr-Coulomb angles of those (asin(3M / (6 + M)), worked out here), and the slowest
+  test's excess over the limits: 50 x 2e-4 = +0.010 at the peak and 25 x 2e-4 = +0.005 at critical state.
+- Series B, rates 1 and 3 /s on the same lines, its 3 /s test still compacting (e drifting): its peaks meet the line
+  exactly (no ±), its critical state is one test, too few for a line.
+- A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
+- The critical-state lines are fitted per rate (summary.json's axial_strain_rate), named where there are several:
+  the three critical states at 1 /s share one p'_c, so no line (a fit through them was singular and stopped the
+  report).
+Tolerances: the values are printed to 3-4 decimals and the lines are exact, so the strings must match.
+"""
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+here = os.path.dirname(os.path.abspath(__file__))
+script = os.path.join(here, "..", "scripts", "grainlab_plot.py")
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/rate_check"
+shutil.rmtree(work, ignore_errors=True)
+cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t", "sff_share_c",
+        "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y", "sigma_z"]
+jobs = []
+
+
+def test(name, group, rate, drifting=False):
+    I = 4e-4 * rate
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": rate}]}, f)
+    m_pk, m_cs, e_cs = 0.75 + 50 * I, 0.60 + 25 * I, 0.70 + 10 * I
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i in range(41):  # to 40 %: up to the peak at 10 %, down to the critical state at 30 %, steady after
+            ea = 0.01 * i
+            qp = m_pk * ea / 0.1 if ea <= 0.1 else m_pk + (m_cs - m_pk) * min(1.0, (ea - 0.1) / 0.2)
+            e = e_cs - (0.2 * (ea - 0.3) if drifting and ea > 0.3 else 0.0)
+            p = 1e5
+            w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25, 0.25, qp, I,
+                        p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3])
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.3, "e0": 0, "p0": 0,
+                 "drainage": "drained", "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
+                 "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": rate if group else 0, "rate_group": group})
+
+
+for r in (2, 0.5, 1):  # out of order: the section sorts by rate
+    test(f"shear_a_rate{r:g}", "shear_a", r)
+test("shear_b_rate1", "shear_b", 1)
+test("shear_b_rate3", "shear_b", 3, drifting=True)
+test("shear_c", "", 1)
+
+
+def report():
+    with open(os.path.join(work, "study.json"), "w") as f:
+        json.dump({"study": "synthetic", "strain_stage": "", "jobs": jobs,
+                   "critical_state": {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005}}, f)
+    out = subprocess.run([sys.executable, script, "study", work], capture_output=True, text=True)
+    print(out.stdout, out.stderr)
+    if out.returncode != 0:
+        sys.exit("the study report failed")
+    return open(os.path.join(work, "report.md")).read()
+
+
+def phi(M):
+    return math.degrees(math.asin(3 * M / (6 + M)))
+
+
+fails = []
+text = report()
+if "## Rate dependence" not in text:
+    sys.exit("no rate-dependence section in report.md")
+sec = text.split("## Rate dependence")[1]
+want = {
+    "| shear_a | 3 |": f"| shear_a | 3 | 0.750 ± 0.000 ({phi(0.75):.1f}°) | +0.010 (I = 2.0e-04) | 0.600 ± 0.000 "
+                      f"({phi(0.6):.1f}°) | 0.7000 ± 0.0000 | +0.005 (I = 2.0e-04) |",
+    "| shear_b | 2 |": f"| shear_b | 2 | 0.750 ({phi(0.75):.1f}°) | +0.020 (I = 4.0e-04) | fewer than 2 tests (1) | "
+                      "fewer than 2 tests (1) | - |",
+}
+for start, line in want.items():
+    got = next((l for l in sec.splitlines() if l.startswith(start)), "")
+    if got != line:
+        fails.append(f"expected\n  {line}\ngot\n  {got}")
+# the per-test rows, slowest first: I at the peak and at critical state, M and e of each
+rows = [l for l in sec.splitlines() if l.startswith("| shear_a_rate")]
+if [l.split(" | ")[0] for l in rows] != ["| shear_a_rate0.5", "| shear_a_rate1", "| shear_a_rate2"]:
+    fails.append(f"series A's rows not sorted by rate: {rows}")
+if rows and rows[0] != (f"| shear_a_rate0.5 | 0.5 | 2.0e-04 | 0.760 ({phi(0.76):.1f}°) | 2.0e-04 | 0.605 "
+                        f"({phi(0.605):.1f}°) | 0.7020 |"):
+    fails.append(f"series A's slowest row: {rows[0] if rows else None}")
+b3 = next((l for l in sec.splitlines() if l.startswith("| shear_b_rate3 |")), "")
+if "| not at critical state | - |" not in b3:
+    fails.append(f"the drifting test must be named as not at critical state: {b3}")
+if "shear_c" in sec.split("## ")[0]:
+    fails.append("a test without a rate is in the rate section")
+csl_rows = [l for l in text.split("## Critical-state lines")[1].split("## ")[0].splitlines() if l.startswith("| 0.3 |")]
+if csl_rows != ["| 0.3 | compression, 0.5/s | 1 | fewer than 3 critical states at distinct p'_c: no fit | | "
+                f"0.605 ({phi(0.605):.1f}°) | 2.0e-04 |",
+                "| 0.3 | compression, 1/s | 3 | fewer than 3 critical states at distinct p'_c: no fit | | "
+                f"0.610 ± 0.000 ({phi(0.61):.1f}°) | 4.0e-04 |",
+                "| 0.3 | compression, 2/s | 1 | fewer than 3 critical states at distinct p'_c: no fit | | "
+                f"0.620 ({phi(0.62):.1f}°) | 8.0e-04 |"]:
+    fails.append("critical-state lines not one per rate: " + "\n".join(csl_rows))
+if not os.path.isfile(os.path.join(work, "figures", "rate.png")):
+    fails.append("figures/rate.png missing")
+for j in jobs:
+    j["rate_group"] = ""
+if "## Rate dependence" in report():
+    fails.append("a study without a rate axis has a rate-dependence section")
+if fails:
+    sys.exit("\n".join(fails))
+print("rate_check ok")
