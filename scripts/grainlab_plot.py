@@ -793,7 +793,8 @@ def line_to_zero(x, y):
 
 def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     """Tests of an axial_strain_rate axis (study.json: rate_group, the test's name without its rate): per series of
-    the same test at several rates, the largest stress ratio and the critical state against the inertial number I,
+    the same test at several rates (with the test of that name at the base's rate, where the study has it: an extra
+    job's rate beside the grid's), the largest stress ratio and the critical state against the inertial number I,
     each extrapolated to I -> 0 by a line in I: the low-I form of the mu(I) rheology, mu_s + (mu_2 - mu_s) I / I_0
     for I << I_0 ~ 0.3 (Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2). The slowest test's distance from that
     limit says whether the study's rates are slow enough. Peaks as the peak table takes them (`peak`)."""
@@ -803,6 +804,13 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             groups.setdefault(j["rate_group"], []).append((j, s))
     if not groups:
         return []
+    for j, d, s in mono:
+        if j["name"] in groups and s["rate"] > 0:  # the base's rate, from its summary.json
+            groups[j["name"]].append((j, s))
+
+    def rate(t):
+        return t[1]["rate"] if t[1]["rate"] > 0 else t[0].get("axial_strain_rate", 0)
+
     rows_out = ["| test | axial_strain_rate [1/s] | I at max q/p' | max q/p' (phi'_max) | I at critical state | "
                 "q/p' at critical state (phi_cs) | e_c |", "|---|---|---|---|---|---|---|"]
     fits = ["| rate series | tests | max q/p' at I -> 0 (phi'_max) | slowest test's max q/p' above it | "
@@ -811,13 +819,13 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     fig, ax = plt.subplots(1, 3, figsize=(17, 4.5))
     for g, tests in sorted(groups.items()):
         pk, cs = [], []  # (I, M, phi) at the largest stress ratio; (I, M, phi, e) at critical state
-        for j, s in sorted(tests, key=lambda t: t[0]["axial_strain_rate"]):
+        for j, s in sorted(tests, key=rate):
             m = s["shear"]
             ext = bool(s["eps_a"][m][-1] < 0)
             b = float(s.get("b", 0.0))
             ang = principal_angle(s) if b > 0 else np.array([friction_angle(M, ext) for M in s["q_p"]])
             rows = peak_rows(s, m, peak[1])
-            cells = [f"| {j['name']} | {j['axial_strain_rate']:g} |"]
+            cells = [f"| {j['name']} | {rate((j, s)):g} |"]
             if len(rows) and "inertial_number" in s:
                 qp = running_mean(s, rows, s["q_p"], peak[0])
                 k = int(np.argmax(qp))

@@ -7,8 +7,9 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
 - Series A, rates 0.5, 1, 2 /s: the report must give q/p' 0.750 and 0.600 and e_c 0.7000 at I -> 0, each ± 0.000 (an
   exact line, three tests), the Mohr-Coulomb angles of those (asin(3M / (6 + M)), worked out here), and the slowest
   test's excess over the limits: 50 x 2e-4 = +0.010 at the peak and 25 x 2e-4 = +0.005 at critical state.
-- Series B, rates 1 and 3 /s on the same lines, its 3 /s test still compacting (e drifting): its peaks meet the line
-  exactly (no ±), its critical state is one test, too few for a line.
+- Series B, rates 1 and 3 /s on the same lines, its 3 /s test still compacting (e drifting), joined by the test named
+  as the series at the base's rate (2 /s in its summary.json, no rate group: an extra job's rate beside the grid's):
+  three peaks on the line (± 0.000), two critical states, which the line meets exactly (no ±).
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
 - The critical-state lines are fitted per rate (summary.json's axial_strain_rate), named where there are several:
   the three critical states at 1 /s share one p'_c, so no line (a fit through them was singular and stopped the
@@ -59,6 +60,7 @@ for r in (2, 0.5, 1):  # out of order: the section sorts by rate
     test(f"shear_a_rate{r:g}", "shear_a", r)
 test("shear_b_rate1", "shear_b", 1)
 test("shear_b_rate3", "shear_b", 3, drifting=True)
+test("shear_b", "", 2)
 test("shear_c", "", 1)
 
 
@@ -85,8 +87,8 @@ sec = text.split("## Rate dependence")[1]
 want = {
     "| shear_a | 3 |": f"| shear_a | 3 | 0.750 ± 0.000 ({phi(0.75):.1f}°) | +0.010 (I = 2.0e-04) | 0.600 ± 0.000 "
                       f"({phi(0.6):.1f}°) | 0.7000 ± 0.0000 | +0.005 (I = 2.0e-04) |",
-    "| shear_b | 2 |": f"| shear_b | 2 | 0.750 ({phi(0.75):.1f}°) | +0.020 (I = 4.0e-04) | fewer than 2 tests (1) | "
-                      "fewer than 2 tests (1) | - |",
+    "| shear_b | 3 |": f"| shear_b | 3 | 0.750 ± 0.000 ({phi(0.75):.1f}°) | +0.020 (I = 4.0e-04) | 0.600 "
+                      f"({phi(0.6):.1f}°) | 0.7000 | +0.010 (I = 4.0e-04) |",
 }
 for start, line in want.items():
     got = next((l for l in sec.splitlines() if l.startswith(start)), "")
@@ -99,6 +101,9 @@ if [l.split(" | ")[0] for l in rows] != ["| shear_a_rate0.5", "| shear_a_rate1",
 if rows and rows[0] != (f"| shear_a_rate0.5 | 0.5 | 2.0e-04 | 0.760 ({phi(0.76):.1f}°) | 2.0e-04 | 0.605 "
                         f"({phi(0.605):.1f}°) | 0.7020 |"):
     fails.append(f"series A's slowest row: {rows[0] if rows else None}")
+rows_b = [l.split(" | ")[0] for l in sec.split("| rate series |")[0].splitlines() if l.startswith("| shear_b")]
+if rows_b != ["| shear_b_rate1", "| shear_b", "| shear_b_rate3"]:
+    fails.append(f"series B's rows (the base-rate test at 2 /s between 1 and 3): {rows_b}")
 b3 = next((l for l in sec.splitlines() if l.startswith("| shear_b_rate3 |")), "")
 if "| not at critical state | - |" not in b3:
     fails.append(f"the drifting test must be named as not at critical state: {b3}")
@@ -109,8 +114,8 @@ if csl_rows != ["| 0.3 | compression, 0.5/s | 1 | fewer than 3 critical states a
                 f"0.605 ({phi(0.605):.1f}°) | 2.0e-04 |",
                 "| 0.3 | compression, 1/s | 3 | fewer than 3 critical states at distinct p'_c: no fit | | "
                 f"0.610 ± 0.000 ({phi(0.61):.1f}°) | 4.0e-04 |",
-                "| 0.3 | compression, 2/s | 1 | fewer than 3 critical states at distinct p'_c: no fit | | "
-                f"0.620 ({phi(0.62):.1f}°) | 8.0e-04 |"]:
+                "| 0.3 | compression, 2/s | 2 | fewer than 3 critical states at distinct p'_c: no fit | | "
+                f"0.620 ± 0.000 ({phi(0.62):.1f}°) | 8.0e-04 |"]:
     fails.append("critical-state lines not one per rate: " + "\n".join(csl_rows))
 if not os.path.isfile(os.path.join(work, "figures", "rate.png")):
     fails.append("figures/rate.png missing")

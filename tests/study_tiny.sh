@@ -10,8 +10,8 @@ cp "$src"/tiny-study.yaml "$src"/tiny-study-base.yaml "$work"/ || exit 1
 cd "$work" || exit 1
 fail() { echo "study_tiny: $*"; exit 1; }
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "2 samples, 5 shears; 7 to run" || fail "unexpected plan: $out"
-[ "$(ls st/jobs/*/done | wc -l)" -eq 7 ] || fail "expected 7 finished jobs: $(ls st/jobs)"
+printf '%s\n' "$out" | grep -q "2 samples, 6 shears; 8 to run" || fail "unexpected plan: $out"
+[ "$(ls st/jobs/*/done | wc -l)" -eq 8 ] || fail "expected 8 finished jobs: $(ls st/jobs)"
 grep -q "## Critical states" st/report.md || fail "report.md lacks its critical-state section"
 # The report's peak settings reach study.json (defaults: single rows, every row) and the report says so.
 grep -q '"peak": {"window": 0, "max_ke_ratio": 0}' st/study.json || fail "study.json lacks the default peak block"
@@ -37,13 +37,26 @@ grep -q '"servo_error": [0-9]' "$tt/run/summary.json" || fail "$tt/run/summary.j
 grep -q "## Failure criteria (true triaxial)" st/report.md || fail "report.md lacks its failure-criteria section"
 row=$(sed -n '/## Failure criteria/,$p' st/report.md | grep -E '^\| shear_drained_mur0_ebase_p100k_s3_n300_b1 \|')
 printf '%s\n' "$row" | awk -F'|' '{ exit !($5 > 0.9 && $5 <= 1) }' || fail "b = 1 row without a measured b near 1: $row"
+# The rate extra job: named _rate2, its rate in job.yaml and summary.json, its rate group in study.json, and a row of
+# the report's rate section, whose series also holds the grid's test of that name at the base's 1/s: two tests.
+rt=st/jobs/shear_drained_mur0_ebase_p100k_s3_n300_rate2
+grep -q "axial_strain_rate: 2" "$rt/job.yaml" || fail "$rt/job.yaml does not say axial_strain_rate: 2"
+grep -q '"axial_strain_rate": 2,' "$rt/run/summary.json" || fail "$rt/run/summary.json does not give the rate"
+grep -q '"axial_strain_rate": 2, "rate_group": "shear_drained_mur0_ebase_p100k_s3_n300"}' st/study.json ||
+  fail "study.json lacks the rate job's group"
+grep -q "## Rate dependence" st/report.md || fail "report.md lacks its rate section"
+grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300_rate2 \| 2 \| [0-9.]+e-0[0-9] \|' st/report.md ||
+  fail "no rate-section row with the test's inertial number"
+grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300 \| 1 \| [0-9.]+e-0[0-9] \|' st/report.md &&
+  grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300 \| 2 \| [0-9.]+ \([0-9.]+°\) \|' st/report.md ||
+  fail "the base-rate test is not in the rate series, or the series has no line to I = 0"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
 # A study extended: the shears taken from 2 % to 3 % (along the loading) resume from their checkpoints.
 sed -i 's/max_axial_strain: 0.02/max_axial_strain: 0.03/' tiny-study-base.yaml
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the extended study failed: $out"
-printf '%s\n' "$out" | grep -q "5 shear(s) extended" || fail "the shears were not extended: $out"
-printf '%s\n' "$out" | grep -q "; 5 to run" || fail "not exactly the 5 shears rerun: $out"
+printf '%s\n' "$out" | grep -q "6 shear(s) extended" || fail "the shears were not extended: $out"
+printf '%s\n' "$out" | grep -q "; 6 to run" || fail "not exactly the 6 shears rerun: $out"
 for s in st/jobs/shear_*; do
   [ -f "$s/done" ] || fail "$s did not finish"
   [ "$(head -1 "$s/run/series.csv" | cut -d, -f4)" = eps_a ] || fail "series.csv column 4 is not eps_a"
