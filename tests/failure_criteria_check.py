@@ -20,7 +20,6 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 
 import numpy as np
@@ -30,6 +29,7 @@ here = os.path.dirname(os.path.abspath(__file__))
 script = os.path.join(here, "..", "scripts", "grainlab_plot.py")
 sys.path.insert(0, os.path.dirname(script))
 from grainlab_plot import failure_criteria  # noqa: E402
+from synthetic_study import study_report  # noqa: E402
 
 fails = []
 
@@ -150,15 +150,7 @@ for path, b, N in [("", b, N) for b, N in N_mn.items()] + [("constant_p", b, N) 
 
 def report_of(peak):
     """The report of the synthetic study with this peak block in its study.json (None: without the block)."""
-    with open(os.path.join(work, "study.json"), "w") as f:
-        json.dump({"study": "synthetic", "strain_stage": "",
-                   "critical_state": {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005}, "jobs": jobs,
-                   **({"peak": peak} if peak is not None else {})}, f)
-    out = subprocess.run([sys.executable, script, "study", work], capture_output=True, text=True)
-    print(out.stdout, out.stderr)
-    if out.returncode != 0:
-        sys.exit("the study report failed")
-    return open(os.path.join(work, "report.md")).read()
+    return study_report(work, jobs, **({"peak": peak} if peak is not None else {}))
 
 
 def b05_rows(report):
