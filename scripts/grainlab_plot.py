@@ -28,6 +28,10 @@ from atomic_write import write_atomically, write_text_atomically  # noqa: E402
 # kQuasiStaticInertial in src/simulation.hpp: above it the stress ratio of a steady flow rises with I (the mu(I)
 # rheology, Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2), so a critical state reached there is rate-dependent.
 QUASI_STATIC_I = 1e-3
+# The rate section's line in I is mu(I)'s first order, mu_s + (mu_2 - mu_s) I / I_0, with I_0 ~ 0.3 (Jop et al. 2006:
+# 0.279 for glass beads): its second-order term is I / I_0 ~ 3 % of the first at I = 1e-2, past which the section
+# says the line no longer holds.
+LINEAR_I = 1e-2
 
 
 def load(run):
@@ -817,6 +821,7 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             "critical q/p' at I -> 0 (phi_cs) | e_c at I -> 0 | slowest test's critical q/p' above it |",
             "|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 3, figsize=(17, 4.5))
+    fast = []  # series whose line reaches past the low-I range
     for g, tests in sorted(groups.items()):
         pk, cs = [], []  # (I, M, phi) at the largest stress ratio; (I, M, phi, e) at critical state
         for j, s in sorted(tests, key=rate):
@@ -861,6 +866,9 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
         pk_txt, pk_gap = limit(pk, 1, 3, True)
         cs_txt, cs_gap = limit(cs, 1, 3, True)
         fits.append(f"| {g} | {len(tests)} | {pk_txt} | {pk_gap} | {cs_txt} | {limit(cs, 3, 4)[0]} | {cs_gap} |")
+        I_top = max([q[0] for q in pk + cs], default=0.0)
+        if I_top > LINEAR_I:
+            fast.append(f"{g} (I up to {I_top:.1e})")
         for a_, pts, col, lab in ((ax[0], pk, 1, "max q/p'"), (ax[1], cs, 1, "critical q/p'"), (ax[2], cs, 3, "e_c")):
             if not pts:
                 continue
@@ -882,7 +890,10 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             "line in I (± one standard error from three tests on), the low-I form of the mu(I) rheology, mu_s + "
             "(mu_2 - mu_s) I / I_0 for I << I_0 (Jop et al. 2006, eq. 2). The slowest test's excess over that limit "
             f"is what its rate still adds (quasi-static is commonly taken as I < {QUASI_STATIC_I:g}). "
-            "Figure: `figures/rate.png`.", "", *rows_out, "", *fits, ""]
+            "Figure: `figures/rate.png`.", "", *rows_out, "", *fits, "",
+            *([f"Past I = {LINEAR_I:g} the stress ratio bends below the line (mu(I) saturates towards mu_2 as I nears "
+               "I_0), so a line through such tests overstates the slope at small I and understates the limit: "
+               + ", ".join(fast) + ". Extrapolate from rates below it.", ""] if fast else [])]
 
 
 def cyclic_section(cyc, figs, colors):

@@ -11,6 +11,7 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
   as the series at the base's rate (2 /s in its summary.json, no rate group: an extra job's rate beside the grid's):
   three peaks on the line (± 0.000), two critical states, which the line meets exactly (no ±).
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
+- Series D at 10 and 30 /s reaches I = 1.2e-2, past the line's low-I range (1e-2): a note names it, and only it.
 - The critical-state lines are fitted per rate (summary.json's axial_strain_rate), named where there are several:
   the three critical states at 1 /s share one p'_c, so no line (a fit through them was singular and stopped the
   report).
@@ -60,6 +61,8 @@ test("shear_b_rate1", "shear_b", 1)
 test("shear_b_rate3", "shear_b", 3, drifting=True)
 test("shear_b", "", 2)
 test("shear_c", "", 1)
+test("shear_d_rate10", "shear_d", 10)  # I = 4e-3 and 1.2e-2: past the line's range, which the section names
+test("shear_d_rate30", "shear_d", 30)
 
 
 def phi(M):
@@ -91,6 +94,9 @@ if rows and rows[0] != (f"| shear_a_rate0.5 | 0.5 | 2.0e-04 | 0.760 ({phi(0.76):
 rows_b = [l.split(" | ")[0] for l in sec.split("| rate series |")[0].splitlines() if l.startswith("| shear_b")]
 if rows_b != ["| shear_b_rate1", "| shear_b", "| shear_b_rate3"]:
     fails.append(f"series B's rows (the base-rate test at 2 /s between 1 and 3): {rows_b}")
+if "Past I = 0.01 the stress ratio bends below the line" not in sec or "shear_d (I up to 1.2e-02)" not in sec \
+        or "shear_a (" in sec or "shear_b (" in sec:
+    fails.append("the note on series past I = 0.01 must name shear_d, and only it")
 b3 = next((l for l in sec.splitlines() if l.startswith("| shear_b_rate3 |")), "")
 if "| not at critical state | - |" not in b3:
     fails.append(f"the drifting test must be named as not at critical state: {b3}")
@@ -102,7 +108,11 @@ if csl_rows != ["| 0.3 | compression, 0.5/s | 1 | fewer than 3 critical states a
                 "| 0.3 | compression, 1/s | 3 | fewer than 3 critical states at distinct p'_c: no fit | | "
                 f"0.610 ± 0.000 ({phi(0.61):.1f}°) | 4.0e-04 |",
                 "| 0.3 | compression, 2/s | 2 | fewer than 3 critical states at distinct p'_c: no fit | | "
-                f"0.620 ± 0.000 ({phi(0.62):.1f}°) | 8.0e-04 |"]:
+                f"0.620 ± 0.000 ({phi(0.62):.1f}°) | 8.0e-04 |",
+                "| 0.3 | compression, 10/s | 1 | fewer than 3 critical states at distinct p'_c: no fit | | "
+                f"0.700 ({phi(0.7):.1f}°) | 4.0e-03 |",
+                "| 0.3 | compression, 30/s | 1 | fewer than 3 critical states at distinct p'_c: no fit | | "
+                f"0.900 ({phi(0.9):.1f}°) | 1.2e-02 |"]:
     fails.append("critical-state lines not one per rate: " + "\n".join(csl_rows))
 if not os.path.isfile(os.path.join(work, "figures", "rate.png")):
     fails.append("figures/rate.png missing")
