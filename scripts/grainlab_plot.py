@@ -892,7 +892,8 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             f"is what its rate still adds (quasi-static is commonly taken as I < {QUASI_STATIC_I:g}). "
             "Figure: `figures/rate.png`.", "", *rows_out, "", *fits, "",
             *([f"Past I = {LINEAR_I:g} the stress ratio bends below the line (mu(I) saturates towards mu_2 as I nears "
-               "I_0), so a line through such tests understates the slope at small I and overstates the limit (a chord of a concave curve): "
+               "I_0), so a line through such tests understates the slope at small I and overstates the limit (a chord "
+               "of a concave curve): "
                + ", ".join(fast) + ". Extrapolate from rates below it.", ""] if fast else [])]
 
 
