@@ -32,6 +32,9 @@ QUASI_STATIC_I = 1e-3
 # 0.279 for glass beads): its second-order term is I / I_0 ~ 3 % of the first at I = 1e-2, past which the section
 # says the line no longer holds.
 LINEAR_I = 1e-2
+# A cyclic loop measures the material when its quarter cycle lasts at least this many transits of a compression wave
+# across the sample (kQuasiStaticTransits, src/simulation.hpp; measured in configs/README.md).
+QUASI_STATIC_TRANSITS = 4
 
 
 def load(run):
@@ -916,6 +919,9 @@ def cyclic_section(cyc, figs, colors):
             st = st[-1] if st else None
         und = j["drainage"] == "undrained"
         ru = f"{np.max(s['u'][m]) / p[0]:.3f}" if und else "–"
+        # the first cycle's quarter in wave transits (summary.json; a build before it, or no complete cycle: "–")
+        tq = st.get("quarter_cycle_transits") if st is not None else None
+        quarter = "–" if tq is None else f"{tq:.3g}" + (" (dynamic)" if tq < QUASI_STATIC_TRANSITS else "")
         if st is None:  # a run of a build before summary.json: no criteria to read
             n_ru = n_da = "– (no summary.json)"
         else:
@@ -926,7 +932,7 @@ def cyclic_section(cyc, figs, colors):
                else f"{j['cycles']} cycles done")
         csr = j["csr"] if j["csr"] > 0 else float("nan")
         rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {csr:g} | {n_end:.3g} | {end} | {n_ru} | {n_da} | "
-                    f"{np.min(p) / p[0]:.3f} | {ru} |")
+                    f"{np.min(p) / p[0]:.3f} | {ru} | {quarter} |")
         if j["csr"] <= 0:
             continue
         c = colors[j["mu_r"]]
@@ -956,9 +962,13 @@ def cyclic_section(cyc, figs, colors):
             "are done or |eps_a| reaches the stage's max_axial_strain. Liquefaction is the first N at which r_u = "
             "u/p'_0 reached the stage's liquefaction_ru (initial liquefaction; undrained tests), or the double-amplitude "
             "axial strain (peak-to-peak eps_a of a half cycle) reached its liquefaction_da_strain (ASTM D5311), "
-            "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ".", "",
-            "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u |",
-            "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+            "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ". The "
+            "quarter cycle is the first cycle's duration over 4 in transits of a compression wave across the sample "
+            f"(summary.json); below {QUASI_STATIC_TRANSITS} the loops carry the sample's inertia (dynamic): load slower "
+            "for the material's response.", "",
+            "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u "
+            "| quarter cycle [transits] |",
+            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def hyperbolic_fit(eps, E):

@@ -372,6 +372,8 @@ class Laboratory {
   // max_axial_strain, snapshot_strain and the plan count).
   static Real strain_along(const StageConfig& sc, Real eps_a) { return sc.extension ? -eps_a : eps_a; }
   void watch_cycle(const StageConfig& sc, const Measure& m, bool turn);
+  // A stress-controlled cyclic stage at its first load reversal: a warning if that quarter cycle was dynamic.
+  void warn_dynamic_loops(const StageConfig& sc) const;
   void write_summary() const;
   void assert_healthy();
   [[noreturn]] void stop_run(const std::string& what);
@@ -399,6 +401,7 @@ class Laboratory {
   RunOptions opt_;
   std::string out_, fingerprint_;
   Real planned_dt_ = 0;   // the time step this config gives (plan_run); an extended run must keep its own
+  double transit_ = 0;    // a compression wave's time across the sample (plan_run): cyclic loading against it
   bool extended_ = false; // resumed from a checkpoint of a config that this one extends
   std::unique_ptr<Engine> eng_;
   Real Vs_ = 0, d_mean_ = 0, density_ = 0, scaling_ = 1;
@@ -758,6 +761,22 @@ void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn)
   if (turn) lab_.eps_turn = m.eps_a;
 }
 
+// How fast a stress-controlled stage loads depends on how far the sample strains to q = A, which only the run learns:
+// its first quarter cycle (0 -> +A) against kQuasiStaticTransits wave transits, as plan_run checks a strain-controlled
+// stage's. The rate that would give that many if the sample strained as far is not enough: loaded slower it strains
+// less (on the tests' reference sample, 0.84/s gave 3.9 transits where 1/s gave 3.4), so the advice says to go below.
+void Laboratory::warn_dynamic_loops(const StageConfig& sc) const {
+  const double quarter = double(lab_.stage_step) * eng_->dt();
+  if (!(quarter < kQuasiStaticTransits * transit_)) return;
+  std::fprintf(stderr,
+               "grainlab: warning: stage %s: the first quarter cycle (q = 0 -> %.4g kPa) took %.3g ms, only %.3g times "
+               "the ~%.3g ms a compression wave takes across the sample: the loops (cycles.csv) will measure its "
+               "inertia as well as the material, E_eq and D too high; below axial_strain_rate = %.3g/s (%g transits if "
+               "the sample strained as far; loaded slower it strains less)\n",
+               sc.name.c_str(), sc.q_amplitude / 1e3, quarter * 1e3, quarter / transit_, transit_ * 1e3,
+               sc.axial_strain_rate * quarter / (kQuasiStaticTransits * transit_), kQuasiStaticTransits);
+}
+
 void Laboratory::start_stage(const StageConfig& sc) {
   Engine& e = *eng_;
   lab_.mu = sc.mu;
@@ -978,6 +997,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       for (int k = 0; k < 4; ++k) e.wall_control(k).target_stress = k < 2 ? t.sx : t.sy;
     }
     if (cyclic) watch_cycle(sc, m0, turn);
+    if (turn && lab_.half_cycles == 1 && sc.q_amplitude > 0) warn_dynamic_loops(sc);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
     const bool snap =
         shear && cfg_.snapshot_strain > 0 && (cyclic ? turn : strain_along(sc, m0.eps_a) >= lab_.next_snap_eps);
@@ -1065,6 +1085,13 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     res.cycle = lab_.cycle;
     res.n_ru = lab_.n_ru;
     res.n_da = lab_.n_da;
+    // The first complete cycle of this stage: its cycles.csv row's step, from the stage's first step.
+    const long start = e.step_count() - lab_.stage_step;
+    for (size_t k = 0; k < lab_.cycles.rows.size(); ++k)
+      if (lab_.cycles.stage[k] == lab_.stage) {
+        res.quarter_transits = (lab_.cycles.rows[k][1] - double(start)) * e.dt() / 4 / transit_;
+        break;
+      }
   }
   res.servo_error = stage_servo_error(sc);
   lab_.results.push_back(res);
@@ -1312,7 +1339,7 @@ std::string Laboratory::write_checkpoint() {
     std::vector<std::string> names;
     for (auto& r : lab_.results) {
       res.insert(res.end(), {double(r.converged), double(r.steps), r.p, r.q, r.e, r.mu, r.cycle, r.n_ru, r.n_da,
-                             r.servo_error});
+                             r.servo_error, r.quarter_transits});
       names.push_back(r.name);
     }
     w.write("/lab/results", res);
@@ -1403,9 +1430,12 @@ bool Laboratory::load_newest_checkpoint() {
       }
       const auto res = r.doubles("/lab/results");
       const auto names = split(r.string("/lab/result_names"), '\n');
-      // 10 values a stage; 9 in a checkpoint from before servo_error, 6 from before the liquefaction criteria (it
-      // has no N to give)
-      const size_t nv = names.empty() || res.size() == 10 * names.size() ? 10 : res.size() == 9 * names.size() ? 9 : 6;
+      // 11 values a stage; 10 in a checkpoint from before quarter_transits, 9 from before servo_error, 6 from before
+      // the liquefaction criteria (it has no N to give)
+      size_t nv = 6;
+      for (size_t n : {11, 10, 9})
+        if (!names.empty() && res.size() == n * names.size()) nv = n;
+      if (names.empty()) nv = 11;
       if (res.size() != nv * names.size()) throw H5Error(path + ": stage results have the wrong size (corrupt?)");
       for (size_t k = 0; k < names.size(); ++k) {
         const double* v = res.data() + nv * k;
@@ -1422,7 +1452,8 @@ bool Laboratory::load_newest_checkpoint() {
           sr.n_ru = v[7];
           sr.n_da = v[8];
         }
-        if (nv == 10) sr.servo_error = v[9];
+        if (nv >= 10) sr.servo_error = v[9];
+        if (nv >= 11) sr.quarter_transits = v[10];
         lab.results.push_back(sr);
       }
       lab.snapshot_files = split(r.string("/lab/snapshot_files"), '\n');
@@ -1496,6 +1527,7 @@ void Laboratory::write_summary() const {
          << num(sc.liquefaction_da_strain) << ", \"n_da\": " << met(r.n_da);
     }
     if (lateral_servo(sc)) js << ", \"servo_error\": " << num(r.servo_error);
+    if (sc.type == StageType::Cyclic) js << ", \"quarter_cycle_transits\": " << num(r.quarter_transits);
     js << "}";
   }
   js << "\n  ]\n}\n";
@@ -1534,6 +1566,7 @@ RunResult Laboratory::run() {
   // with no run there is one, must not replace any), and the sample itself (a placement that fails).
   const RunPlan plan = plan_run(cfg_);
   planned_dt_ = plan.dt;
+  transit_ = plan.transit;
   for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
   if (!opt_.resume || !holds_run()) refuse_overwrites();
   build_engine();
@@ -1640,6 +1673,7 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
   // (a quarter wavelength over its height) is T_w / t_q.
   const double m_mean = sphere_mass(Real(d_mean / 2), density, scaling), k_mean = ep.contact.E * d_mean / 2;
   const double transit = std::cbrt(v_solid / 0.6) / (d_mean * std::sqrt(k_mean / m_mean));
+  plan.transit = transit;
 
   double p_prev = p_start;  // the pressure the previous isotropic stage leaves (a shear's p'_0), 0: unknown
   for (const StageConfig& sc : cfg.stages) {

@@ -28,6 +28,10 @@ struct StageResult {
   // drained shear stages: the largest servo_error over the stage's series rows (NaN: none measured, or a stage
   // finished by a build before it)
   Real servo_error = std::numeric_limits<Real>::quiet_NaN();
+  // cyclic stages: the first complete cycle's duration over 4, in wave transits of the sample (RunPlan::transit):
+  // how slowly the loops were loaded, measured (a stress-controlled stage's cannot be known before it runs; NaN: no
+  // complete cycle, or a stage finished by a build before it)
+  Real quarter_transits = std::numeric_limits<Real>::quiet_NaN();
 };
 
 // A numerical blow-up stopped the run: the message names step, particles, quantity and a suggested dt;
@@ -62,6 +66,7 @@ struct RunPlan {
                                       // isotropic its max_steps (it ends at equilibrium, usually sooner)
   std::vector<std::string> warnings;  // a stage that max_steps cuts short, a ramp that never ends
   double inertial_max = 0;            // the largest estimated inertial number of a shear (0: p' unknown)
+  double transit = 0;                 // the time a compression wave takes across the sample [s] (plan_run)
 };
 // Throws (with the same messages as the run) when the sample cannot be drawn or read, does not fit in memory,
 // or the config's dt is above the stable limit. p_start: the p' a first triaxial stage starts from, where the
@@ -69,8 +74,9 @@ struct RunPlan {
 RunPlan plan_run(const RunConfig& cfg, Real p_start = 0);
 // The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3).
 constexpr double kQuasiStaticInertial = 1e-3;
-// A strain-controlled cyclic stage's quarter cycle, in transit times of a compression wave across the sample, below
-// which plan_run warns that its loops are dynamic (choice, beyond SPEC §6.3; measured, configs/README.md).
+// A cyclic stage's quarter cycle, in transit times of a compression wave across the sample, below which its loops are
+// dynamic (choice, beyond SPEC §6.3; measured, configs/README.md): plan_run warns of a strain-controlled stage, a run
+// of a stress-controlled one at its first load reversal.
 constexpr double kQuasiStaticTransits = 4;
 // Empty when the config `now` only extends `then` (both resolved, as a run's checkpoint records its config) for a
 // run whose newest checkpoint lies in stage k (k = the number of stages: finished); otherwise the first differing

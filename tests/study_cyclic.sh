@@ -31,7 +31,22 @@ awk -v a="$da_hi" -v b="$da_lo" 'BEGIN { exit !(a < b) }' || fail "CSR 0.3 met 2
 grep -q "^| .*_csr0\.3 | 0 | undrained | 0.3 | .* | $(printf '%.3g' "$da_hi") | " sc/report.md ||
   fail "report.md does not give CSR 0.3's N at 2 % DA ($da_hi): $(cat sc/report.md)"
 [ -f sc/figures/liquefaction.png ] || fail "no figures/liquefaction.png"
-# N reached, from the last row of each cyclic test (the series' cycle column is the last)
-n_lo=$(tail -1 $lo/run/series.csv | awk -F, '{print $NF}') n_hi=$(tail -1 $hi/run/series.csv | awk -F, '{print $NF}')
+# Each test's first-cycle quarter in wave transits: summary.json's, in the report's last column; CSR 0.3 flows to
+# |eps_a| = 2 % within its first cycle, so it has none (null; "–" in the report).
+for t in $lo $hi; do
+  tq=$(grep -o '"quarter_cycle_transits": [^,}]*' $t/run/summary.json | awk '{print $2}')
+  [ -n "$tq" ] || fail "$t/run/summary.json gives no quarter_cycle_transits: $(cat $t/run/summary.json)"
+  if [ "$t" = "$hi" ]; then
+    [ "$tq" = null ] && grep -qE "^\| $(basename $t) \|.* \| – \|\$" sc/report.md ||
+      fail "$(basename $t) has no complete cycle, but its quarter cycle is $tq"
+  else
+    grep -qE "^\| $(basename $t) \|.* \| $(printf '%.3g' "$tq")( \(dynamic\))? \|\$" sc/report.md ||
+      fail "report.md does not give $(basename $t)'s quarter cycle ($tq transits)"
+  fi
+done
+# N reached, from the last row of each cyclic test (the series' cycle column, found by its name)
+cyc() { awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "cycle") c = i; next } END { print $c }' "$1"/run/series.csv; }
+n_lo=$(cyc $lo) n_hi=$(cyc $hi)
+[ -n "$n_lo" ] && [ -n "$n_hi" ] || fail "no cycle column in series.csv"
 awk -v a="$n_hi" -v b="$n_lo" 'BEGIN { exit !(a < b) }' || fail "CSR 0.3 reached N = $n_hi, not fewer than CSR 0.1's $n_lo"
 echo "study_cyclic: ok (N = $n_lo at CSR 0.1, $n_hi at CSR 0.3; 2 % double amplitude at N = $da_lo and $da_hi)"

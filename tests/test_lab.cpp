@@ -441,7 +441,8 @@ void as_before_cyclic_stages(const std::string& ckpt) {
     results = r.doubles("/lab/results");
   }
   ASSERT_EQ(scalars.size(), 18u);
-  ASSERT_EQ(results.size(), 10u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error";
+  ASSERT_EQ(results.size(), 11u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
+                                    "quarter_transits";
   results.resize(6);
   scalars.resize(13);
   drop_series_columns(ckpt, 2);
@@ -469,7 +470,8 @@ void as_before_cyclic_stages(const std::string& ckpt) {
 // series' cycle column, three of the liquefaction criteria, three values of each finished stage's result, the cycle
 // loop and its rows; nor the two values a wall of the servo's integral action), and the
 // resumed run ends with the uninterrupted run's series and summary, to the bit (but ke_fluct_ratio, which the restored
-// rows never measured: NaN there). So does one of the build just before ke_fluct_ratio. Checked to fail when
+// rows never measured: NaN there). So does one of the build just before ke_fluct_ratio (10 values a stage result,
+// without quarter_transits). Checked to fail when
 // load_newest_checkpoint compares the stored text as it is.
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
@@ -490,10 +492,17 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   // rerun from there would hide it.
   for (auto& f : fs::directory_iterator(out + "/checkpoints"))
     if (f.path() != ckpt) fs::remove(f.path());
-  // The build of just before ke_fluct_ratio (its checkpoints otherwise as now): resumes to the same series.
+  // The build of just before ke_fluct_ratio (its checkpoints otherwise as now, but for the stage results'
+  // quarter_transits, which came after): resumes to the same series.
   const std::string recent = tmpdir("older_recent");
   fs::copy(out, recent, fs::copy_options::recursive);
   drop_series_columns(newest_checkpoint(recent), 1);
+  {
+    std::vector<double> results = H5Reader(newest_checkpoint(recent)).doubles("/lab/results");
+    ASSERT_EQ(results.size(), 11u);
+    results.resize(10);
+    rewrite_dataset(newest_checkpoint(recent), "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
+  }
   ASSERT_FALSE(run(cfg, recent, -1, true).interrupted);
   expect_series_but_ke_fluct(recent, direct);
   EXPECT_EQ(slurp(recent + "/summary.json"), slurp(direct + "/summary.json"));
@@ -1204,6 +1213,59 @@ TEST(Lab, PlanWarnsOfDynamicLoopsAndTheyAre) {
   std::printf("  0.5 ms: E_eq = %.4g MPa, D = %.3f; 3 ms: E_eq = %.4g MPa, D = %.3f\n", ef / 1e6, df, es / 1e6, ds);
   EXPECT_GT(ef, 1.06 * es);
   EXPECT_GT(df, 2 * ds);
+  // summary.json measures each run's quarter cycle in transits: a strain-controlled cycle is 4 ceil(A / (rate dt))
+  // steps (the plan's count), so the measure is the plan's A / rate in whole steps, over the plan's transit, to
+  // within the step on which the cycle's row is written (a quarter of a step, relative to a transit).
+  for (const auto& [out, plan, rate] : {std::make_tuple(of, pf, 0.2), std::make_tuple(osl, ps, 0.0333333333333)}) {
+    const double want = std::ceil(1.0e-4 / (rate * plan.dt)) * plan.dt / plan.transit;
+    const std::string s = slurp(out + "/summary.json");
+    const size_t at = s.find("\"quarter_cycle_transits\": ");
+    ASSERT_NE(at, std::string::npos) << s;
+    EXPECT_NEAR(std::stod(s.substr(at + 26)), want, 0.26 * plan.dt / plan.transit) << out;
+  }
+}
+
+// A stress-controlled stage's quarter cycle depends on how far the sample strains, so the plan cannot check it: the
+// run warns at its first load reversal when that quarter lasted under 4 wave transits (q = +-38 kPa at 1/s on the
+// reference sample), naming the rate that would give 4 if the sample strained as far; at that rate it strains less
+// (3.9 transits measured), so the warning says to go below it, and at half of it there is no warning. summary.json
+// gives the first cycle's quarter in transits for both.
+TEST(Lab, AStressControlledCycleWarnsWhenItsLoopsAreDynamic) {
+  const auto stage = [](const std::string& rate) {
+    return "  - {name: cyc, type: cyclic, drainage: undrained, q_amplitude: 38000, cycles: 1, axial_strain_rate: " +
+           rate + ", damping: 0.2}\n";
+  };
+  const auto quarter = [](const std::string& out) {
+    const std::string s = slurp(out + "/summary.json");
+    const size_t at = s.find("\"quarter_cycle_transits\": ");
+    return at == std::string::npos ? -1.0 : std::stod(s.substr(at + 26));
+  };
+  const std::string fast = on_reference("qloop_fast", stage("1.0"), 500), of = tmpdir("qloop_fast");
+  ASSERT_TRUE(plan_run(load_run_config(fast)).warnings.empty()) << "the plan cannot know a stress-controlled quarter";
+  testing::internal::CaptureStderr();
+  run(fast, of);
+  const std::string err = testing::internal::GetCapturedStderr();
+  const std::string head = "grainlab: warning: stage cyc: the first quarter cycle (q = 0 -> 38 kPa) took ";
+  const size_t at = err.find(head);
+  ASSERT_NE(at, std::string::npos) << err;
+  const size_t adv = err.find("below axial_strain_rate = ", at);
+  ASSERT_NE(adv, std::string::npos) << err;
+  const double slow_rate = 0.5 * std::stod(err.substr(adv + 26));
+  std::printf("  q = +-38 kPa at 1/s: first cycle's quarter %.3g transits; half the advised rate %.3g/s\n", quarter(of),
+              slow_rate);
+  EXPECT_GT(quarter(of), 0);
+  EXPECT_LT(quarter(of), kQuasiStaticTransits);
+  ASSERT_GT(slow_rate, 0);
+  ASSERT_LT(slow_rate, 0.5);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", slow_rate);
+  const std::string slow = on_reference("qloop_slow", stage(buf), 500), osl = tmpdir("qloop_slow");
+  testing::internal::CaptureStderr();
+  run(slow, osl);
+  const std::string err_slow = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(err_slow.find("the first quarter cycle"), std::string::npos) << err_slow;
+  std::printf("  at %s/s: %.3g transits\n", buf, quarter(osl));
+  EXPECT_GE(quarter(osl), kQuasiStaticTransits);
 }
 
 // Stress reversal at q = +-0.2 p'_0, undrained, 2 cycles: interrupted twice and resumed gives the uninterrupted
