@@ -1432,10 +1432,12 @@ bool Laboratory::load_newest_checkpoint() {
       const auto names = split(r.string("/lab/result_names"), '\n');
       // 11 values a stage; 10 in a checkpoint from before quarter_transits, 9 from before servo_error, 6 from before
       // the liquefaction criteria (it has no N to give)
-      size_t nv = 6;
-      for (size_t n : {11, 10, 9})
-        if (!names.empty() && res.size() == n * names.size()) nv = n;
-      if (names.empty()) nv = 11;
+      size_t nv = 11;
+      for (const size_t n : {size_t(11), size_t(10), size_t(9), size_t(6)})
+        if (!names.empty() && res.size() == n * names.size()) {
+          nv = n;
+          break;
+        }
       if (res.size() != nv * names.size()) throw H5Error(path + ": stage results have the wrong size (corrupt?)");
       for (size_t k = 0; k < names.size(); ++k) {
         const double* v = res.data() + nv * k;
