@@ -1227,45 +1227,60 @@ TEST(Lab, PlanWarnsOfDynamicLoopsAndTheyAre) {
 
 // A stress-controlled stage's quarter cycle depends on how far the sample strains, so the plan cannot check it: the
 // run warns at its first load reversal when that quarter lasted under 4 wave transits (q = +-38 kPa at 1/s on the
-// reference sample), naming the rate that would give 4 if the sample strained as far; at that rate it strains less
-// (3.9 transits measured), so the warning says to go below it, and at half of it there is no warning. summary.json
-// gives the first cycle's quarter in transits for both.
+// reference sample: 3.4), naming the rate that would give 4 if the sample strained as far. Loaded that much slower it
+// strains less (3.9 transits: the warning again), which is why the warning says to go below that rate; at half of it
+// there is none. summary.json gives the first cycle's quarter in transits.
 TEST(Lab, AStressControlledCycleWarnsWhenItsLoopsAreDynamic) {
-  const auto stage = [](const std::string& rate) {
-    return "  - {name: cyc, type: cyclic, drainage: undrained, q_amplitude: 38000, cycles: 1, axial_strain_rate: " +
-           rate + ", damping: 0.2}\n";
+  struct Loaded {
+    std::string err, out;
+    double first = -1, advice = -1;  // the warning's first quarter in transits and its rate (-1: no warning)
+    double quarter = -1;             // summary.json's quarter_cycle_transits
   };
-  const auto quarter = [](const std::string& out) {
-    const std::string s = slurp(out + "/summary.json");
-    const size_t at = s.find("\"quarter_cycle_transits\": ");
-    return at == std::string::npos ? -1.0 : std::stod(s.substr(at + 26));
+  const auto load_at = [](const std::string& rate, const std::string& name) {
+    Loaded l;
+    const std::string cfg = on_reference(name, "  - {name: cyc, type: cyclic, drainage: undrained, q_amplitude: 38000, "
+                                               "cycles: 1, axial_strain_rate: " + rate + ", damping: 0.2}\n", 500);
+    EXPECT_TRUE(plan_run(load_run_config(cfg)).warnings.empty()) << "the plan cannot know a stress-controlled quarter";
+    l.out = tmpdir(name);
+    testing::internal::CaptureStderr();
+    run(cfg, l.out);
+    l.err = testing::internal::GetCapturedStderr();
+    const size_t at = l.err.find("grainlab: warning: stage cyc: the first quarter cycle (q = 0 -> 38 kPa) took ");
+    if (at != std::string::npos) {
+      const size_t only = l.err.find(", only ", at), adv = l.err.find("below axial_strain_rate = ", at);
+      EXPECT_NE(only, std::string::npos) << l.err;
+      EXPECT_NE(adv, std::string::npos) << l.err;
+      if (only != std::string::npos && adv != std::string::npos) {
+        l.first = std::stod(l.err.substr(only + 7));
+        l.advice = std::stod(l.err.substr(adv + 26));
+      }
+    }
+    const std::string s = slurp(l.out + "/summary.json");
+    const size_t q = s.find("\"quarter_cycle_transits\": ");
+    if (q != std::string::npos) l.quarter = std::stod(s.substr(q + 26));
+    return l;
   };
-  const std::string fast = on_reference("qloop_fast", stage("1.0"), 500), of = tmpdir("qloop_fast");
-  ASSERT_TRUE(plan_run(load_run_config(fast)).warnings.empty()) << "the plan cannot know a stress-controlled quarter";
-  testing::internal::CaptureStderr();
-  run(fast, of);
-  const std::string err = testing::internal::GetCapturedStderr();
-  const std::string head = "grainlab: warning: stage cyc: the first quarter cycle (q = 0 -> 38 kPa) took ";
-  const size_t at = err.find(head);
-  ASSERT_NE(at, std::string::npos) << err;
-  const size_t adv = err.find("below axial_strain_rate = ", at);
-  ASSERT_NE(adv, std::string::npos) << err;
-  const double slow_rate = 0.5 * std::stod(err.substr(adv + 26));
-  std::printf("  q = +-38 kPa at 1/s: first cycle's quarter %.3g transits; half the advised rate %.3g/s\n", quarter(of),
-              slow_rate);
-  EXPECT_GT(quarter(of), 0);
-  EXPECT_LT(quarter(of), kQuasiStaticTransits);
-  ASSERT_GT(slow_rate, 0);
-  ASSERT_LT(slow_rate, 0.5);
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", slow_rate);
-  const std::string slow = on_reference("qloop_slow", stage(buf), 500), osl = tmpdir("qloop_slow");
-  testing::internal::CaptureStderr();
-  run(slow, osl);
-  const std::string err_slow = testing::internal::GetCapturedStderr();
-  EXPECT_EQ(err_slow.find("the first quarter cycle"), std::string::npos) << err_slow;
-  std::printf("  at %s/s: %.3g transits\n", buf, quarter(osl));
-  EXPECT_GE(quarter(osl), kQuasiStaticTransits);
+  const auto rate_text = [](double r) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", r);
+    return std::string(buf);
+  };
+  const Loaded fast = load_at("1.0", "qloop_fast");
+  ASSERT_GT(fast.first, 0) << "no warning at 1/s: " << fast.err;
+  EXPECT_LT(fast.first, kQuasiStaticTransits);
+  ASSERT_GT(fast.advice, 0);
+  ASSERT_LT(fast.advice, 1.0);
+  EXPECT_GT(fast.quarter, 0);
+  EXPECT_LT(fast.quarter, kQuasiStaticTransits);
+  const Loaded advised = load_at(rate_text(fast.advice), "qloop_advised");
+  const Loaded slow = load_at(rate_text(0.5 * fast.advice), "qloop_slow");
+  std::printf("  q = +-38 kPa: first quarter %.3g transits at 1/s, %.3g at the advised %.3g/s; first cycle's quarter "
+              "%.3g, %.3g and %.3g at half the advice\n",
+              fast.first, advised.first, fast.advice, fast.quarter, advised.quarter, slow.quarter);
+  EXPECT_GT(advised.first, fast.first);
+  EXPECT_LT(advised.first, kQuasiStaticTransits) << "the sample strained as far: 'go below' would be needless";
+  EXPECT_EQ(slow.err.find("the first quarter cycle"), std::string::npos) << slow.err;
+  EXPECT_GE(slow.quarter, kQuasiStaticTransits);
 }
 
 // Stress reversal at q = +-0.2 p'_0, undrained, 2 cycles: interrupted twice and resumed gives the uninterrupted
