@@ -604,7 +604,6 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) "
              "| largest I |", "|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
-    results = {}
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
         e = np.array([c["e"] for c in g])
@@ -628,7 +627,6 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             ax[1].plot(np.log(xs), c + d * np.log(xs), "-", color=ln.get_color())
             lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
                          f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} | {m_txt} |")
-            results[(mur, ext, bv, rate)] = dict(n=len(g), a=a, b=b, sa=sa, sb=sb, c=c, d=d, sc=sc, sd=sd, M=M.mean(), phi=phi)
         else:
             lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states at distinct p'_c: no fit | | "
                          f"{m_txt} |")
@@ -645,7 +643,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     if not quiet:
         print(text)
     write_text_atomically(os.path.join(out, "csl.md"), text + "\n")
-    return results, text, states
+    return text, states
 
 
 def study(out):
@@ -724,10 +722,10 @@ def study(out):
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | |")
-    results, csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
+    csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
-    fail_lines += rate_section(mono, cs_cfg["window"], tol, figs, peak)
+    rate_lines = rate_section(mono, cs_cfg["window"], tol, figs, peak)
     cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
@@ -780,7 +778,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
-             *fail_lines, *cyc_lines]
+             *fail_lines, *rate_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
