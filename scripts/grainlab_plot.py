@@ -353,6 +353,19 @@ def inertial_note(states):
             "I -> 0 (configs/rate-study.yaml).")
 
 
+def peak_inertial_note(Is):
+    """A line for the largest stress ratios reached above the quasi-static inertial number (Is: each test's I there;
+    none above: empty). A peak rises with I as the critical state does (mu(I)), and in a dense sample the peak comes
+    at small strain, where the walls' start-up may still be felt."""
+    fast = [I for I in Is if I > QUASI_STATIC_I]
+    if not fast:
+        return ""
+    return (f"{len(fast)} of {len(Is)} largest stress ratios were reached at an inertial number above the quasi-static "
+            f"limit I < {QUASI_STATIC_I:g} (up to {max(fast):.1e}): their max q/p' and phi'_max include a rate effect "
+            "(mu(I), Jop et al. 2006) and are upper bounds of the rate-independent peak; an axial_strain_rate axis "
+            "extrapolates them to I -> 0 (section Rate dependence, configs/rate-study.yaml).")
+
+
 def principal_angle(s):
     """The mobilised Mohr-Coulomb angle [deg] of each series row from the wall stresses' principal values,
     sin(phi) = (sigma_1 - sigma_3) / (sigma_1 + sigma_3): any b, where friction_angle's relations of M hold at b = 0
@@ -410,6 +423,17 @@ def running_mean(s, rows, y, window):
     out = np.empty_like(y)
     out[order] = (c[hi] - c[lo]) / (hi - lo)
     return out
+
+
+def max_ratio(s, rows, ang, window, ext, b):
+    """The largest stress ratio of `rows` (running means over `window`, as the peak table takes it): (M, phi, I), its
+    friction angle (the angles' own largest at b > 0, Mohr-Coulomb's of M otherwise) and the inertial number there
+    (None where the series has no such column or the rows there did not measure it: a checkpoint of an older build)."""
+    qp = running_mean(s, rows, s["q_p"], window)
+    k = int(np.argmax(qp))
+    phi = float(np.max(running_mean(s, rows, ang, window))) if b > 0 else friction_angle(qp[k], ext)
+    I = float(running_mean(s, rows, s["inertial_number"], window)[k]) if "inertial_number" in s else None
+    return float(qp[k]), phi, (I if I is not None and math.isfinite(I) else None)
 
 
 def single_row_note(s, m, rows, ang, max_ke):
@@ -684,7 +708,7 @@ def study(out):
     amp = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) > 0]
     cyc = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) <= 0]
     peak = peak_settings(idx)  # how the peaks are taken (the study's peak block)
-    peak_lines, cs_rows, share_rows = [], [], []
+    peak_lines, cs_rows, share_rows, peak_I = [], [], [], []
     for j, d, s in mono:
         m = s["shear"]
         ext = bool(s["eps_a"][m][-1] < 0)  # as critical_state tells it: older study.json files have no direction
@@ -699,18 +723,22 @@ def study(out):
         rows = peak_rows(s, m, peak[1])
         note = single_row_note(s, m, rows, ang, peak[1])
         if not len(rows):
-            peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | - | - | - | - | {note} |")
+            peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | - | - | - | - | - | "
+                              f"{note} |")
         else:
             sign = -1 if ext else 1  # |q| along the loading (q < 0 in extension)
             along, qp = running_mean(s, rows, sign * s["q"], peak[0]), running_mean(s, rows, s["q_p"], peak[0])
             k = int(np.argmax(along))
             # The mobilised friction angle at its largest, at the largest stress ratio (maximum obliquity): past the
-            # peak of q in an undrained test, where p' still grows along the failure line.
-            M_max = float(np.max(qp))
-            phi_max = float(np.max(running_mean(s, rows, ang, peak[0]))) if b > 0 else friction_angle(M_max, ext)
+            # peak of q in an undrained test, where p' still grows along the failure line; and how fast it was sheared
+            # there (a peak taken in a dense flow, I > QUASI_STATIC_I, overstates the rate-independent one).
+            M_max, phi_max, I_max = max_ratio(s, rows, ang, peak[0], ext, b)
+            if I_max is not None:
+                peak_I.append(I_max)
             peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | "
                               f"{sign * along[k] / 1e3:.1f} | {100 * s['eps_a'][rows[k]]:.2f} | {qp[k]:.3f} | "
-                              f"{M_max:.3f} ({phi_max:.1f}°) | {note} |")
+                              f"{M_max:.3f} ({phi_max:.1f}°) | {'-' if I_max is None else format(I_max, '.1e')} | "
+                              f"{note} |")
         c = critical_state(s, cs_cfg["window"], *tol)
         if c is None:
             continue
@@ -730,21 +758,23 @@ def study(out):
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
         cyc_figs.append("`figures/modulus_reduction.png`")
-    # Shares at critical state, per mu_r and direction (mean over its critical states): compression and extension
-    # need not share the stress ratio out alike between fabric and forces.
+    # Shares at critical state, per mu_r, direction and rate (mean over its critical states), as the critical-state
+    # lines are grouped: compression and extension need not share the stress ratio out alike between fabric and
+    # forces, and a rate series must show how the shares move with I, not pool them.
     if states:
         fig, ax = plt.subplots(figsize=(7, 4))
-        keys = sorted({(c["mu_r"], c["ext"], c["b"]) for _, c in states})
+        keys = sorted({(c["mu_r"], c["ext"], c["b"], c["rate"]) for _, c in states})
+        several_rates = len({k[3] for k in keys}) > 1
         bottom = np.zeros(len(keys))
         for key, lab in zip("cdnt", ["a_c", "a_d", "a_n", "3/2 a_t"]):
-            vals = []
-            for mu, ext, bv in keys:
-                g = [c["sff_share_" + key] for _, c in states if (c["mu_r"], c["ext"], c["b"]) == (mu, ext, bv)]
-                vals.append(np.mean(g))
-            ax.bar([f"{mu:g}" + (" ext." if ext else "") + (f" b={bv:g}" if bv > 0 else "") for mu, ext, bv in keys], vals,
+            vals = [np.mean([c["sff_share_" + key] for _, c in states if (c["mu_r"], c["ext"], c["b"], c["rate"]) == k])
+                    for k in keys]
+            ax.bar([f"{mu:g}" + (" ext." if ext else "") + (f" b={bv:g}" if bv > 0 else "")
+                    + (rate_text(rate, " ") if several_rates else "") for mu, ext, bv, rate in keys], vals,
                    bottom=bottom, label=lab)
             bottom += np.array(vals)
-        ax.set(xlabel="mu_r (ext.: triaxial extension)", ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)",
+        ax.set(xlabel="mu_r (ext.: triaxial extension)" + (", axial strain rate" if several_rates else ""),
+               ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)",
                title="stress-force-fabric shares at critical state")
         legend(ax, fontsize=8)
         save(fig, figs, "sff_shares")
@@ -765,8 +795,9 @@ def study(out):
              "(Mohr-Coulomb: sin phi' = 3M / (6 + M) in compression, 3M / (6 - M) in extension; a true-triaxial test, b > 0: "
              "sin phi' = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses). " + peak_text(*peak), "",
              "| test | mu_r | drainage | direction | q_peak [kPa] | eps_a at peak [%] | q/p' at peak | max q/p' (phi'_max) "
-             "| largest single row |",
-             "|---|---|---|---|---|---|---|---|---|", *peak_lines, "",
+             "| I at max q/p' | largest single row |",
+             "|---|---|---|---|---|---|---|---|---|---|", *peak_lines, "",
+             *([peak_inertial_note(peak_I), ""] if peak_inertial_note(peak_I) else []),
              "## Critical states", "",
              f"A test is at critical state when, over the last {cs_cfg['window']:g} of axial strain, the drift of q/p' (slope of a least-squares line times the window) is below "
              f"{tol[0]:g}, of p'/p'_end below {tol[1]:g} and of e below {tol[2]:g}; other tests are listed but not fitted. "
@@ -832,13 +863,10 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             ang = principal_angle(s) if b > 0 else np.array([friction_angle(M, ext) for M in s["q_p"]])
             rows = peak_rows(s, m, peak[1])
             cells = [f"| {j['name']} | {rate((j, s)):g} |"]
-            if len(rows) and "inertial_number" in s:
-                qp = running_mean(s, rows, s["q_p"], peak[0])
-                k = int(np.argmax(qp))
-                I_pk = float(running_mean(s, rows, s["inertial_number"], peak[0])[k])
-                phi = float(np.max(running_mean(s, rows, ang, peak[0]))) if b > 0 else friction_angle(qp[k], ext)
-                pk.append((I_pk, float(qp[k]), phi))
-                cells.append(f" {I_pk:.1e} | {qp[k]:.3f} ({phi:.1f}°) |")
+            M_pk, phi, I_pk = max_ratio(s, rows, ang, peak[0], ext, b) if len(rows) else (None, None, None)
+            if I_pk is not None:
+                pk.append((I_pk, M_pk, phi))
+                cells.append(f" {I_pk:.1e} | {M_pk:.3f} ({phi:.1f}°) |")
             else:
                 cells.append(" - | - |")
             c = critical_state(s, window, *tol)

@@ -12,6 +12,8 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
   three peaks on the line (± 0.000), two critical states, which the line meets exactly (no ±).
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
 - Series D at 10 and 30 /s reaches I = 1.2e-2, past the line's low-I range (1e-2): a note names it, and only it.
+- The peak table gives each test's I at its largest stress ratio (I starts at twice its steady value and falls to it
+  by the peak, so a wrong row shows) and counts the peaks above the quasi-static I = 1e-3.
 - The critical-state lines are fitted per rate (summary.json's axial_strain_rate), named where there are several:
   the three critical states at 1 /s share one p'_c, so no line (a fit through them was singular and stopped the
   report).
@@ -48,7 +50,8 @@ def test(name, group, rate, drifting=False):
             qp = m_pk * ea / 0.1 if ea <= 0.1 else m_pk + (m_cs - m_pk) * min(1.0, (ea - 0.1) / 0.2)
             e = e_cs - (0.2 * (ea - 0.3) if drifting and ea > 0.3 else 0.0)
             p = 1e5
-            w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25, 0.25, qp, I,
+            I_row = I * (2 - ea / 0.1) if ea < 0.1 else I  # a start-up transient: twice the steady I, gone by the peak
+            w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25, 0.25, qp, I_row,
                         p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3])
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.3, "e0": 0, "p0": 0,
                  "drainage": "drained", "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
@@ -114,6 +117,17 @@ if csl_rows != ["| 0.3 | compression, 0.5/s | 1 | fewer than 3 critical states a
                 "| 0.3 | compression, 30/s | 1 | fewer than 3 critical states at distinct p'_c: no fit | | "
                 f"0.900 ({phi(0.9):.1f}°) | 1.2e-02 |"]:
     fails.append("critical-state lines not one per rate: " + "\n".join(csl_rows))
+# The peak table gives the I at each test's largest stress ratio (the steady I, not the start-up's twice that), and a
+# note counts those above the quasi-static 1e-3: shear_b_rate3 (1.2e-3), shear_d_rate10 and _rate30, of 9.
+pk_sec = text.split("## Peak states")[1].split("## ")[0]
+for name, rate in (("shear_a_rate0.5", 0.5), ("shear_b", 2), ("shear_c", 1), ("shear_d_rate30", 30)):
+    row = next((l for l in pk_sec.splitlines() if l.startswith(f"| {name} |")), "")
+    m = 0.75 + 50 * 4e-4 * rate
+    if not row.endswith(f"| {m:.3f} ({phi(m):.1f}°) | {4e-4 * rate:.1e} | {phi(m):.1f}° at 10.0 % |"):
+        fails.append(f"peak table, {name}: expected max q/p' {m:.3f} at I {4e-4 * rate:.1e}, got '{row}'")
+if "3 of 9 largest stress ratios were reached at an inertial number above the quasi-static limit I < 0.001 " \
+        "(up to 1.2e-02)" not in pk_sec:
+    fails.append(f"the peak table's note must count 3 of 9 peaks above I = 1e-3: {pk_sec}")
 if not os.path.isfile(os.path.join(work, "figures", "rate.png")):
     fails.append("figures/rate.png missing")
 for j in jobs:

@@ -72,6 +72,18 @@ grep -E '^\| shear_.* \| yes \|' "$work/report.md" | while IFS='|' read -r _ nam
     "$work/jobs/$name/run/series.csv")
   [ -n "$win" ] && [ "$I" = "$want" ] || { echo "$name: I = $I in the critical-state table, $want from its series"; exit 1; }
 done || exit 1
+# Each peak row's I is the inertial_number of its series' first row at the largest q_p of the shear (the quick study
+# takes its peaks from single rows).
+grep -q "Peaks are the largest of single rows;" "$work/report.md" || { echo "the quick study's peaks are not single rows"; exit 1; }
+n=0
+while IFS='|' read -r _ name _ _ _ _ _ _ _ I _; do
+  name=$(echo $name); I=$(echo $I); n=$((n + 1))
+  want=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
+    $c["stage_type"] > 0 && (!seen || $c["q_p"] + 0 > best) { seen = 1; best = $c["q_p"] + 0; v = $c["inertial_number"] }
+    END { printf "%.1e", v }' "$work/jobs/$name/run/series.csv")
+  [ "$I" = "$want" ] || { echo "$name: I = $I at max q/p' in the peak table, $want from its series"; exit 1; }
+done < <(sed -n '/^## Peak states/,/^## Critical states/p' "$work/report.md" | grep -E '^\| shear_') || exit 1
+[ "$n" -eq 6 ] || { echo "expected 6 peak rows, read $n"; exit 1; }
 # Critical-state lines: one fitted row per mu_r (all compression), each from at least three critical states, with the
 # e_c - p' slope negative (a CSL that rises with p' would mean the steadiness test or the fit is broken) and M with
 # its friction angle.
