@@ -14,7 +14,8 @@ incrementally by perf/build_float.sh):
      race scene, E = 100 MPa): |<E> last tenth - <E> first tenth| / E_0, and the rate of step() alone.
 The sample is prepared once (consolidation at f = 0.2) and shared by every shear.
 Rates are medians of REPS rounds over all cases (default 3); the errors must repeat bitwise in every round.
-Environment: REPS, BUILD (default build), BUILD_FLOAT (default build-float), OMP_NUM_THREADS (default 2), SVE_OUT (work dir, default /tmp/grainlab-sve).
+Environment: REPS, BUILD (default build), BUILD_FLOAT (default build-float), OMP_NUM_THREADS (default 2), SVE_OUT (work dir,
+default /tmp/grainlab-sve), SVE_REPORT_DIR (where the report goes, default perf/).
 """
 import csv
 import os
@@ -34,6 +35,7 @@ BUILD_FLOAT = os.environ.get("BUILD_FLOAT", os.path.join(ROOT, "build-float"))
 GRAINLAB = os.path.join(BUILD, "grainlab")
 DRIFT = os.path.join(BUILD, "perf", "energy_drift")
 WORK = os.environ.get("SVE_OUT", "/tmp/grainlab-sve")
+REPORT = os.environ.get("SVE_REPORT_DIR", os.path.join(ROOT, "perf"))  # where SPEED_VS_ERROR.md and the PNG go
 PEERS = os.environ.get("PEERS_DIR", os.path.join(ROOT, "..", "shared", "bench", "peers"))
 FACTORS = [0.05, 0.1, 0.2, 0.3, 0.5]
 SKINS = [0.05e-3, 0.1e-3, 0.2e-3]
@@ -179,27 +181,35 @@ def main():
     n = 800
     print(f"reference: f = {F_REF}, skin 0.1 mm", flush=True)
     ref = shear(sample, F_REF, 0.1e-3, n)
+    write_report(measure(sample, n, ref, REPS), ref, ref["p"][0])
+
+
+# What each round times, per case: the shear's rate and wall time, step()'s rate and its cost per simulated ms.
+TIMED = ("q_rate", "q_wall", "d_rate", "d_cost")
+
+
+def measure(sample, n, ref, reps):
+    """Every case (skin, f, precision) `reps` rounds over: one row per case with its errors against `ref` (round 1's,
+    which every later round must reproduce bit for bit) and the median and min-max of each TIMED rate."""
     p0 = ref["p"][0]
     cases = [(skin, f, "double") for skin in SKINS for f in FACTORS] + [(0.1e-3, f, "float") for f in FACTORS]
-    # REPS rounds over all cases (not REPS runs of one case in a row), so a slow hour of the shared host slows
+    # reps rounds over all cases (not reps runs of one case in a row), so a slow hour of the shared host slows
     # every case alike; the rates are medians over the rounds. The errors are deterministic: every round must
     # reproduce round 1's q series and drift to the last bit, or the report is not written.
-    first, q_rates, d_rates, q_walls, d_costs = {}, {}, {}, {}, {}
-    for rnd in range(REPS):
+    first, timed = {}, {case: {k: [] for k in TIMED} for case in cases}
+    for rnd in range(reps):
         for case in cases:
             skin, f, prec = case
             s = shear(sample, f, skin, n, prec)
             d, band, drate, dcost = drift(f, skin, prec)
-            q_rates.setdefault(case, []).append(s["rate"])
-            d_rates.setdefault(case, []).append(drate)
-            q_walls.setdefault(case, []).append(s["wall"])
-            d_costs.setdefault(case, []).append(dcost)
+            for k, v in zip(TIMED, (s["rate"], s["wall"], drate, dcost)):
+                timed[case][k].append(v)
             if rnd == 0:
                 first[case] = (s, d, band)
             elif not (np.array_equal(s["q"], first[case][0]["q"]) and d == first[case][1]):
                 sys.exit(f"speed_vs_error: round {rnd + 1} of f={f} skin={skin} {prec} differs from round 1:"
                          " same config, backend and thread count must give the same bits")
-            print(f"round {rnd + 1}/{REPS} f={f:<5} skin={skin * 1e3:.2f} mm {prec:6s} shear {s['rate']:.3g} p-steps/s"
+            print(f"round {rnd + 1}/{reps} f={f:<5} skin={skin * 1e3:.2f} mm {prec:6s} shear {s['rate']:.3g} p-steps/s"
                   f"  step() {drate:.3g} p-steps/s", flush=True)
     rows = []
     for case in cases:
@@ -211,13 +221,13 @@ def main():
         err = float(np.max(dq))
         early = s["eps"][keep] - s["eps"][0] <= 0.01
         err1 = float(np.max(dq[early])) if early.any() else float("nan")
-        rows.append(dict(f=f, skin=skin, prec=prec, q_err=err, q_err1=err1, q_rate=float(np.median(q_rates[case])),
-                         q_span=(min(q_rates[case]), max(q_rates[case])), steps=s["steps"], drift=d, band=band,
-                         d_rate=float(np.median(d_rates[case])), d_span=(min(d_rates[case]), max(d_rates[case])),
-                         q_wall=float(np.median(q_walls[case])), d_cost=float(np.median(d_costs[case]))))
+        t = timed[case]
+        rows.append(dict(f=f, skin=skin, prec=prec, q_err=err, q_err1=err1, steps=s["steps"], drift=d, band=band,
+                         q_span=(min(t["q_rate"]), max(t["q_rate"])), d_span=(min(t["d_rate"]), max(t["d_rate"])),
+                         **{k: float(np.median(v)) for k, v in t.items()}))
         print(f"f={f:<5} skin={skin * 1e3:.2f} mm {prec:6s} q error {err:.2e} p'0 (first 1 %: {err1:.2e})  shear {rows[-1]['q_rate']:.3g} p-steps/s"
-              f"  drift {d:.2e}  band {band:.2e}  step() {rows[-1]['d_rate']:.3g} p-steps/s (medians of {REPS})", flush=True)
-    write_report(rows, ref, p0)
+              f"  drift {d:.2e}  band {band:.2e}  step() {rows[-1]['d_rate']:.3g} p-steps/s (medians of {reps})", flush=True)
+    return rows
 
 
 def write_report(rows, ref, p0):
@@ -299,7 +309,7 @@ def write_report(rows, ref, p0):
         " kernel visits.",
         "",
     ]
-    write_text_atomically(os.path.join(ROOT, "perf", "SPEED_VS_ERROR.md"), "\n".join(lines))
+    write_text_atomically(os.path.join(REPORT, "SPEED_VS_ERROR.md"), "\n".join(lines))
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -322,11 +332,11 @@ def write_report(rows, ref, p0):
             a.legend()
             a.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
-        write_atomically(os.path.join(ROOT, "perf", "speed_vs_error.png"),
+        write_atomically(os.path.join(REPORT, "speed_vs_error.png"),
                          lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
     except ImportError:
         print("matplotlib missing: no PNG")
-    print("wrote perf/SPEED_VS_ERROR.md")
+    print("wrote", os.path.join(REPORT, "SPEED_VS_ERROR.md"))
 
 
 if __name__ == "__main__":
