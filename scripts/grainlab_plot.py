@@ -425,15 +425,32 @@ def running_mean(s, rows, y, window):
     return out
 
 
-def max_ratio(s, rows, ang, window, ext, b):
-    """The largest stress ratio of `rows` (running means over `window`, as the peak table takes it): (M, phi, I), its
-    friction angle (the angles' own largest at b > 0, Mohr-Coulomb's of M otherwise) and the inertial number there
-    (None where the series has no such column or the rows there did not measure it: a checkpoint of an older build)."""
-    qp = running_mean(s, rows, s["q_p"], window)
-    k = int(np.argmax(qp))
-    phi = float(np.max(running_mean(s, rows, ang, window))) if b > 0 else friction_angle(qp[k], ext)
-    I = float(running_mean(s, rows, s["inertial_number"], window)[k]) if "inertial_number" in s else None
-    return float(qp[k]), phi, (I if I is not None and math.isfinite(I) else None)
+def peak_state(s, peak):
+    """The peak table's measures of a shear (peak: the study's (window, max_ke), peak_settings): its direction (ext,
+    b), every row's mobilised friction angle `ang` (from the principal wall stresses at b > 0, else from the contacts'
+    q_p = sqrt(3/2 s:s) / p', SPEC §7, >= 0 in either direction, as critical_state reads it, by Mohr-Coulomb's relation
+    of the direction), the rows the peak is taken over, and where there are any: the peak of |q| along the loading
+    (q_peak < 0 in extension, its strain eps_peak and q/p' there, qp_peak) and the largest stress ratio (maximum
+    obliquity: past the peak of q in an undrained test, where p' still grows along the failure line) M with its angle
+    phi (the angles' own largest at b > 0) and the inertial number there, I (None where the series has no such column
+    or its rows there did not measure it: a checkpoint of an older build). Each measure is a running mean over the
+    peak window."""
+    m = s["shear"]
+    ext = bool(s["eps_a"][m][-1] < 0)  # as critical_state tells it: older study.json files have no direction
+    b = float(s.get("b", 0.0))
+    ang = principal_angle(s) if b > 0 else np.array([friction_angle(M, ext) for M in s["q_p"]])
+    rows = peak_rows(s, m, peak[1])
+    out = dict(ext=ext, b=b, ang=ang, m=m, rows=rows)
+    if not len(rows):
+        return out
+    window, sign = peak[0], (-1 if ext else 1)  # |q| along the loading
+    along, qp = running_mean(s, rows, sign * s["q"], window), running_mean(s, rows, s["q_p"], window)
+    k, kq = int(np.argmax(along)), int(np.argmax(qp))
+    I = float(running_mean(s, rows, s["inertial_number"], window)[kq]) if "inertial_number" in s else None
+    out.update(q_peak=float(sign * along[k]), eps_peak=float(s["eps_a"][rows[k]]), qp_peak=float(qp[k]),
+               M=float(qp[kq]), phi=float(np.max(running_mean(s, rows, ang, window))) if b > 0
+               else friction_angle(qp[kq], ext), I=I if I is not None and math.isfinite(I) else None)
+    return out
 
 
 def single_row_note(s, m, rows, ang, max_ke):
@@ -710,34 +727,20 @@ def study(out):
     peak = peak_settings(idx)  # how the peaks are taken (the study's peak block)
     peak_lines, cs_rows, share_rows, peak_I = [], [], [], []
     for j, d, s in mono:
-        m = s["shear"]
-        ext = bool(s["eps_a"][m][-1] < 0)  # as critical_state tells it: older study.json files have no direction
-        direction = "extension" if ext else "compression"
-        b = float(s.get("b", 0.0))
-        if b > 0:
-            direction += f", b = {b:g}"
-        # The mobilised friction angle of every row: from the principal wall stresses at b > 0, else from the
-        # contacts' q_p = sqrt(3/2 s:s) / p' (SPEC §7, >= 0 in either direction, as critical_state reads it) by
-        # Mohr-Coulomb's relation of the direction (friction_angle).
-        ang = principal_angle(s) if b > 0 else np.array([friction_angle(M, ext) for M in s["q_p"]])
-        rows = peak_rows(s, m, peak[1])
-        note = single_row_note(s, m, rows, ang, peak[1])
-        if not len(rows):
+        ps = peak_state(s, peak)
+        direction = ("extension" if ps["ext"] else "compression") + (f", b = {ps['b']:g}" if ps["b"] > 0 else "")
+        note = single_row_note(s, ps["m"], ps["rows"], ps["ang"], peak[1])
+        if "M" not in ps:
             peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | - | - | - | - | - | "
                               f"{note} |")
         else:
-            sign = -1 if ext else 1  # |q| along the loading (q < 0 in extension)
-            along, qp = running_mean(s, rows, sign * s["q"], peak[0]), running_mean(s, rows, s["q_p"], peak[0])
-            k = int(np.argmax(along))
-            # The mobilised friction angle at its largest, at the largest stress ratio (maximum obliquity): past the
-            # peak of q in an undrained test, where p' still grows along the failure line; and how fast it was sheared
-            # there (a peak taken in a dense flow, I > QUASI_STATIC_I, overstates the rate-independent one).
-            M_max, phi_max, I_max = max_ratio(s, rows, ang, peak[0], ext, b)
-            if I_max is not None:
-                peak_I.append(I_max)
+            # The inertial number at the largest stress ratio: a peak taken in a dense flow, I > QUASI_STATIC_I,
+            # overstates the rate-independent one.
+            if ps["I"] is not None:
+                peak_I.append(ps["I"])
             peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | "
-                              f"{sign * along[k] / 1e3:.1f} | {100 * s['eps_a'][rows[k]]:.2f} | {qp[k]:.3f} | "
-                              f"{M_max:.3f} ({phi_max:.1f}°) | {'-' if I_max is None else format(I_max, '.1e')} | "
+                              f"{ps['q_peak'] / 1e3:.1f} | {100 * ps['eps_peak']:.2f} | {ps['qp_peak']:.3f} | "
+                              f"{ps['M']:.3f} ({ps['phi']:.1f}°) | {'-' if ps['I'] is None else format(ps['I'], '.1e')} | "
                               f"{note} |")
         c = critical_state(s, cs_cfg["window"], *tol)
         if c is None:
@@ -857,16 +860,11 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     for g, tests in sorted(groups.items()):
         pk, cs = [], []  # (I, M, phi) at the largest stress ratio; (I, M, phi, e) at critical state
         for j, s in sorted(tests, key=rate):
-            m = s["shear"]
-            ext = bool(s["eps_a"][m][-1] < 0)
-            b = float(s.get("b", 0.0))
-            ang = principal_angle(s) if b > 0 else np.array([friction_angle(M, ext) for M in s["q_p"]])
-            rows = peak_rows(s, m, peak[1])
+            ps = peak_state(s, peak)
             cells = [f"| {j['name']} | {rate((j, s)):g} |"]
-            M_pk, phi, I_pk = max_ratio(s, rows, ang, peak[0], ext, b) if len(rows) else (None, None, None)
-            if I_pk is not None:
-                pk.append((I_pk, M_pk, phi))
-                cells.append(f" {I_pk:.1e} | {M_pk:.3f} ({phi:.1f}°) |")
+            if ps.get("I") is not None:
+                pk.append((ps["I"], ps["M"], ps["phi"]))
+                cells.append(f" {ps['I']:.1e} | {ps['M']:.3f} ({ps['phi']:.1f}°) |")
             else:
                 cells.append(" - | - |")
             c = critical_state(s, window, *tol)
