@@ -757,6 +757,7 @@ def study(out):
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
     rate_lines = rate_section(mono, cs_cfg["window"], tol, figs, peak)
+    seed_lines = seed_section(mono, cs_cfg["window"], tol, figs, peak)
     cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
@@ -812,7 +813,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
-             *fail_lines, *rate_lines, *cyc_lines]
+             *fail_lines, *rate_lines, *seed_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -922,6 +923,113 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
                "I_0), so a line through such tests understates the slope at small I and overstates the limit (a chord "
                "of a concave curve): "
                + ", ".join(fast) + ". Extrapolate from rates below it.", ""] if fast else [])]
+
+
+# Student's t at 97.5 % (a two-sided 95 % interval) for 1..30 degrees of freedom.
+T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
+        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042)
+
+
+def t975(dof):
+    """Student's t quantile 0.975 for dof >= 1 degrees of freedom: the table to 30, beyond it the Cornish-Fisher
+    expansion about the normal quantile (Abramowitz & Stegun 26.7.5), 2.0423 at 30 against the exact 2.0423."""
+    if dof <= len(T975):
+        return T975[dof - 1]
+    z = 1.959964
+    return z + (z ** 3 + z) / (4 * dof) + (5 * z ** 5 + 16 * z ** 3 + 3 * z) / (96 * dof ** 2)
+
+
+def seed_spread(v, digits):
+    """A sample of one measure over seeds as a table cell: 'mean ± sd [95 % half-width of the mean]' from two values
+    on, the value alone from one, '-' from none."""
+    v = [x for x in v if x is not None]
+    if not v:
+        return "-"
+    if len(v) == 1:
+        return f"{v[0]:.{digits}f} (1 seed)"
+    sd = float(np.std(v, ddof=1))
+    return f"{np.mean(v):.{digits}f} ± {sd:.{digits}f} [{t975(len(v) - 1) * sd / math.sqrt(len(v)):.{digits}f}]"
+
+
+SEED_PHI_TARGET = 0.5  # [deg]: the half-width a friction angle is asked to, for the seeds it would take
+
+
+def seeds_needed(v, target=SEED_PHI_TARGET):
+    """The fewest seeds n >= 2 whose 95 % interval of the mean, t975(n - 1) sd / sqrt(n), is within +-target, with
+    sd the spread of the seeds at hand (an estimate: it assumes that spread); '-' from fewer than two values."""
+    v = [x for x in v if x is not None]
+    if len(v) < 2:
+        return "-"
+    sd = float(np.std(v, ddof=1))
+    n = 2
+    while t975(n - 1) * sd / math.sqrt(n) > target:
+        n += 1
+    return str(n)
+
+
+def seed_section(mono, window, tol, figs, peak=(0.0, None)):
+    """Tests that differ only in the packing's random seed (the seed axis; study.json's jobs equal but for name, dir,
+    sample and seed): per group the spread over the seeds of the density after consolidation, the peak (as the peak
+    table takes it) and the critical state (of the seeds that reach one), each as mean ± standard deviation with the
+    95 % interval of the mean (Student t), and the seeds a friction angle would need for +-SEED_PHI_TARGET. A single
+    sample's result carries this scatter (a dense assembly is chaotic: a change of one rounding gives another, equally
+    valid trajectory; perf/SPEED_VS_ERROR.md), so it is the error bar of every other table's single-seed numbers."""
+    groups = {}
+    for j, d, s in mono:
+        key = tuple(sorted((k, json.dumps(v)) for k, v in j.items() if k not in ("name", "dir", "sample", "seed")))
+        groups.setdefault(key, []).append((j, s))
+    groups = {k: sorted(g, key=lambda t: t[0]["seed"]) for k, g in groups.items() if len({t[0]["seed"] for t in g}) > 1}
+    if not groups:
+        return []
+    pk_rows = ["| test (all seeds) | seeds | e_0 | q_peak [kPa] | max q/p' | phi'_max [°] | seeds for ±"
+               f"{SEED_PHI_TARGET:g}° |", "|---|---|---|---|---|---|---|"]
+    cs_rows = ["| test (all seeds) | at critical state | p'_c [kPa] | q/p' | phi_cs [°] | e_c | a_c | seeds for ±"
+               f"{SEED_PHI_TARGET:g}° |", "|---|---|---|---|---|---|---|---|"]
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
+    names = []
+    for i, g in enumerate(sorted(groups.values(), key=lambda g: g[0][0]["name"])):
+        j0 = g[0][0]
+        name = j0["name"].replace(f"_s{j0['seed']}_", "_s*_", 1)
+        names.append(name)
+        seeds = ", ".join(str(j["seed"]) for j, _ in g)
+        ps = [peak_state(s, peak) for _, s in g]
+        cs = [critical_state(s, window, *tol) for _, s in g]
+        cs = [c for c in cs if c is not None and c["ok"]]
+        e0 = [float(s["e"][s["monotonic"]][0]) for _, s in g]
+        phi_pk = [p["phi"] for p in ps if "phi" in p]
+        pk_rows.append(f"| {name} | {len(g)} ({seeds}) | {seed_spread(e0, 4)} | "
+                       f"{seed_spread([p['q_peak'] / 1e3 for p in ps if 'M' in p], 1)} | "
+                       f"{seed_spread([p['M'] for p in ps if 'M' in p], 3)} | {seed_spread(phi_pk, 2)} | "
+                       f"{seeds_needed(phi_pk)} |")
+        phi_cs = [c["phi"] for c in cs]
+        cs_rows.append(f"| {name} | {len(cs)} of {len(g)} | {seed_spread([c['p'] / 1e3 for c in cs], 1)} | "
+                       f"{seed_spread([c['M'] for c in cs], 3)} | {seed_spread(phi_cs, 2)} | "
+                       f"{seed_spread([c['e'] for c in cs], 4)} | {seed_spread([c.get('a_c') for c in cs], 3)} | "
+                       f"{seeds_needed(phi_cs)} |")
+        for a_, v in zip(ax, ([p["M"] for p in ps if "M" in p], [c["M"] for c in cs], [c["e"] for c in cs])):
+            if not v:
+                continue
+            a_.plot(np.full(len(v), i), v, "o", color="0.6", ms=4)
+            if len(v) > 1:
+                a_.errorbar([i + 0.15], [np.mean(v)], yerr=[t975(len(v) - 1) * np.std(v, ddof=1) / math.sqrt(len(v))],
+                            fmt="s", color="k", capsize=4)
+    for a_, lab in zip(ax, ("max q/p'", "critical q/p'", "e_c")):
+        a_.set(ylabel=lab, title=lab + ": seeds (grey), mean and 95 % interval")
+        a_.set_xticks(range(len(names)))
+        a_.set_xlim(-0.5, len(names) - 0.5)
+        a_.set_xticklabels(names, rotation=20, ha="right", fontsize=6)
+        a_.grid(alpha=0.3)
+    save(fig, figs, "seeds")
+    return ["## Sample-to-sample scatter (seed axis)", "",
+            "Tests that differ only in the random seed of their packing. Each cell: the mean over the seeds ± their "
+            "standard deviation (the scatter of one sample of this size) [the half-width of the mean's 95 % "
+            "confidence interval, Student t with n - 1 degrees of freedom]. A dense packing is chaotic, so a single "
+            "sample's peak or critical state is one draw: the standard deviation is the error bar of every single-seed "
+            "number in this report. e_0 is the void ratio at the start of the shear; peaks as the peak table takes "
+            "them; critical states over the seeds that reach one. 'seeds for ±"
+            f"{SEED_PHI_TARGET:g}°': the fewest seeds whose 95 % interval of the mean friction angle is within ±"
+            f"{SEED_PHI_TARGET:g}°, if the seeds scatter as these do. Figure: `figures/seeds.png`.", "",
+            *pk_rows, "", *cs_rows, ""]
 
 
 def cyclic_section(cyc, figs, colors):

@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's sample-scatter section (scripts/grainlab_plot.py seed_section).
+
+A synthetic study of drained compressions at p' = 100 kPa: q/p' rises to its peak M at 10 % strain and falls to the
+critical M_cs at 30 %, steady after; e falls from e_0 to e_c by 30 %; a_c = 0.1 + 0.01 x seed.
+- Group A (seeds 1-4): M = 0.70, 0.72, 0.74, 0.76; M_cs = 0.60, 0.61, 0.62; e_0 = 0.75 + 0.01 x seed; e_c = 0.70 +
+  0.001 x seed; seed 4 still compacting (e drifting), so 3 of 4 critical states. The cells are worked out here from
+  the tabulated Student t (3.182 at 3 degrees of freedom, 4.303 at 2): e.g. max q/p' 0.730 ± 0.026 [0.041].
+- Group B (p'_0 200 kPa in study.json, seeds 7-9): M = 0.60, 0.70, 0.80, so its peak angle scatters by ~2.6 deg and
+  needs over 30 seeds for +-0.5 deg: the t quantile beyond the table (Cornish-Fisher), checked against tabulated
+  values at 40, 60 and 120 degrees of freedom (2.021, 2.000, 1.980).
+- A test with one seed has no row; a study without two seeds of one test has no section.
+Tolerances: the cells are printed to 1-4 decimals from exact inputs, so the strings must match; the t quantiles to
+the table's 3 decimals.
+"""
+import csv
+import importlib.util
+import json
+import math
+import os
+import shutil
+import sys
+
+import numpy as np
+
+from synthetic_study import study_report, SCRIPT
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/seed_check"
+shutil.rmtree(work, ignore_errors=True)
+cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t", "sff_share_c",
+        "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y", "sigma_z"]
+jobs = []
+
+
+def test(seed, p0, M, M_cs, e0, e_c, drifting=False):
+    name = f"shear_drained_mur0.3_ebase_p{p0 / 1e3:g}k_s{seed}_n300"
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": 1}]}, f)
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i in range(41):
+            ea = 0.01 * i
+            qp = M * ea / 0.1 if ea <= 0.1 else M + (M_cs - M) * min(1.0, (ea - 0.1) / 0.2)
+            e = e0 + (e_c - e0) * min(1.0, ea / 0.3) - (0.2 * (ea - 0.3) if drifting and ea > 0.3 else 0.0)
+            p = 1e5
+            w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1 + 0.01 * seed, 0.05, 0.1, 0.02, 0.25, 0.25,
+                        0.25, 0.25, qp, 1e-3, p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3])
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": name.replace("shear_drained", "sample"),
+                 "mu_r": 0.3, "e0": 0, "p0": p0, "drainage": "drained", "direction": "compression", "b": 0,
+                 "stress_path": "constant_sigma3", "seed": seed, "count": 300, "csr": 0, "cycles": 0,
+                 "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": ""})
+
+
+for seed, M, M_cs in ((1, 0.70, 0.60), (2, 0.72, 0.61), (3, 0.74, 0.62), (4, 0.76, 0.63)):
+    test(seed, 1e5, M, M_cs, 0.75 + 0.01 * seed, 0.70 + 0.001 * seed, drifting=seed == 4)
+for seed, M in ((7, 0.60), (8, 0.70), (9, 0.80)):
+    test(seed, 2e5, M, 0.6, 0.75, 0.70)
+test(5, 3e5, 0.7, 0.6, 0.75, 0.70)  # one seed: no row
+
+
+def phi(m):
+    return math.degrees(math.asin(3 * m / (6 + m)))
+
+
+T = {2: 4.303, 3: 3.182}  # tabulated Student t, 0.975
+
+
+def cell(v, digits):
+    sd = float(np.std(v, ddof=1))
+    return f"{np.mean(v):.{digits}f} ± {sd:.{digits}f} [{T[len(v) - 1] * sd / math.sqrt(len(v)):.{digits}f}]"
+
+
+spec = importlib.util.spec_from_file_location("grainlab_plot", SCRIPT)
+gp = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(gp)
+fails = []
+for dof, want in ((1, 12.706), (2, 4.303), (3, 3.182), (30, 2.042), (40, 2.021), (60, 2.000), (120, 1.980)):
+    if abs(gp.t975(dof) - want) > 5e-4:
+        fails.append(f"t975({dof}) = {gp.t975(dof):.4f}, tabulated {want}")
+
+
+def needed(v):
+    sd, n = float(np.std(v, ddof=1)), 2
+    while gp.t975(n - 1) * sd / math.sqrt(n) > 0.5:
+        n += 1
+    return n
+
+
+text = study_report(work, jobs)
+if "## Sample-to-sample scatter (seed axis)" not in text:
+    sys.exit("no sample-scatter section in report.md")
+sec = text.split("## Sample-to-sample scatter (seed axis)")[1].split("\n## ")[0]
+Ma, Mcs = [0.70, 0.72, 0.74, 0.76], [0.60, 0.61, 0.62]
+pa = [phi(m) for m in Ma]
+want_a = (f"| shear_drained_mur0.3_ebase_p100k_s*_n300 | 4 (1, 2, 3, 4) | {cell([0.76, 0.77, 0.78, 0.79], 4)} | "
+          f"{cell([100 * m for m in Ma], 1)} | {cell(Ma, 3)} | {cell(pa, 2)} | {needed(pa)} |")
+want_a_cs = (f"| shear_drained_mur0.3_ebase_p100k_s*_n300 | 3 of 4 | 100.0 ± 0.0 [0.0] | {cell(Mcs, 3)} | "
+             f"{cell([phi(m) for m in Mcs], 2)} | {cell([0.701, 0.702, 0.703], 4)} | {cell([0.11, 0.12, 0.13], 3)} | "
+             f"{needed([phi(m) for m in Mcs])} |")
+if "0.730 ± 0.026 [0.041]" not in want_a:  # the worked example of the docstring
+    fails.append(f"the worked cell: {want_a}")
+Mb = [0.60, 0.70, 0.80]
+nb = needed([phi(m) for m in Mb])
+want_b = (f"| shear_drained_mur0.3_ebase_p200k_s*_n300 | 3 (7, 8, 9) | 0.7500 ± 0.0000 [0.0000] | "
+          f"{cell([100 * m for m in Mb], 1)} | {cell(Mb, 3)} | {cell([phi(m) for m in Mb], 2)} | {nb} |")
+for want in (want_a, want_a_cs, want_b):
+    got = next((l for l in sec.splitlines() if l.startswith(want[:48]) and l.count("|") == want.count("|")
+                and (" of " in l) == (" of " in want)), "")
+    if got != want:
+        fails.append(f"expected\n  {want}\ngot\n  {got}")
+if nb <= 30:
+    fails.append(f"group B should need more than 30 seeds (the t beyond the table), needs {nb}")
+if "p300k" in sec:
+    fails.append("a test with one seed has a row")
+if not os.path.isfile(os.path.join(work, "figures", "seeds.png")):
+    fails.append("figures/seeds.png missing")
+for j in jobs:
+    j["p0"] = j["seed"]  # every test its own group
+if "## Sample-to-sample scatter" in study_report(work, jobs):
+    fails.append("a study without two seeds of one test has a sample-scatter section")
+if fails:
+    sys.exit("\n".join(fails))
+print(f"seed_check ok (group B needs {nb} seeds)")
