@@ -836,41 +836,45 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     the same test at several rates (with the test of that name at the base's rate, where the study has it: an extra
     job's rate beside the grid's), the largest stress ratio and the critical state against the inertial number I,
     each extrapolated to I -> 0 by a line in I: the low-I form of the mu(I) rheology, mu_s + (mu_2 - mu_s) I / I_0
-    for I << I_0 ~ 0.3 (Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2). The slowest test's distance from that
+    for I << I_0 ~ 0.3 (Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2). The slowest rate's distance from that
     limit says whether the study's rates are slow enough. Peaks as the peak table takes them (`peak`)."""
-    groups = {}
+    groups = {}  # replicates of one test over seeds share a series: the line goes through every one of them
     for j, d, s in mono:
         if j.get("rate_group"):
-            groups.setdefault(j["rate_group"], []).append((j, s))
+            groups.setdefault(seedless(j["rate_group"], j), []).append((j, s))
     if not groups:
         return []
     for j, d, s in mono:
-        if j["name"] in groups and s["rate"] > 0:  # the base's rate, from its summary.json
-            groups[j["name"]].append((j, s))
+        if not j.get("rate_group") and seedless(j["name"], j) in groups and s["rate"] > 0:  # the base's rate (summary.json)
+            groups[seedless(j["name"], j)].append((j, s))
 
     def rate(t):
         return t[1]["rate"] if t[1]["rate"] > 0 else t[0].get("axial_strain_rate", 0)
 
     rows_out = ["| test | axial_strain_rate [1/s] | I at max q/p' | max q/p' (phi'_max) | I at critical state | "
                 "q/p' at critical state (phi_cs) | e_c |", "|---|---|---|---|---|---|---|"]
-    fits = ["| rate series | tests | max q/p' at I -> 0 (phi'_max) | slowest test's max q/p' above it | "
-            "critical q/p' at I -> 0 (phi_cs) | e_c at I -> 0 | slowest test's critical q/p' above it |",
+    fits = ["| rate series | tests | max q/p' at I -> 0 (phi'_max) | slowest rate's max q/p' above it | "
+            "critical q/p' at I -> 0 (phi_cs) | e_c at I -> 0 | slowest rate's critical q/p' above it |",
             "|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 3, figsize=(17, 4.5))
     fast = []  # series whose line reaches past the low-I range
     for g, tests in sorted(groups.items()):
-        pk, cs = [], []  # (I, M, phi) at the largest stress ratio; (I, M, phi, e) at critical state
+        seeds = {t[0].get("seed") for t in tests}
+        if len(seeds) == 1:  # one seed: the series is named as its tests are
+            g = g.replace("_s*_", f"_s{seeds.pop()}_", 1)
+        # (I, M, phi, rate) at the largest stress ratio; (I, M, phi, e, rate) at critical state
+        pk, cs = [], []
         for j, s in sorted(tests, key=rate):
             ps = peak_state(s, peak)
             cells = [f"| {j['name']} | {rate((j, s)):g} |"]
             if ps.get("I") is not None:
-                pk.append((ps["I"], ps["M"], ps["phi"]))
+                pk.append((ps["I"], ps["M"], ps["phi"], rate((j, s))))
                 cells.append(f" {ps['I']:.1e} | {ps['M']:.3f} ({ps['phi']:.1f}°) |")
             else:
                 cells.append(" - | - |")
             c = critical_state(s, window, *tol)
             if c is not None and c["ok"] and c["I"] is not None:
-                cs.append((c["I"], c["M"], c["phi"], c["e"]))
+                cs.append((c["I"], c["M"], c["phi"], c["e"], rate((j, s))))
                 cells.append(f" {c['I']:.1e} | {c['M']:.3f} ({c['phi']:.1f}°) | {c['e']:.4f} |")
             else:
                 cells.append(" - | not at critical state | - |")
@@ -879,7 +883,7 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
 
         def limit(pts, col, digits, angle=False):
             """Column col of pts at I -> 0 as 'value ± se' (with its angle: Mohr-Coulomb's of M at b = 0, the angles'
-            own line at b > 0), and the slowest test's excess over it."""
+            own line at b > 0), and the slowest rate's excess over it (the mean of its tests: one per seed)."""
             f = line_to_zero([q[0] for q in pts], [q[col] for q in pts])
             if f is None:
                 return f"fewer than 2 tests ({len(pts)})", "-"
@@ -888,8 +892,10 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             if angle:
                 phi0 = friction_angle(v, ext) if b <= 0 else line_to_zero([q[0] for q in pts], [q[2] for q in pts])[0]
                 txt += f" ({phi0:.1f}°)"
-            slow = min(pts, key=lambda q: q[0])
-            return txt, f"{slow[col] - v:+.{digits}f} (I = {slow[0]:.1e})"
+            slow = [q for q in pts if q[-1] == min(q[-1] for q in pts)]
+            n = f", mean of {len(slow)}" if len(slow) > 1 else ""
+            return txt, (f"{np.mean([q[col] for q in slow]) - v:+.{digits}f} (I = {np.mean([q[0] for q in slow]):.1e}"
+                         f"{n})")
 
         pk_txt, pk_gap = limit(pk, 1, 3, True)
         cs_txt, cs_gap = limit(cs, 1, 3, True)
@@ -912,11 +918,12 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
         legend(a_, fontsize=7)
     save(fig, figs, "rate")
     return ["## Rate dependence", "",
-            "The same test at several axial strain rates (the study's axial_strain_rate axis). Per test the inertial "
+            "The same test at several axial strain rates (the study's axial_strain_rate axis; tests that differ only "
+            "in their seed share a series, named with s*, and its line goes through every one). Per test the inertial "
             "number I = eps_dot d_mean sqrt(rho / p') at its largest stress ratio (as the peak table takes it) and its "
             "mean over the critical-state window; per series each measure extrapolated to I -> 0 by a least-squares "
             "line in I (± one standard error from three tests on), the low-I form of the mu(I) rheology, mu_s + "
-            "(mu_2 - mu_s) I / I_0 for I << I_0 (Jop et al. 2006, eq. 2). The slowest test's excess over that limit "
+            "(mu_2 - mu_s) I / I_0 for I << I_0 (Jop et al. 2006, eq. 2). The slowest rate's excess over that limit (the mean of its tests, one per seed) "
             f"is what its rate still adds (quasi-static is commonly taken as I < {QUASI_STATIC_I:g}). "
             "Figure: `figures/rate.png`.", "", *rows_out, "", *fits, "",
             *([f"Past I = {LINEAR_I:g} the stress ratio bends below the line (mu(I) saturates towards mu_2 as I nears "
@@ -967,6 +974,12 @@ def seeds_needed(v, target=SEED_PHI_TARGET):
     return str(n)
 
 
+def seedless(name, j):
+    """A job's name (or rate group) with job j's seed as '*' (`_s11_` -> `_s*_`): the name of the test that several
+    seeds replicate."""
+    return name.replace(f"_s{j.get('seed')}_", "_s*_", 1)
+
+
 def seed_section(mono, window, tol, figs, peak=(0.0, None)):
     """Tests that differ only in the packing's random seed (the seed axis; study.json's jobs equal but for name, dir,
     sample and seed): per group the spread over the seeds of the density after consolidation, the peak (as the peak
@@ -976,7 +989,8 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
     valid trajectory; perf/SPEED_VS_ERROR.md), so it is the error bar of every other table's single-seed numbers."""
     groups = {}
     for j, d, s in mono:
-        key = tuple(sorted((k, json.dumps(v)) for k, v in j.items() if k not in ("name", "dir", "sample", "seed")))
+        key = tuple(sorted((k, json.dumps(seedless(v, j) if k == "rate_group" else v)) for k, v in j.items()
+                           if k not in ("name", "dir", "sample", "seed")))
         groups.setdefault(key, []).append((j, s))
     groups = {k: sorted(g, key=lambda t: t[0]["seed"]) for k, g in groups.items() if len({t[0]["seed"] for t in g}) > 1}
     if not groups:
@@ -989,7 +1003,7 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
     names = []
     for i, g in enumerate(sorted(groups.values(), key=lambda g: g[0][0]["name"])):
         j0 = g[0][0]
-        name = j0["name"].replace(f"_s{j0['seed']}_", "_s*_", 1)
+        name = seedless(j0["name"], j0)
         names.append(name)
         seeds = ", ".join(str(j["seed"]) for j, _ in g)
         ps = [peak_state(s, peak) for _, s in g]

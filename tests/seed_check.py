@@ -9,6 +9,8 @@ critical M_cs at 30 %, steady after; e falls from e_0 to e_c by 30 %; a_c = 0.1 
 - Group B (p'_0 200 kPa in study.json, seeds 7-9): M = 0.60, 0.70, 0.80, so its peak angle scatters by ~2.6 deg and
   needs over 30 seeds for +-0.5 deg: the t quantile beyond the table (Cornish-Fisher), checked against tabulated
   values at 40, 60 and 120 degrees of freedom (2.021, 2.000, 1.980).
+- Group C (p'_0 400 kPa, seeds 21 and 22, each at 1 and 2 /s, rate groups): a seed row per rate, and one rate series
+  through all four tests named with s*, its limit's ± from the seeds' scatter about the line (0.750 ± 0.022).
 - A test with one seed has no row; a study without two seeds of one test has no section.
 Tolerances: the cells are printed to 1-4 decimals from exact inputs, so the strings must match; the t quantiles to
 the table's 3 decimals.
@@ -31,13 +33,14 @@ cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_
 jobs = []
 
 
-def test(seed, p0, M, M_cs, e0, e_c, drifting=False):
-    name = f"shear_drained_mur0.3_ebase_p{p0 / 1e3:g}k_s{seed}_n300"
+def test(seed, p0, M, M_cs, e0, e_c, drifting=False, rate=0, I=1e-3):
+    group = f"shear_drained_mur0.3_ebase_p{p0 / 1e3:g}k_s{seed}_n300" if rate else ""
+    name = f"shear_drained_mur0.3_ebase_p{p0 / 1e3:g}k_s{seed}_n300" + (f"_rate{rate:g}" if rate else "")
     run = os.path.join(work, "jobs", name, "run")
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
     with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": 1}]}, f)
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": rate or 1}]}, f)
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage"] + cols)
@@ -47,11 +50,11 @@ def test(seed, p0, M, M_cs, e0, e_c, drifting=False):
             e = e0 + (e_c - e0) * min(1.0, ea / 0.3) - (0.2 * (ea - 0.3) if drifting and ea > 0.3 else 0.0)
             p = 1e5
             w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1 + 0.01 * seed, 0.05, 0.1, 0.02, 0.25, 0.25,
-                        0.25, 0.25, qp, 1e-3, p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3])
-    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": name.replace("shear_drained", "sample"),
+                        0.25, 0.25, qp, I, p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3])
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": group.replace("shear_drained", "sample"),
                  "mu_r": 0.3, "e0": 0, "p0": p0, "drainage": "drained", "direction": "compression", "b": 0,
                  "stress_path": "constant_sigma3", "seed": seed, "count": 300, "csr": 0, "cycles": 0,
-                 "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": ""})
+                 "strain_amplitude": 0, "axial_strain_rate": rate, "rate_group": group})
 
 
 for seed, M, M_cs in ((1, 0.70, 0.60), (2, 0.72, 0.61), (3, 0.74, 0.62), (4, 0.76, 0.63)):
@@ -59,6 +62,9 @@ for seed, M, M_cs in ((1, 0.70, 0.60), (2, 0.72, 0.61), (3, 0.74, 0.62), (4, 0.7
 for seed, M in ((7, 0.60), (8, 0.70), (9, 0.80)):
     test(seed, 2e5, M, 0.6, 0.75, 0.70)
 test(5, 3e5, 0.7, 0.6, 0.75, 0.70)  # one seed: no row
+for seed, dm in ((21, 0.01), (22, -0.01)):  # a rate series on two seeds: M = 0.75 + 50 I +- 0.01
+    for rate in (1, 2):
+        test(seed, 4e5, 0.75 + 50 * 4e-4 * rate + dm, 0.6, 0.75, 0.70, rate=rate, I=4e-4 * rate)
 
 
 def phi(m):
@@ -113,6 +119,20 @@ for want in (want_a, want_a_cs, want_b):
         fails.append(f"expected\n  {want}\ngot\n  {got}")
 if nb <= 30:
     fails.append(f"group B should need more than 30 seeds (the t beyond the table), needs {nb}")
+# Crossed with a rate axis: a seed group per rate, and one rate series through both seeds, the line's ± from their
+# scatter: residuals +-0.01 at I = 4e-4 and 8e-4 give the intercept's standard error sqrt(2e-4 (1/4 + 3.6e-7 / 1.6e-7))
+# = 0.022, and the series is named with s*.
+for rate in (1, 2):
+    m = 0.75 + 50 * 4e-4 * rate
+    want = (f"| shear_drained_mur0.3_ebase_p400k_s*_n300_rate{rate} | 2 (21, 22) | 0.7500 ± 0.0000 [0.0000] | "
+            f"{100 * m:.1f} ± {100 * 0.01 * math.sqrt(2):.1f} [{12.706:.1f}] | {m:.3f} ± {0.01 * math.sqrt(2):.3f} [{12.706 * 0.01:.3f}] |")
+    if not any(l.startswith(want) for l in sec.splitlines()):
+        fails.append(f"expected a seed row starting\n  {want}\nin\n{sec}")
+rate_sec = text.split("## Rate dependence")[1].split("\n## ")[0] if "## Rate dependence" in text else ""
+series = next((l for l in rate_sec.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_p400k_s*_n300 |")), "")
+if not series.startswith(f"| shear_drained_mur0.3_ebase_p400k_s*_n300 | 4 | 0.750 ± 0.022 ({phi(0.75):.1f}°) | +0.020 "
+                         "(I = 4.0e-04, mean of 2) |"):
+    fails.append(f"the rate series through both seeds: '{series}'")
 if "p300k" in sec:
     fails.append("a test with one seed has a row")
 if not os.path.isfile(os.path.join(work, "figures", "seeds.png")):
