@@ -624,6 +624,22 @@ def fit(x, y):
     return coef[0], coef[1], math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1])
 
 
+# A critical-state line needs critical states at three pressures at least this far apart (relative): replicates of one
+# test (seeds: p'_c within ~1 % on 5 000 spheres, configs/seed-study.yaml) or one p'_0 at several rates are one level,
+# and a line through them is their scatter (the seed study's slope came out positive, 1.5e-4 ± 1.9e-3 per kPa).
+CSL_LEVEL_GAP = 0.1
+
+
+def pressure_levels(p):
+    """How many levels the pressures p make: sorted, a value more than CSL_LEVEL_GAP above the last level's first
+    starts a new one."""
+    levels, first = 0, None
+    for x in sorted(p):
+        if first is None or x > first * (1 + CSL_LEVEL_GAP):
+            levels, first = levels + 1, x
+    return levels
+
+
 def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     states = []
     for run, s in runs:
@@ -660,7 +676,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
                + (rate_text(rate, " ") if several_rates else ""))
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
         ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
-        if len(np.unique(p)) >= 3:  # (three tests at one p'_0 but not three p'_c: no line to fit)
+        if pressure_levels(p) >= 3:
             b, a, sb, sa = fit(p, e)
             d, c, sd, sc = fit(np.log(p), ac)
             xs = np.linspace(p.min(), p.max(), 20)
@@ -669,7 +685,8 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
                          f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} | {m_txt} |")
         else:
-            lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states at distinct p'_c: no fit | | "
+            lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states {100 * CSL_LEVEL_GAP:g} % "
+                         "apart in p'_c: no fit | | "
                          f"{m_txt} |")
     ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c", title="critical-state line e_c - p'")
     ax[1].set(xlabel="ln p'_c [kPa]", ylabel="a_c at critical state", title="a_c - ln p'")
