@@ -956,7 +956,8 @@ T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2
 
 def t975(dof):
     """Student's t quantile 0.975 for dof >= 1 degrees of freedom: the table to 30, beyond it the Cornish-Fisher
-    expansion about the normal quantile (Abramowitz & Stegun 26.7.5), 2.0423 at 30 against the exact 2.0423."""
+    expansion about the normal quantile (Abramowitz & Stegun 26.7.5): 2.0422 at 30 against the exact 2.0423, within
+    1e-4 beyond."""
     if dof <= len(T975):
         return T975[dof - 1]
     z = 1.959964
