@@ -998,6 +998,18 @@ def seedless(name, j):
     return name.replace(f"_s{j.get('seed')}_", "_s*_", 1)
 
 
+def ensemble(series, col, n=200):
+    """Column col of several shears (one per seed) against the axial strain along the loading from the shear's start,
+    each interpolated onto one grid of n points from 0 to the shortest shear's end: (grid, mean, standard deviation)."""
+    curves = []
+    for s in series:
+        m = s["monotonic"]
+        curves.append((np.abs(s["eps_a"][m] - s["eps_a"][m][0]), s[col][m]))
+    x = np.linspace(0, min(ea[-1] for ea, _ in curves), n)
+    ys = np.array([np.interp(x, ea, y) for ea, y in curves])
+    return x, ys.mean(axis=0), ys.std(axis=0, ddof=1)
+
+
 def seed_section(mono, window, tol, figs, peak=(0.0, None)):
     """Tests that differ only in the packing's random seed (the seed axis; study.json's jobs equal but for name, dir,
     sample and seed): per group the spread over the seeds of the density after consolidation, the peak (as the peak
@@ -1018,11 +1030,16 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
     cs_rows = ["| test (all seeds) | at critical state | p'_c [kPa] | q/p' | phi_cs [°] | e_c | a_c | seeds for ±"
                f"{SEED_PHI_TARGET:g}° |", "|---|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
+    fig_c, ax_c = plt.subplots(1, 2, figsize=(12, 4.5))
     names = []
     for i, g in enumerate(sorted(groups.values(), key=lambda g: g[0][0]["name"])):
         j0 = g[0][0]
         name = seedless(j0["name"], j0)
         names.append(name)
+        for a_, col in zip(ax_c, ("q_p", "e")):  # the seeds' mean curve with a band of one standard deviation
+            x, mean, sd = ensemble([s for _, s in g], col)
+            (ln,) = a_.plot(100 * x, mean, label=f"{name} ({len(g)} seeds)")
+            a_.fill_between(100 * x, mean - sd, mean + sd, color=ln.get_color(), alpha=0.25, lw=0)
         seeds = ", ".join(str(j["seed"]) for j, _ in g)
         ps = [peak_state(s, peak) for _, s in g]
         cs = [critical_state(s, window, *tol) for _, s in g]
@@ -1052,6 +1069,11 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
         a_.set_xticklabels(names, rotation=20, ha="right", fontsize=6)
         a_.grid(alpha=0.3)
     save(fig, figs, "seeds")
+    for a_, lab in zip(ax_c, ("q/p'", "e")):
+        a_.set(xlabel="axial strain along the loading [%]", ylabel=lab, title=lab + ": mean over the seeds ± one sd")
+        a_.grid(alpha=0.3)
+    legend(ax_c[0], fontsize=6)
+    save(fig_c, figs, "seeds_curves")
     return ["## Sample-to-sample scatter (seed axis)", "",
             "Tests that differ only in the random seed of their packing. Each cell: the mean over the seeds ± their "
             "standard deviation (the scatter of one sample of this size) [the half-width of the mean's 95 % "
@@ -1060,7 +1082,9 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
             "number in this report. e_0 is the void ratio at the start of the shear; peaks as the peak table takes "
             "them; critical states over the seeds that reach one. 'seeds for ±"
             f"{SEED_PHI_TARGET:g}°': the fewest seeds whose 95 % interval of the mean friction angle is within ±"
-            f"{SEED_PHI_TARGET:g}°, if the seeds scatter as these do. Figure: `figures/seeds.png`.", "",
+            f"{SEED_PHI_TARGET:g}°, if the seeds scatter as these do. Figures: `figures/seeds.png` (each seed, the mean and its 95 % "
+            "interval), `figures/seeds_curves.png` (q/p' and e against strain: the seeds' mean ± one standard "
+            "deviation).", "",
             *pk_rows, "", *cs_rows, ""]
 
 

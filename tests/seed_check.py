@@ -12,6 +12,8 @@ critical M_cs at 30 %, steady after; e falls from e_0 to e_c by 30 %; a_c = 0.1 
 - Group C (p'_0 400 kPa, seeds 21 and 22, each at 1 and 2 /s, rate groups): a seed row per rate, and one rate series
   through all four tests named with s*, its limit's ± from the seeds' scatter about the line (0.750 ± 0.022).
 - A test with one seed has no row; a study without two seeds of one test has no section.
+- The figure's mean curve and band (ensemble) on two shears of known lines: mean 3 eps, sd sqrt(2) eps, on the grid
+  from each shear's start to the shorter one's end.
 - Each seed's p'_c is 0.2 % below the last: nine critical states at 1 /s, all at distinct p'_c but at one pressure
   level, get no critical-state line.
 Tolerances: the cells are printed to 1-4 decimals from exact inputs, so the strings must match; the t quantiles to
@@ -142,8 +144,18 @@ if not csl_row.startswith("| 0.3 | compression, 1/s | 9 | fewer than 3 critical 
     fails.append(f"a critical-state line through replicates at one pressure: '{csl_row}'")
 if "p300k" in sec:
     fails.append("a test with one seed has a row")
-if not os.path.isfile(os.path.join(work, "figures", "seeds.png")):
-    fails.append("figures/seeds.png missing")
+for fig in ("seeds.png", "seeds_curves.png"):
+    if not os.path.isfile(os.path.join(work, "figures", fig)):
+        fails.append(f"figures/{fig} missing")
+# The figure's mean curve and band: two shears of q/p' = 2 eps and 4 eps from eps_a = 0.01 (so the grid starts from
+# each shear's start), to 10 % and 20 % (so it stops at the shorter), give mean 3 eps and sd sqrt(2) eps on 0..0.1.
+two = []
+for slope, end in ((2, 0.1), (4, 0.2)):
+    ea = 0.01 + np.linspace(0, end, 11)
+    two.append({"monotonic": np.ones(11, bool), "eps_a": ea, "q_p": slope * (ea - 0.01)})
+x, mean, sd = gp.ensemble(two, "q_p", 51)
+if not (np.isclose(x[-1], 0.1) and np.allclose(mean, 3 * x, atol=1e-12) and np.allclose(sd, math.sqrt(2) * x, atol=1e-12)):
+    fails.append(f"ensemble: grid to {x[-1]}, mean {mean[-1]} (want 0.3), sd {sd[-1]} (want {0.1 * math.sqrt(2)})")
 for j in jobs:
     j["p0"] = j["seed"]  # every test its own group
 if "## Sample-to-sample scatter" in study_report(work, jobs):
