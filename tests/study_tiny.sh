@@ -9,9 +9,11 @@ rm -rf "$work" && mkdir -p "$work" || exit 1
 cp "$src"/tiny-study.yaml "$src"/tiny-study-base.yaml "$work"/ || exit 1
 cd "$work" || exit 1
 fail() { echo "study_tiny: $*"; exit 1; }
+plan=$("$bin" validate tiny-study.yaml 2>&1) || fail "validate failed: $plan"
+printf '%s\n' "$plan" | grep -q "seeds: 2 (tests that differ only in their seed" || fail "validate does not count 2 seeds: $plan"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "2 samples, 6 shears; 8 to run" || fail "unexpected plan: $out"
-[ "$(ls st/jobs/*/done | wc -l)" -eq 8 ] || fail "expected 8 finished jobs: $(ls st/jobs)"
+printf '%s\n' "$out" | grep -q "3 samples, 7 shears; 10 to run" || fail "unexpected plan: $out"
+[ "$(ls st/jobs/*/done | wc -l)" -eq 10 ] || fail "expected 10 finished jobs: $(ls st/jobs)"
 grep -q "## Critical states" st/report.md || fail "report.md lacks its critical-state section"
 # The report's peak settings reach study.json (defaults: single rows, every row) and the report says so.
 grep -q '"peak": {"window": 0, "max_ke_ratio": 0}' st/study.json || fail "study.json lacks the default peak block"
@@ -47,16 +49,22 @@ grep -q '"axial_strain_rate": 2, "rate_group": "shear_drained_mur0_ebase_p100k_s
 grep -q "## Rate dependence" st/report.md || fail "report.md lacks its rate section"
 grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300_rate2 \| 2 \| [0-9.]+e-0[0-9] \|' st/report.md ||
   fail "no rate-section row with the test's inertial number"
+# The seed extra job: the grid's compression on seed 4 beside seed 3's, in the sample-scatter section (mean ± sd
+# [95 %] from two seeds) and in the rate series, which pools both seeds at 1/s with seed 3's at 2/s: three tests.
+grep -q "## Sample-to-sample scatter (seed axis)" st/report.md || fail "report.md lacks its sample-scatter section"
+grep -qE '^\| shear_drained_mur0_ebase_p100k_s\*_n300 \| 2 \(3, 4\) \| [0-9.]+ ± [0-9.]+ \[[0-9.]+\] \|' st/report.md ||
+  fail "no sample-scatter row for seeds 3 and 4"
 grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300 \| 1 \| [0-9.]+e-0[0-9] \|' st/report.md &&
-  grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300 \| 2 \| [0-9.]+ \([0-9.]+°\) \|' st/report.md ||
-  fail "the base-rate test is not in the rate series, or the series has no line to I = 0"
+  grep -qE '^\| shear_drained_mur0_ebase_p100k_s4_n300 \| 1 \| [0-9.]+e-0[0-9] \|' st/report.md &&
+  grep -qE '^\| shear_drained_mur0_ebase_p100k_s\*_n300 \| 3 \| [0-9.]+ ± [0-9.]+ \([0-9.]+°\) \|' st/report.md ||
+  fail "the base-rate tests of both seeds are not in the rate series, or the series has no line to I = 0"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
 # A study extended: the shears taken from 2 % to 3 % (along the loading) resume from their checkpoints.
 sed -i 's/max_axial_strain: 0.02/max_axial_strain: 0.03/' tiny-study-base.yaml
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the extended study failed: $out"
-printf '%s\n' "$out" | grep -q "6 shear(s) extended" || fail "the shears were not extended: $out"
-printf '%s\n' "$out" | grep -q "; 6 to run" || fail "not exactly the 6 shears rerun: $out"
+printf '%s\n' "$out" | grep -q "7 shear(s) extended" || fail "the shears were not extended: $out"
+printf '%s\n' "$out" | grep -q "; 7 to run" || fail "not exactly the 7 shears rerun: $out"
 for s in st/jobs/shear_*; do
   [ -f "$s/done" ] || fail "$s did not finish"
   [ "$(head -1 "$s/run/series.csv" | cut -d, -f4)" = eps_a ] || fail "series.csv column 4 is not eps_a"
