@@ -1022,7 +1022,9 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
         key = tuple(sorted((k, json.dumps(seedless(v, j) if k == "rate_group" else v)) for k, v in j.items()
                            if k not in ("name", "dir", "sample", "seed")))
         groups.setdefault(key, []).append((j, s))
-    groups = {k: sorted(g, key=lambda t: t[0]["seed"]) for k, g in groups.items() if len({t[0]["seed"] for t in g}) > 1}
+    # (a study.json without seeds, none of this build's, has no replicates to find)
+    groups = {k: sorted(g, key=lambda t: t[0]["seed"]) for k, g in groups.items()
+              if len({t[0].get("seed") for t in g}) > 1 and all("seed" in t[0] for t in g)}
     if not groups:
         return []
     pk_rows = ["| test (all seeds) | seeds | e_0 | q_peak [kPa] | max q/p' | phi'_max [°] | seeds for ±"

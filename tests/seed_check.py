@@ -160,6 +160,11 @@ for j in jobs:
     j["p0"] = j["seed"]  # every test its own group
 if "## Sample-to-sample scatter" in study_report(work, jobs):
     fails.append("a study without two seeds of one test has a sample-scatter section")
+for j in jobs:
+    j["p0"] = 1e5  # replicates again, but of a study.json that names no seeds (older builds): no section, no failure
+    del j["seed"]
+if "## Sample-to-sample scatter" in study_report(work, jobs):
+    fails.append("a study.json without seeds has a sample-scatter section")
 if fails:
     sys.exit("\n".join(fails))
 print(f"seed_check ok (group B needs {nb} seeds)")
