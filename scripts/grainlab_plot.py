@@ -321,8 +321,10 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     # the window (None where the series has no such column, or none finite).
     kc = ke_column(s)
     I, ke = (window_mean(s, col, m, w) if col else None for col in ("inertial_number", kc))
+    # and the interior's void ratio (series e_inner: the whole box's e counts the looser layer along the walls)
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
-                M=M, b=b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)), **last)
+                M=M, b=b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)),
+                e_inner=window_mean(s, "e_inner", m, w), **last)
 
 
 def window_mean(s, col, m, w):
@@ -333,6 +335,11 @@ def window_mean(s, col, m, w):
     y = s[col][m][w]
     y = y[np.isfinite(y)]
     return float(np.mean(y)) if len(y) else None
+
+
+def number_text(x, fmt):
+    """A measure as a table cell: '-' where not measured (None, or NaN: rows of a build before the column)."""
+    return "-" if x is None or not math.isfinite(x) else format(x, fmt)
 
 
 def quasi_static_text(I, ke):
@@ -765,11 +772,11 @@ def study(out):
         if c["ok"]:
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | "
                            f"{c['e']:.4f} | {c['qp']:.3f} | {c['phi']:.1f} | {c['a_c']:.3f} | "
-                           f"{quasi_static_text(c['I'], c['ke'])} |")
+                           f"{quasi_static_text(c['I'], c['ke'])} | {number_text(c['e_inner'], '.4f')} |")
             share_rows.append(f"| {j['name']} | {j['mu_r']:g} | {c['sff_share_c']:.2f} | {c['sff_share_d']:.2f} | "
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
-            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | |")
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | | |")
     csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
@@ -824,9 +831,12 @@ def study(out):
              f"{tol[0]:g}, of p'/p'_end below {tol[1]:g} and of e below {tol[2]:g}; other tests are listed but not fitted. "
              "I is the mean inertial number eps_dot d_mean sqrt(rho / p') over the window (quasi-static below "
              f"{QUASI_STATIC_I:g}) and KE/E_el the mean kinetic energy of the skeleton about its affine motion over "
-             "its elastic energy (ke_fluct_ratio; ke_ratio, with the imposed motion, in runs of older builds).", "",
-             "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c | I | KE/E_el |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|",
+             "its elastic energy (ke_fluct_ratio; ke_ratio, with the imposed motion, in runs of older builds). e_c "
+             "interior is the window's mean void ratio of the box inset by two mean diameters (series e_inner): e_c "
+             "counts the looser layer along the walls, whose share falls as count^(-1/3) (configs/size-study.yaml).", "",
+             "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c | I | KE/E_el "
+             "| e_c interior |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
@@ -1027,10 +1037,10 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
               if len({t[0].get("seed") for t in g}) > 1 and all("seed" in t[0] for t in g)}
     if not groups:
         return []
-    pk_rows = ["| test (all seeds) | seeds | e_0 | q_peak [kPa] | max q/p' | phi'_max [°] | seeds for ±"
-               f"{SEED_PHI_TARGET:g}° |", "|---|---|---|---|---|---|---|"]
-    cs_rows = ["| test (all seeds) | at critical state | p'_c [kPa] | q/p' | phi_cs [°] | e_c | a_c | seeds for ±"
+    pk_rows = ["| test (all seeds) | seeds | e_0 | e_0 interior | q_peak [kPa] | max q/p' | phi'_max [°] | seeds for ±"
                f"{SEED_PHI_TARGET:g}° |", "|---|---|---|---|---|---|---|---|"]
+    cs_rows = ["| test (all seeds) | at critical state | p'_c [kPa] | q/p' | phi_cs [°] | e_c | e_c interior | a_c | "
+               f"seeds for ±{SEED_PHI_TARGET:g}° |", "|---|---|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
     fig_c, ax_c = plt.subplots(1, 2, figsize=(12, 4.5))
     names = []
@@ -1047,15 +1057,18 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
         cs = [critical_state(s, window, *tol) for _, s in g]
         cs = [c for c in cs if c is not None and c["ok"]]
         e0 = [float(s["e"][s["monotonic"]][0]) for _, s in g]
+        e0_in = [float(s["e_inner"][s["monotonic"]][0]) if "e_inner" in s else None for _, s in g]
+        e0_in = [x for x in e0_in if x is not None and math.isfinite(x)]
         phi_pk = [p["phi"] for p in ps if "phi" in p]
-        pk_rows.append(f"| {name} | {len(g)} ({seeds}) | {seed_spread(e0, 4)} | "
+        pk_rows.append(f"| {name} | {len(g)} ({seeds}) | {seed_spread(e0, 4)} | {seed_spread(e0_in, 4)} | "
                        f"{seed_spread([p['q_peak'] / 1e3 for p in ps if 'M' in p], 1)} | "
                        f"{seed_spread([p['M'] for p in ps if 'M' in p], 3)} | {seed_spread(phi_pk, 2)} | "
                        f"{seeds_needed(phi_pk)} |")
         phi_cs = [c["phi"] for c in cs]
         cs_rows.append(f"| {name} | {len(cs)} of {len(g)} | {seed_spread([c['p'] / 1e3 for c in cs], 1)} | "
                        f"{seed_spread([c['M'] for c in cs], 3)} | {seed_spread(phi_cs, 2)} | "
-                       f"{seed_spread([c['e'] for c in cs], 4)} | {seed_spread([c.get('a_c') for c in cs], 3)} | "
+                       f"{seed_spread([c['e'] for c in cs], 4)} | {seed_spread([c['e_inner'] for c in cs], 4)} | "
+                       f"{seed_spread([c.get('a_c') for c in cs], 3)} | "
                        f"{seeds_needed(phi_cs)} |")
         for a_, v in zip(ax, ([p["M"] for p in ps if "M" in p], [c["M"] for c in cs], [c["e"] for c in cs])):
             if not v:
@@ -1081,7 +1094,8 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
             "standard deviation (the scatter of one sample of this size) [the half-width of the mean's 95 % "
             "confidence interval, Student t with n - 1 degrees of freedom]. A dense packing is chaotic, so a single "
             "sample's peak or critical state is one draw: the standard deviation is the error bar of every single-seed "
-            "number in this report. e_0 is the void ratio at the start of the shear; peaks as the peak table takes "
+            "number in this report. e_0 is the void ratio at the start of the shear (interior: of the box inset by "
+            "two mean diameters, series e_inner, without the looser layer along the walls); peaks as the peak table takes "
             "them; critical states over the seeds that reach one. 'seeds for ±"
             f"{SEED_PHI_TARGET:g}°': the fewest seeds whose 95 % interval of the mean friction angle is within ±"
             f"{SEED_PHI_TARGET:g}°, if the seeds scatter as these do. Figures: `figures/seeds.png` (each seed, the mean and its 95 % "

@@ -294,6 +294,22 @@ Real Engine::box_volume() const {
   return v;
 }
 
+Real Engine::solid_volume_in(const Vec3d& lo, const Vec3d& hi) const {
+  auto x = P_.x;
+  auto r = P_.r;
+  const Real l0 = lo[0], l1 = lo[1], l2 = lo[2], h0 = hi[0], h1 = hi[1], h2 = hi[2];
+  Real v = 0;
+  // An output-row measure, not the dynamics: a Sum (its order is the backend's, fixed for a fixed thread count).
+  Kokkos::parallel_reduce(
+      "grainlab::analysis::inner_solid", Kokkos::RangePolicy<ExecSpace>(0, num_particles()),
+      KOKKOS_LAMBDA(int i, Real& s) {
+        if (x(i, 0) >= l0 && x(i, 0) < h0 && x(i, 1) >= l1 && x(i, 1) < h1 && x(i, 2) >= l2 && x(i, 2) < h2)
+          s += Real(4.0 / 3.0 * M_PI) * r(i) * r(i) * r(i);
+      },
+      v);
+  return v;
+}
+
 void Engine::move_walls() {
   const Real dt = params_.contact.dt;
   const Real smax = params_.servo_max_step * r_min_;

@@ -182,6 +182,10 @@ class Engine {
   Real wall_area(int k) const;
   Real wall_stress(int k) const { return loads_.force[k] / wall_area(k); }
   Real box_volume() const;
+  // The summed volume of the spheres whose centres lie in the box [lo, hi): centre counting, which is unbiased for
+  // the solid volume of a region inside a statistically homogeneous packing (a sphere cut by the region's faces
+  // counts whole or not at all, as often one way as the other). The interior void ratio's solids (series e_inner).
+  Real solid_volume_in(const Vec3d& lo, const Vec3d& hi) const;
 
   Diagnostics diagnostics();
   // Checks the current state for NaN/Inf, excessive overlaps, escaped particles and tunnelling speeds.

@@ -2,7 +2,8 @@
 """Known-answer test of the study report's sample-scatter section (scripts/grainlab_plot.py seed_section).
 
 A synthetic study of drained compressions at p' = 100 kPa: q/p' rises to its peak M at 10 % strain and falls to the
-critical M_cs at 30 %, steady after; e falls from e_0 to e_c by 30 %; a_c = 0.1 + 0.01 x seed.
+critical M_cs at 30 %, steady after; e falls from e_0 to e_c by 30 %, the interior's e_inner 0.05 below it; a_c =
+0.1 + 0.01 x seed.
 - Group A (seeds 1-4): M = 0.70, 0.72, 0.74, 0.76; M_cs = 0.60, 0.61, 0.62; e_0 = 0.75 + 0.01 x seed; e_c = 0.70 +
   0.001 x seed; seed 4 still compacting (e drifting), so 3 of 4 critical states. The cells are worked out here from
   the tabulated Student t (3.182 at 3 degrees of freedom, 4.303 at 2): e.g. max q/p' 0.730 ± 0.026 [0.041].
@@ -33,7 +34,8 @@ from synthetic_study import study_report, SCRIPT
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/seed_check"
 shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t", "sff_share_c",
-        "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y", "sigma_z"]
+        "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y", "sigma_z",
+        "e_inner"]
 jobs = []
 
 
@@ -54,7 +56,7 @@ def test(seed, p0, M, M_cs, e0, e_c, drifting=False, rate=0, I=1e-3):
             e = e0 + (e_c - e0) * min(1.0, ea / 0.3) - (0.2 * (ea - 0.3) if drifting and ea > 0.3 else 0.0)
             p = 1e5 * (1 - 0.002 * seed if ea >= 0.3 else 1)  # p'_c 0.2 % apart per seed: one pressure level
             w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1 + 0.01 * seed, 0.05, 0.1, 0.02, 0.25, 0.25,
-                        0.25, 0.25, qp, I, p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3])
+                        0.25, 0.25, qp, I, p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3, e - 0.05])
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": group.replace("shear_drained", "sample"),
                  "mu_r": 0.3, "e0": 0, "p0": p0, "drainage": "drained", "direction": "compression", "b": 0,
                  "stress_path": "constant_sigma3", "seed": seed, "count": 300, "csr": 0, "cycles": 0,
@@ -106,21 +108,29 @@ sec = text.split("## Sample-to-sample scatter (seed axis)")[1].split("\n## ")[0]
 Ma, Mcs = [0.70, 0.72, 0.74, 0.76], [0.60, 0.61, 0.62]
 pa = [phi(m) for m in Ma]
 want_a = (f"| shear_drained_mur0.3_ebase_p100k_s*_n300 | 4 (1, 2, 3, 4) | {cell([0.76, 0.77, 0.78, 0.79], 4)} | "
+          f"{cell([0.71, 0.72, 0.73, 0.74], 4)} | "
           f"{cell([100 * m for m in Ma], 1)} | {cell(Ma, 3)} | {cell(pa, 2)} | {needed(pa)} |")
 want_a_cs = (f"| shear_drained_mur0.3_ebase_p100k_s*_n300 | 3 of 4 | 99.6 ± 0.2 [0.5] | {cell(Mcs, 3)} | "
-             f"{cell([phi(m) for m in Mcs], 2)} | {cell([0.701, 0.702, 0.703], 4)} | {cell([0.11, 0.12, 0.13], 3)} | "
+             f"{cell([phi(m) for m in Mcs], 2)} | {cell([0.701, 0.702, 0.703], 4)} | {cell([0.651, 0.652, 0.653], 4)} | "
+             f"{cell([0.11, 0.12, 0.13], 3)} | "
              f"{needed([phi(m) for m in Mcs])} |")
 if "0.730 ± 0.026 [0.041]" not in want_a:  # the worked example of the docstring
     fails.append(f"the worked cell: {want_a}")
 Mb = [0.60, 0.70, 0.80]
 nb = needed([phi(m) for m in Mb])
-want_b = (f"| shear_drained_mur0.3_ebase_p200k_s*_n300 | 3 (7, 8, 9) | 0.7500 ± 0.0000 [0.0000] | "
+want_b = (f"| shear_drained_mur0.3_ebase_p200k_s*_n300 | 3 (7, 8, 9) | 0.7500 ± 0.0000 [0.0000] | 0.7000 ± 0.0000 [0.0000] | "
           f"{cell([100 * m for m in Mb], 1)} | {cell(Mb, 3)} | {cell([phi(m) for m in Mb], 2)} | {nb} |")
 for want in (want_a, want_a_cs, want_b):
     got = next((l for l in sec.splitlines() if l.startswith(want[:48]) and l.count("|") == want.count("|")
                 and (" of " in l) == (" of " in want)), "")
     if got != want:
         fails.append(f"expected\n  {want}\ngot\n  {got}")
+# The critical-state table's last column: the interior's e over the window (0.701 - 0.05 for seed 1), "-" for a
+# test whose series has no e_inner (an older build's) is left to failure_criteria_check's series, which lack it.
+cs1 = next((l for l in text.split("## Critical states")[1].splitlines()
+            if l.startswith("| shear_drained_mur0.3_ebase_p100k_s1_n300 |")), "")
+if not cs1.endswith("| 0.6510 |"):
+    fails.append(f"critical-state row of seed 1: e_c interior 0.6510 expected last, got '{cs1}'")
 if nb <= 30:
     fails.append(f"group B should need more than 30 seeds (the t beyond the table), needs {nb}")
 # Crossed with a rate axis: a seed group per rate, and one rate series through both seeds, the line's ± from their
@@ -129,6 +139,7 @@ if nb <= 30:
 for rate in (1, 2):
     m = 0.75 + 50 * 4e-4 * rate
     want = (f"| shear_drained_mur0.3_ebase_p400k_s*_n300_rate{rate} | 2 (21, 22) | 0.7500 ± 0.0000 [0.0000] | "
+            "0.7000 ± 0.0000 [0.0000] | "
             f"{100 * m:.1f} ± {100 * 0.01 * math.sqrt(2):.1f} [{12.706:.1f}] | {m:.3f} ± {0.01 * math.sqrt(2):.3f} [{12.706 * 0.01:.3f}] |")
     if not any(l.startswith(want) for l in sec.splitlines()):
         fails.append(f"expected a seed row starting\n  {want}\nin\n{sec}")

@@ -388,3 +388,43 @@ TEST(Diagnostics, FluctuatingKineticEnergyIsAboutTheAffineField) {
     }
   }
 }
+
+// The interior's solids (series e_inner) against a host sum over the same centres: the whole box holds every
+// sphere, an inset box the spheres whose centres it holds, and the two halves of a split box add up to it (no
+// centre counted twice or lost), an empty box holds none. 1e-12 relative: the order of a 400-term sum.
+TEST(Analysis, InteriorSolidVolumeCountsCentres) {
+  const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  const std::vector<Vec3d> x = eng.positions();
+  const auto oracle = [&](const Vec3d& lo, const Vec3d& hi) {
+    double v = 0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      bool in = true;
+      for (int a = 0; a < 3; ++a) in = in && x[i][a] >= lo[a] && x[i][a] < hi[a];
+      if (in) v += 4.0 / 3.0 * M_PI * std::pow(double(sc.setup.r[i]), 3);
+    }
+    return v;
+  };
+  double all = 0;
+  for (Real r : sc.setup.r) all += 4.0 / 3.0 * M_PI * std::pow(double(r), 3);
+  Vec3d lo = sc.lo, hi = sc.hi, mid{};
+  for (int a = 0; a < 3; ++a) {
+    lo[a] -= 1;  // every centre, whatever escaped the walls' planes by a rounding
+    hi[a] += 1;
+  }
+  EXPECT_NEAR(eng.solid_volume_in(lo, hi), all, 1e-12 * all);
+  const Real inset = 0.25 * (sc.hi[0] - sc.lo[0]);
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = sc.lo[a] + inset;
+    hi[a] = sc.hi[a] - inset;
+    mid[a] = 0.5 * (lo[a] + hi[a]);
+  }
+  const double inner = oracle(lo, hi);
+  ASSERT_GT(inner, 0);
+  ASSERT_LT(inner, 0.5 * all);  // a strict subset: the test tells counting from summing everything
+  EXPECT_NEAR(eng.solid_volume_in(lo, hi), inner, 1e-12 * inner);
+  Vec3d hi_left = hi, lo_right = lo;
+  hi_left[0] = lo_right[0] = mid[0];
+  EXPECT_NEAR(eng.solid_volume_in(lo, hi_left) + eng.solid_volume_in(lo_right, hi), inner, 1e-12 * inner);
+  EXPECT_EQ(eng.solid_volume_in(mid, mid), 0);
+}

@@ -391,7 +391,8 @@ void rewrite_dataset(const std::string& ckpt, const char* name, hid_t type, cons
 void rewrite_config(const std::string& ckpt, const std::string& text) {
   rewrite_dataset(ckpt, "/lab/config", H5T_NATIVE_CHAR, text.data(), text.size());
 }
-// The series rows of a checkpoint without their last `drop` columns (ke_fluct_ratio; and cycle, before it).
+// The series rows of a checkpoint without their last `drop` columns (e_inner; ke_fluct_ratio before it; cycle
+// before that), as builds before each wrote them.
 void drop_series_columns(const std::string& ckpt, size_t drop) {
   std::vector<double> series;
   size_t rows = 0;
@@ -401,38 +402,45 @@ void drop_series_columns(const std::string& ckpt, size_t drop) {
     rows = r.ints("/lab/series_stage").size();
   }
   const size_t nc = series_columns().size();
-  ASSERT_EQ(series_columns()[nc - 2].first, "cycle");
-  ASSERT_EQ(series_columns().back().first, "ke_fluct_ratio");
+  ASSERT_EQ(series_columns()[nc - 3].first, "cycle");
+  ASSERT_EQ(series_columns()[nc - 2].first, "ke_fluct_ratio");
+  ASSERT_EQ(series_columns().back().first, "e_inner");
   ASSERT_EQ(series.size(), rows * nc);
   std::vector<double> older;
   for (size_t k = 0; k < rows; ++k)
     older.insert(older.end(), series.begin() + long(k * nc), series.begin() + long(k * nc + nc - drop));
   rewrite_dataset(ckpt, "/lab/series", H5T_NATIVE_DOUBLE, older.data(), older.size());
 }
-// The series.csv of a run resumed from a checkpoint without ke_fluct_ratio against the uninterrupted run's: every
-// other column the same to the bit; ke_fluct_ratio not a number in the rows the checkpoint restored (never
-// measured) and the same in the rows after.
-void expect_series_but_ke_fluct(const std::string& resumed, const std::string& direct) {
+// The series.csv of a run resumed from a checkpoint without the trailing columns `unmeasured` (ke_fluct_ratio,
+// e_inner: the last ones) against the uninterrupted run's: every other column the same to the bit; each of those not
+// a number in the rows the checkpoint restored (never measured) and the same in the rows after.
+void expect_series_but(const std::string& resumed, const std::string& direct, const std::vector<std::string>& unmeasured) {
   const std::string a = slurp(resumed + "/series.csv"), b = slurp(direct + "/series.csv");
-  const auto without_last = [](const std::string& csv) {
+  const auto without_last = [&](const std::string& csv) {
     std::istringstream in(csv);
     std::string line, out;
-    while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
+    while (std::getline(in, line)) {
+      for (size_t k = 0; k < unmeasured.size(); ++k) line = line.substr(0, line.rfind(','));
+      out += line + "\n";
+    }
     return out;
   };
   EXPECT_EQ(without_last(a), without_last(b));
-  const auto ka = csv_column(a, "ke_fluct_ratio"), kb = csv_column(b, "ke_fluct_ratio");
-  ASSERT_EQ(ka.size(), kb.size());
-  size_t restored = 0;
-  while (restored < ka.size() && !(std::strtod(ka[restored].c_str(), nullptr) == std::strtod(ka[restored].c_str(), nullptr)))
-    ++restored;
-  EXPECT_GT(restored, 0u) << "the restored rows say they did not measure it";
-  EXPECT_LT(restored, ka.size());
-  for (size_t k = restored; k < ka.size(); ++k) EXPECT_EQ(ka[k], kb[k]) << "row " << k;
+  for (const std::string& col : unmeasured) {
+    SCOPED_TRACE(col);
+    ASSERT_EQ(series_columns()[series_columns().size() - unmeasured.size()].first, unmeasured[0]);
+    const auto ka = csv_column(a, col), kb = csv_column(b, col);
+    ASSERT_EQ(ka.size(), kb.size());
+    size_t restored = 0;
+    while (restored < ka.size() && std::isnan(std::strtod(ka[restored].c_str(), nullptr))) ++restored;
+    EXPECT_GT(restored, 0u) << "the restored rows say they did not measure it";
+    EXPECT_LT(restored, ka.size());
+    for (size_t k = restored; k < ka.size(); ++k) EXPECT_EQ(ka[k], kb[k]) << "row " << k;
+  }
 }
 // Before cyclic stages a checkpoint held 13 lab scalars (no reversal count, no cycle number), 6 values of each
-// finished stage's result (nor servo_error, which came later) and series rows without the last two columns,
-// `cycle` and `ke_fluct_ratio`.
+// finished stage's result (nor servo_error, which came later) and series rows without the last three columns,
+// `cycle`, `ke_fluct_ratio` and `e_inner`.
 void as_before_cyclic_stages(const std::string& ckpt) {
   std::vector<double> scalars, results;
   {
@@ -445,7 +453,7 @@ void as_before_cyclic_stages(const std::string& ckpt) {
                                     "quarter_transits";
   results.resize(6);
   scalars.resize(13);
-  drop_series_columns(ckpt, 2);
+  drop_series_columns(ckpt, 3);
   rewrite_dataset(ckpt, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
   rewrite_dataset(ckpt, "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
   const hid_t f = H5Fopen(ckpt.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);  // nor the cycle loop and rows
@@ -469,9 +477,9 @@ void as_before_cyclic_stages(const std::string& ckpt) {
 // numbers, a relative sample path) and holds the lab state without what cyclic stages added (two scalars, the
 // series' cycle column, three of the liquefaction criteria, three values of each finished stage's result, the cycle
 // loop and its rows; nor the two values a wall of the servo's integral action), and the
-// resumed run ends with the uninterrupted run's series and summary, to the bit (but ke_fluct_ratio, which the restored
-// rows never measured: NaN there). So does one of the build just before ke_fluct_ratio (10 values a stage result,
-// without quarter_transits). Checked to fail when
+// resumed run ends with the uninterrupted run's series and summary, to the bit (but ke_fluct_ratio and e_inner,
+// which the restored rows never measured: NaN there). So does one of the build just before ke_fluct_ratio (10 values
+// a stage result, without quarter_transits), and one of the build just before e_inner. Checked to fail when
 // load_newest_checkpoint compares the stored text as it is.
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
@@ -494,9 +502,15 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
     if (f.path() != ckpt) fs::remove(f.path());
   // The build of just before ke_fluct_ratio (its checkpoints otherwise as now, but for the stage results'
   // quarter_transits, which came after): resumes to the same series.
+  const std::string previous = tmpdir("older_previous");  // the build just before e_inner
+  fs::copy(out, previous, fs::copy_options::recursive);
+  drop_series_columns(newest_checkpoint(previous), 1);
+  ASSERT_FALSE(run(cfg, previous, -1, true).interrupted);
+  expect_series_but(previous, direct, {"e_inner"});
+  EXPECT_EQ(slurp(previous + "/summary.json"), slurp(direct + "/summary.json"));
   const std::string recent = tmpdir("older_recent");
   fs::copy(out, recent, fs::copy_options::recursive);
-  drop_series_columns(newest_checkpoint(recent), 1);
+  drop_series_columns(newest_checkpoint(recent), 2);
   {
     std::vector<double> results = H5Reader(newest_checkpoint(recent)).doubles("/lab/results");
     ASSERT_EQ(results.size(), 11u);
@@ -504,7 +518,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
     rewrite_dataset(newest_checkpoint(recent), "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
   }
   ASSERT_FALSE(run(cfg, recent, -1, true).interrupted);
-  expect_series_but_ke_fluct(recent, direct);
+  expect_series_but(recent, direct, {"ke_fluct_ratio", "e_inner"});
   EXPECT_EQ(slurp(recent + "/summary.json"), slurp(direct + "/summary.json"));
   const std::string now = H5Reader(ckpt).string("/lab/config");
   const std::string older = in_older_words(now, fs::relative(sample, fs::current_path()).string());
@@ -515,7 +529,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   as_before_cyclic_stages(ckpt);
   ASSERT_EQ(H5Reader(ckpt).doubles("/lab/scalars").size(), 13u);
   ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
-  expect_series_but_ke_fluct(out, direct);
+  expect_series_but(out, direct, {"ke_fluct_ratio", "e_inner"});
   EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
 }
 
