@@ -344,7 +344,7 @@ def number_text(x, fmt):
 
 def quasi_static_text(I, ke):
     """A critical state's inertial number and kinetic / elastic energy as table cells ("-" where not measured)."""
-    return (f"{I:.1e}" if I is not None else "-") + " | " + (f"{ke:.3f}" if ke is not None else "-")
+    return number_text(I, ".1e") + " | " + number_text(ke, ".3f")
 
 
 def inertial_note(states):
@@ -764,7 +764,7 @@ def study(out):
                 peak_I.append(ps["I"])
             peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | "
                               f"{ps['q_peak'] / 1e3:.1f} | {100 * ps['eps_peak']:.2f} | {ps['qp_peak']:.3f} | "
-                              f"{ps['M']:.3f} ({ps['phi']:.1f}°) | {'-' if ps['I'] is None else format(ps['I'], '.1e')} | "
+                              f"{ps['M']:.3f} ({ps['phi']:.1f}°) | {number_text(ps['I'], '.1e')} | "
                               f"{note} |")
         c = critical_state(s, cs_cfg["window"], *tol)
         if c is None:
@@ -974,10 +974,15 @@ def t975(dof):
     return z + (z ** 3 + z) / (4 * dof) + (5 * z ** 5 + 16 * z ** 3 + 3 * z) / (96 * dof ** 2)
 
 
+def measured(v):
+    """The values of v that were measured (not None, not NaN: rows of a build before the column)."""
+    return [x for x in v if x is not None and math.isfinite(x)]
+
+
 def seed_spread(v, digits):
-    """A sample of one measure over seeds as a table cell: 'mean ± sd [95 % half-width of the mean]' from two values
-    on, the value alone from one, '-' from none."""
-    v = [x for x in v if x is not None]
+    """A sample of one measure over seeds as a table cell: 'mean ± sd [95 % half-width of the mean]' from two
+    measured values on, the value alone from one, '-' from none."""
+    v = measured(v)
     if not v:
         return "-"
     if len(v) == 1:
@@ -992,7 +997,7 @@ SEED_PHI_TARGET = 0.5  # [deg]: the half-width a friction angle is asked to, for
 def seeds_needed(v, target=SEED_PHI_TARGET):
     """The fewest seeds n >= 2 whose 95 % interval of the mean, t975(n - 1) sd / sqrt(n), is within +-target, with
     sd the spread of the seeds at hand (an estimate: it assumes that spread); '-' from fewer than two values."""
-    v = [x for x in v if x is not None]
+    v = measured(v)
     if len(v) < 2:
         return "-"
     sd = float(np.std(v, ddof=1))
@@ -1058,7 +1063,6 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
         cs = [c for c in cs if c is not None and c["ok"]]
         e0 = [float(s["e"][s["monotonic"]][0]) for _, s in g]
         e0_in = [float(s["e_inner"][s["monotonic"]][0]) if "e_inner" in s else None for _, s in g]
-        e0_in = [x for x in e0_in if x is not None and math.isfinite(x)]
         phi_pk = [p["phi"] for p in ps if "phi" in p]
         pk_rows.append(f"| {name} | {len(g)} ({seeds}) | {seed_spread(e0, 4)} | {seed_spread(e0_in, 4)} | "
                        f"{seed_spread([p['q_peak'] / 1e3 for p in ps if 'M' in p], 1)} | "
