@@ -9,6 +9,7 @@
 #include "helpers.hpp"
 #include "src/h5io.hpp"
 #include "src/simulation.hpp"
+#include "scratch.hpp"
 
 using namespace grainlab;
 namespace fs = std::filesystem;
@@ -87,7 +88,7 @@ TEST(BlowUp, SlowSqueezeDoesNotBlameTheTimeStep) {
 // A material far too soft for the pressure (E = 2 MPa at 190 kPa) overlaps beyond 20 %: the run stops with
 // the diagnostic (also in blowup.txt), and the newest checkpoint predates the event and is healthy.
 TEST(BlowUp, LabStopsAndKeepsTheLastGoodCheckpoint) {
-  const fs::path dir = fs::temp_directory_path() / ("grainlab_blowup_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratch("blowup");
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "soft.yaml") << "sample: {count: 300, seed: 3, density_scaling: 1000}\n"

@@ -11,13 +11,14 @@
 
 #include "src/config.hpp"
 #include "src/study.hpp"
+#include "scratch.hpp"
 
 using namespace grainlab;
 namespace fs = std::filesystem;
 
 namespace {
 std::string write_tmp(const std::string& name, const std::string& text) {
-  const fs::path p = fs::temp_directory_path() / ("grainlab_test_" + name + ".yaml");
+  const fs::path p = test::scratch(name + ".yaml");
   std::ofstream(p) << text;
   return p.string();
 }

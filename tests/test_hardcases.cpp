@@ -1,6 +1,5 @@
 // Hard cases stay stable (issue 7), through the whole laboratory on small samples.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 
@@ -11,6 +10,7 @@
 
 #include "src/h5io.hpp"
 #include "src/simulation.hpp"
+#include "scratch.hpp"
 
 using namespace grainlab;
 namespace fs = std::filesystem;
@@ -27,7 +27,7 @@ struct LabRun {
   }
 };
 LabRun run_yaml(const std::string& name, const std::string& yaml) {
-  const fs::path dir = fs::temp_directory_path() / ("grainlab_hard_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratch("hard_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "c.yaml") << yaml;
@@ -167,7 +167,7 @@ output: {every: 1000, checkpoint_every: 0, checkpoint_minutes: 0}
   ASSERT_TRUE(r.result.stages[0].converged);
   EXPECT_NEAR(r.result.stages[0].p, 10e6, 0.01 * 10e6);
   // Final state: overlaps from the stage-end snapshot.
-  const fs::path snap = fs::temp_directory_path() / ("grainlab_hard_highp_" + std::to_string(::getpid())) / "out" /
+  const fs::path snap = test::scratch("hard_highp") / "out" /
                         "snapshots" / "snap_00000.h5";
   H5Reader h(snap.string());
   const auto x = h.vec3("/particles/x");

@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <hdf5.h>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cstring>
@@ -17,6 +16,7 @@
 #include "src/h5io.hpp"
 #include "src/packing.hpp"
 #include "src/simulation.hpp"
+#include "scratch.hpp"
 
 using namespace grainlab;
 namespace fs = std::filesystem;
@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string tmpdir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("grainlab_lab_" + name + "_" + std::to_string(::getpid()));
+  const fs::path p = test::scratch("lab_" + name);
   fs::remove_all(p);
   return p.string();
 }

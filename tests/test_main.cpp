@@ -5,9 +5,12 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <system_error>
 
 #include "kernels/compat.hpp"
 #include "kernels/types.hpp"
+#include "scratch.hpp"
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
@@ -25,5 +28,15 @@ int main(int argc, char** argv) {
 #endif
   if (rc == 0) rc = RUN_ALL_TESTS();
   Kokkos::finalize();
+  // The scratch files (scratch.hpp): gone after a green run, kept for inspection after a red one or on request.
+  const std::filesystem::path scratch = grainlab::test::scratch_root();
+  if (std::filesystem::exists(scratch)) {
+    if (rc == 0 && !std::getenv("GRAINLAB_KEEP_SCRATCH")) {
+      std::error_code ec;
+      std::filesystem::remove_all(scratch, ec);
+    } else {
+      std::printf("[grainlab] scratch files kept in %s\n", scratch.c_str());
+    }
+  }
   return rc;
 }
