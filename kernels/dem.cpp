@@ -489,6 +489,26 @@ Real integrate_dispatch(const char* who, const Particles& P, const PairList& L, 
                    : integrate_impl<false, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max);
 }
 
+Real remap_affine(const Particles& P, const Vec3& lo0, const Vec3& scale, const Vec3& lo1) {
+  auto x = P.x;
+  auto xr = P.x_ref;
+  const Real a0 = lo0.x, a1 = lo0.y, a2 = lo0.z, s0 = scale.x, s1 = scale.y, s2 = scale.z, b0 = lo1.x, b1 = lo1.y,
+             b2 = lo1.z;
+  Real maxd2 = 0;
+  Kokkos::parallel_reduce(
+      "grainlab::integrate::affine_remap", Kokkos::RangePolicy<ExecSpace>(0, P.n),
+      KOKKOS_LAMBDA(int i, Real& mx) {
+        x(i, 0) = b0 + (x(i, 0) - a0) * s0;
+        x(i, 1) = b1 + (x(i, 1) - a1) * s1;
+        x(i, 2) = b2 + (x(i, 2) - a2) * s2;
+        const Real d0 = x(i, 0) - xr(i, 0), d1 = x(i, 1) - xr(i, 1), d2 = x(i, 2) - xr(i, 2);
+        const Real d = d0 * d0 + d1 * d1 + d2 * d2;
+        mx = d > mx ? d : mx;
+      },
+      Kokkos::Max<Real>(maxd2));
+  return maxd2;
+}
+
 Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                           const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel, bool store_forces) {
   if (store_forces)

@@ -304,6 +304,12 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
                                      const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
                                      DeterministicSum& red, WallLoads& loads);
 
+// Affine remap of the positions with a moving box (beyond SPEC §6.2, Engine::set_affine_box): per axis a,
+// x_a <- lo1_a + (x_a - lo0_a) * scale_a, so every particle keeps its relative place in the box as the walls move
+// (LAMMPS `fix deform ... remap x`). Velocities are left alone. Returns max |x - x_ref|^2 after the remap (exact
+// reduction), so the neighbour-list criterion sees the remap's displacement in the step that makes it.
+Real remap_affine(const Particles& P, const Vec3& lo0, const Vec3& scale, const Vec3& lo1);
+
 // Wall loads at the current positions (SPEC §3 per-wall force reduction).
 // team: DeterministicSum::run_one_term's team path (default on a GPU); the same bits either way.
 WallLoads reduce_wall_loads(const Particles& P, const WallSet& walls, Real E_wall, DeterministicSum& red,

@@ -291,6 +291,7 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
       sc.mu_max = g.real("mu_max", 1.0, 0, 10, true);
       sc.max_trials = int(g.integer("max_trials", 10, 2, 100));
       sc.save_sample = g.boolean("save_sample", true);
+      sc.affine = g.boolean("affine", false);
     } else {
       sc.drainage = g.choice("drainage", "undrained", {"undrained", "drained"}) == "undrained" ? Drainage::Undrained
                                                                                               : Drainage::Drained;
@@ -421,6 +422,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
         << YAML::Key << "ufr_tolerance" << YAML::Value << sc.ufr_tolerance << YAML::Key
         << "ke_tolerance" << YAML::Value << sc.ke_tolerance << YAML::Key << "save_sample" << YAML::Value
         << sc.save_sample;
+      if (sc.affine) e << YAML::Key << "affine" << YAML::Value << true;  // written only when on: older runs' configs stay as they were
       if (sc.target_e0 > 0)
         e << YAML::Key << "target_e0" << YAML::Value << sc.target_e0 << YAML::Key << "target_e0_tolerance"
           << YAML::Value << sc.target_e0_tolerance << YAML::Key << "mu_max" << YAML::Value << sc.mu_max << YAML::Key

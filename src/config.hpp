@@ -29,6 +29,10 @@ struct StageConfig {
   Real pressure_tolerance = 0.01;  // |p - p0| / p0                                  [-]
   long pressure_ramp_steps = 0;    // servo target rises linearly from 0 to `pressure` over this many
                                    // steps of the stage (0 = the full target from the first step)
+  // The particles follow the servo walls affinely (Engine::set_affine_box; choice, beyond SPEC §6.2, whose walls alone
+  // compress the sample): a frictional gas then jams homogeneously instead of in a dense crust along the walls
+  // around a looser core. Off by default: SPEC's protocol and the bits of earlier runs.
+  bool affine = false;
   Real ufr_tolerance = 0.01;       // unbalanced-force ratio                         [-]
   Real ke_tolerance = 1e-4;        // kinetic / elastic energy                       [-]
   Real servo_gain = 0.5;           // see WallControl::gain                          [-]

@@ -244,12 +244,27 @@ void Engine::advance_impl(bool store_forces) {
   finish_step(maxd2);
 }
 
+void Engine::set_affine_box(bool on) {
+  if (on && !box_) throw std::logic_error("Engine::set_affine_box needs box walls");
+  affine_box_ = on;
+}
+
 void Engine::finish_step(Real maxd2) {
   const ContactParams& cp = params_.contact;
   time_ += cp.dt;
   ++step_;
-  // 4. Walls to t + dt from the loads measured at t.
-  move_walls();
+  // 4. Walls to t + dt from the loads measured at t; with the affine box the positions follow them, and the
+  // displacement max is taken again after the remap (it moves every particle).
+  if (affine_box_) {
+    Real lo0[3], len0[3], lo1[3], scale[3];
+    for (int a = 0; a < 3; ++a) lo0[a] = wall_position(2 * a), len0[a] = wall_position(2 * a + 1) - lo0[a];
+    move_walls();
+    for (int a = 0; a < 3; ++a) lo1[a] = wall_position(2 * a), scale[a] = (wall_position(2 * a + 1) - lo1[a]) / len0[a];
+    maxd2 = remap_affine(P_, Vec3(lo0[0], lo0[1], lo0[2]), Vec3(scale[0], scale[1], scale[2]),
+                         Vec3(lo1[0], lo1[1], lo1[2]));
+  } else {
+    move_walls();
+  }
   // 5. Neighbour list when any particle moved more than skin/2 since the last build (SPEC §5). With the
   // inner list, maxd2 is measured from the last filter; the displacement since the Verlet build is at
   // most outer_drift_ + sqrt(maxd2) (triangle inequality over the filter intervals), so that bound
@@ -297,16 +312,12 @@ Real Engine::box_volume() const {
 Real Engine::solid_volume_in(const Vec3d& lo, const Vec3d& hi) const {
   auto x = P_.x;
   auto r = P_.r;
-  const Real l0 = lo[0], l1 = lo[1], l2 = lo[2], h0 = hi[0], h1 = hi[1], h2 = hi[2];
+  const Vec3 l(lo[0], lo[1], lo[2]), h(hi[0], hi[1], hi[2]);
   Real v = 0;
   // An output-row measure, not the dynamics: a Sum (its order is the backend's, fixed for a fixed thread count).
   Kokkos::parallel_reduce(
-      "grainlab::analysis::inner_solid", Kokkos::RangePolicy<ExecSpace>(0, num_particles()),
-      KOKKOS_LAMBDA(int i, Real& s) {
-        if (x(i, 0) >= l0 && x(i, 0) < h0 && x(i, 1) >= l1 && x(i, 1) < h1 && x(i, 2) >= l2 && x(i, 2) < h2)
-          s += Real(4.0 / 3.0 * M_PI) * r(i) * r(i) * r(i);
-      },
-      v);
+      "grainlab::analysis::solid_in_box", Kokkos::RangePolicy<ExecSpace>(0, num_particles()),
+      KOKKOS_LAMBDA(int i, Real& s) { s += sphere_volume_in_box(Vec3(x(i, 0), x(i, 1), x(i, 2)), r(i), l, h); }, v);
   return v;
 }
 

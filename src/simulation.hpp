@@ -32,6 +32,10 @@ struct StageResult {
   // how slowly the loops were loaded, measured (a stress-controlled stage's cannot be known before it runs; NaN: no
   // complete cycle, or a stage finished by a build before it)
   Real quarter_transits = std::numeric_limits<Real>::quiet_NaN();
+  // isotropic stages: the void ratio of the interior (series e_inner) and of the core, the central eighth of the box
+  // (half of each side), at the stage's end: how homogeneous the consolidated sample is (kGradedCore; NaN: a stage
+  // finished by a build before them)
+  Real e_inner = std::numeric_limits<Real>::quiet_NaN(), e_core = std::numeric_limits<Real>::quiet_NaN();
 };
 
 // A numerical blow-up stopped the run: the message names step, particles, quantity and a suggested dt;
@@ -78,6 +82,14 @@ constexpr double kQuasiStaticInertial = 1e-3;
 // dynamic (choice, beyond SPEC §6.3; measured, configs/README.md): plan_run warns of a strain-controlled stage, a run
 // of a stress-controlled one at its first load reversal.
 constexpr double kQuasiStaticTransits = 4;
+// A consolidated sample is graded when its core (the central eighth of the box) has a void ratio this much above its
+// interior's (the box 2 mean diameters in from the walls): the run warns at the end of an isotropic stage. (choice)
+// 0.02: twice the largest core-interior difference of samples compacted homogeneously (affine, 2 000-20 000
+// spheres: -0.010 to +0.012) and about half that of the walls' crust at 5 000-20 000 spheres (+0.030 to +0.042).
+// Below kGradedMinCount spheres the core is too small to tell (250 spheres: +0.028 compacted homogeneously, a core
+// of ~30 spheres), so the run records the two void ratios but does not warn.
+constexpr double kGradedCore = 0.02;
+constexpr int kGradedMinCount = 2000;
 // Empty when the config `now` only extends `then` (both resolved, as a run's checkpoint records its config) for a
 // run whose newest checkpoint lies in stage k (k = the number of stages: finished); otherwise the first differing
 // config key. What --resume accepts: stages appended, the end (max_axial_strain, max_steps) of stage k moved, and

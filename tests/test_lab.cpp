@@ -449,8 +449,8 @@ void as_before_cyclic_stages(const std::string& ckpt) {
     results = r.doubles("/lab/results");
   }
   ASSERT_EQ(scalars.size(), 18u);
-  ASSERT_EQ(results.size(), 11u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
-                                    "quarter_transits";
+  ASSERT_EQ(results.size(), 13u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
+                                    "quarter_transits, e_inner, e_core";
   results.resize(6);
   scalars.resize(13);
   drop_series_columns(ckpt, 3);
@@ -479,7 +479,8 @@ void as_before_cyclic_stages(const std::string& ckpt) {
 // loop and its rows; nor the two values a wall of the servo's integral action), and the
 // resumed run ends with the uninterrupted run's series and summary, to the bit (but ke_fluct_ratio and e_inner,
 // which the restored rows never measured: NaN there). So does one of the build just before ke_fluct_ratio (10 values
-// a stage result, without quarter_transits), and one of the build just before e_inner. Checked to fail when
+// a stage result, without quarter_transits), one of the build just before e_inner, and one of the build just before
+// the stage results' e_inner and e_core (11 values a stage result). Checked to fail when
 // load_newest_checkpoint compares the stored text as it is.
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
@@ -500,20 +501,35 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   // rerun from there would hide it.
   for (auto& f : fs::directory_iterator(out + "/checkpoints"))
     if (f.path() != ckpt) fs::remove(f.path());
-  // The build of just before ke_fluct_ratio (its checkpoints otherwise as now, but for the stage results'
-  // quarter_transits, which came after): resumes to the same series.
-  const std::string previous = tmpdir("older_previous");  // the build just before e_inner
+  // The build just before a stage result's e_inner and e_core (11 values a stage), and the one before that, just
+  // before the series' e_inner.
+  const auto eleven_values_a_stage = [](const std::string& path) {
+    std::vector<double> results = H5Reader(path).doubles("/lab/results");
+    ASSERT_EQ(results.size(), 13u);
+    results.resize(11);
+    rewrite_dataset(path, "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
+  };
+  const std::string last = tmpdir("older_last");
+  fs::copy(out, last, fs::copy_options::recursive);
+  eleven_values_a_stage(newest_checkpoint(last));
+  ASSERT_FALSE(run(cfg, last, -1, true).interrupted);
+  EXPECT_EQ(slurp(last + "/series.csv"), slurp(direct + "/series.csv"));
+  EXPECT_EQ(slurp(last + "/summary.json"), slurp(direct + "/summary.json"));
+  const std::string previous = tmpdir("older_previous");
   fs::copy(out, previous, fs::copy_options::recursive);
   drop_series_columns(newest_checkpoint(previous), 1);
+  eleven_values_a_stage(newest_checkpoint(previous));
   ASSERT_FALSE(run(cfg, previous, -1, true).interrupted);
   expect_series_but(previous, direct, {"e_inner"});
   EXPECT_EQ(slurp(previous + "/summary.json"), slurp(direct + "/summary.json"));
+  // The build of just before ke_fluct_ratio (its checkpoints otherwise as now, but for the stage results'
+  // quarter_transits, which came after): resumes to the same series.
   const std::string recent = tmpdir("older_recent");
   fs::copy(out, recent, fs::copy_options::recursive);
   drop_series_columns(newest_checkpoint(recent), 2);
   {
     std::vector<double> results = H5Reader(newest_checkpoint(recent)).doubles("/lab/results");
-    ASSERT_EQ(results.size(), 11u);
+    ASSERT_EQ(results.size(), 13u);
     results.resize(10);
     rewrite_dataset(newest_checkpoint(recent), "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
   }
@@ -577,6 +593,46 @@ TEST(Lab, SampleReuseDrainedAndUndrained) {
 // it falls as 1/sqrt(N)): each nearby trial is in effect a new realisation and lands within +-0.003 with
 // probability ~0.38. After the ~4 bracketing trials, 12 more give 1 - 0.62^12 = 99.7 %: max_trials 16 here
 // (the default 10 is meant for paper-size samples, where the scatter is ~0.001).
+// An isotropic stage with `affine: true` (the particles follow the walls): stopped half-way and resumed, it ends in
+// the uninterrupted run's series, summary and sample, to the bit (the setting is the stage's, so a resumed stage
+// must set it too; a mutant that sets it only where a stage starts fails here). Its summary and sample give the
+// interior's and the core's void ratios (StageResult::e_core), the same in both; the walls-only run is another run.
+TEST(Lab, AffineConsolidationResumesBitwiseAndRecordsItsGrading) {
+  const std::string text = R"(
+sample: {count: 250, seed: 5, density_scaling: 1000}
+stages:
+  - {name: consolidate, type: isotropic, mu: 0.3, max_steps: 60000, ufr_tolerance: 0.02, affine: true}
+output: {every: 500, checkpoint_every: 0, checkpoint_minutes: 0}
+)";
+  std::string walls_only = text;
+  walls_only.replace(walls_only.find(", affine: true"), 14, "");
+  const std::string cfg = write_config("affine", text), cfg_walls = write_config("affine_walls", walls_only);
+  const std::string direct = tmpdir("affine_direct"), out = tmpdir("affine_resumed"), walls = tmpdir("affine_walls");
+  const RunResult whole = run(cfg, direct);
+  ASSERT_EQ(whole.stages.size(), 1u);
+  ASSERT_TRUE(whole.stages[0].converged);
+  ASSERT_TRUE(run(cfg, out, whole.stages[0].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
+  EXPECT_EQ(slurp(out + "/series.csv"), slurp(direct + "/series.csv"));
+  EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
+  const H5Reader a(direct + "/sample_consolidate.h5"), b(out + "/sample_consolidate.h5");
+  const auto xa = a.vec3("/state/x"), xb = b.vec3("/state/x");
+  ASSERT_EQ(xa.size(), xb.size());
+  EXPECT_EQ(0, std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(Vec3d)));
+  const std::string summary = slurp(direct + "/summary.json");
+  for (const char* key : {"e_inner", "e_core"}) {
+    const double v = a.attr_double(key);
+    EXPECT_TRUE(v > 0.3 && v < 1.5) << key << " = " << v;  // a packing's void ratio
+    const size_t at = summary.find("\"" + std::string(key) + "\": ");
+    ASSERT_NE(at, std::string::npos) << key << " not in\n" << summary;
+    EXPECT_EQ(std::stod(summary.substr(at + std::strlen(key) + 4)), v) << key;  // summary numbers read back exactly
+  }
+  ASSERT_FALSE(run(cfg_walls, walls).interrupted);
+  EXPECT_TRUE(slurp(walls + "/series.csv") != slurp(direct + "/series.csv")) << "affine: true changed nothing";
+  EXPECT_NE(slurp(direct + "/config.yaml").find("affine: true"), std::string::npos);
+  EXPECT_EQ(slurp(walls + "/config.yaml").find("affine:"), std::string::npos) << "written only when on";
+}
+
 TEST(Lab, TargetVoidRatioIsReached) {
   const std::string cfg = write_config("target", R"(
 sample: {count: 1000, seed: 5, density_scaling: 1000}

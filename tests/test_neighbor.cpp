@@ -222,3 +222,92 @@ TEST(Neighbor, SinglePassBuildMatchesBruteForceAndFallsBack) {
   EXPECT_GT(compressed, 2 * first);
   build(1, "the same positions again: the rows fit");
 }
+
+// The affine box (Engine::set_affine_box): servo walls close on a still gas, every position is remapped with them.
+// Before any two spheres touch, each keeps its place relative to the box, (x - lo) / L, to round-off, and no velocity
+// appears (the remap moves positions only); a mutant without the remap fails that at once. Then, compressed on into
+// contact, the list must hold every touching pair between builds and equal the N^2 oracle after each build: the
+// remap moves every sphere, and the rebuild criterion must see that displacement (a remap that also moved x_ref
+// would hide it).
+TEST(Neighbor, AffineBoxRemapsPositionsAndKeepsTheListComplete) {
+  PackingSpec ps;
+  ps.count = 600;
+  ps.r_max = 0.6e-3;
+  ps.r_min = ps.r_max / 3;
+  ps.D = 2.5;
+  ps.seed = 31;
+  ps.solid_fraction = 0.25;
+  const Packing pk = generate_packing(ps);
+  ParticleSetup s;
+  s.x = pk.x;
+  s.r = pk.r;
+  EngineParams p;
+  p.contact = test::reference_contact();
+  p.skin = 0.1 * ps.r_max;
+  p.servo_max_step = 0.05;  // the walls close fast: a rebuild every few steps near them
+  Engine eng(s, p, make_box_walls(pk.lo, pk.hi), true);
+  for (int k = 0; k < 6; ++k) {
+    eng.wall_control(k).mode = WallMode::Servo;
+    eng.wall_control(k).target_stress = 1e5;
+  }
+  eng.set_affine_box(true);
+  const auto relative = [&] {
+    std::vector<Vec3d> u = eng.positions();
+    for (auto& ui : u)
+      for (int a = 0; a < 3; ++a)
+        ui[a] = (ui[a] - eng.wall_position(2 * a)) / (eng.wall_position(2 * a + 1) - eng.wall_position(2 * a));
+    return u;
+  };
+  const std::vector<Vec3d> u0 = relative();
+  // The spheres with no other (and no wall) within 0.02 r_max: a few steps that shrink the box by less than 0.99 close the gap of a
+  // pair at centre distance D < 2.02 r_max (any other is far apart) by (1 - L1 / L0) D < 0.02 r_max, so they stay
+  // free and nothing but the remap moves them.
+  std::vector<std::pair<int, int>> oracle;
+  brute_force_pairs(eng.particles().x, eng.particles().r, 0.02 * ps.r_max, oracle);
+  std::vector<bool> free(u0.size(), true);
+  for (auto& pr : oracle) free[pr.first] = free[pr.second] = false;
+  const std::vector<Vec3d> x0 = eng.positions();
+  for (size_t i = 0; i < x0.size(); ++i)  // nor within 0.02 r_max of a wall (a wall closes on a sphere's surface too)
+    for (int a = 0; a < 3; ++a)
+      if (x0[i][a] - s.r[i] - eng.wall_position(2 * a) < 0.02 * ps.r_max ||
+          eng.wall_position(2 * a + 1) - x0[i][a] - s.r[i] < 0.02 * ps.r_max)
+        free[i] = false;
+  const long nfree = std::count(free.begin(), free.end(), true);
+  ASSERT_GT(nfree, long(u0.size()) / 2) << "most spheres of a gas at solid fraction 0.25 are free";
+  const Real L0 = eng.wall_position(1) - eng.wall_position(0);
+  eng.run(3);
+  const Real L1 = eng.wall_position(1) - eng.wall_position(0);
+  ASSERT_LT(L1, 0.9995 * L0) << "the walls moved";
+  ASSERT_GT(L1, 0.99 * L0) << "but less than the free spheres' margin";
+  const std::vector<Vec3d> u1 = relative();
+  double worst = 0;
+  for (size_t i = 0; i < u0.size(); ++i)
+    for (int a = 0; a < 3 && free[i]; ++a) worst = std::max(worst, std::abs(u1[i][a] - u0[i][a]));
+  EXPECT_LT(worst, 1e-14) << "relative positions of free spheres moved";  // 3 steps, a few roundings of numbers < 1
+  const std::vector<Vec3d> v = eng.velocities();
+  for (size_t i = 0; i < u0.size(); ++i) {
+    if (free[i]) {
+      EXPECT_EQ(v[i], (Vec3d{0, 0, 0})) << i;
+    }
+  }
+  int builds = 0, last = eng.rebuild_count(), touching = 0;
+  for (int k = 0; k < 1500; ++k) {
+    eng.step();
+    if (eng.rebuild_count() != last) {
+      last = eng.rebuild_count();
+      ++builds;
+      brute_force_pairs(eng.particles().x, eng.particles().r, p.skin, oracle);
+      ASSERT_EQ(listed_pairs(eng.verlet_pairs()), oracle) << "after rebuild " << last;
+    } else if (k % 10 == 0) {
+      brute_force_pairs(eng.particles().x, eng.particles().r, 0, oracle);
+      touching = int(oracle.size());
+      const auto listed = listed_pairs(eng);
+      const std::set<std::pair<int, int>> have(listed.begin(), listed.end());
+      for (auto& pr : oracle) ASSERT_TRUE(have.count(pr)) << pr.first << "," << pr.second << " touching but unlisted";
+    }
+  }
+  std::printf("  box %.3f of its length, %d rebuilds checked, %d touching pairs at the last check\n",
+              (eng.wall_position(1) - eng.wall_position(0)) / L0, builds, touching);
+  EXPECT_GT(builds, 20);
+  EXPECT_GT(touching, 300);  // compressed into a contact network, not only a shrunken gas
+}
