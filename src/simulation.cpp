@@ -726,7 +726,7 @@ Real Laboratory::void_ratio_inset(const Real (&inset)[3]) const {
 // A frictional gas compacted by its walls alone jams first in a crust along them, which then carries the load around
 // a looser core: 10 000 spheres at mu = 0.5 end with solid fraction 0.62 one to three diameters from the walls and
 // 0.58 at the centre (e_core - e_inner = +0.037). Such a sample is no element test; the stage's `affine` compacts
-// homogeneously (-0.010 to +0.012 at 2 000-20 000 spheres).
+// homogeneously (-0.003 to +0.012 at 5 000-20 000 spheres; kGradedCore).
 void Laboratory::warn_graded(const StageConfig& sc, const StageResult& r) const {
   if (eng_->num_particles() < kGradedMinCount || !(r.e_core - r.e_inner > kGradedCore)) return;
   std::fprintf(stderr,
