@@ -665,8 +665,8 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     for run, cs in states:
         groups.setdefault((cs["mu_r"], cs["ext"], cs["b"], cs["rate"]), []).append(cs)
     several_rates = len({k[3] for k in groups}) > 1
-    lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) "
-             "| largest I |", "|---|---|---|---|---|---|---|"]
+    lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | interior e_c = a + b p' | a_c = c + d ln(p'/1 kPa) "
+             "| M = abs(q/p') (phi_cs) | largest I |", "|---|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
@@ -689,20 +689,29 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             xs = np.linspace(p.min(), p.max(), 20)
             ax[0].plot(xs, a + b * xs, "-", color=ln.get_color())
             ax[1].plot(np.log(xs), c + d * np.log(xs), "-", color=ln.get_color())
-            lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
+            # The interior's line (series e_inner, without the looser layer along the walls: the material's rather
+            # than a walled specimen's), where every state measured it; dashed, its states hollow
+            ei = [cs.get("e_inner") for cs in g]
+            inner = "-"
+            if all(v is not None for v in ei):
+                bi, ai, sbi, sai = fit(p, np.array(ei))
+                ax[0].plot(p, ei, "s" if ext else "o", mfc="none", color=ln.get_color())
+                ax[0].plot(xs, ai + bi * xs, "--", color=ln.get_color())
+                inner = f"a = {ai:.4f} ± {sai:.4f}, b = {bi:.3e} ± {sbi:.1e}"
+            lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | {inner} | "
                          f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} | {m_txt} |")
         else:
             lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states {100 * CSL_LEVEL_GAP:g} % "
-                         "apart in p'_c: no fit | | "
+                         "apart in p'_c: no fit | | | "
                          f"{m_txt} |")
-    ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c", title="critical-state line e_c - p'")
+    ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c", title="critical-state line e_c - p' (hollow, dashed: interior)")
     ax[1].set(xlabel="ln p'_c [kPa]", ylabel="a_c at critical state", title="a_c - ln p'")
     for a_ in ax:
         a_.grid(alpha=0.3)
         legend(a_, fontsize=8)
     save(fig, out, "csl")
     if not groups:
-        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | |")
+        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | | |")
     note = inertial_note([c for _, c in states])
     text = "\n".join(lines + (["", note] if note else []))
     if not quiet:

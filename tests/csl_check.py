@@ -5,6 +5,8 @@ not steady over the window must be reported and left out of the fit. Triaxial ex
 other lines are fitted apart, their window counted along -eps_a; M = |q/p'| = 0.6 gives phi_cs = asin(3 M/(6 + M)) =
 15.8 degrees in compression and asin(3 M/(6 - M)) = 19.5 in extension. True-triaxial runs (b > 0 in summary.json) are
 fitted apart, their phi_cs from the principal wall stresses (30 degrees for 300/200/100 kPa).
+The mu_r 0.5 compressions' series also have e_inner on a line of its own (0.70 - 1e-4 p', one NaN row in a window):
+the interior's line comes back; the runs without the column get "-" there.
 Each line gives the largest mean inertial number I of its critical states over the window ("-" where a series has no
 such column): mu_r 0.1 compressions I = 4e-4 (1 - eps_a), mean 2.6e-4 over 30-40 % (3.2e-4 over the whole shear);
 mu_r 0.5 compressions I = (k + 1) 1e-3, one NaN row (a checkpoint of an older build) in the window of the last; the
@@ -15,6 +17,7 @@ grainlab, work = sys.argv[1], sys.argv[2]
 shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q_p", "e", "a_c", "mu_r", "stage_type", "inertial_number"]
 truth = {0.1: (0.80, -2.0e-4, 0.10, 0.02), 0.5: (0.95, -3.0e-4, 0.20, 0.03)}
+inner_truth = (0.70, -1.0e-4)  # mu_r 0.5: the interior's line (series e_inner); mu_r 0.1 runs have no such column
 runs = []
 for mur, (a, b, c, d) in truth.items():
     for k, pc in enumerate([100.0, 190.0, 300.0, 450.0]):
@@ -22,7 +25,7 @@ for mur, (a, b, c, d) in truth.items():
         os.makedirs(run)
         with open(os.path.join(run, "series.csv"), "w", newline="") as f:
             w = csv.writer(f)
-            w.writerow(["stage"] + cols)
+            w.writerow(["stage"] + cols + (["e_inner"] if mur == 0.5 else []))
             for i in range(41):  # shear to 40 %, steady over the last 10 %
                 ea = 0.01 * i
                 approach = min(1.0, ea / 0.3)
@@ -30,7 +33,9 @@ for mur, (a, b, c, d) in truth.items():
                 e = a + b * pc if ea >= 0.3 else 0.7
                 ac = c + d * __import__("math").log(pc)
                 I = 4e-4 * (1 - ea) if mur == 0.1 else ("nan" if (k, i) == (3, 35) else (k + 1) * 1e-3)
-                w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1, I])
+                # e_inner: on its line over the window, NaN in one row there (restored from an older build's checkpoint)
+                ei = ["nan" if (k, i) == (1, 38) else inner_truth[0] + inner_truth[1] * pc if ea >= 0.3 else 0.6]
+                w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1, I] + (ei if mur == 0.5 else []))
         runs.append(run)
 # Extensions of mu_r 0.1: eps_a to -40 %, q/p' = -0.6, on their own lines
 ext_truth = (0.85, -1.0e-4, -0.15, 0.01)
@@ -83,9 +88,14 @@ for mur, (a, b, c, d) in truth.items():
     assert "| 4 |" in line, line  # the moving run (mu_r 0.1) was not fitted
     assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
     assert "| 0.600 ± 0.000 (15.8°) | " + ("2.6e-04 |" if mur == 0.1 else "4.0e-03 |") in line, line
+    inner = line.split("|")[5].strip()
+    if mur == 0.5:
+        assert inner.startswith(f"a = {inner_truth[0]:.4f} ± 0.0000, b = {inner_truth[1]:.3e} ± "), line
+    else:
+        assert inner == "-", line  # no e_inner in the series: not measured, no line
 a, b, c, d = ext_truth
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | extension |"))
-assert "| 3 |" in line, line
+assert "| 3 |" in line and line.split("|")[5].strip() == "-", line
 assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
 assert "| 0.600 ± 0.000 (19.5°) | - |" in line, line
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | compression, b = 0.5 |"))

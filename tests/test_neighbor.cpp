@@ -21,25 +21,53 @@ std::vector<std::pair<int, int>> listed_pairs(const PairList& L) {
 
 std::vector<std::pair<int, int>> listed_pairs(const Engine& eng) { return listed_pairs(eng.pairs()); }
 
+// A granular gas in a box: 600 spheres at solid fraction 0.25, r_max = 0.6 mm and r_min = r_max / size_ratio, at rest;
+// skin 0.1 r_max.
+struct Gas {
+  PackingSpec spec;
+  Packing pk;
+  ParticleSetup setup;
+  EngineParams params;
+};
+Gas make_gas(Real size_ratio, std::uint64_t seed) {
+  Gas g;
+  g.spec.count = 600;
+  g.spec.r_max = 0.6e-3;
+  g.spec.r_min = g.spec.r_max / size_ratio;
+  g.spec.D = 2.5;
+  g.spec.seed = seed;
+  g.spec.solid_fraction = 0.25;
+  g.pk = generate_packing(g.spec);
+  g.setup.x = g.pk.x;
+  g.setup.r = g.pk.r;
+  g.params.contact = test::reference_contact();
+  g.params.skin = 0.1 * g.spec.r_max;
+  return g;
+}
+
+// Between builds every touching pair must be in the kernels' list (the skin/2 criterion guarantees it). Returns the
+// number of touching pairs.
+int expect_touching_listed(const Engine& eng) {
+  std::vector<std::pair<int, int>> oracle;
+  brute_force_pairs(eng.particles().x, eng.particles().r, 0, oracle);
+  const auto listed = listed_pairs(eng);
+  const std::set<std::pair<int, int>> have(listed.begin(), listed.end());
+  int missing = 0;
+  for (auto& pr : oracle)
+    if (!have.count(pr) && missing++ == 0) ADD_FAILURE() << pr.first << "," << pr.second << " touching but unlisted";
+  EXPECT_EQ(missing, 0) << "at step " << eng.step_count();
+  return int(oracle.size());
+}
+
 // A granular gas in a box with collisions: particles cross cells, the list is rebuilt often. With
 // inner_skin > 0 the kernels' list is the inner list: after every Verlet build or filter it must equal
 // the oracle for the inner margin (so the Verlet list held every pair the filter needed).
 void check_against_oracle(Real size_ratio, std::uint64_t seed, Real inner_skin) {
-  PackingSpec ps;
-  ps.count = 600;
-  ps.r_max = 0.6e-3;
-  ps.r_min = ps.r_max / size_ratio;
-  ps.D = 2.5;
-  ps.seed = seed;
-  ps.solid_fraction = 0.25;
-  Packing pk = generate_packing(ps);
-  ParticleSetup s;
-  s.x = pk.x;
-  s.r = pk.r;
-  EngineParams p;
-  p.contact = test::reference_contact();
+  Gas gas = make_gas(size_ratio, seed);
+  const Packing& pk = gas.pk;
+  ParticleSetup& s = gas.setup;
+  EngineParams& p = gas.params;
   p.damping = 0;
-  p.skin = 0.1 * ps.r_max;
   p.inner_skin = inner_skin;
   // Speeds such that the fastest particles cross skin/2 in ~20 steps: many rebuilds in a short run.
   const Real dt = Engine(s, p, make_box_walls(pk.lo, pk.hi), true).dt();
@@ -68,11 +96,8 @@ void check_against_oracle(Real size_ratio, std::uint64_t seed, Real inner_skin) 
       brute_force_pairs(eng.particles().x, eng.particles().r, inner_skin * p.skin, oracle);
       ASSERT_EQ(listed_pairs(eng), oracle) << "inner list after rebuild " << last_builds << ", filter " << last_filters;
     } else if (!built && k % 10 == 0) {
-      // Between builds: every touching pair must be listed (the skin/2 criterion guarantees it).
-      brute_force_pairs(eng.particles().x, eng.particles().r, 0, oracle);
-      const auto listed = listed_pairs(eng);
-      const std::set<std::pair<int, int>> have(listed.begin(), listed.end());
-      for (auto& pr : oracle) ASSERT_TRUE(have.count(pr)) << pr.first << "," << pr.second << " touching but unlisted";
+      expect_touching_listed(eng);
+      if (::testing::Test::HasFailure()) return;
     }
   }
   std::printf("  ratio %g, inner %g: %d rebuilds and %d filters checked, %d pairs listed (Verlet %d)\n", size_ratio,
@@ -230,22 +255,12 @@ TEST(Neighbor, SinglePassBuildMatchesBruteForceAndFallsBack) {
 // remap moves every sphere, and the rebuild criterion must see that displacement (a remap that also moved x_ref
 // would hide it).
 TEST(Neighbor, AffineBoxRemapsPositionsAndKeepsTheListComplete) {
-  PackingSpec ps;
-  ps.count = 600;
-  ps.r_max = 0.6e-3;
-  ps.r_min = ps.r_max / 3;
-  ps.D = 2.5;
-  ps.seed = 31;
-  ps.solid_fraction = 0.25;
-  const Packing pk = generate_packing(ps);
-  ParticleSetup s;
-  s.x = pk.x;
-  s.r = pk.r;
-  EngineParams p;
-  p.contact = test::reference_contact();
-  p.skin = 0.1 * ps.r_max;
+  Gas gas = make_gas(3, 31);
+  const PackingSpec& ps = gas.spec;
+  const ParticleSetup& s = gas.setup;
+  EngineParams& p = gas.params;
   p.servo_max_step = 0.05;  // the walls close fast: a rebuild every few steps near them
-  Engine eng(s, p, make_box_walls(pk.lo, pk.hi), true);
+  Engine eng(s, p, make_box_walls(gas.pk.lo, gas.pk.hi), true);
   for (int k = 0; k < 6; ++k) {
     eng.wall_control(k).mode = WallMode::Servo;
     eng.wall_control(k).target_stress = 1e5;
@@ -299,11 +314,8 @@ TEST(Neighbor, AffineBoxRemapsPositionsAndKeepsTheListComplete) {
       brute_force_pairs(eng.particles().x, eng.particles().r, p.skin, oracle);
       ASSERT_EQ(listed_pairs(eng.verlet_pairs()), oracle) << "after rebuild " << last;
     } else if (k % 10 == 0) {
-      brute_force_pairs(eng.particles().x, eng.particles().r, 0, oracle);
-      touching = int(oracle.size());
-      const auto listed = listed_pairs(eng);
-      const std::set<std::pair<int, int>> have(listed.begin(), listed.end());
-      for (auto& pr : oracle) ASSERT_TRUE(have.count(pr)) << pr.first << "," << pr.second << " touching but unlisted";
+      touching = expect_touching_listed(eng);
+      if (::testing::Test::HasFailure()) return;
     }
   }
   std::printf("  box %.3f of its length, %d rebuilds checked, %d touching pairs at the last check\n",
