@@ -28,6 +28,9 @@ from atomic_write import write_atomically, write_text_atomically  # noqa: E402
 # kQuasiStaticInertial in src/simulation.hpp: above it the stress ratio of a steady flow rises with I (the mu(I)
 # rheology, Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2), so a critical state reached there is rate-dependent.
 QUASI_STATIC_I = 1e-3
+# A consolidated sample is graded when its core's void ratio exceeds its interior's by more than GRADED_CORE, told
+# from samples of GRADED_MIN_COUNT spheres or more: kGradedCore and kGradedMinCount in src/simulation.hpp (measured there).
+GRADED_CORE, GRADED_MIN_COUNT = 0.015, 5000
 # The rate section's line in I is mu(I)'s first order, mu_s + (mu_2 - mu_s) I / I_0, with I_0 ~ 0.3 (Jop et al. 2006:
 # 0.279 for glass beads): its second-order term is I / I_0 ~ 3 % of the first at I = 1e-2, past which the section
 # says the line no longer holds.
@@ -849,9 +852,64 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
-             *fail_lines, *rate_lines, *seed_lines, *cyc_lines]
+             *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"]), *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
+
+
+def sample_count(run_dir):
+    """The sphere count a run's resolved config.yaml gives (sample: count: N); None where it cannot be read (a sample read
+    from a file)."""
+    import re
+    try:
+        text = open(os.path.join(run_dir, "config.yaml")).read()
+    except OSError:
+        return None
+    m = re.search(r"^sample:\n(?: .*\n)*?  count: (\d+)$", text, re.M)
+    return int(m.group(1)) if m else None
+
+
+def samples_section(out, jobs):
+    """The study's samples as consolidated (their summary.json's last isotropic stage): e of the box, of its interior and
+    of its core (the central eighth), and whether the sample is graded (GRADED_CORE). Empty where no sample job has a
+    summary."""
+    rows, graded = [], []
+    names = {j["sample"] for j in jobs if j.get("sample")}
+    for name in sorted(names, key=lambda k: (sample_count(os.path.join(out, "jobs", k, "run")) or 0, k)):  # by size
+        d = os.path.join(out, "jobs", name, "run")
+        try:
+            stages = json.load(open(os.path.join(d, "summary.json")))["stages"]
+        except (OSError, ValueError, KeyError):
+            continue
+        iso = [s for s in stages if s.get("type") == "isotropic"]
+        if not iso:
+            continue
+        s, n = iso[-1], sample_count(d)
+        e_in, e_core = s.get("e_inner"), s.get("e_core")
+        diff = e_core - e_in if e_in is not None and e_core is not None else None  # null in a build before them
+        if diff is None:
+            verdict = "-"
+        elif n is None or n < GRADED_MIN_COUNT:
+            verdict = f"too few spheres to tell (< {GRADED_MIN_COUNT})"
+        elif diff > GRADED_CORE:
+            verdict = "graded"
+            graded.append(name)
+        else:
+            verdict = "homogeneous"
+        rows.append(f"| {name} | {n if n is not None else '-'} | {number_text(s.get('e'), '.4f')} | "
+                    f"{number_text(e_in, '.4f')} | {number_text(e_core, '.4f')} | {number_text(diff, '+.4f')} | {verdict} |")
+    if not rows:
+        return []
+    note = (f"{len(graded)} of {len(rows)} samples are graded: a crust along the walls around a looser core, which a "
+            "frictional gas compacted by its walls alone forms; such a sample is no element test. `affine: true` on "
+            "the isotropic stage compacts it homogeneously (configs/README.md)." if graded else "")
+    return ["## Samples", "",
+            "Each sample at the end of its consolidation: e of the wall box, of its interior (inset by two mean "
+            "diameters) and of its core (the central eighth of the box). A sample is graded when its core is looser than "
+            f"its interior by more than {GRADED_CORE:g} (told from {GRADED_MIN_COUNT} spheres up: a smaller core "
+            "scatters as much).", "",
+            "| sample | spheres | e_0 | e_0 interior | e_0 core | core - interior | |", "|---|---|---|---|---|---|---|",
+            *rows, "", *([note, ""] if note else [])]
 
 
 def line_to_zero(x, y):

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's samples section (grainlab_plot.py samples_section): synthetic sample jobs
+whose summary.json give e, e_inner and e_core at the end of consolidation, and whose config.yaml gives the count.
+- 5 000 spheres, core - interior = +0.0300: graded; 12 000, +0.0151: graded (just above GRADED_CORE = 0.015);
+  10 000, +0.0149: homogeneous (just below); 2 000, +0.0500: too few spheres to tell; 5 000 of a build before
+  e_inner / e_core (null): '-'. Rows ordered by size; the note counts 2 of 5 graded and names `affine: true`.
+- A study whose samples are all homogeneous has the section but no note."""
+import json
+import os
+import shutil
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from synthetic_study import study_report  # noqa: E402
+
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/samples_check"
+fails = []
+
+
+def make(root, samples):
+    shutil.rmtree(root, ignore_errors=True)
+    jobs = []
+    for name, count, e, e_in, e_core in samples:
+        d = os.path.join(root, "jobs", name, "run")
+        os.makedirs(d)
+        with open(os.path.join(d, "config.yaml"), "w") as f:
+            f.write(f"sample:\n  count: {count}\n  D: 3.63\n  seed: 11\nmaterial:\n  E: 1.0e+08\n")
+        stage = {"name": "consolidate", "type": "isotropic", "done": True, "steps": 100, "mu": 0.5, "p": 1e5, "q": 0,
+                 "e": e, "e_inner": e_in, "e_core": e_core}
+        with open(os.path.join(d, "summary.json"), "w") as f:
+            json.dump({"config": "x", "stages": [stage]}, f)
+        jobs.append({"name": "shear_" + name, "dir": f"jobs/shear_{name}/run", "sample": name, "mu_r": 0, "e0": 0,
+                     "p0": 1e5, "drainage": "drained"})
+    return study_report(root, jobs)
+
+
+text = make(os.path.join(work, "mixed"), [
+    ("s_a", 5000, 0.70, 0.6500, 0.6800), ("s_b", 12000, 0.69, 0.6400, 0.6551), ("s_c", 10000, 0.69, 0.6400, 0.6549),
+    ("s_d", 2000, 0.72, 0.6500, 0.7000), ("s_e", 5000, 0.70, None, None)])
+sec = text.split("## Samples")[1].split("\n## ")[0] if "## Samples" in text else ""
+rows = [l for l in sec.splitlines() if l.startswith("| s_")]
+want = ["| s_d | 2000 | 0.7200 | 0.6500 | 0.7000 | +0.0500 | too few spheres to tell (< 5000) |",
+        "| s_a | 5000 | 0.7000 | 0.6500 | 0.6800 | +0.0300 | graded |",
+        "| s_e | 5000 | 0.7000 | - | - | - | - |",
+        "| s_c | 10000 | 0.6900 | 0.6400 | 0.6549 | +0.0149 | homogeneous |",
+        "| s_b | 12000 | 0.6900 | 0.6400 | 0.6551 | +0.0151 | graded |"]
+if rows != want:
+    fails.append("rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
+if "2 of 5 samples are graded" not in sec or "`affine: true`" not in sec:
+    fails.append("the note does not count 2 of 5 graded samples and name affine: " + sec)
+text = make(os.path.join(work, "homogeneous"), [("s_a", 5000, 0.70, 0.6300, 0.6400)])
+sec = text.split("## Samples")[1].split("\n## ")[0] if "## Samples" in text else ""
+if "| s_a | 5000 | 0.7000 | 0.6300 | 0.6400 | +0.0100 | homogeneous |" not in sec or "graded:" in sec:
+    fails.append("a homogeneous study: " + sec)
+if fails:
+    sys.exit("\n".join(fails))
+print("samples ok")
