@@ -165,6 +165,8 @@ class Engine {
   // with the box (remap_affine), so a loose gas is compressed homogeneously and jams everywhere at once. Without it a
   // frictional gas jams first in a crust along the walls that then shields the core: 10 000 spheres consolidated at
   // mu = 0.5 end with solid fraction 0.62 one to three diameters from the walls and 0.58 at the centre. Box walls only.
+  // The tangential springs grow from relative velocities (SPEC §2), which the remap leaves alone: they see none of its
+  // relative motion, normal to each contact where the axes scale alike (the isotropic servo), as in LAMMPS.
   void set_affine_box(bool on);
   bool affine_box() const { return affine_box_; }
 
