@@ -753,6 +753,9 @@ def study(out):
     import json
 
     idx = json.load(open(os.path.join(out, "study.json")))
+    if not idx["jobs"] and idx.get("samples"):  # a preparation study: its base has no shear stage
+        preparation_report(out, idx)
+        return
     cs_cfg = idx["critical_state"]
     tol = (cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
     runs, missing = [], []
@@ -878,7 +881,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
-             *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"]), *cyc_lines]
+             *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -895,22 +898,30 @@ def sample_count(run_dir):
     return int(m.group(1)) if m else None
 
 
-def samples_section(out, jobs):
+def consolidated(out, name):
+    """Sample job `name`'s last isotropic stage in its summary.json (the sample as consolidated), with the job's run
+    directory as "dir"; None where it has none (not run yet, or failed)."""
+    d = os.path.join(out, "jobs", name, "run")
+    try:
+        stages = json.load(open(os.path.join(d, "summary.json")))["stages"]
+    except (OSError, ValueError, KeyError):
+        return None
+    iso = [s for s in stages if s.get("type") == "isotropic"]
+    return {**iso[-1], "dir": d} if iso else None
+
+
+def samples_section(out, jobs, samples=None):
     """The study's samples as consolidated (their summary.json's last isotropic stage): e of the box, of its interior and
-    of its core (the central eighth), and whether the sample is graded (GRADED_CORE). Empty where no sample job has a
+    of its core (the central eighth), and whether the sample is graded (GRADED_CORE). The samples are study.json's
+    list (`samples`), or, in a study.json of a build before it, those its jobs name. Empty where no sample job has a
     summary."""
     rows, graded = [], []
-    names = {j["sample"] for j in jobs if j.get("sample")}
+    names = {j["name"] for j in samples} if samples else {j["sample"] for j in jobs if j.get("sample")}
     for name in sorted(names, key=lambda k: (sample_count(os.path.join(out, "jobs", k, "run")) or 0, k)):  # by size
-        d = os.path.join(out, "jobs", name, "run")
-        try:
-            stages = json.load(open(os.path.join(d, "summary.json")))["stages"]
-        except (OSError, ValueError, KeyError):
+        s = consolidated(out, name)
+        if s is None:
             continue
-        iso = [s for s in stages if s.get("type") == "isotropic"]
-        if not iso:
-            continue
-        s, n = iso[-1], sample_count(d)
+        n = sample_count(s["dir"])
         e_in, e_core = s.get("e_inner"), s.get("e_core")
         diff = e_core - e_in if e_in is not None and e_core is not None else None  # null in a build before them
         if diff is None:
@@ -936,6 +947,126 @@ def samples_section(out, jobs):
             "scatters as much).", "",
             "| sample | spheres | e_0 | e_0 interior | e_0 core | core - interior | |", "|---|---|---|---|---|---|---|",
             *rows, "", *([note, ""] if note else [])]
+
+
+# The axes of a preparation study's figure: study.json's key, its label, and whether its scale is logarithmic.
+PREP_AXES = (("count", "spheres", True), ("p0", "p'_0 [kPa]", True), ("mu_r", "mu_r", False),
+             ("e0", "target e_0", False))
+
+
+def preparation_section(out, samples, figs):
+    """A preparation study's samples grouped over their seeds (the same mu_r, e0, p0 and count): each void ratio as mean
+    ± sd [95 % half-width of the mean], the friction a target_e0 search settled on and the stage's steps; for a count
+    axis whether the interior's e_0 still changes between the two largest sizes (by more than two standard errors of
+    the difference of their means); and figures/preparation.png, e_0 against each swept axis. Empty where no sample
+    has finished."""
+    groups = {}
+    for j in samples:
+        s = consolidated(out, j["name"])
+        if s is not None and os.path.isfile(os.path.join(out, "jobs", j["name"], "done")):
+            groups.setdefault(tuple(j[k] for k, _, _ in PREP_AXES), []).append((j, s))
+    if not groups:
+        return [], False
+    rows, stats = [], {}
+    for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[0])):  # by mu_r, p0 and e0, then size
+        g = sorted(groups[key], key=lambda t: t[0]["seed"])
+        col = {c: measured([s.get(c) for _, s in g]) for c in ("e", "e_inner", "e_core", "mu", "steps")}
+        col["diff"] = measured([s["e_core"] - s["e_inner"] for _, s in g
+                                if s.get("e_core") is not None and s.get("e_inner") is not None])
+        stats[key] = col
+        name = seedless(g[0][0]["name"], g[0][0])
+        # the stage's friction: one value unless a target_e0 search settled on one per seed
+        mu_txt = f"{col['mu'][0]:.3f}" if len(set(col["mu"])) == 1 else seed_spread(col["mu"], 3)
+        rows.append(f"| {name} | {key[0]} | {len(g)} ({', '.join(str(j['seed']) for j, _ in g)}) | "
+                    f"{seed_spread(col['e'], 4)} | {seed_spread(col['e_inner'], 4)} | {seed_spread(col['e_core'], 4)} | "
+                    f"{seed_spread(col['diff'], 4)} | {mu_txt} | "
+                    f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'} |")
+    lines = ["## Preparation", "",
+             "The samples that differ only in their seed, together: each void ratio at the end of the consolidation as "
+             "mean ± standard deviation [95 % half-width of the mean] over the seeds, the friction the stage ended at "
+             "(a target_e0 search's last trial) and its steps (mean).", "",
+             "| samples (all seeds) | spheres | seeds | e_0 | e_0 interior | e_0 core | core - interior | mu | steps |",
+             "|---|---|---|---|---|---|---|---|---|", *rows, ""]
+    # Is the sample big enough? Per series of sizes (the same mu_r, e0, p0), the interior's e_0 of the two largest.
+    series = {}
+    for key in stats:
+        series.setdefault(key[1:], []).append(key)
+    conv = []
+    for rest, keys in sorted(series.items()):
+        keys = sorted(keys)
+        if len(keys) < 2:
+            continue
+        a, b = stats[keys[-2]]["e_inner"], stats[keys[-1]]["e_inner"]
+        name = seedless(groups[keys[-1]][0][0]["name"], groups[keys[-1]][0][0]).replace(f"_n{keys[-1][0]}", "")
+        trend = ", ".join(f"{np.mean(stats[k]['e_inner']):.4f}" if stats[k]["e_inner"] else "-" for k in keys)
+        head = f"- {name}: interior e_0 at {', '.join(str(k[0]) for k in keys)} spheres: {trend}"
+        if len(a) < 2 or len(b) < 2:
+            conv.append(head + " (two seeds a size at least tell a change from the scatter)")
+            continue
+        d = float(np.mean(b) - np.mean(a))
+        se = math.sqrt(np.var(a, ddof=1) / len(a) + np.var(b, ddof=1) / len(b))
+        verdict = ("within two standard errors: no change from the seeds' scatter" if abs(d) <= 2 * se
+                   else "more than two standard errors: still changing with size")
+        conv.append(head + f"; from {keys[-2][0]} to {keys[-1][0]} {d:+.4f} ± {se:.4f}, {verdict}.")
+    if conv:
+        lines += ["Does the interior's e_0 still depend on the size? (the difference of the two largest sizes' means "
+                  "± its standard error)", "", *conv, ""]
+    # e_0 against each swept axis: the interior's mean ± sd over the seeds (solid), the box's and the core's means.
+    swept = [(i, k, lab, log) for i, (k, lab, log) in enumerate(PREP_AXES) if len({key[i] for key in stats}) > 1]
+    if not swept:
+        return lines, False
+    def key_of(t):
+        return [t[m_] for m_, _, _, _ in swept]
+
+    fig, ax = plt.subplots(1, len(swept), figsize=(6 * len(swept), 4.5), squeeze=False)
+    for a_, (i, k, lab, log) in zip(ax[0], swept):
+        lines_of = {}
+        for key in stats:
+            lines_of.setdefault(key[:i] + key[i + 1:], []).append(key)
+        for n, (rest, keys) in enumerate(sorted(lines_of.items())):
+            keys = sorted(keys, key=lambda t: t[i])
+            x = np.array([t[i] / (1e3 if k == "p0" else 1) for t in keys])
+            c = f"C{n % 10}"
+            # the other swept axes' values: what tells the lines apart
+            other = ", ".join(f"p'_0 = {v / 1e3:g} kPa" if kk == "p0" else f"{v:g} spheres" if kk == "count" else f"{kk} = {v:g}"
+                              for (m_, kk, _, _), v in zip(swept, key_of(keys[0])) if m_ != i)
+            for colname, style, what in (("e_inner", "o-", "interior"), ("e", "s--", "box"), ("e_core", "^:", "core")):
+                ok = [bool(stats[t][colname]) for t in keys]
+                if not any(ok):
+                    continue
+                m = np.array([np.mean(stats[t][colname]) for t, o in zip(keys, ok) if o])
+                sd = np.array([np.std(stats[t][colname], ddof=1) if len(stats[t][colname]) > 1 else 0
+                               for t, o in zip(keys, ok) if o])
+                a_.errorbar(x[ok], m, yerr=sd if colname == "e_inner" else None, fmt=style, color=c, capsize=3,
+                            label=f"{what} ({other})" if other else what)
+        a_.set(xlabel=lab, ylabel="e_0", title=f"e_0 against {lab} (interior: mean ± sd over the seeds)")
+        if log:
+            a_.set_xscale("log")
+            a_.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+            a_.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            a_.set_xticks(sorted({t[i] / (1e3 if k == "p0" else 1) for t in stats}))
+        a_.grid(alpha=0.3)
+        legend(a_, fontsize=7)
+    save(fig, figs, "preparation")
+    return lines, True
+
+
+def preparation_report(out, idx):
+    """report.md of a preparation study (a base without a shear stage: its jobs are the samples alone): the Samples
+    and Preparation sections."""
+    samples = idx["samples"]
+    figs = os.path.join(out, "figures")
+    os.makedirs(figs, exist_ok=True)
+    done = [j["name"] for j in samples if os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))]
+    missing = [j["name"] for j in samples if j["name"] not in done]
+    prep, fig = preparation_section(out, samples, figs)
+    lines = [f"# Study report: {idx['study']}", "",
+             f"{len(done)} samples prepared (a preparation study: its base has no shear stage)"
+             + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".", "",
+             *(["Figure: `figures/preparation.png`.", ""] if fig else []),
+             *samples_section(out, [], [j for j in samples if j["name"] in done]), *prep]
+    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+    print(os.path.join(out, "report.md"))
 
 
 def line_to_zero(x, y):

@@ -147,7 +147,8 @@ int main(int argc, char** argv) {
     try {
       const grainlab::Study st = grainlab::load_study(config);
       const grainlab::StudyPlan sp = grainlab::plan_study(st);
-      std::printf("%s: ok (study: %zu samples, %zu shear tests)\n", config.c_str(), st.samples.size(), st.shears.size());
+      std::printf("%s: ok (study: %zu samples, %zu shear tests%s)\n", config.c_str(), st.samples.size(), st.shears.size(),
+                  st.shears.empty() ? "; a preparation study: its base has no shear stage" : "");
       std::printf("  preparation: at most %ld steps a stage (a target_e0 search: all its trials; a stage ends at "
                   "equilibrium, usually far sooner)\n",
                   sp.sample_steps_max);
@@ -166,7 +167,7 @@ int main(int argc, char** argv) {
       // Replicates: a 5 000-sphere sample's peak q/p' scatters by 0.010 from seed to seed (configs/seed-study.yaml),
       // so a study with one seed gives one draw per test; the report measures the spread where there are several.
       std::set<long> seeds;
-      for (const grainlab::StudyJob& j : st.shears) seeds.insert(j.seed);
+      for (const grainlab::StudyJob& j : st.shears.empty() ? st.samples : st.shears) seeds.insert(j.seed);
       if (seeds.size() == 1)
         std::printf("  seeds: 1 (each result is one sample's draw: a seed axis gives the report's sample-to-sample "
                     "scatter, configs/seed-study.yaml)\n");

@@ -212,7 +212,12 @@ Study load_study_unchecked(const std::string& path) {
       base_path = st.constant_p ? "constant_p" : "constant_sigma3";
     }
   }
-  if (!has_iso || !has_tri) fail(path, "base", "its stages must include an isotropic and a triaxial or cyclic stage");
+  // A base without a shear stage is a preparation study: its jobs are the samples alone (how e_0 and the grading of a
+  // consolidated sample depend on its size, seed, p'_0, mu_r or target e_0), and its report their Samples and
+  // Preparation sections.
+  if (!has_iso)
+    fail(path, "base", "its stages must include an isotropic stage (and a triaxial or cyclic one to shear the sample; "
+                       "without one the study prepares samples only)");
   if (const YAML::Node cs = root["critical_state"]) {
     for (auto it : cs) {
       const std::string k = it.first.as<std::string>();
@@ -294,6 +299,9 @@ Study load_study_unchecked(const std::string& path) {
     return v;
   };
   const auto check_drainage = [&](const std::string& key, const std::string& d) {
+    if (!has_tri)
+      fail(path, key, "sets the drainage of the base's shear stages, and the base (" + s.base + ") has none (a "
+                      "preparation study sweeps mu_r, e0, p0, seed and count)");
     if (d != "drained" && d != "undrained") fail(path, key, "'" + d + "' is not drained or undrained");
   };
   std::vector<std::string> drain = words("drainage", check_drainage);
@@ -466,6 +474,7 @@ Study load_study_unchecked(const std::string& path) {
         fail(path, "axes", "two values of mu_r, e0 or p0 agree to 6 significant digits (job " + sn.str() +
                                "); make them differ sooner or list one of them");
     }
+    if (!has_tri) continue;  // a preparation study: the sample is the job
     StudyJob sh = s.samples[sample_index[sn.str()]];
     sh.is_sample = false;
     sh.sample_name = sn.str();
@@ -755,6 +764,15 @@ int run_study(const Study& s, const StudyOptions& o) {
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude
          << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group) << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
+    }
+    // Every sample job (a preparation study's only jobs): the report's Samples and Preparation sections. p0 and e0
+    // of 0 are the base's.
+    js << "  ],\n  \"samples\": [\n";
+    for (size_t k = 0; k < s.samples.size(); ++k) {
+      const StudyJob& j = s.samples[k];
+      js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"mu_r\": " << j.mu_r
+         << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"seed\": " << j.seed << ", \"count\": " << j.count << "}"
+         << (k + 1 < s.samples.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";
     write_file_atomic((out / "study.json").string(), js.str());

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 
 #include "src/config.hpp"
 #include "src/study.hpp"
@@ -542,6 +543,39 @@ TEST(Config, StudySeedZeroIsASeed) {
     EXPECT_EQ(long(c.packing.seed), j.seed) << j.name;
   }
   EXPECT_NE(s.samples[0].seed, s.samples[1].seed);
+}
+
+// A base without a shear stage makes a preparation study: its jobs are the samples of the grid (count x seed here),
+// each with its axis values in its config, and no shear; the axes and extra jobs that set a shear are errors naming
+// the key, and a base needs an isotropic stage still.
+TEST(Config, StudyOfABaseWithoutAShearPreparesSamplesOnly) {
+  const std::string prep = "base: " GRAINLAB_SOURCE_DIR "/configs/preparation-base.yaml\n";
+  const Study s = load_study(write_tmp("study_prep", prep + "axes: {count: [2000, 5000], seed: [1, 2]}\n"));
+  EXPECT_TRUE(s.shears.empty());
+  ASSERT_EQ(s.samples.size(), 4u);
+  std::set<std::pair<long, long>> seen;
+  for (const StudyJob& j : s.samples) {
+    const RunConfig c = parse_run_config(YAML::Load(j.config_yaml), j.name);
+    EXPECT_EQ(long(c.packing.count), j.count) << j.name;
+    EXPECT_EQ(long(c.packing.seed), j.seed) << j.name;
+    ASSERT_EQ(c.stages.size(), 1u) << j.name;
+    EXPECT_TRUE(c.stages[0].affine) << j.name;
+    seen.insert({j.count, j.seed});
+  }
+  EXPECT_EQ(seen.size(), 4u);
+  const std::string shear_less = write_tmp("study_no_iso_base", "sample: {count: 500, seed: 3}\n"
+                                                                "stages: [{name: shear, type: triaxial}]\n");
+  expect_study_errors({
+      {"study_prep_drain", prep + "axes: {drainage: [drained]}\n",
+       "axes.drainage: sets the drainage of the base's shear stages, and the base"},
+      {"study_prep_extra_drain", prep + "extra: [{drainage: undrained}]\n",
+       "extra[0].drainage: sets the drainage of the base's shear stages"},
+      {"study_prep_dir", prep + "axes: {direction: [extension]}\n", "axes.direction: sets the loading direction"},
+      {"study_prep_rate", prep + "axes: {axial_strain_rate: [0.5]}\n", "axes.axial_strain_rate: sets axial_strain_rate"},
+      {"study_prep_b", prep + "axes: {b: [0.5]}\n", "axes.b: sets b of the base's triaxial stages"},
+      {"study_prep_csr", prep + "axes: {csr: [0.1]}\n", "axes.csr: sets the stress amplitude of a cyclic stage"},
+      {"study_no_iso", "base: " + shear_less + "\n", "base: its stages must include an isotropic stage"},
+  });
 }
 
 // An axis left out takes the base's value: drainage too (quick-study-base.yaml shears drained), for the grid
