@@ -822,6 +822,13 @@ def study(out):
     rate_lines = rate_section(mono, cs_cfg["window"], tol, figs, peak)
     seed_lines = seed_section(mono, cs_cfg["window"], tol, figs, peak)
     cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
+    # the samples' isotropic compression and swelling (a base that consolidates in several stages); in a study.json of
+    # a build before its samples list, the samples its jobs name
+    sample_jobs = idx.get("samples") or list({j["sample"]: {"name": j["sample"], "seed": j.get("seed")}
+                                              for j in idx["jobs"] if j.get("sample")}.values())
+    comp_lines, comp_fig = compression_section(out, sample_jobs, figs)
+    if comp_fig:
+        cyc_figs.append("`figures/compression.png`")
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
         cyc_figs.append("`figures/modulus_reduction.png`")
@@ -851,7 +858,7 @@ def study(out):
     if (cyc or amp) and not mono:  # a cyclic study: peaks and critical states are those of monotonic shears
         write_text_atomically(os.path.join(out, "report.md"),
                               "\n".join(head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + cyc_figs) + ".", ""]
-                                         + cyc_lines))
+                                         + cyc_lines + comp_lines))
         print(os.path.join(out, "report.md"))
         return
     lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
@@ -881,7 +888,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
-             *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *cyc_lines]
+             *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -1051,6 +1058,103 @@ def preparation_section(out, samples, figs):
     return lines, True
 
 
+def isotropic_stages(out, name):
+    """Every isotropic stage of sample job `name` (its summary.json), in order; [] where it has no summary."""
+    try:
+        stages = json.load(open(os.path.join(out, "jobs", name, "run", "summary.json")))["stages"]
+    except (OSError, ValueError, KeyError):
+        return []
+    return [s for s in stages if s.get("type") == "isotropic"]
+
+
+def compression_branches(stages):
+    """The isotropic compression and swelling branches of a sample's isotropic stages: loading, the stages from the first
+    while p' rises; unloading, from the largest p' while it falls (a reloading after it is not fitted). Each a list of
+    (p', e, e_inner)."""
+    pts = [(s["p"], s["e"], s.get("e_inner")) for s in stages if s.get("p", 0) > 0]
+    k = 0
+    while k + 1 < len(pts) and pts[k + 1][0] > pts[k][0]:
+        k += 1
+    u = k
+    while u + 1 < len(pts) and pts[u + 1][0] < pts[u][0]:
+        u += 1
+    return pts[:k + 1], pts[k:u + 1]
+
+
+def log_slope(pts, col):
+    """-de/d ln p' by least squares through the points' column col (1: e, 2: e_inner) with its standard error (None
+    from two points, which the line meets); None where fewer than two points or a column not measured."""
+    if len(pts) < 2 or any(p[col] is None for p in pts):
+        return None
+    x, y = np.log([p[0] for p in pts]), np.array([p[col] for p in pts], dtype=float)
+    if len(pts) == 2:
+        return -(y[1] - y[0]) / (x[1] - x[0]), None
+    slope, _, s_slope, _ = fit(x, y)
+    return -slope, s_slope
+
+
+def slope_text(v):
+    """A compression index as a table cell: 'value ± se', the value alone from two points, '-' where not fitted."""
+    if v is None:
+        return "-"
+    return f"{v[0]:.4f}" + (f" ± {v[1]:.4f}" if v[1] is not None else "")
+
+
+def compression_section(out, samples, figs):
+    """Samples consolidated in several isotropic stages (a base whose stages load to rising p'_0 and unload): the
+    isotropic compression index lambda = -de/d ln p' of the loading branch and the swelling index kappa of the
+    unloading one (Roscoe & Burland's e = N - lambda ln p', the normal compression and swelling lines of critical-state
+    soil mechanics), of the box's e and of the interior's, by least squares over each branch's stage ends, with the
+    samples that differ only in their seed together; figures/compression.png draws e against p' (log). Empty where no
+    sample has two isotropic stages at different pressures."""
+    rows, per_group, drawn = [], {}, []
+    for j in sorted(samples, key=lambda j: j["name"]):
+        name = j["name"]
+        load, unload = compression_branches(isotropic_stages(out, name))
+        if len(load) < 2 and len(unload) < 2:
+            continue
+        f = {"lam": log_slope(load, 1), "lam_in": log_slope(load, 2), "kap": log_slope(unload, 1),
+             "kap_in": log_slope(unload, 2)}
+        path = " → ".join(f"{p / 1e3:.3g}" for p, _, _ in load + unload[1:])
+        rows.append(f"| {name} | {path} | {slope_text(f['lam'])} | {slope_text(f['lam_in'])} | {slope_text(f['kap'])} | "
+                    f"{slope_text(f['kap_in'])} |")
+        per_group.setdefault(seedless(name, j), []).append(f)
+        drawn.append((name, load, unload))
+    if not rows:
+        return [], False
+    lines = ["## Isotropic compression", "",
+             "Samples consolidated in several isotropic stages: lambda = -de/d ln p' through the stage ends of the loading "
+             "branch (p' rising from the first stage), kappa through those of the unloading branch (falling from the "
+             "largest p'), of the wall box's e and of the interior's (± the standard error of the least-squares slope; "
+             "a value alone from two stages). With a linear contact law much of the loading branch is the contacts' "
+             "elastic compression, which the unloading branch gives back (lambda - kappa is the plastic part), and "
+             "that part is linear in p', so e curves down against ln p' (`figures/compression.png`): lambda is the "
+             "secant over the stages' range, and its standard error says how far the points are from a line.", "",
+             "| sample | p' of the stages [kPa] | lambda | lambda interior | kappa | kappa interior |",
+             "|---|---|---|---|---|---|", *rows, ""]
+    groups = {k: g for k, g in per_group.items() if len(g) > 1}
+    if groups:
+        lines += ["| samples (all seeds) | seeds | lambda | lambda interior | kappa | kappa interior |",
+                  "|---|---|---|---|---|---|"]
+        for k, g in sorted(groups.items()):
+            cells = [seed_spread([f[c][0] for f in g if f[c] is not None], 4) for c in ("lam", "lam_in", "kap", "kap_in")]
+            lines.append(f"| {k} | {len(g)} | " + " | ".join(cells) + " |")
+        lines.append("")
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for n, (name, load, unload) in enumerate(drawn):
+        c = f"C{n % 10}"
+        for pts, style, what in ((load, "o-", "loading"), (unload, "s--", "unloading")):
+            if len(pts) > 1:
+                ax.plot([p[0] / 1e3 for p in pts], [p[1] for p in pts], style, color=c,
+                        label=f"{name} {what}" if len(drawn) <= 6 else None)
+                if all(p[2] is not None for p in pts):
+                    ax.plot([p[0] / 1e3 for p in pts], [p[2] for p in pts], style, color=c, alpha=0.45, mfc="none")
+    ax.set(xscale="log", xlabel="p' [kPa]", ylabel="e",
+           title="isotropic compression: box (filled), interior (hollow)")
+    finish(fig, ax, ax, 7, figs, "compression")
+    return lines, True
+
+
 def preparation_report(out, idx):
     """report.md of a preparation study (a base without a shear stage: its jobs are the samples alone): the Samples
     and Preparation sections."""
@@ -1059,12 +1163,15 @@ def preparation_report(out, idx):
     os.makedirs(figs, exist_ok=True)
     done = [j["name"] for j in samples if os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))]
     missing = [j["name"] for j in samples if j["name"] not in done]
+    finished = [j for j in samples if j["name"] in done]
     prep, fig = preparation_section(out, samples, figs)
+    comp, comp_fig = compression_section(out, finished, figs)
+    shown = [f for f, on in (("`figures/preparation.png`", fig), ("`figures/compression.png`", comp_fig)) if on]
     lines = [f"# Study report: {idx['study']}", "",
              f"{len(done)} samples prepared (a preparation study: its base has no shear stage)"
              + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".", "",
-             *(["Figure: `figures/preparation.png`.", ""] if fig else []),
-             *samples_section(out, [], [j for j in samples if j["name"] in done]), *prep]
+             *([f"Figures: {', '.join(shown)}.", ""] if shown else []),
+             *samples_section(out, [], finished), *prep, *comp]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 

@@ -186,6 +186,7 @@ Study load_study_unchecked(const std::string& path) {
   bool has_q_cyclic = false;
   long base_cycles = 0;
   Real base_p0 = 0;
+  std::set<Real> iso_pressures;  // of the base's isotropic stages: several make a loading path, which p0 would flatten
   // The strain_amplitude axis sets the amplitude of the base's strain-controlled cyclic stage and scales its rate
   // with it: the modulus-reduction and damping curves (one test per amplitude, each on a fresh specimen of the
   // sample, as ASTM D3999 tests are run) at one loading frequency. Only one such stage: with several (a staged
@@ -194,7 +195,10 @@ Study load_study_unchecked(const std::string& path) {
   Real base_strain_amp = 0, base_strain_rate = 0;
   for (auto& st : base_cfg.stages) {
     (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
-    if (st.type == StageType::Isotropic) base_p0 = st.pressure;
+    if (st.type == StageType::Isotropic) {
+      base_p0 = st.pressure;
+      iso_pressures.insert(st.pressure);
+    }
     if (st.type == StageType::Cyclic) {
       has_q_cyclic = has_q_cyclic || st.q_amplitude > 0;
       base_cycles = st.cycles;
@@ -274,6 +278,19 @@ Study load_study_unchecked(const std::string& path) {
                           ") has no cyclic stage with q_amplitude");
   };
   if (ax && ax["csr"]) need_q_cyclic("axes.csr");
+  // p0 sets the pressure of every isotropic stage (job_config): of a base that consolidates in stages to one pressure
+  // (configs/paper/study-base.yaml), as meant; of one whose stages follow a loading path (configs/compression-base.yaml)
+  // it would silently flatten the path.
+  const auto need_one_pressure = [&](const std::string& key) {
+    if (iso_pressures.size() > 1) {
+      std::ostringstream os;
+      os << "sets the pressure of every isotropic stage, and the base's (" << s.base << ") follow a path of "
+         << iso_pressures.size() << " pressures (" << *iso_pressures.begin() / 1e3 << " to " << *iso_pressures.rbegin() / 1e3
+         << " kPa) that it would flatten: give each path its own base";
+      fail(path, key, os.str());
+    }
+  };
+  if (ax && ax["p0"]) need_one_pressure("axes.p0");
   const auto need_strain_cyclic = [&](const std::string& key) {
     if (strain_stages.size() != 1)
       fail(path, key, "sets the strain amplitude of the base's strain-controlled cyclic stage (one with strain_amplitude), "
@@ -415,7 +432,10 @@ Study load_study_unchecked(const std::string& path) {
         const double v = vs[0];
         if (f == "mu_r") pt.mu_r = v;
         else if (f == "e0") pt.e0 = v;
-        else if (f == "p0") pt.p0 = v;
+        else if (f == "p0") {
+          need_one_pressure(field);
+          pt.p0 = v;
+        }
         else if (f == "seed") pt.seed = long(v);
         else if (f == "count") pt.count = long(v);
         else if (f == "csr") {

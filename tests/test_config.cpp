@@ -547,7 +547,8 @@ TEST(Config, StudySeedZeroIsASeed) {
 
 // A base without a shear stage makes a preparation study: its jobs are the samples of the grid (count x seed here),
 // each with its axis values in its config, and no shear; the axes and extra jobs that set a shear are errors naming
-// the key, and a base needs an isotropic stage still.
+// the key, and a base needs an isotropic stage still. A p0 axis on a base whose isotropic stages follow a loading path
+// is an error too.
 TEST(Config, StudyOfABaseWithoutAShearPreparesSamplesOnly) {
   const std::string prep = "base: " GRAINLAB_SOURCE_DIR "/configs/preparation-base.yaml\n";
   const Study s = load_study(write_tmp("study_prep", prep + "axes: {count: [2000, 5000], seed: [1, 2]}\n"));
@@ -563,6 +564,7 @@ TEST(Config, StudyOfABaseWithoutAShearPreparesSamplesOnly) {
     seen.insert({j.count, j.seed});
   }
   EXPECT_EQ(seen.size(), 4u);
+  const std::string path = "base: " GRAINLAB_SOURCE_DIR "/configs/compression-base.yaml\n";
   const std::string shear_less = write_tmp("study_no_iso_base", "sample: {count: 500, seed: 3}\n"
                                                                 "stages: [{name: shear, type: triaxial}]\n");
   expect_study_errors({
@@ -575,7 +577,15 @@ TEST(Config, StudyOfABaseWithoutAShearPreparesSamplesOnly) {
       {"study_prep_b", prep + "axes: {b: [0.5]}\n", "axes.b: sets b of the base's triaxial stages"},
       {"study_prep_csr", prep + "axes: {csr: [0.1]}\n", "axes.csr: sets the stress amplitude of a cyclic stage"},
       {"study_no_iso", "base: " + shear_less + "\n", "base: its stages must include an isotropic stage"},
+      // p0 sets every isotropic stage: a loading path (50 ... 800 kPa and back) would be flattened
+      {"study_path_p0", path + "axes: {p0: [100e3]}\n",
+       "axes.p0: sets the pressure of every isotropic stage, and the base's"},
+      {"study_path_extra_p0", path + "extra: [{p0: 100e3}]\n", "extra[0].p0: sets the pressure of every isotropic stage"},
   });
+  // the seeds of a path are fine, and a base consolidating in stages to one pressure takes a p0 axis
+  EXPECT_EQ(error("study_path_seeds", path + "axes: {seed: [1, 2]}\n"), "");
+  EXPECT_EQ(error("study_paper_p0", "base: " GRAINLAB_SOURCE_DIR "/configs/paper/study-base.yaml\naxes: {p0: [100e3]}\n"),
+            "");
 }
 
 // An axis left out takes the base's value: drainage too (quick-study-base.yaml shears drained), for the grid
