@@ -172,8 +172,8 @@ int main(int argc, char** argv) {
         std::printf("  seeds: 1 (each result is one sample's draw: a seed axis gives the report's sample-to-sample "
                     "scatter, configs/seed-study.yaml)\n");
       else if (seeds.size() > 1)
-        std::printf("  seeds: %zu (tests that differ only in their seed get the report's sample-to-sample scatter)\n",
-                    seeds.size());
+        std::printf("  seeds: %zu (%s that differ only in their seed get the report's sample-to-sample scatter)\n",
+                    seeds.size(), st.shears.empty() ? "samples" : "tests");
       std::printf("  memory: about %s for the largest job (1.5 kB a sphere), times --jobs\n",
                   grainlab::memory_amount(sp.memory_need_max).c_str());
       std::fflush(stdout);  // the plan, then its warnings, also when both go to one file
