@@ -38,7 +38,7 @@ def spread(v):
 groups = {}
 for j in samples:
     groups.setdefault(j["name"].replace(f"_s{j['seed']}_", "_s*_"), []).append(j)
-prep = report.split("## Preparation")[1] if "## Preparation" in report else ""
+prep = report.split("## Preparation")[1].split("\n## ")[0] if "## Preparation" in report else ""
 for name, g in groups.items():
     s = [stage[j["name"]] for j in sorted(g, key=lambda j: j["seed"])]
     want = (f"| {name} | {g[0]['count']} | {len(g)} ({', '.join(str(j['seed']) for j in sorted(g, key=lambda j: j['seed']))})"

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # A preparation study end to end (a base without a shear stage: the samples are the jobs): tests/data/tiny-prep-study.yaml,
-# 8 samples of 300 and 500 spheres. study.json lists them; report.md has the Samples section and the Preparation
+# 4 samples of 300 and 500 spheres. study.json lists them; report.md has the Samples section and the Preparation
 # section, whose means and standard deviations over the seeds are recomputed here from each sample's summary.json
-# (tests/prep_check.py); a rerun runs nothing; a shear axis on such a base is an error naming it.
+# (tests/prep_check.py); a rerun runs nothing; a stage appended to the base (a reloading) extends every sample, which
+# resumes and goes on to it, and the report gains its isotropic compression section; a shear axis on such a base is an
+# error naming it.
 set -u
 bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" || exit 1
@@ -10,14 +12,28 @@ cp "$src"/tiny-prep-study.yaml "$src"/tiny-prep-base.yaml "$work"/ || exit 1
 cd "$work" || exit 1
 fail() { echo "study_prep: $*"; exit 1; }
 plan=$("$bin" validate tiny-prep-study.yaml 2>&1) || fail "validate failed: $plan"
-printf '%s\n' "$plan" | grep -q "8 samples, 0 shear tests; a preparation study" || fail "validate: $plan"
+printf '%s\n' "$plan" | grep -q "4 samples, 0 shear tests; a preparation study" || fail "validate: $plan"
 out=$("$bin" study tiny-prep-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "8 samples, 0 shears; 8 to run" || fail "unexpected plan: $out"
-[ "$(ls st/jobs/*/done | wc -l)" -eq 8 ] || fail "expected 8 finished jobs: $(ls st/jobs)"
+printf '%s\n' "$out" | grep -q "4 samples, 0 shears; 4 to run" || fail "unexpected plan: $out"
+[ "$(ls st/jobs/*/done | wc -l)" -eq 4 ] || fail "expected 4 finished jobs: $(ls st/jobs)"
 [ -f st/figures/preparation.png ] || fail "no figures/preparation.png"
 /usr/bin/python3 "$here"/prep_check.py st || fail "the report's preparation section does not match the samples"
 out=$("$bin" study tiny-prep-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
+grep -q "## Isotropic compression" st/report.md && fail "a compression section from single-stage samples"
+# A loading path taken further: a stage appended to the base extends the samples (not a changed job).
+printf '  - {name: reload, type: isotropic, mu: 0.5, max_steps: 20000, ufr_tolerance: 0.05, pressure: 400e3}\n' > stage.txt
+sed -i '/^output:/e cat stage.txt' tiny-prep-base.yaml
+out=$("$bin" study tiny-prep-study.yaml --out st --jobs 2 2>&1) || fail "the extended study failed: $out"
+printf '%s\n' "$out" | grep -q "4 sample(s) extended" || fail "the samples were not extended: $out"
+printf '%s\n' "$out" | grep -q "; 4 to run" || fail "not exactly the 4 samples rerun: $out"
+for s in st/jobs/sample_*; do
+  [ -f "$s/done" ] || fail "$s did not finish"
+  grep -q '"name": "reload"' "$s/run/summary.json" || fail "$s/run/summary.json lacks the appended stage"
+done
+[ "$(grep -cE '^\| sample_mur0_ebase_pbase_s[34]_n[35]00 \| 190 → 400 \| [0-9.]+ \| ' st/report.md)" -eq 4 ] ||
+  fail "no compression row 190 → 400 kPa for each sample: $(sed -n '/## Isotropic/,$p' st/report.md)"
+/usr/bin/python3 "$here"/prep_check.py st || fail "the extended report's preparation section does not match the samples"
 printf 'base: tiny-prep-base.yaml\naxes: {drainage: [drained, undrained]}\n' > bad.yaml
 "$here"/expect_error.sh "bad.yaml: axes.drainage: sets the drainage of the base's shear stages, and the base \(.*\) has none" \
   "$bin" validate bad.yaml || fail "a drainage axis on a preparation base is not refused"
