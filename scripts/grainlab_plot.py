@@ -1067,16 +1067,22 @@ def isotropic_stages(out, name):
     return [s for s in stages if s.get("type") == "isotropic"]
 
 
+# Two isotropic stages are at different pressures when their measured p' differ by more than this (relative): a stage
+# ends within its pressure_tolerance (default 1 %) of its target, so stages at one target (configs/paper/study-base.yaml
+# prepares and then consolidates at 190 kPa) measure a few 0.1 % apart, and a slope through them would be noise.
+PATH_GAP = 0.05
+
+
 def compression_branches(stages):
     """The isotropic compression and swelling branches of a sample's isotropic stages: loading, the stages from the first
-    while p' rises; unloading, from the largest p' while it falls (a reloading after it is not fitted). Each a list of
-    (p', e, e_inner)."""
+    while p' rises (by more than PATH_GAP); unloading, from the largest p' while it falls (likewise; a reloading after
+    it is not fitted). Each a list of (p', e, e_inner)."""
     pts = [(s["p"], s["e"], s.get("e_inner")) for s in stages if s.get("p", 0) > 0]
     k = 0
-    while k + 1 < len(pts) and pts[k + 1][0] > pts[k][0]:
+    while k + 1 < len(pts) and pts[k + 1][0] > pts[k][0] * (1 + PATH_GAP):
         k += 1
     u = k
-    while u + 1 < len(pts) and pts[u + 1][0] < pts[u][0]:
+    while u + 1 < len(pts) and pts[u + 1][0] < pts[u][0] * (1 - PATH_GAP):
         u += 1
     return pts[:k + 1], pts[k:u + 1]
 

@@ -7,7 +7,8 @@ synthetic preparation studies whose samples' summary.json stages lie exactly on 
   0.0100 ± 0.0000, 0.0080 ± 0.0000 (exact lines through 5 and 3 stages).
 - Seed 2: lambda 0.032 and 0.022, two unloading stages (800 -> 200) only: kappa from two points, no ±.
 - The two seeds together: mean ± sd [95 % half-width, t = 12.706] worked out here.
-- A sample of one isotropic stage has no row; a study without any multi-stage sample has no section.
+- A sample of one isotropic stage has no row, nor one that prepares and then consolidates at one target pressure
+  (190.0 and 190.4 kPa measured: not a path, PATH_GAP); a study without any multi-stage sample has no section.
 Tolerances: the printed values are exact to their 4 decimals, so the strings must match."""
 import json
 import math
@@ -55,8 +56,9 @@ def make(root, samples):
 one = stages(0.030, 0.020, 0.010, 0.008, (200, 50), reload=(400,))
 two = stages(0.032, 0.022, 0.012, 0.009, (200,))
 flat = stages(0.03, 0.02, 0.01, 0.008, ())[:1]
+same = [dict(flat[0], p=190.0e3), dict(flat[0], name="c1", p=190.4e3, e=flat[0]["e"] - 0.002)]
 text = make(os.path.join(work, "mixed"), [("sample_a_s1_n5000", 1, one), ("sample_a_s2_n5000", 2, two),
-                                          ("sample_b_s1_n5000", 1, flat)])
+                                          ("sample_b_s1_n5000", 1, flat), ("sample_c_s1_n5000", 1, same)])
 sec = text.split("## Isotropic compression")[1].split("\n## ")[0] if "## Isotropic compression" in text else ""
 want = ["| sample_a_s1_n5000 | 50 → 100 → 200 → 400 → 800 → 200 → 50 | 0.0300 ± 0.0000 | 0.0200 ± 0.0000 | "
         "0.0100 ± 0.0000 | 0.0080 ± 0.0000 |",
@@ -75,7 +77,7 @@ if rows != want:
     fails.append("rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
 if "figures/compression.png" not in text or not os.path.isfile(os.path.join(work, "mixed", "figures", "compression.png")):
     fails.append("no figures/compression.png, or the report does not name it")
-text = make(os.path.join(work, "single"), [("sample_b_s1_n5000", 1, flat)])
+text = make(os.path.join(work, "single"), [("sample_b_s1_n5000", 1, flat), ("sample_c_s1_n5000", 1, same)])
 if "## Isotropic compression" in text or "compression.png" in text:
     fails.append("a study of single-stage samples has a compression section: " + text)
 if fails:
