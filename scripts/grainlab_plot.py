@@ -48,10 +48,12 @@ def load(run):
         sys.exit(f"grainlab plot: {path}: no rows")
     cols = {k: np.array([float(r[k]) for r in rows]) for k in rows[0] if k != "stage"}
     cols["stage"] = np.array([r["stage"] for r in rows])
-    # 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained
+    # 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained, 5 triaxial
+    # oedometric
     cols["shear"] = cols["stage_type"] > 0  # every sheared row (the stress figures draw cyclic loops too)
     cols["monotonic"] = (cols["stage_type"] > 0) & (cols["stage_type"] < 3)  # critical states come from these
-    cols["cyclic"] = cols["stage_type"] >= 3
+    cols["cyclic"] = (cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)
+    cols["oedometric"] = cols["stage_type"] == 5  # K0 tests: no peak, no critical state
     # a true-triaxial stage's b (summary.json; 0 where it has none, or for a run of a build before b): its friction
     # angles come from the principal stresses, not from M's axisymmetric relations (critical_state)
     # and the largest lateral servo error of its drained shear stages (summary.json servo_error; None: not given)
@@ -199,6 +201,76 @@ def fig_forcechains(run, out):
            title=f"force chains, {os.path.basename(snaps[-1])} (mid slab)")
     save(fig, out, "forcechains")
     print(f"ParaView: open {os.path.join(run, 'particles.xdmf')}")
+
+
+def oedometric_stages(s):
+    """The oedometric stages of a run's series (stage_type 5: lateral walls held, zero lateral strain), in order: per
+    stage its name, whether it loads (compression) or unloads (extension), and its rows' sigma_v = sigma_z and sigma_h =
+    (sigma_x + sigma_y) / 2 of the walls, eps_a from the stage's start and e; with K0 = sigma_h / sigma_v at its end
+    and, over the second half of its axial strain (past the turn from the isotropic or loaded state), the tangent
+    K0 = d sigma_h / d sigma_v and the constrained modulus M = d sigma_v / d eps_a (least squares)."""
+    out = []
+    m = s.get("oedometric")
+    if m is None or not m.any():
+        return out
+    for name in dict.fromkeys(s["stage"][m]):  # in order of appearance
+        r = m & (s["stage"] == name)
+        sv, sh = s["sigma_z"][r], 0.5 * (s["sigma_x"][r] + s["sigma_y"][r])
+        ea, e = s["eps_a"][r], s["e"][r]
+        span = ea[-1] - ea[0]
+        late = np.abs(ea - ea[0]) >= 0.5 * abs(span)
+        st = {"name": name, "loading": span > 0, "sv": sv, "sh": sh, "eps_a": ea, "e": e, "K0": sh[-1] / sv[-1],
+              "K0_t": None, "M": None}
+        if late.sum() >= 2 and np.ptp(sv[late]) > 0 and np.ptp(ea[late]) > 0:
+            st["K0_t"] = float(np.polyfit(sv[late], sh[late], 1)[0])
+            st["M"] = float(np.polyfit(ea[late], sv[late], 1)[0])
+        out.append(st)
+    return out
+
+
+def fig_oedometric(runs, out):
+    """Oedometric (K0) stages: the stress path sigma_h - sigma_v (with the lines K0 = 0.5 and 1 for reference) and
+    K0 = sigma_h / sigma_v against the axial strain; nothing where no run has such a stage."""
+    drawn = [(run, s, oedometric_stages(s)) for run, s in runs]
+    drawn = [d for d in drawn if d[2]]
+    if not drawn:
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+    top = 0
+    for run, s, stages in drawn:
+        ln = None
+        for st in stages:
+            kw = {"color": ln.get_color()} if ln is not None else {"label": label(run, s)}
+            (ln,) = ax[0].plot(st["sv"] / 1e3, st["sh"] / 1e3, "-" if st["loading"] else "--", **kw)
+            ax[1].plot(100 * st["eps_a"], st["sh"] / st["sv"], "-" if st["loading"] else "--", color=ln.get_color())
+            top = max(top, float(np.max(st["sv"])) / 1e3)
+    for k0 in (0.5, 1.0):
+        ax[0].plot([0, top], [0, k0 * top], ":", color="0.6", lw=0.8)
+    ax[0].set(xlabel="sigma_v [kPa]", ylabel="sigma_h [kPa]", title="oedometric stress path (dotted: K0 = 0.5, 1)")
+    ax[1].set(xlabel="eps_a of the stage [%] (dashed: unloading)", ylabel="K0 = sigma_h / sigma_v", title="K0")
+    finish(fig, ax, ax[0], 8, out, "oedometric")
+
+
+def oedometric_section(oed, figs):
+    """The study report's oedometric tests: per stage of each, sigma_v from its start to its end, K0 at its end, the
+    tangent K0 and constrained modulus M over its second half (oedometric_stages), and e at its end; with the figure
+    (figures/oedometric.png)."""
+    rows = []
+    for j, d, s in oed:
+        for st in oedometric_stages(s):
+            rows.append(f"| {j['name']} | {j['mu_r']:g} | {st['name']} | {'loading' if st['loading'] else 'unloading'} | "
+                        f"{st['sv'][0] / 1e3:.1f} → {st['sv'][-1] / 1e3:.1f} | {st['K0']:.3f} | "
+                        f"{number_text(st['K0_t'], '.3f')} | {number_text(None if st['M'] is None else st['M'] / 1e6, '.1f')} | "
+                        f"{st['e'][-1]:.4f} |")
+    fig_oedometric([(d, s) for _, d, s in oed], figs)
+    return ["## Oedometric (K0) tests", "",
+            "Lateral walls held (zero lateral strain), axial walls moving: sigma_v = sigma_z and sigma_h = (sigma_x + "
+            "sigma_y) / 2 of the walls; K0 = sigma_h / sigma_v at the stage's end, and over the second half of its axial "
+            "strain the tangent d sigma_h / d sigma_v (the K0 of the normally consolidated line, on loading) and the "
+            "constrained modulus M = d sigma_v / d eps_a (least squares). Jaky's K0 = 1 - sin phi' is the usual "
+            "reference for loading. Figure: `figures/oedometric.png`.", "",
+            "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | e at end |",
+            "|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def fig_cyclic(runs, out):
@@ -787,6 +859,7 @@ def study(out):
     # strain_amplitude axis: the modulus-reduction section; the other cyclic tests: the liquefaction section
     amp = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) > 0]
     cyc = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) <= 0]
+    oed = [r for r in runs if r[2]["oedometric"].any()]  # K0 tests: their own section
     peak = peak_settings(idx)  # how the peaks are taken (the study's peak block)
     peak_lines, cs_rows, share_rows, peak_I = [], [], [], []
     for j, d, s in mono:
@@ -829,6 +902,9 @@ def study(out):
     comp_lines, comp_fig = compression_section(out, sample_jobs, figs)
     if comp_fig:
         cyc_figs.append("`figures/compression.png`")
+    oed_lines = oedometric_section(oed, figs) if oed else []
+    if oed:
+        cyc_figs.append("`figures/oedometric.png`")
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
         cyc_figs.append("`figures/modulus_reduction.png`")
@@ -855,10 +931,10 @@ def study(out):
     head = [f"# Study report: {idx['study']}", "",
             f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
             ""]
-    if (cyc or amp) and not mono:  # a cyclic study: peaks and critical states are those of monotonic shears
+    if (cyc or amp or oed) and not mono:  # a cyclic or K0 study: peaks and critical states are those of monotonic shears
         write_text_atomically(os.path.join(out, "report.md"),
                               "\n".join(head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + cyc_figs) + ".", ""]
-                                         + cyc_lines + comp_lines))
+                                         + cyc_lines + oed_lines + comp_lines))
         print(os.path.join(out, "report.md"))
         return
     lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
@@ -888,7 +964,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
-             *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *cyc_lines]
+             *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -1701,6 +1777,7 @@ def main():
         fig_sff(runs, out)
         fig_fractions(runs, out)
         fig_cyclic(runs, out)
+        fig_oedometric(runs, out)
         fig_modulus_damping(runs, out)
         fig_forcechains(a.runs[0], out)
     else:

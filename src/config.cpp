@@ -293,8 +293,13 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
       sc.save_sample = g.boolean("save_sample", true);
       sc.affine = g.boolean("affine", false);
     } else {
-      sc.drainage = g.choice("drainage", "undrained", {"undrained", "drained"}) == "undrained" ? Drainage::Undrained
-                                                                                              : Drainage::Drained;
+      const std::string drainage = g.choice("drainage", "undrained", {"undrained", "drained", "oedometric"});
+      sc.drainage = drainage == "undrained" ? Drainage::Undrained
+                    : drainage == "drained" ? Drainage::Drained
+                                            : Drainage::Oedometric;
+      // A cyclic stage's loops (E_eq, G_eq, D, r_u) are read as triaxial ones: an oedometric cycle is another test.
+      if (sc.type == StageType::Cyclic && sc.drainage == Drainage::Oedometric)
+        g.fail(g.key_path("drainage"), "= oedometric is for triaxial stages (a cyclic stage is drained or undrained)");
       sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, true);
       sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
       sc.max_servo_error = g.real("max_servo_error", 0.25, 0, 1, true);
@@ -305,12 +310,13 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         // extension the axial stress is the minor one, sigma_3 = sigma_z, which the axial walls' velocity sets)
         if (sc.b > 0 && (sc.drainage != Drainage::Drained || sc.extension))
           g.fail(g.key_path("b"), "= " + fmt(sc.b) + " needs a drained compression stage (here " +
-                                      (sc.drainage != Drainage::Drained ? "undrained" : "direction: extension") +
+                                      (sc.drainage != Drainage::Drained ? drainage_name(sc.drainage) : "direction: extension") +
                                       "); leave b out or give 0");
         sc.constant_p = g.choice("stress_path", "constant_sigma3", {"constant_sigma3", "constant_p"}) == "constant_p";
         if (sc.constant_p && sc.drainage != Drainage::Drained)
-          g.fail(g.key_path("stress_path"), "= constant_p needs a drained stage (undrained, the walls keep the volume "
-                                            "and p' is the test's result); leave stress_path out or give constant_sigma3");
+          g.fail(g.key_path("stress_path"), "= constant_p needs a drained stage (here " + std::string(drainage_name(sc.drainage)) +
+                                            ": the walls keep the volume or their place, and p' is the test's result); "
+                                            "leave stress_path out or give constant_sigma3");
       }
       if (sc.type == StageType::Cyclic) {
         sc.cycles = g.integer("cycles", 1, 1, 1000000);
@@ -428,7 +434,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
           << YAML::Value << sc.target_e0_tolerance << YAML::Key << "mu_max" << YAML::Value << sc.mu_max << YAML::Key
           << "max_trials" << YAML::Value << sc.max_trials;
     } else {
-      e << YAML::Key << "drainage" << YAML::Value << (sc.drainage == Drainage::Undrained ? "undrained" : "drained")
+      e << YAML::Key << "drainage" << YAML::Value << drainage_name(sc.drainage)
         << YAML::Key << "axial_strain_rate" << YAML::Value << sc.axial_strain_rate << YAML::Key
         << "max_axial_strain" << YAML::Value << sc.max_axial_strain << YAML::Key << "max_servo_error" << YAML::Value
         << sc.max_servo_error;

@@ -18,7 +18,13 @@ struct ConfigError : std::runtime_error {
 // Cyclic: triaxial loading whose axial walls reverse at +-q_amplitude (stress reversal, the cyclic liquefaction
 // test) or +-strain_amplitude, for `cycles` cycles or until |eps_a| reaches max_axial_strain (choice, beyond SPEC §6.3).
 enum class StageType { Isotropic, Triaxial, Cyclic };
-enum class Drainage { Undrained, Drained };
+// The lateral boundary of a shear stage: drained, the lateral walls servoed to sigma_3 (SPEC §6.3); undrained, placed
+// to keep the volume (SPEC §6.3); oedometric (beyond SPEC, triaxial stages), held where the stage found them: zero
+// lateral strain, the oedometer / K0 test, whose sigma_h / sigma_v is the earth-pressure coefficient at rest.
+enum class Drainage { Undrained, Drained, Oedometric };
+inline const char* drainage_name(Drainage d) {
+  return d == Drainage::Undrained ? "undrained" : d == Drainage::Drained ? "drained" : "oedometric";
+}
 
 struct StageConfig {
   std::string name;

@@ -382,6 +382,7 @@ class Laboratory {
   [[noreturn]] void stop_run(const std::string& what);
   Real servo_error(const StageConfig& sc, const Measure& m) const;
   Real stage_servo_error(const StageConfig& sc) const;
+  Real stage_k0(size_t k) const;
   void check_servo(const StageConfig& sc, const Measure& m);
   Real inner_void_ratio() const;
   Real core_void_ratio() const;
@@ -680,10 +681,12 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           D.sliding_weak_frac,
           e.params().contact.mu,
           e.params().contact.mu_r,
-          // 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained
-          sc.type == StageType::Isotropic
-              ? 0.0
-              : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0) + (sc.type == StageType::Cyclic ? 2.0 : 0.0),
+          // 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained, 5 triaxial
+          // oedometric (after the codes of older builds, so that their meaning stays)
+          sc.type == StageType::Isotropic        ? 0.0
+          : sc.drainage == Drainage::Oedometric ? 5.0
+                                                : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0) +
+                                                      (sc.type == StageType::Cyclic ? 2.0 : 0.0),
           std::max(Real(0), e.deepest_overlap().ratio),
           sc.type == StageType::Cyclic ? (lab_.cycle = std::max(lab_.cycle, cycle_number(sc, m))) : 0.0,
           d.potential > 0 ? d.kinetic_fluct / d.potential : 0,
@@ -869,7 +872,7 @@ void Laboratory::start_stage(const StageConfig& sc) {
       c.mode = WallMode::Servo;
       c.target_stress = lab_.p0;  // sigma_3 = p'_0 (SPEC §6.3)
     } else {
-      c.mode = WallMode::Fixed;  // placed analytically every step
+      c.mode = WallMode::Fixed;  // undrained: placed analytically every step; oedometric: held where they are
     }
   }
   lab_.started = true;
@@ -1318,13 +1321,17 @@ Real Laboratory::servo_error(const StageConfig& sc, const Measure& m) const {
 
 // The largest servo_error over the current stage's series rows (what a checkpoint restores, so a resumed run
 // reports the same); NaN for a stage without a lateral servo.
+namespace {
+// The position of a series column (series_columns()) by its name.
+size_t series_column(const char* name) {
+  const auto& cols = series_columns();
+  return size_t(std::find_if(cols.begin(), cols.end(), [&](const auto& c) { return c.first == name; }) - cols.begin());
+}
+}  // namespace
+
 Real Laboratory::stage_servo_error(const StageConfig& sc) const {
   if (!lateral_servo(sc)) return std::numeric_limits<Real>::quiet_NaN();
-  const auto& cols = series_columns();
-  const auto col = [&](const char* name) {
-    return size_t(std::find_if(cols.begin(), cols.end(), [&](const auto& c) { return c.first == name; }) - cols.begin());
-  };
-  const size_t ix = col("sigma_x"), iy = col("sigma_y"), iz = col("sigma_z");
+  const size_t ix = series_column("sigma_x"), iy = series_column("sigma_y"), iz = series_column("sigma_z");
   Real worst = 0;
   for (size_t r = 0; r < lab_.series.rows.size(); ++r) {
     if (lab_.series.stage[r] != lab_.stage) continue;
@@ -1335,6 +1342,19 @@ Real Laboratory::stage_servo_error(const StageConfig& sc) const {
     worst = std::max(worst, servo_error(sc, m));
   }
   return worst;
+}
+
+// The earth-pressure coefficient of stage k at its end, K0 = sigma_h / sigma_v = (sigma_x + sigma_y) / 2 sigma_z of the
+// walls, from its last series row (a stage's end always writes one; the series is checkpointed, so a resumed run gives
+// the same); NaN without a row.
+Real Laboratory::stage_k0(size_t k) const {
+  const size_t ix = series_column("sigma_x"), iy = series_column("sigma_y"), iz = series_column("sigma_z");
+  for (size_t r = lab_.series.rows.size(); r-- > 0;)
+    if (lab_.series.stage[r] == int(k)) {
+      const auto& row = lab_.series.rows[r];
+      return 0.5 * (row[ix] + row[iy]) / row[iz];
+    }
+  return std::numeric_limits<Real>::quiet_NaN();
 }
 
 // Every series row of a drained shear: a lateral wall stress further than max_servo_error from its target stops
@@ -1579,7 +1599,7 @@ void Laboratory::write_summary() const {
     const char* type = sc.type == StageType::Isotropic ? "isotropic" : sc.type == StageType::Triaxial ? "triaxial" : "cyclic";
     js << (k ? "," : "") << "\n    {\"name\": " << json_string(r.name) << ", \"type\": \"" << type << "\"";
     if (sc.type != StageType::Isotropic)
-      js << ", \"drainage\": \"" << (sc.drainage == Drainage::Undrained ? "undrained" : "drained")
+      js << ", \"drainage\": \"" << drainage_name(sc.drainage)
          << "\", \"axial_strain_rate\": " << num(sc.axial_strain_rate);
     if (sc.type == StageType::Triaxial)
       js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
@@ -1594,6 +1614,7 @@ void Laboratory::write_summary() const {
          << num(sc.liquefaction_da_strain) << ", \"n_da\": " << met(r.n_da);
     }
     if (lateral_servo(sc)) js << ", \"servo_error\": " << num(r.servo_error);
+    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Oedometric) js << ", \"K0\": " << num(stage_k0(k));
     if (sc.type == StageType::Cyclic) js << ", \"quarter_cycle_transits\": " << num(r.quarter_transits);
     if (sc.type == StageType::Isotropic) js << ", \"e_inner\": " << num(r.e_inner) << ", \"e_core\": " << num(r.e_core);
     js << "}";
@@ -1762,7 +1783,7 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
       p_prev = sc.pressure;
       plan.steps.push_back(double(sc.max_steps) * (sc.target_e0 > 0 ? sc.max_trials : 1));
     } else {
-      const char* drainage = sc.drainage == Drainage::Undrained ? "undrained" : "drained";
+      const char* drainage = drainage_name(sc.drainage);
       const double strain_step = sc.axial_strain_rate * plan.dt;  // eps_a per step: the axial walls move at 1/2 rate H0
       if (sc.type == StageType::Triaxial) {
         // The stage ends on the step whose start finds eps_a >= max_axial_strain (-eps_a in extension), one after the

@@ -209,7 +209,7 @@ Study load_study_unchecked(const std::string& path) {
       }
     }
     if (st.type != StageType::Isotropic && base_drainage.empty())
-      base_drainage = st.drainage == Drainage::Drained ? "drained" : "undrained";
+      base_drainage = drainage_name(st.drainage);
     if (st.type == StageType::Triaxial && base_direction.empty()) {
       base_direction = st.extension ? "extension" : "compression";
       base_b = st.b;
@@ -319,7 +319,8 @@ Study load_study_unchecked(const std::string& path) {
     if (!has_tri)
       fail(path, key, "sets the drainage of the base's shear stages, and the base (" + s.base + ") has none (a "
                       "preparation study sweeps mu_r, e0, p0, seed and count)");
-    if (d != "drained" && d != "undrained") fail(path, key, "'" + d + "' is not drained or undrained");
+    if (d != "drained" && d != "undrained" && d != "oedometric")
+      fail(path, key, "'" + d + "' is not drained, undrained or oedometric");
   };
   std::vector<std::string> drain = words("drainage", check_drainage);
   if (drain.empty()) drain = {base_drainage};

@@ -150,6 +150,14 @@ TEST(Config, RejectsBadInputClearly) {
       {"path_bad", "stages:\n  - {type: triaxial, drainage: drained, stress_path: constant_q}\n", "stages[0].stress_path"},
       {"path_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, stress_path: constant_p}\n",
        "stages[0].stress_path: unknown key"},
+      // the oedometric (K0) test: lateral walls held, on a triaxial stage only; b and constant_p set lateral stresses
+      {"oed_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, drainage: oedometric}\n",
+       "stages[0].drainage = oedometric is for triaxial stages"},
+      {"oed_b", "stages:\n  - {type: triaxial, drainage: oedometric, b: 0.5}\n",
+       "stages[0].b = 0.5 needs a drained compression stage (here oedometric)"},
+      {"oed_path", "stages:\n  - {type: triaxial, drainage: oedometric, stress_path: constant_p}\n",
+       "stages[0].stress_path = constant_p needs a drained stage (here oedometric"},
+      {"drain_bad", "stages:\n  - {type: triaxial, drainage: wet}\n", "stages[0].drainage"},
       // the servo's integral action: [0, 0.5] (WallControl::integral: stable below 1 on an ideal wall)
       {"ki_big", "stages:\n  - {type: triaxial, drainage: drained, servo_integral: 0.8}\n",
        "stages[0].servo_integral = 0.8 is outside the allowed range [0, 0.5]"},
@@ -209,8 +217,8 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
   const Case cases[] = {
       {"study_empty", "axes: {mu_r: []}\n", "axes.mu_r: an empty list"},
       {"study_drain_empty", "axes: {drainage: []}\n", "axes.drainage: an empty list"},
-      {"study_drain_bad", "axes: {drainage: [drainded]}\n", "axes.drainage: 'drainded' is not drained or undrained"},
-      {"study_extra_drain", "extra: [{drainage: wet}]\n", "extra[0].drainage: 'wet' is not drained or undrained"},
+      {"study_drain_bad", "axes: {drainage: [drainded]}\n", "axes.drainage: 'drainded' is not drained, undrained or oedometric"},
+      {"study_extra_drain", "extra: [{drainage: wet}]\n", "extra[0].drainage: 'wet' is not drained, undrained or oedometric"},
       {"study_frac", "axes: {count: [2.5]}\n", "axes.count: values must be whole numbers"},
       {"study_zero", "axes: {count: [0]}\n", "axes.count: values must be in [1, 1e8]"},
       {"study_extra", "extra: [{seed: 1.5}]\n", "extra[0].seed: values must be whole numbers"},

@@ -898,6 +898,49 @@ TEST(Lab, TrueTriaxialHoldsTheIntermediateStressRatio) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(outs[0.5] + "/series.csv"));
 }
 
+// The oedometric (K0) test (drainage: oedometric): the lateral walls stay where the stage found them, so every row's
+// volumetric strain is its axial strain (V = Lx Ly H with Lx, Ly held: equal to rounding, kStrainTol); the series marks
+// the rows stage_type 5; summary.json gives each stage's K0 = (sigma_x + sigma_y) / 2 sigma_z of its last row. On the
+// reference sample loaded to 1 % and unloaded by 0.5 %: sigma_v grows on loading, K0 falls below 1 (the lateral stress
+// lags the vertical one) and rises again on unloading (the lateral stress is locked in, as in an overconsolidated soil)
+// (measured: printed). Interrupted halfway and resumed: the uninterrupted series, byte for byte.
+TEST(Lab, OedometricStageHoldsTheLateralWallsAndGivesK0) {
+  const double kStrainTol = 1e-12;
+  const std::string stages =
+      "  - {name: load, type: triaxial, drainage: oedometric, axial_strain_rate: 1.0, max_axial_strain: 0.01, damping: 0.2}\n"
+      "  - {name: unload, type: triaxial, drainage: oedometric, direction: extension, axial_strain_rate: 1.0, "
+      "max_axial_strain: 0.005, damping: 0.2}\n";
+  const std::string cfg = on_reference("oed", stages, 20), out = tmpdir("oed");
+  const RunResult r = run(cfg, out);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_TRUE(r.stages[0].converged && r.stages[1].converged);
+  H5Reader h(out + "/run.h5");
+  const auto ea = h.doubles("/series/eps_a"), ev = h.doubles("/series/eps_v"), st = h.doubles("/series/stage_type");
+  const auto sx = h.doubles("/series/sigma_x"), sy = h.doubles("/series/sigma_y"), sz = h.doubles("/series/sigma_z");
+  ASSERT_GT(ea.size(), 10u);
+  size_t turn = 0;  // the last row of the loading stage
+  for (size_t k = 0; k < ea.size(); ++k) {
+    EXPECT_EQ(st[k], 5.0) << "row " << k;
+    EXPECT_NEAR(ev[k], ea[k], kStrainTol) << "row " << k << ": a lateral wall moved";
+    if (ea[k] > 0) turn = k;
+  }
+  const double k0_load = 0.5 * (sx[turn] + sy[turn]) / sz[turn], k0_unload = 0.5 * (sx.back() + sy.back()) / sz.back();
+  std::printf("  oedometric: sigma_v %.4g -> %.4g -> %.4g kPa, K0 %.4f at 1 %%, %.4f unloaded by 0.5 %%\n", sz[0] / 1e3,
+              sz[turn] / 1e3, sz.back() / 1e3, k0_load, k0_unload);
+  EXPECT_GT(sz[turn], 1.5 * sz[0]);
+  EXPECT_LT(k0_load, 0.9);
+  EXPECT_GT(k0_unload, k0_load + 0.05);
+  const YAML::Node sum = YAML::LoadFile(out + "/summary.json");
+  EXPECT_EQ(sum["stages"][0]["drainage"].as<std::string>(), "oedometric");
+  EXPECT_NEAR(sum["stages"][0]["K0"].as<double>(), k0_load, 1e-12 * k0_load);
+  EXPECT_NEAR(sum["stages"][1]["K0"].as<double>(), k0_unload, 1e-12 * k0_unload);
+  EXPECT_NE(slurp(out + "/config.yaml").find("drainage: oedometric"), std::string::npos);
+  const std::string stopped = tmpdir("oed_stopped");
+  ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
+}
+
 // The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
 // sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
 // sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
