@@ -981,16 +981,20 @@ def sample_count(run_dir):
     return int(m.group(1)) if m else None
 
 
+def isotropic_stages(out, name):
+    """Every isotropic stage of sample job `name` (its summary.json), in order; [] where it has no summary."""
+    try:
+        stages = json.load(open(os.path.join(out, "jobs", name, "run", "summary.json")))["stages"]
+    except (OSError, ValueError, KeyError):
+        return []
+    return [s for s in stages if s.get("type") == "isotropic"]
+
+
 def consolidated(out, name):
     """Sample job `name`'s last isotropic stage in its summary.json (the sample as consolidated), with the job's run
     directory as "dir"; None where it has none (not run yet, or failed)."""
-    d = os.path.join(out, "jobs", name, "run")
-    try:
-        stages = json.load(open(os.path.join(d, "summary.json")))["stages"]
-    except (OSError, ValueError, KeyError):
-        return None
-    iso = [s for s in stages if s.get("type") == "isotropic"]
-    return {**iso[-1], "dir": d} if iso else None
+    iso = isotropic_stages(out, name)
+    return {**iso[-1], "dir": os.path.join(out, "jobs", name, "run")} if iso else None
 
 
 def samples_section(out, jobs, samples=None):
@@ -1132,15 +1136,6 @@ def preparation_section(out, samples, figs):
         legend(a_, fontsize=7)
     save(fig, figs, "preparation")
     return lines, True
-
-
-def isotropic_stages(out, name):
-    """Every isotropic stage of sample job `name` (its summary.json), in order; [] where it has no summary."""
-    try:
-        stages = json.load(open(os.path.join(out, "jobs", name, "run", "summary.json")))["stages"]
-    except (OSError, ValueError, KeyError):
-        return []
-    return [s for s in stages if s.get("type") == "isotropic"]
 
 
 # Two isotropic stages are at different pressures when their measured p' differ by more than this (relative): a stage
