@@ -4,13 +4,10 @@
 # cyclic section and its CSR - N figure. The stronger loading liquefies (2 % double-amplitude axial strain) in fewer
 # cycles.
 set -u
-bin=$1; src=$2; work=$3
-rm -rf "$work" && mkdir -p "$work" || exit 1
-cp "$src"/tiny-cyclic-study.yaml "$src"/tiny-cyclic-base.yaml "$work"/ || exit 1
-cd "$work" || exit 1
-fail() { echo "study_cyclic: $*"; exit 1; }
+bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 # validate: a stress-reversal test's length is unknown before it runs; the plan gives its cap as a cap
-plan=$("$bin" validate tiny-cyclic-study.yaml 2>&1) || fail "validate failed: $plan"
+. "$here"/study_setup.sh
+study_setup study_cyclic tiny-cyclic-study.yaml tiny-cyclic-base.yaml
 printf '%s\n' "$plan" | grep -q "cyclic tests reversing at q: 2, at most 1000000 steps each (max_steps;" ||
   fail "validate does not give the cyclic tests' cap as one: $plan"
 printf '%s\n' "$plan" | grep -q "shear tests:" && fail "validate counts the cyclic tests' cap as their length: $plan"

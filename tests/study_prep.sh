@@ -7,11 +7,8 @@
 # error naming it.
 set -u
 bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
-rm -rf "$work" && mkdir -p "$work" || exit 1
-cp "$src"/tiny-prep-study.yaml "$src"/tiny-prep-base.yaml "$work"/ || exit 1
-cd "$work" || exit 1
-fail() { echo "study_prep: $*"; exit 1; }
-plan=$("$bin" validate tiny-prep-study.yaml 2>&1) || fail "validate failed: $plan"
+. "$here"/study_setup.sh
+study_setup study_prep tiny-prep-study.yaml tiny-prep-base.yaml
 printf '%s\n' "$plan" | grep -q "4 samples, 0 shear tests; a preparation study" || fail "validate: $plan"
 out=$("$bin" study tiny-prep-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
 printf '%s\n' "$out" | grep -q "4 samples, 0 shears; 4 to run" || fail "unexpected plan: $out"

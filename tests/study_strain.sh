@@ -4,13 +4,10 @@
 # so every quarter cycle lasts the base's 5 ms; the report's modulus-reduction section gives each job's last cycle
 # from its cycles.csv and a hyperbolic fit per sample, and draws figures/modulus_reduction.png.
 set -u
-bin=$1; src=$2; work=$3
-rm -rf "$work" && mkdir -p "$work" || exit 1
-cp "$src"/tiny-strain-study.yaml "$src"/tiny-strain-base.yaml "$work"/ || exit 1
-cd "$work" || exit 1
-fail() { echo "study_strain: $*"; exit 1; }
+bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 # validate: strain-controlled tests have a known length (8 quarter cycles of A / (rate dt) steps each)
-plan=$("$bin" validate tiny-strain-study.yaml 2>&1) || fail "validate failed: $plan"
+. "$here"/study_setup.sh
+study_setup study_strain tiny-strain-study.yaml tiny-strain-base.yaml
 printf '%s\n' "$plan" | grep -q "study: 2 samples, 6 shear tests" || fail "validate: not 2 samples and 6 tests: $plan"
 printf '%s\n' "$plan" | grep -q "shear tests: [0-9]* to [0-9]* steps each" || fail "validate gives no test length: $plan"
 out=$("$bin" study tiny-strain-study.yaml --out ss --jobs 2 2>&1) || fail "the study failed: $out"

@@ -4,12 +4,9 @@
 # study_quick's 5 000-sphere shears to 40 % outran its 900 s limit. study_quick checks the rest (signals, report
 # contents) in make test.
 set -u
-bin=$1; src=$2; work=$3
-rm -rf "$work" && mkdir -p "$work" || exit 1
-cp "$src"/tiny-study.yaml "$src"/tiny-study-base.yaml "$work"/ || exit 1
-cd "$work" || exit 1
-fail() { echo "study_tiny: $*"; exit 1; }
-plan=$("$bin" validate tiny-study.yaml 2>&1) || fail "validate failed: $plan"
+bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
+. "$here"/study_setup.sh
+study_setup study_tiny tiny-study.yaml tiny-study-base.yaml
 printf '%s\n' "$plan" | grep -q "seeds: 2 (tests that differ only in their seed" || fail "validate does not count 2 seeds: $plan"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
 printf '%s\n' "$out" | grep -q "3 samples, 7 shears; 10 to run" || fail "unexpected plan: $out"
