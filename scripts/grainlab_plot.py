@@ -1041,6 +1041,17 @@ PREP_AXES = (("count", "spheres", True), ("p0", "p'_0 [kPa]", True), ("mu_r", "m
              ("e0", "target e_0", False))
 
 
+def gas_fraction(run_dir):
+    """The solid fraction of a run's interior as its series' first row found it (1 / (1 + e_inner)): for a sample job,
+    the gas as placed; None where the series or the column is missing."""
+    try:
+        with open(os.path.join(run_dir, "series.csv")) as f:
+            first = next(csv.DictReader(f))
+        return 1 / (1 + float(first["e_inner"]))
+    except (OSError, StopIteration, KeyError, ValueError):
+        return None
+
+
 def preparation_section(out, samples, figs):
     """A preparation study's samples grouped over their seeds (the same mu_r, e0, p0 and count): each void ratio as mean
     ± sd [95 % half-width of the mean], the friction a target_e0 search settled on and the stage's steps; for a count
@@ -1060,6 +1071,7 @@ def preparation_section(out, samples, figs):
         col = {c: measured([s.get(c) for _, s in g]) for c in ("e", "e_inner", "e_core", "mu", "steps")}
         col["diff"] = measured([s["e_core"] - s["e_inner"] for _, s in g
                                 if s.get("e_core") is not None and s.get("e_inner") is not None])
+        col["gas"] = measured([gas_fraction(s["dir"]) for _, s in g])
         stats[key] = col
         name = seedless(g[0][0]["name"], g[0][0])
         # the stage's friction: one value unless a target_e0 search settled on one per seed
@@ -1067,13 +1079,17 @@ def preparation_section(out, samples, figs):
         rows.append(f"| {name} | {key[0]} | {len(g)} ({', '.join(str(j['seed']) for j, _ in g)}) | "
                     f"{seed_spread(col['e'], 4)} | {seed_spread(col['e_inner'], 4)} | {seed_spread(col['e_core'], 4)} | "
                     f"{seed_spread(col['diff'], 4)} | {mu_txt} | "
-                    f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'} |")
+                    f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'} | {seed_spread(col['gas'], 4)} |")
     lines = ["## Preparation", "",
              "The samples that differ only in their seed, together: each void ratio at the end of the consolidation as "
              "mean ± standard deviation [95 % half-width of the mean] over the seeds, the friction the stage ended at "
-             "(a target_e0 search's last trial) and its steps (mean).", "",
-             "| samples (all seeds) | spheres | seeds | e_0 | e_0 interior | e_0 core | core - interior | mu | steps |",
-             "|---|---|---|---|---|---|---|---|---|", *rows, ""]
+             "(a target_e0 search's last trial), its steps (mean), and the solid fraction of the gas's interior as "
+             "placed (the series' first row): random placement keeps every centre a radius from the walls, so the gas "
+             "is thinner along them and denser inside than `initial_solid_fraction`, the more so the smaller the box, "
+             "and a frictional gas compacted affinely jams denser the denser it starts.", "",
+             "| samples (all seeds) | spheres | seeds | e_0 | e_0 interior | e_0 core | core - interior | mu | steps | "
+             "gas interior solid fraction |",
+             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
     # Is the sample big enough? Per series of sizes (the same mu_r, e0, p0), the interior's e_0 of the two largest.
     series = {}
     for key in stats:

@@ -44,9 +44,16 @@ for name, g in groups.items():
     want = (f"| {name} | {g[0]['count']} | {len(g)} ({', '.join(str(j['seed']) for j in sorted(g, key=lambda j: j['seed']))})"
             f" | {spread([x['e'] for x in s])} | {spread([x['e_inner'] for x in s])} | {spread([x['e_core'] for x in s])}"
             f" | {spread([x['e_core'] - x['e_inner'] for x in s])} | ")
+    # the gas's interior as placed: the first series row's e_inner
+    gas = []
+    for j in g:
+        with open(os.path.join(out, j["dir"], "series.csv")) as f:
+            head, first = f.readline().strip().split(","), f.readline().strip().split(",")
+        gas.append(1 / (1 + float(first[head.index("e_inner")])))
+    want_end = f" | {spread(gas)} |"
     got = [line for line in prep.splitlines() if line.startswith(f"| {name} |")]
-    if len(got) != 1 or not got[0].startswith(want):
-        fails.append(f"row of {name}:\n  got    {got}\n  wanted {want}...")
+    if len(got) != 1 or not got[0].startswith(want) or not got[0].endswith(want_end):
+        fails.append(f"row of {name}:\n  got    {got}\n  wanted {want}...{want_end}")
 # Size convergence: per series of sizes (the name without seed and count), the two largest sizes' interior e_0.
 series = {}
 for name, g in groups.items():
