@@ -254,15 +254,28 @@ def fig_oedometric(runs, out):
 def oedometric_section(oed, figs):
     """The study report's oedometric tests: per stage of each, sigma_v from its start to its end, K0 at its end, the
     tangent K0 and constrained modulus M over its second half (oedometric_stages), and e at its end; with the figure
-    (figures/oedometric.png)."""
-    rows = []
+    (figures/oedometric.png). Tests that differ only in their seed: each stage's K0, tangent K0 and M as mean ± sd
+    [95 % half-width] over the seeds."""
+    rows, groups = [], {}
     for j, d, s in oed:
         for st in oedometric_stages(s):
+            groups.setdefault((seedless(j["name"], j), st["name"]), []).append((j.get("seed"), st))
             rows.append(f"| {j['name']} | {j['mu_r']:g} | {st['name']} | {'loading' if st['loading'] else 'unloading'} | "
                         f"{st['sv'][0] / 1e3:.1f} → {st['sv'][-1] / 1e3:.1f} | {st['K0']:.3f} | "
                         f"{number_text(st['K0_t'], '.3f')} | {number_text(None if st['M'] is None else st['M'] / 1e6, '.1f')} | "
                         f"{st['e'][-1]:.4f} |")
     fig_oedometric([(d, s) for _, d, s in oed], figs)
+    seeds_rows = []
+    for (name, stage), g in sorted(groups.items()):
+        if len({seed for seed, _ in g}) < 2:
+            continue
+        g = sorted(g, key=lambda t: t[0])
+        seeds_rows.append(f"| {name} | {stage} | {len(g)} ({', '.join(str(seed) for seed, _ in g)}) | "
+                          f"{seed_spread([st['K0'] for _, st in g], 3)} | {seed_spread([st['K0_t'] for _, st in g], 3)} | "
+                          f"{seed_spread([None if st['M'] is None else st['M'] / 1e6 for _, st in g], 1)} |")
+    if seeds_rows:
+        seeds_rows = ["| tests (all seeds) | stage | seeds | K0 at end | tangent K0 | M [MPa] |", "|---|---|---|---|---|---|",
+                      *seeds_rows, ""]
     return ["## Oedometric (K0) tests", "",
             "Lateral walls held (zero lateral strain), axial walls moving: sigma_v = sigma_z and sigma_h = (sigma_x + "
             "sigma_y) / 2 of the walls; K0 = sigma_h / sigma_v at the stage's end, and over the second half of its axial "
@@ -270,7 +283,7 @@ def oedometric_section(oed, figs):
             "constrained modulus M = d sigma_v / d eps_a (least squares). Jaky's K0 = 1 - sin phi' is the usual "
             "reference for loading. Figure: `figures/oedometric.png`.", "",
             "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | e at end |",
-            "|---|---|---|---|---|---|---|---|---|", *rows, ""]
+            "|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows]
 
 
 def fig_cyclic(runs, out):
