@@ -907,20 +907,20 @@ def study(out):
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
     rate_lines = rate_section(mono, cs_cfg["window"], tol, figs, peak)
     seed_lines = seed_section(mono, cs_cfg["window"], tol, figs, peak)
-    cyc_figs = ["`figures/liquefaction.png`"] if cyc else []
+    more_figs = ["`figures/liquefaction.png`"] if cyc else []
     # the samples' isotropic compression and swelling (a base that consolidates in several stages); in a study.json of
     # a build before its samples list, the samples its jobs name
     sample_jobs = idx.get("samples") or list({j["sample"]: {"name": j["sample"], "seed": j.get("seed")}
                                               for j in idx["jobs"] if j.get("sample")}.values())
     comp_lines, comp_fig = compression_section(out, sample_jobs, figs)
     if comp_fig:
-        cyc_figs.append("`figures/compression.png`")
+        more_figs.append("`figures/compression.png`")
     oed_lines = oedometric_section(oed, figs) if oed else []
     if oed:
-        cyc_figs.append("`figures/oedometric.png`")
+        more_figs.append("`figures/oedometric.png`")
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
-        cyc_figs.append("`figures/modulus_reduction.png`")
+        more_figs.append("`figures/modulus_reduction.png`")
     # Shares at critical state, per mu_r, direction and rate (mean over its critical states), as the critical-state
     # lines are grouped: compression and extension need not share the stress ratio out alike between fabric and
     # forces, and a rate series must show how the shares move with I, not pool them.
@@ -946,12 +946,13 @@ def study(out):
             ""]
     if (cyc or amp or oed) and not mono:  # a cyclic or K0 study: peaks and critical states are those of monotonic shears
         write_text_atomically(os.path.join(out, "report.md"),
-                              "\n".join(head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + cyc_figs) + ".", ""]
-                                         + cyc_lines + oed_lines + comp_lines))
+                              "\n".join(head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + more_figs) + ".", ""]
+                                         + samples_section(out, idx["jobs"], idx.get("samples")) + comp_lines
+                                         + oed_lines + cyc_lines))
         print(os.path.join(out, "report.md"))
         return
     lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
-             + "".join(", " + f for f in cyc_figs) + ".", "",
+             + "".join(", " + f for f in more_figs) + ".", "",
              "## Peak states", "",
              "The peak of |q| along the loading (q from the walls, < 0 in extension); the stress ratio M = q/p' of the "
              "contact stress (q = sqrt(3/2 s:s) >= 0) there and at its largest, with the mobilised friction angle "
@@ -1069,12 +1070,12 @@ def preparation_section(out, samples, figs):
     """A preparation study's samples grouped over their seeds (the same mu_r, e0, p0 and count): each void ratio as mean
     ± sd [95 % half-width of the mean], the friction a target_e0 search settled on and the stage's steps; for a count
     axis whether the interior's e_0 still changes between the two largest sizes (by more than two standard errors of
-    the difference of their means); and figures/preparation.png, e_0 against each swept axis. Empty where no sample
-    has finished."""
+    the difference of their means); and figures/preparation.png, e_0 against each swept axis. `samples`: the finished
+    ones. Empty where none has a summary."""
     groups = {}
     for j in samples:
         s = consolidated(out, j["name"])
-        if s is not None and os.path.isfile(os.path.join(out, "jobs", j["name"], "done")):
+        if s is not None:
             groups.setdefault(tuple(j[k] for k, _, _ in PREP_AXES), []).append((j, s))
     if not groups:
         return [], False
@@ -1108,7 +1109,7 @@ def preparation_section(out, samples, figs):
     for key in stats:
         series.setdefault(key[1:], []).append(key)
     conv = []
-    for rest, keys in sorted(series.items()):
+    for _, keys in sorted(series.items()):
         keys = sorted(keys)
         if len(keys) < 2:
             continue
@@ -1131,6 +1132,7 @@ def preparation_section(out, samples, figs):
     swept = [(i, k, lab, log) for i, (k, lab, log) in enumerate(PREP_AXES) if len({key[i] for key in stats}) > 1]
     if not swept:
         return lines, False
+
     def key_of(t):
         return [t[m_] for m_, _, _, _ in swept]
 
@@ -1270,7 +1272,7 @@ def preparation_report(out, idx):
     done = [j["name"] for j in samples if os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))]
     missing = [j["name"] for j in samples if j["name"] not in done]
     finished = [j for j in samples if j["name"] in done]
-    prep, fig = preparation_section(out, samples, figs)
+    prep, fig = preparation_section(out, finished, figs)
     comp, comp_fig = compression_section(out, finished, figs)
     shown = [f for f, on in (("`figures/preparation.png`", fig), ("`figures/compression.png`", comp_fig)) if on]
     lines = [f"# Study report: {idx['study']}", "",

@@ -18,6 +18,8 @@ lo=sc/jobs/shear_undrained_mur0_ebase_pbase_s3_n300_csr0.1 hi=sc/jobs/shear_undr
 grep -q "q_amplitude: 38000" $lo/job.yaml || fail "$lo/job.yaml: q_amplitude is not 2 x 0.1 x 190 kPa"
 grep -q "q_amplitude: 114000" $hi/job.yaml || fail "$hi/job.yaml: q_amplitude is not 2 x 0.3 x 190 kPa"
 grep -q "## Cyclic tests" sc/report.md || fail "report.md lacks its cyclic section"
+grep -qE '^\| sample_mur0_ebase_pbase_s[0-9]+_n300 \| 300 \| [0-9.]+ \|' sc/report.md ||
+  fail "report.md lacks its Samples section (a cyclic study's report has one too)"
 [ "$(grep -c '^| shear_undrained_.*_csr0\.[13] |' sc/report.md)" -eq 2 ] || fail "report.md: not 2 cyclic rows"
 # N at the double-amplitude criterion (liquefaction_da_strain: 2 % in the base), from each run's summary.json; the
 # report lists the same numbers
