@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Runs on the lent GPU machine over a copy of the working tree with .gpucarry/ (perf/gpu/pack.sh) carried.
 # Everything it measures lands in $OUT (the tool's result folder; ./gpu-out elsewhere).
-#   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects)
+#   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects;
+#                                      env GPU_TESTS_EXCLUDE, GPU_TESTS_SECONDS, GPU_TESTS_JOBS: see the verb)
 #   perf/gpu/device.sh bench [REPS]    copy bandwidth + race scene 32k .. 11M, rolling on/off (perf/RESULTS.md)
+#   perf/gpu/device.sh base [TILES]    the race bench of an older build (pack.sh BASE_BUILD=...) at the tiles
+#                                      "TILES" (default "1 4"), rolling on: a baseline on the same card, same call
 #   perf/gpu/device.sh ur1 [SECONDS]   configs/paper/UR1.yaml end to end (stopped after SECONDS, default 540)
 #   perf/gpu/device.sh profile [TILE]  each kernel's GPU time over 20 race steps (Nsight Compute), next to the
 #                                      step's wall time: what the per-step constant is made of (TILE 1 = 32k)
@@ -43,9 +46,13 @@ status=0
 while [ $# -gt 0 ]; do
   case "$1" in
     tests)  # tests [REGEX]: all of them, or those CTest's -R selects
-      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != ur1 && "$2" != profile ]]; then regex=$2; shift; fi
+      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != base && "$2" != ur1 && "$2" != profile ]]; then regex=$2; shift; fi
       # -j 6: the tests are small; several share the GPU (and its 16 host cores) and none is timed.
-      (cd build-gpu && ctest --output-on-failure -j 6 --timeout 500 ${regex:+-R "$regex"}) > "$OUT/ctest.log" 2>&1 || status=1
+      # GPU_TESTS_EXCLUDE: a CTest -E regex; GPU_TESTS_SECONDS: stop every test that long from now (CTest's
+      # --stop-time), so that a call's time limit ends the suite with its summary written, not mid-log.
+      stop=(); [ -n "${GPU_TESTS_SECONDS:-}" ] && stop=(--stop-time "$(date -d "+${GPU_TESTS_SECONDS} seconds" +%H:%M:%S)")
+      (cd build-gpu && ctest --output-on-failure -j "${GPU_TESTS_JOBS:-6}" --timeout 500 ${regex:+-R "$regex"} \
+        ${GPU_TESTS_EXCLUDE:+-E "$GPU_TESTS_EXCLUDE"} "${stop[@]}") > "$OUT/ctest.log" 2>&1 || status=1
       tail -n 25 "$OUT/ctest.log" ;;
     bench)
       reps=3; if [[ "${2:-}" =~ ^[0-9]+$ ]]; then reps=$2; shift; fi
@@ -62,6 +69,15 @@ while [ $# -gt 0 ]; do
       for tile in 1 4; do
         build-gpu/perf/race_bench --scene "$S/scene_32k.txt" --box "$S/scene_32k_box.txt" --tile $tile \
           --rolling 1 --inner 0 --reps "$reps" | sed "s/^/tile=$tile /" | tee -a "$OUT/bench.txt" || status=1
+      done ;;
+    base)  # base [TILES]: the race bench of an older build (pack.sh with BASE_BUILD) on this same GPU, rolling on
+      tiles="1 4"; if [[ "${2:-}" =~ ^[0-9\ ]+$ ]]; then tiles=$2; shift; fi
+      [ -f "$C/race_bench_base.xz" ] || { echo "device.sh: no base binary: pack with BASE_BUILD=<older build-gpu>" >&2; exit 1; }
+      xz -dc "$C/race_bench_base.xz" > /tmp/race_bench_base && chmod +x /tmp/race_bench_base
+      sed "s/^/base binary built at commit /" "$C/base_commit.txt" | tee "$OUT/bench_base.txt"
+      for tile in $tiles; do
+        /tmp/race_bench_base --scene "$S/scene_32k.txt" --box "$S/scene_32k_box.txt" --tile "$tile" \
+          --rolling 1 --reps 3 | sed "s/^/tile=$tile /" | tee -a "$OUT/bench_base.txt" || status=1
       done ;;
     ur1)
       secs=540; if [[ "${2:-}" =~ ^[0-9]+$ ]]; then secs=$2; shift; fi
@@ -87,7 +103,7 @@ while [ $# -gt 0 ]; do
       "${ncu:-ncu}" --clock-control none --metrics gpu__time_duration.sum --csv --print-units base \
         build-gpu/perf/race_bench "${args[@]}" --warmup 10 --steps 20 > "$OUT/ncu_t$tile.csv" 2> "$OUT/ncu_t$tile.err" || status=1
       python3 perf/gpu/kernels.py "$OUT/ncu_t$tile.csv" 30 | tee -a "$OUT/profile_t$tile.txt" ;;
-    *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], ur1 [SECONDS], profile [TILE])" >&2; exit 2 ;;
+    *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], base [TILES], ur1 [SECONDS], profile [TILE])" >&2; exit 2 ;;
   esac
   shift
 done

@@ -26,5 +26,11 @@ for e in "${exes[@]}"; do ldd "$e"; done | awk '/=> \//{print $3}' | sort -u | w
   esac
 done
 git -C "$ROOT" describe --always --dirty > "$C/commit.txt"  # the tree the binaries were built from
+# BASE_BUILD=<an older build-gpu>: its race_bench rides along (device.sh base), so that a change is timed
+# against its base on the same card in the same call, not against numbers from another machine.
+if [ -n "${BASE_BUILD:-}" ]; then
+  xz -T0 -6 -c "$BASE_BUILD/perf/race_bench" > "$C/race_bench_base.xz"
+  git -C "$BASE_BUILD/.." describe --always --dirty > "$C/base_commit.txt"
+fi
 cp "$PEERS_DIR/scene_32k.txt" "$PEERS_DIR/scene_32k_box.txt" "$C/scene/"
 echo "pack.sh: $(du -sh "$C" | cut -f1) in $C (${#exes[@]} executables, $(ls "$C/lib" | wc -l) libraries)"
