@@ -25,6 +25,10 @@
 #include "cycle_loop.hpp"
 #include "h5io.hpp"
 
+#if defined(KOKKOS_ENABLE_CUDA)
+#include <cuda_runtime_api.h>  // cudaMemGetInfo: the memory check of a run on the GPU (require_memory)
+#endif
+
 namespace grainlab {
 namespace fs = std::filesystem;
 
@@ -437,11 +441,29 @@ bool holds_files(const std::string& d) {
   return false;
 }
 
-// Memory a run may plan for, in bytes: MemAvailable, lowered by a cgroup v2 limit (a container's or a batch
-// job's share) and by GRAINLAB_MEMORY_LIMIT (bytes, for a shared node). 0 where none can be read.
+// Memory a run may plan for, in bytes. On CPU threads: MemAvailable, lowered by a cgroup v2 limit (a container's
+// or a batch job's share). On a GPU: the device's free memory, where the particle and contact arrays live (the
+// host keeps only output mirrors: 48 B a sphere at 11M, perf/RESULTS.md's GPU section). Either lowered by
+// GRAINLAB_MEMORY_LIMIT (bytes, for a shared node or GPU). 0 where none can be read.
 double memory_available(std::string& source) {
   double avail = 0;
-  {
+  const auto lower = [&](double v, const char* what) {
+    if (v > 0 && (avail <= 0 || v < avail)) {
+      avail = v;
+      source = what;
+    }
+  };
+  if constexpr (!kHostBackend) {
+#if defined(KOKKOS_ENABLE_CUDA)
+    // Device 0, the one Kokkos::initialize takes by default. `validate` calls this without Kokkos: the runtime
+    // then opens the context itself. A machine without a usable GPU reads as unknown (the run will say why).
+    std::size_t free_bytes = 0, total_bytes = 0;
+    if (cudaMemGetInfo(&free_bytes, &total_bytes) == cudaSuccess)
+      lower(double(free_bytes), "the GPU's free memory");
+    else
+      (void)cudaGetLastError();  // clear the error, so that Kokkos's own checks do not report it later
+#endif
+  } else {
     std::ifstream in("/proc/meminfo");
     std::string key, unit;
     double kb = 0;
@@ -450,17 +472,9 @@ double memory_available(std::string& source) {
         avail = kb * 1024;
         source = "MemAvailable";
       }
-  }
-  const auto lower = [&](double v, const char* what) {
-    if (v > 0 && (avail <= 0 || v < avail)) {
-      avail = v;
-      source = what;
-    }
-  };
-  {
-    std::ifstream in("/sys/fs/cgroup/memory.max");
+    std::ifstream cg("/sys/fs/cgroup/memory.max");
     double v = 0;
-    if (in >> v) lower(v, "the cgroup's memory.max");  // "max" (no limit) does not parse
+    if (cg >> v) lower(v, "the cgroup's memory.max");  // "max" (no limit) does not parse
   }
   if (const char* env = std::getenv("GRAINLAB_MEMORY_LIMIT")) {
     char* end = nullptr;
@@ -476,12 +490,13 @@ double memory_available(std::string& source) {
 // out-of-memory killer hours in, without a word. 1.5 kB a sphere: the peak RSS of a dense lab run, measured
 // (configs/quick.yaml at 30 000 spheres, Z = 4: 65-71 MB, of which 19 MB is the program, the peak of a 300-sphere
 // run; the race scene holds 1.0-1.1 kB, perf/RESULTS.md; a size ratio of 10, perf/wide_psd.yaml at 20 000 spheres,
-// 31 MB, ~0.6 kB above the program). An upper estimate: it refuses only the hopeless cases. Host backends only: on
-// a GPU the device memory is what counts.
+// 31 MB, ~0.6 kB above the program). An upper estimate: it refuses only the hopeless cases. On a GPU the same
+// arrays are in device memory, so the same figure is checked against the device's free memory (carried over from
+// the host, not measured on a device).
 constexpr double kBytesPerSphere = 1536;
-// Returns the bytes available (0: unknown, or a device backend), naming where the figure comes from.
+// Returns the bytes available (0: unknown), naming where the figure comes from.
 double require_memory(long n, const std::string& what, std::string& source) {
-  if (!kHostBackend || n <= 0) return 0;
+  if (n <= 0) return 0;
   const double avail = memory_available(source);
   const double need = double(n) * kBytesPerSphere;
   if (avail <= 0 || need <= avail) return avail;

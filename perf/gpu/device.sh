@@ -33,7 +33,8 @@ done
 echo "python: ${GRAINLAB_PYTHON:-none with numpy, h5py and matplotlib}"
 # The CTest files name the paths of the machine that built them.
 old_root=$(sed -n 's/^# Source directory: //p' build-gpu/CTestTestfile.cmake)
-for f in $(find build-gpu -name CTestTestfile.cmake); do
+# So do the configs CMake writes for the tests (bad_configs/, cyclic.yaml).
+for f in $(find build-gpu -path build-gpu/CMakeFiles -prune -o \( -name CTestTestfile.cmake -o -name "*.yaml" \) -type f -print); do
   sed -i -e "s#$old_root#$ROOT#g" -e "s#\"/usr/bin/cmake\"#\"$(command -v cmake)\"#g" \
          -e "s#\"[^\"]*/python3\"#\"${GRAINLAB_PYTHON:-python3}\"#g" "$f"
 done

@@ -15,6 +15,8 @@ rm -rf "$C"; mkdir -p "$C/lib" "$C/scene"
 mapfile -t exes < <(find "$GPU_BUILD" -path "$GPU_BUILD/CMakeFiles" -prune -o -type f -perm -u+x -print)
 mapfile -t extra < <(find "$GPU_BUILD" -path "$GPU_BUILD/CMakeFiles" -prune -o \
                        \( -name CTestTestfile.cmake -o -path "*/bad_configs/*" \) -type f -print)
+# The configs CMake writes beside the tests (tests/cyclic.yaml); not the outputs of a test run there.
+mapfile -t -O "${#extra[@]}" extra < <(find "$GPU_BUILD/tests" -maxdepth 1 -name "*.yaml" -type f)
 # xz: the fat binaries (sm_80 + sm_90 machine code + PTX) shrink ~5x, which keeps the carry under its limit.
 tar -cf - "${exes[@]}" "${extra[@]}" | xz -T0 -6 > "$C/build-gpu.tar.xz"
 # Libraries: everything ldd resolves except the C runtime. device.sh puts on the library path only those
