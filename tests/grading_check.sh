@@ -11,7 +11,7 @@ grep -q "affine: true" "$work/affine.yaml" || { echo "could not make the affine 
 "$bin" run "$cfg" --out "$work/walls" --quiet 2> "$work/walls.err" || { cat "$work/walls.err"; exit 1; }
 "$bin" run "$work/affine.yaml" --out "$work/affine" --quiet 2> "$work/affine.err" || { cat "$work/affine.err"; exit 1; }
 diff_of() {  # e_core - e_inner from a run's summary.json
-  /usr/bin/python3 -c 'import json, sys; s = json.load(open(sys.argv[1]))["stages"][0]; print("%.4f" % (s["e_core"] - s["e_inner"]))' "$1/summary.json"
+  "${GRAINLAB_PYTHON:-/usr/bin/python3}" -c 'import json, sys; s = json.load(open(sys.argv[1]))["stages"][0]; print("%.4f" % (s["e_core"] - s["e_inner"]))' "$1/summary.json"
 }
 dw=$(diff_of "$work/walls") && da=$(diff_of "$work/affine") || { echo "summary.json lacks e_inner or e_core"; exit 1; }
 echo "e_core - e_inner: walls $dw, affine $da"

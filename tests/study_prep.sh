@@ -14,7 +14,7 @@ out=$("$bin" study tiny-prep-study.yaml --out st --jobs 2 2>&1) || fail "the stu
 printf '%s\n' "$out" | grep -q "4 samples, 0 shears; 4 to run" || fail "unexpected plan: $out"
 [ "$(ls st/jobs/*/done | wc -l)" -eq 4 ] || fail "expected 4 finished jobs: $(ls st/jobs)"
 [ -f st/figures/preparation.png ] || fail "no figures/preparation.png"
-/usr/bin/python3 "$here"/prep_check.py st || fail "the report's preparation section does not match the samples"
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" "$here"/prep_check.py st || fail "the report's preparation section does not match the samples"
 out=$("$bin" study tiny-prep-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
 grep -q "## Isotropic compression" st/report.md && fail "a compression section from single-stage samples"
@@ -30,7 +30,7 @@ for s in st/jobs/sample_*; do
 done
 [ "$(grep -cE '^\| sample_mur0_ebase_pbase_s[34]_n[35]00 \| 190 → 400 \| [0-9.]+ \| ' st/report.md)" -eq 4 ] ||
   fail "no compression row 190 → 400 kPa for each sample: $(sed -n '/## Isotropic/,$p' st/report.md)"
-/usr/bin/python3 "$here"/prep_check.py st || fail "the extended report's preparation section does not match the samples"
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" "$here"/prep_check.py st || fail "the extended report's preparation section does not match the samples"
 printf 'base: tiny-prep-base.yaml\naxes: {drainage: [drained, undrained]}\n' > bad.yaml
 "$here"/expect_error.sh "bad.yaml: axes.drainage: sets the drainage of the base's shear stages, and the base \(.*\) has none" \
   "$bin" validate bad.yaml || fail "a drainage axis on a preparation base is not refused"
