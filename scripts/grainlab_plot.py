@@ -251,11 +251,49 @@ def fig_oedometric(runs, out):
     finish(fig, ax, ax[0], 8, out, "oedometric")
 
 
-def oedometric_section(oed, figs):
+def jaky_rows(oed, mono, cs, peak):
+    """K0 against Jaky's K0 = 1 - sin phi' of the same sample: for each oedometric test, its first loading stage's K0
+    at the end and tangent K0, beside every drained triaxial compression (b = 0) of the same prepared sample in the
+    study (job "sample"), with that shear's largest mobilised friction angle and its critical-state one (when the
+    shear reached a critical state) and 1 - sin of each; and the phi' for which Jaky's formula gives the tangent K0,
+    asin(1 - K0_t). cs: (window, qp_tol, p_tol, e_tol); peak: peak_settings. [] without such pairs."""
+    def jaky(phi):
+        return None if phi is None else 1 - math.sin(math.radians(phi))
+
+    rows = []
+    for j, _, s in oed:
+        loading = [st for st in oedometric_stages(s) if st["loading"]]
+        if not loading:
+            continue
+        st = loading[0]
+        for jd, _, sd in mono:
+            if jd.get("sample") != j.get("sample") or jd["drainage"] != "drained":
+                continue
+            ps = peak_state(sd, peak)
+            if ps["ext"] or ps["b"] > 0 or "M" not in ps:
+                continue
+            c = critical_state(sd, *cs)
+            phi_cs = c["phi"] if c is not None and c["ok"] else None
+            need = math.degrees(math.asin(1 - st["K0_t"])) if st["K0_t"] is not None and 0 < 1 - st["K0_t"] <= 1 else None
+            rows.append(f"| {j['name']} | {st['name']} | {jd['name']} | {st['K0']:.3f} | {number_text(st['K0_t'], '.3f')} | "
+                        f"{ps['phi']:.1f} | {jaky(ps['phi']):.3f} | {number_text(phi_cs, '.1f')} | "
+                        f"{number_text(jaky(phi_cs), '.3f')} | {number_text(need, '.1f')} |")
+    if not rows:
+        return []
+    return ["Against Jaky's K0 = 1 - sin phi' of the same sample: each K0 test's first loading stage beside the drained "
+            "compression tests of its sample (phi'_max at the largest stress ratio, as in the peak table; phi'_cs at "
+            "critical state, as in the critical-state table, where the shear reached one), and the phi' that Jaky's "
+            "formula would need to give the tangent K0, asin(1 - tangent K0).", "",
+            "| K0 test | stage | drained test | K0 at end | tangent K0 | phi'_max [°] | 1 - sin phi'_max | phi'_cs [°] | "
+            "1 - sin phi'_cs | phi' for the tangent K0 [°] |", "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+
+
+def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
     """The study report's oedometric tests: per stage of each, sigma_v from its start to its end, K0 at its end, the
     tangent K0 and constrained modulus M over its second half (oedometric_stages), and e at its end; with the figure
     (figures/oedometric.png). Tests that differ only in their seed: each stage's K0, tangent K0 and M as mean ± sd
-    [95 % half-width] over the seeds."""
+    [95 % half-width] over the seeds. With the study's monotonic shears (mono, and cs, peak as jaky_rows takes them):
+    K0 against Jaky's estimate from the drained compression tests of the same samples."""
     rows, groups = [], {}
     for j, d, s in oed:
         for st in oedometric_stages(s):
@@ -283,7 +321,8 @@ def oedometric_section(oed, figs):
             "constrained modulus M = d sigma_v / d eps_a (least squares). Jaky's K0 = 1 - sin phi' is the usual "
             "reference for loading. Figure: `figures/oedometric.png`.", "",
             "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | e at end |",
-            "|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows]
+            "|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows,
+            *(jaky_rows(oed, mono, cs, peak) if mono else [])]
 
 
 def fig_cyclic(runs, out):
@@ -915,7 +954,7 @@ def study(out):
     comp_lines, comp_fig = compression_section(out, sample_jobs, figs)
     if comp_fig:
         more_figs.append("`figures/compression.png`")
-    oed_lines = oedometric_section(oed, figs) if oed else []
+    oed_lines = oedometric_section(oed, figs, mono, (cs_cfg["window"], *tol), peak) if oed else []
     if oed:
         more_figs.append("`figures/oedometric.png`")
     if amp:

@@ -95,6 +95,14 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
         s["axial_strain_rate"] = yaml_number(j.rate);
         if (old_rate > j.rate) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (old_rate / j.rate))));
       }
+      if (type == "triaxial" && j.strain > 0) {
+        // Likewise for a longer shear: the cap scaled up with the strain (never down).
+        const StageConfig def;
+        const double old_end = s["max_axial_strain"] ? s["max_axial_strain"].as<double>() : def.max_axial_strain;
+        const double old_cap = s["max_steps"] ? s["max_steps"].as<double>() : double(def.max_steps);
+        s["max_axial_strain"] = yaml_number(j.strain);
+        if (j.strain > old_end) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (j.strain / old_end))));
+      }
       if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
       if (type == "cyclic" && j.strain_amplitude > 0 && s["strain_amplitude"]) {
         s["strain_amplitude"] = yaml_number(j.strain_amplitude);
@@ -381,6 +389,7 @@ Study load_study_unchecked(const std::string& path) {
     bool set_stress_path;
     std::string path_key;  // where stress_path was set, likewise
     double rate;           // the triaxial stages' axial_strain_rate (0: the base's)
+    double strain;         // the triaxial stages' max_axial_strain (0: the base's; extra jobs only)
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -397,14 +406,14 @@ Study load_study_unchecked(const std::string& path) {
                         for (double csr : axis("csr", {0}))
                           for (double ea : axis("strain_amplitude", {0}))
                             points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis, b,
-                                              b_axis, "axes.b", sp, path_axis, "axes.stress_path", rate});
+                                              b_axis, "axes.b", sp, path_axis, "axes.stress_path", rate, 0});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
       Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
-               base_drainage, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0};
+               base_drainage, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0, 0};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -448,6 +457,11 @@ Study load_study_unchecked(const std::string& path) {
         } else if (f == "axial_strain_rate") {
           need_rate_triaxial(field);
           pt.rate = v;
+        } else if (f == "max_axial_strain") {
+          if (base_direction.empty())
+            fail(path, field, "sets max_axial_strain of the base's triaxial stages, and the base (" + s.base + ") has none");
+          if (!(v > 0 && v <= 0.9)) fail(path, field, "= " + fmt(v) + " must be in (0, 0.9], as a stage's");
+          pt.strain = v;
         } else if (f == "b") {
           need_triaxial(field);
           pt.b = v;
@@ -455,8 +469,8 @@ Study load_study_unchecked(const std::string& path) {
           pt.b_key = field;
         } else
           fail(path, field,
-               "unknown key (known: mu_r, e0, p0, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
-               "csr, strain_amplitude)");
+               "unknown key (known: mu_r, e0, p0, drainage, direction, b, stress_path, axial_strain_rate, "
+               "max_axial_strain, seed, count, csr, strain_amplitude)");
       }
       points.push_back(pt);
     }
@@ -529,14 +543,19 @@ Study load_study_unchecked(const std::string& path) {
       sh.rate_group = sh.name;  // the same test at other rates: the report's rate series
       sh.name += "_rate" + fmt(pt.rate);  // without the axis, the names studies had before it
     }
+    if (pt.strain > 0) {
+      sh.strain = pt.strain;
+      sh.name += "_to" + fmt(pt.strain);  // likewise without the key
+    }
     bool dup = false;
     for (auto& o : s.shears) {
       if (o.name != sh.name) continue;
       dup = true;
-      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate)  // as above
+      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate ||
+          o.strain != sh.strain)  // as above
         fail(path, "axes",
-             "two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits (job " + sh.name +
-                 "); make them differ sooner or list one of them");
+             "two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant "
+             "digits (job " + sh.name + "); make them differ sooner or list one of them");
     }
     if (!dup) s.shears.push_back(sh);
   }
@@ -784,7 +803,8 @@ int run_study(const Study& s, const StudyOptions& o) {
          << j.drainage << "\", \"direction\": " << json_string(j.direction) << ", \"b\": " << j.b << ", \"stress_path\": " << json_string(j.stress_path) << ", \"seed\": " << j.seed
          << ", \"count\": " << j.count << ", \"csr\": " << j.csr
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude
-         << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group) << "}"
+         << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group)
+         << ", \"max_axial_strain\": " << j.strain << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }
     // Every sample job (a preparation study's only jobs): the report's Samples and Preparation sections. p0 and e0

@@ -36,6 +36,9 @@ struct StudyJob {
   // job's name without its _rate suffix, which the tests of one rate series share ("" without a rate)
   double rate = 0;
   std::string rate_group;
+  // triaxial stages' max_axial_strain from an extra job's key (0: the base's): tests of one sample that end at other
+  // strains, e.g. an oedometric test at 3 % beside a drained shear to its critical state (the report's K0 and Jaky)
+  double strain = 0;
   std::string config_yaml;  // the generated run config
 };
 

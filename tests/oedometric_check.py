@@ -10,7 +10,12 @@ grainlab plot's figure of it, on synthetic K0 tests whose wall stresses lie on k
   320 kPa, K0 280 / 300 = 0.933. Both seeds together: each stage's K0, tangent and M as mean ± sd [95 %, t = 12.706],
   worked out here.
 - A study of only these tests: no peak or critical-state tables (an oedometric test has neither), the K0 section, and
-  figures/oedometric.png. The lines are exact, so the printed strings must match."""
+  figures/oedometric.png. The lines are exact, so the printed strings must match.
+- Against Jaky (jaky_rows), a second study: the seed-1 K0 test beside a drained compression of its sample whose
+  stress ratio peaks at M = 0.75 (10 %) and is steady at 0.60 from 30 % to 40 % (a critical state): phi'_max =
+  asin(3 x 0.75 / 6.75) = 19.47°, 1 - sin = 0.667; phi'_cs = asin(1.8 / 6.6) = 15.83°, 1 - sin = 0.727; the tangent
+  K0 0.450 needs phi' = asin(0.55) = 33.4°. A drained compression of another sample, a drained extension and an
+  undrained compression of the same sample are left out of the comparison."""
 import csv
 import json
 import math
@@ -93,6 +98,53 @@ os.remove(os.path.join(figs, "oedometric.png"))
 grainlab_plot.fig_oedometric([(run, s)], figs)
 if os.path.isfile(os.path.join(figs, "oedometric.png")):
     fails.append("fig_oedometric drew a run without an oedometric stage")
+
+# Against Jaky: the seed-1 K0 test beside drained and other shears (rate_check's columns, a synthetic path)
+work = work + "_jaky"
+shutil.rmtree(work, ignore_errors=True)
+_, k0 = k0_test(1, 0.45)
+shear_cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t",
+              "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y",
+              "sigma_z"]
+
+
+def shear(name, sample, drainage, sign):
+    """A triaxial shear to 40 % (sign -1: extension): q/p' up to 0.75 at 10 %, down to a steady 0.60 from 30 %."""
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0}]}, f)
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + shear_cols)
+        for i in range(41):
+            ea = 0.01 * i
+            qp = 0.75 * ea / 0.1 if ea <= 0.1 else 0.75 - 0.15 * min(1.0, (ea - 0.1) / 0.2)
+            p, q = 1e5, sign * qp * 1e5
+            w.writerow(["shear", i, i, sign * ea, p, q, qp, 0.7, 0, 2 if drainage == "drained" else 1, 0.1, 0.05, 0.1,
+                        0.02, 0.25, 0.25, 0.25, 0.25, qp, 1e-4, p - q / 3, p - q / 3, p + 2 * q / 3])
+    return {"name": name, "dir": f"jobs/{name}/run", "sample": sample, "mu_r": 0, "e0": 0, "p0": 0,
+            "drainage": drainage, "direction": "compression" if sign > 0 else "extension", "b": 0, "seed": 1,
+            "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
+            "max_axial_strain": 0.4}
+
+
+jobs = [k0, shear("shear_drained_s1_n300_to0.4", "sample_s1_n300", "drained", 1),
+        shear("shear_drained_s9_n300_to0.4", "sample_s9_n300", "drained", 1),
+        shear("shear_drained_s1_n300_ext", "sample_s1_n300", "drained", -1),
+        shear("shear_undrained_s1_n300", "sample_s1_n300", "undrained", 1)]
+text = study_report(work, jobs)
+sec = text.split("## Oedometric (K0) tests")[1].split("\n## ")[0] if "## Oedometric (K0) tests" in text else ""
+phi_max, phi_cs = math.degrees(math.asin(2.25 / 6.75)), math.degrees(math.asin(1.8 / 6.6))
+want = [f"| shear_oedometric_s1_n300 | load | shear_drained_s1_n300_to0.4 | 0.560 | 0.450 | {phi_max:.1f} | "
+        f"{1 - math.sin(math.radians(phi_max)):.3f} | {phi_cs:.1f} | {1 - math.sin(math.radians(phi_cs)):.3f} | "
+        f"{math.degrees(math.asin(0.55)):.1f} |"]
+rows = [line for line in sec.splitlines() if line.startswith("| shear_oedometric") and "| load | shear_" in line]
+if rows != want:
+    fails.append("Jaky rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
+if "phi' for the tangent K0" not in sec:
+    fails.append("no Jaky table header")
 if fails:
     sys.exit("\n".join(fails))
 print("oedometric ok")

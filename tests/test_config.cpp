@@ -326,7 +326,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
        "(job shear_undrained_mur0_ebase_pbase_s1_n300_ea0.06): stages[0].strain_amplitude = 0.06 must be below "
        "max_axial_strain = 0.05"},
       {"study_ea_close", "base: " + base + "\naxes: {strain_amplitude: [1e-4, 1.0000001e-4]}\n",
-       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
   });
 }
 
@@ -483,7 +483,7 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
       {"study_b_ext", "base: " + base + "\nextra: [{b: 0.5, direction: extension}]\n",
        "extra[0].b: b = 0.5 needs a drained compression shear, and this job's is drained extension"},
       {"study_b_close", "base: " + base + "\naxes: {b: [0.5, 0.50000001]}\n",
-       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
   });
 }
 
@@ -538,7 +538,57 @@ TEST(Config, StudyRateAxisSetsTheTriaxialStages) {
        "extra[0].axial_strain_rate: sets axial_strain_rate of the base's triaxial stages, and the base (" + cyc +
            ") has none"},
       {"study_rate_close", "base: " + base + "\naxes: {axial_strain_rate: [1, 1.0000001]}\n",
-       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
+  });
+}
+
+// Tests of one sample that end at other strains: an extra job's max_axial_strain sets every triaxial stage's end
+// (configs/oedometer-jaky-study.yaml: a K0 test at 3 % and a drained shear of the same sample to 30 %), scales the
+// step cap up with the strain (never down: 0.05 and 1000 -> 0.2 and 4000; the default 1e6 at 0.05 -> 2e6 at 0.1), and
+// names the shear "_to<value>"; it shares the grid's sample. Left out, the base's end and the names of before. Errors:
+// a value outside (0, 0.9], a base without a triaxial stage, two values equal to 6 digits.
+TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
+  const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string base = write_tmp("study_end_base", head +
+                                     "  - {name: load, type: triaxial, drainage: oedometric, max_axial_strain: 0.05, "
+                                     "max_steps: 1000}\n");
+  const Study s = load_study(write_tmp("study_end", "base: " + base + "\naxes: {drainage: [oedometric]}\n"
+                                                    "extra: [{drainage: drained, max_axial_strain: 0.2}, "
+                                                    "{drainage: drained, max_axial_strain: 0.01}]\n"));
+  ASSERT_EQ(s.samples.size(), 1u);
+  ASSERT_EQ(s.shears.size(), 3u);
+  const char* names[] = {"shear_oedometric_mur0_ebase_pbase_s1_n300", "shear_drained_mur0_ebase_pbase_s1_n300_to0.2",
+                         "shear_drained_mur0_ebase_pbase_s1_n300_to0.01"};
+  const double end[] = {0.05, 0.2, 0.01};
+  const long cap[] = {1000, 4000, 1000};
+  for (size_t k = 0; k < s.shears.size(); ++k) {
+    const StudyJob& j = s.shears[k];
+    SCOPED_TRACE(j.name);
+    EXPECT_EQ(j.name, names[k]);
+    EXPECT_EQ(j.sample_name, s.samples[0].name);
+    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    ASSERT_EQ(c.stages.size(), 1u);
+    EXPECT_EQ(c.stages[0].max_axial_strain, end[k]);
+    EXPECT_EQ(c.stages[0].max_steps, cap[k]);
+    EXPECT_EQ(c.stages[0].drainage, k == 0 ? Drainage::Oedometric : Drainage::Drained);
+  }
+  EXPECT_EQ(s.shears[0].strain, 0.0);  // the grid's job: the base's end
+  const std::string plain = write_tmp("study_end_plain", head + "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n");
+  const Study sp = load_study(write_tmp("study_end_default", "base: " + plain + "\nextra: [{max_axial_strain: 0.1}]\n"));
+  ASSERT_EQ(sp.shears.size(), 1u);
+  EXPECT_EQ(parse_run_config(YAML::Load(shear_config(sp, sp.shears[0], "sample.h5")), "j").stages[0].max_steps, 2000000);
+  const std::string cyc = write_tmp("study_end_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
+  expect_study_errors({
+      {"study_end_big", "base: " + base + "\nextra: [{max_axial_strain: 0.95}]\n",
+       "extra[0].max_axial_strain: = 0.95 must be in (0, 0.9], as a stage's"},
+      {"study_end_zero", "base: " + base + "\nextra: [{max_axial_strain: 0}]\n",
+       "extra[0].max_axial_strain: = 0 must be in (0, 0.9], as a stage's"},
+      {"study_end_cyclic", "base: " + cyc + "\nextra: [{max_axial_strain: 0.1}]\n",
+       "extra[0].max_axial_strain: sets max_axial_strain of the base's triaxial stages, and the base (" + cyc +
+           ") has none"},
+      {"study_end_close", "base: " + base + "\nextra: [{max_axial_strain: 0.1}, {max_axial_strain: 0.10000001}]\n",
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
+      {"study_end_axis", "base: " + base + "\naxes: {max_axial_strain: [0.1]}\n", "axes.max_axial_strain: unknown axis"},
   });
 }
 
