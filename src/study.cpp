@@ -543,19 +543,21 @@ Study load_study_unchecked(const std::string& path) {
       sh.rate_group = sh.name;  // the same test at other rates: the report's rate series
       sh.name += "_rate" + fmt(pt.rate);  // without the axis, the names studies had before it
     }
-    if (pt.strain > 0) {
-      sh.strain = pt.strain;
-      sh.name += "_to" + fmt(pt.strain);  // likewise without the key
-    }
+    // The end strain is not in the name: a shear to 30 % is the start of the same shear to 40 %, so raising an extra
+    // job's max_axial_strain extends the job that ran (resumed from its checkpoint) instead of starting another.
+    sh.strain = pt.strain;
     bool dup = false;
     for (auto& o : s.shears) {
       if (o.name != sh.name) continue;
       dup = true;
-      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate ||
-          o.strain != sh.strain)  // as above
+      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate)  // as above
         fail(path, "axes",
-             "two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant "
-             "digits (job " + sh.name + "); make them differ sooner or list one of them");
+             "two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits (job " + sh.name +
+                 "); make them differ sooner or list one of them");
+      if (o.strain != sh.strain)
+        fail(path, "extra",
+             "two jobs differ only in max_axial_strain (job " + sh.name + "): the shorter is the start of the longer; "
+             "list the longer alone");
     }
     if (!dup) s.shears.push_back(sh);
   }

@@ -37,7 +37,8 @@ struct StudyJob {
   double rate = 0;
   std::string rate_group;
   // triaxial stages' max_axial_strain from an extra job's key (0: the base's): tests of one sample that end at other
-  // strains, e.g. an oedometric test at 3 % beside a drained shear to its critical state (the report's K0 and Jaky)
+  // strains, e.g. an oedometric test at 3 % beside a drained shear to its critical state (the report's K0 and Jaky);
+  // not in the name, so that a larger value extends the job that ran
   double strain = 0;
   std::string config_yaml;  // the generated run config
 };

@@ -9,8 +9,8 @@ bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 study_setup study_tiny tiny-study.yaml tiny-study-base.yaml
 printf '%s\n' "$plan" | grep -q "seeds: 2 (tests that differ only in their seed" || fail "validate does not count 2 seeds: $plan"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "3 samples, 7 shears; 10 to run" || fail "unexpected plan: $out"
-[ "$(ls st/jobs/*/done | wc -l)" -eq 10 ] || fail "expected 10 finished jobs: $(ls st/jobs)"
+printf '%s\n' "$out" | grep -q "3 samples, 8 shears; 11 to run" || fail "unexpected plan: $out"
+[ "$(ls st/jobs/*/done | wc -l)" -eq 11 ] || fail "expected 11 finished jobs: $(ls st/jobs)"
 grep -q "## Critical states" st/report.md || fail "report.md lacks its critical-state section"
 # The report's peak settings reach study.json (defaults: single rows, every row) and the report says so.
 grep -q '"peak": {"window": 0, "max_ke_ratio": 0}' st/study.json || fail "study.json lacks the default peak block"
@@ -57,11 +57,22 @@ grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300 \| 1 \| [0-9.]+e-0[0-9] \|'
   fail "the base-rate tests of both seeds are not in the rate series, or the series has no line to I = 0"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
-# A study extended: the shears taken from 2 % to 3 % (along the loading) resume from their checkpoints.
+# A study extended: the shears taken from 2 % to 3 % (along the loading) resume from their checkpoints; the undrained
+# extra job keeps its own end, 2.5 % (its max_axial_strain; resumed too, since its step cap, scaled from the base's
+# end, changed with it), until that is raised to 3.5 %: the same job (the end is not in its name) resumed, not a new
+# one beside it.
 sed -i 's/max_axial_strain: 0.02/max_axial_strain: 0.03/' tiny-study-base.yaml
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the extended study failed: $out"
-printf '%s\n' "$out" | grep -q "7 shear(s) extended" || fail "the shears were not extended: $out"
-printf '%s\n' "$out" | grep -q "; 7 to run" || fail "not exactly the 7 shears rerun: $out"
+printf '%s\n' "$out" | grep -q "8 shear(s) extended" || fail "the shears were not extended: $out"
+printf '%s\n' "$out" | grep -q "; 8 to run" || fail "not exactly the 8 shears rerun: $out"
+un=st/jobs/shear_undrained_mur0.3_ebase_p100k_s3_n300
+awk -v e="$(tail -1 "$un/run/series.csv" | cut -d, -f4)" 'BEGIN { exit !(e >= 0.025 && e < 0.026) }' ||
+  fail "$un did not end at its own max_axial_strain 0.025"
+sed -i 's/undrained, max_axial_strain: 0.025}/undrained, max_axial_strain: 0.035}/' tiny-study.yaml
+out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the extended extra job failed: $out"
+printf '%s\n' "$out" | grep -q "1 shear(s) extended" && printf '%s\n' "$out" | grep -q "; 1 to run" ||
+  fail "the extra job's raised end did not extend it alone: $out"
+[ "$(ls -d st/jobs/shear_undrained_* | wc -l)" -eq 1 ] || fail "a second job beside $un: $(ls st/jobs)"
 for s in st/jobs/shear_*; do
   [ -f "$s/done" ] || fail "$s did not finish"
   [ "$(head -1 "$s/run/series.csv" | cut -d, -f4)" = eps_a ] || fail "series.csv column 4 is not eps_a"

@@ -326,7 +326,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
        "(job shear_undrained_mur0_ebase_pbase_s1_n300_ea0.06): stages[0].strain_amplitude = 0.06 must be below "
        "max_axial_strain = 0.05"},
       {"study_ea_close", "base: " + base + "\naxes: {strain_amplitude: [1e-4, 1.0000001e-4]}\n",
-       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
+       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
   });
 }
 
@@ -483,7 +483,7 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
       {"study_b_ext", "base: " + base + "\nextra: [{b: 0.5, direction: extension}]\n",
        "extra[0].b: b = 0.5 needs a drained compression shear, and this job's is drained extension"},
       {"study_b_close", "base: " + base + "\naxes: {b: [0.5, 0.50000001]}\n",
-       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
+       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
   });
 }
 
@@ -538,15 +538,15 @@ TEST(Config, StudyRateAxisSetsTheTriaxialStages) {
        "extra[0].axial_strain_rate: sets axial_strain_rate of the base's triaxial stages, and the base (" + cyc +
            ") has none"},
       {"study_rate_close", "base: " + base + "\naxes: {axial_strain_rate: [1, 1.0000001]}\n",
-       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
+       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
   });
 }
 
 // Tests of one sample that end at other strains: an extra job's max_axial_strain sets every triaxial stage's end
 // (configs/oedometer-jaky-study.yaml: a K0 test at 3 % and a drained shear of the same sample to 30 %), scales the
 // step cap up with the strain (never down: 0.05 and 1000 -> 0.2 and 4000; the default 1e6 at 0.05 -> 2e6 at 0.1), and
-// names the shear "_to<value>"; it shares the grid's sample. Left out, the base's end and the names of before. Errors:
-// a value outside (0, 0.9], a base without a triaxial stage, two values equal to 6 digits.
+// shares the grid's sample. The end is not in the name (a raised end extends the job that ran: study_tiny). Errors:
+// a value outside (0, 0.9], a base without a triaxial stage, two jobs that differ only in their end.
 TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
   const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
   const std::string base = write_tmp("study_end_base", head +
@@ -554,11 +554,11 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
                                      "max_steps: 1000}\n");
   const Study s = load_study(write_tmp("study_end", "base: " + base + "\naxes: {drainage: [oedometric]}\n"
                                                     "extra: [{drainage: drained, max_axial_strain: 0.2}, "
-                                                    "{drainage: drained, max_axial_strain: 0.01}]\n"));
+                                                    "{drainage: undrained, max_axial_strain: 0.01}]\n"));
   ASSERT_EQ(s.samples.size(), 1u);
   ASSERT_EQ(s.shears.size(), 3u);
-  const char* names[] = {"shear_oedometric_mur0_ebase_pbase_s1_n300", "shear_drained_mur0_ebase_pbase_s1_n300_to0.2",
-                         "shear_drained_mur0_ebase_pbase_s1_n300_to0.01"};
+  const char* names[] = {"shear_oedometric_mur0_ebase_pbase_s1_n300", "shear_drained_mur0_ebase_pbase_s1_n300",
+                         "shear_undrained_mur0_ebase_pbase_s1_n300"};
   const double end[] = {0.05, 0.2, 0.01};
   const long cap[] = {1000, 4000, 1000};
   for (size_t k = 0; k < s.shears.size(); ++k) {
@@ -570,7 +570,7 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
     ASSERT_EQ(c.stages.size(), 1u);
     EXPECT_EQ(c.stages[0].max_axial_strain, end[k]);
     EXPECT_EQ(c.stages[0].max_steps, cap[k]);
-    EXPECT_EQ(c.stages[0].drainage, k == 0 ? Drainage::Oedometric : Drainage::Drained);
+    EXPECT_EQ(c.stages[0].drainage, k == 0 ? Drainage::Oedometric : k == 1 ? Drainage::Drained : Drainage::Undrained);
   }
   EXPECT_EQ(s.shears[0].strain, 0.0);  // the grid's job: the base's end
   const std::string plain = write_tmp("study_end_plain", head + "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n");
@@ -586,8 +586,9 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
       {"study_end_cyclic", "base: " + cyc + "\nextra: [{max_axial_strain: 0.1}]\n",
        "extra[0].max_axial_strain: sets max_axial_strain of the base's triaxial stages, and the base (" + cyc +
            ") has none"},
-      {"study_end_close", "base: " + base + "\nextra: [{max_axial_strain: 0.1}, {max_axial_strain: 0.10000001}]\n",
-       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or max_axial_strain agree to 6 significant"},
+      {"study_end_twice", "base: " + base + "\nextra: [{max_axial_strain: 0.1}, {max_axial_strain: 0.2}]\n",
+       "extra: two jobs differ only in max_axial_strain (job shear_oedometric_mur0_ebase_pbase_s1_n300): the shorter is "
+       "the start of the longer; list the longer alone"},
       {"study_end_axis", "base: " + base + "\naxes: {max_axial_strain: [0.1]}\n", "axes.max_axial_strain: unknown axis"},
   });
 }
