@@ -487,6 +487,15 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
   });
 }
 
+// The step cap of the one shear of a study (study_keys) over a base whose triaxial stage leaves max_steps at its
+// default (1e6) and ends at 0.05; -1 unless the study has exactly one shear.
+long default_base_cap(const std::string& tag, const std::string& head, const std::string& study_keys) {
+  const std::string plain = write_tmp(tag + "_plain", head + "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n");
+  const Study s = load_study(write_tmp(tag + "_default", "base: " + plain + "\n" + study_keys));
+  if (s.shears.size() != 1) return -1;
+  return parse_run_config(YAML::Load(shear_config(s, s.shears[0], "sample.h5")), "j").stages[0].max_steps;
+}
+
 // A rate series: the axial_strain_rate axis sets every triaxial stage's rate (a cyclic stage's, its loading frequency,
 // is left alone), shares the sample between rates, names each shear "_rate<value>" and gives it the rate group the
 // report's rate section gathers (its name without the suffix). A slower rate scales the stage's step cap up with the
@@ -521,10 +530,7 @@ TEST(Config, StudyRateAxisSetsTheTriaxialStages) {
   }
   EXPECT_EQ(s.shears[1].sample_name, s.shears[0].sample_name);  // one sample for every rate
   EXPECT_EQ(s.shears[4].rate, 0.0);  // the extra job without the key: the base's
-  const std::string plain = write_tmp("study_rate_plain", head + "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n");
-  const Study sp = load_study(write_tmp("study_rate_default", "base: " + plain + "\naxes: {axial_strain_rate: [0.25]}\n"));
-  ASSERT_EQ(sp.shears.size(), 1u);
-  EXPECT_EQ(parse_run_config(YAML::Load(shear_config(sp, sp.shears[0], "sample.h5")), "j").stages[0].max_steps, 4000000);
+  EXPECT_EQ(default_base_cap("study_rate", head, "axes: {axial_strain_rate: [0.25]}\n"), 4000000);
   const std::string cyc = write_tmp("study_rate_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
   expect_study_errors({
       {"study_rate_zero", "base: " + base + "\naxes: {axial_strain_rate: [0]}\n",
@@ -573,10 +579,7 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
     EXPECT_EQ(c.stages[0].drainage, k == 0 ? Drainage::Oedometric : k == 1 ? Drainage::Drained : Drainage::Undrained);
   }
   EXPECT_EQ(s.shears[0].strain, 0.0);  // the grid's job: the base's end
-  const std::string plain = write_tmp("study_end_plain", head + "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n");
-  const Study sp = load_study(write_tmp("study_end_default", "base: " + plain + "\nextra: [{max_axial_strain: 0.1}]\n"));
-  ASSERT_EQ(sp.shears.size(), 1u);
-  EXPECT_EQ(parse_run_config(YAML::Load(shear_config(sp, sp.shears[0], "sample.h5")), "j").stages[0].max_steps, 2000000);
+  EXPECT_EQ(default_base_cap("study_end", head, "extra: [{max_axial_strain: 0.1}]\n"), 2000000);
   const std::string cyc = write_tmp("study_end_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
   expect_study_errors({
       {"study_end_big", "base: " + base + "\nextra: [{max_axial_strain: 0.95}]\n",
