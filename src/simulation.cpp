@@ -491,8 +491,9 @@ double memory_available(std::string& source) {
 // (configs/quick.yaml at 30 000 spheres, Z = 4: 65-71 MB, of which 19 MB is the program, the peak of a 300-sphere
 // run; the race scene holds 1.0-1.1 kB, perf/RESULTS.md; a size ratio of 10, perf/wide_psd.yaml at 20 000 spheres,
 // 31 MB, ~0.6 kB above the program). An upper estimate: it refuses only the hopeless cases. On a GPU the same
-// arrays are in device memory, so the same figure is checked against the device's free memory (carried over from
-// the host, not measured on a device).
+// arrays are in device memory, so the same figure is checked against the device's free memory; measured there
+// (perf/gpu/device.sh memory, an H200): 0.34 kB a sphere for a loose generated sample, 1.08 kB for the dense race
+// scene, above ~0.6 GB of CUDA context (perf/RESULTS.md, GPU section, session 37).
 constexpr double kBytesPerSphere = 1536;
 // Returns the bytes available (0: unknown), naming where the figure comes from.
 double require_memory(long n, const std::string& what, std::string& source) {

@@ -7,6 +7,8 @@
 #   perf/gpu/device.sh base [TILES]    the race bench of an older build (pack.sh BASE_BUILD=...) at the tiles
 #                                      "TILES" (default "1 4"), rolling on: a baseline on the same card, same call
 #   perf/gpu/device.sh ur1 [SECONDS]   configs/paper/UR1.yaml end to end (stopped after SECONDS, default 540)
+#   perf/gpu/device.sh memory [COUNTS] device memory of configs/quick.yaml's run at COUNT spheres (default
+#                                      "250000 1000000 4000000"): the bytes per sphere behind the memory check
 #   perf/gpu/device.sh profile [TILE]  each kernel's GPU time over 20 race steps (Nsight Compute), next to the
 #                                      step's wall time: what the per-step constant is made of (TILE 1 = 32k)
 # Several verbs run in order: perf/gpu/device.sh tests bench
@@ -47,7 +49,7 @@ status=0
 while [ $# -gt 0 ]; do
   case "$1" in
     tests)  # tests [REGEX]: all of them, or those CTest's -R selects
-      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != base && "$2" != ur1 && "$2" != profile ]]; then regex=$2; shift; fi
+      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != base && "$2" != ur1 && "$2" != profile && "$2" != memory ]]; then regex=$2; shift; fi
       # -j 6: the tests are small; several share the GPU (and its 16 host cores) and none is timed.
       # GPU_TESTS_EXCLUDE: a CTest -E regex; GPU_TESTS_SECONDS: stop every test that long from now (CTest's
       # --stop-time), so that a call's time limit ends the suite with its summary written, not mid-log.
@@ -99,12 +101,50 @@ while [ $# -gt 0 ]; do
       # The wall time per step without the profiler, then the kernels' own times (ncu serialises the
       # launches, so only its per-kernel durations are used, never its wall time). --clock-control none
       # leaves the GPU's clocks as they are (the device tool's METHOD.md).
-      build-gpu/perf/race_bench "${args[@]}" --reps 3 | tee "$OUT/profile_t$tile.txt" || status=1
+      # With a base binary carried (pack.sh BASE_BUILD=...), it is profiled the same way after the current one
+      # (files *_base_t*): a step time that changed between the two is then read kernel by kernel.
+      bins=("build-gpu/perf/race_bench:"); if [ -f "$C/race_bench_base.xz" ]; then
+        xz -dc "$C/race_bench_base.xz" > /tmp/race_bench_base && chmod +x /tmp/race_bench_base
+        bins+=("/tmp/race_bench_base:_base"); fi
       ncu=$(command -v ncu || ls /opt/nvidia/nsight-compute/*/ncu 2>/dev/null | head -n 1)
-      "${ncu:-ncu}" --clock-control none --metrics gpu__time_duration.sum --csv --print-units base \
-        build-gpu/perf/race_bench "${args[@]}" --warmup 10 --steps 20 > "$OUT/ncu_t$tile.csv" 2> "$OUT/ncu_t$tile.err" || status=1
-      python3 perf/gpu/kernels.py "$OUT/ncu_t$tile.csv" 30 | tee -a "$OUT/profile_t$tile.txt" ;;
-    *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], base [TILES], ur1 [SECONDS], profile [TILE])" >&2; exit 2 ;;
+      for b in "${bins[@]}"; do
+        bin=${b%%:*} tag=${b#*:}
+        if [ -n "$tag" ]; then sed "s/^/base binary built at commit /" "$C/base_commit.txt"; fi > "$OUT/profile${tag}_t$tile.txt"
+        "$bin" "${args[@]}" --reps 3 | tee -a "$OUT/profile${tag}_t$tile.txt" || status=1
+        "${ncu:-ncu}" --clock-control none --metrics gpu__time_duration.sum --csv --print-units base \
+          "$bin" "${args[@]}" --warmup 10 --steps 20 > "$OUT/ncu${tag}_t$tile.csv" 2> "$OUT/ncu${tag}_t$tile.err" || status=1
+        python3 perf/gpu/kernels.py "$OUT/ncu${tag}_t$tile.csv" 30 | tee -a "$OUT/profile${tag}_t$tile.txt"
+      done ;;
+    memory)  # memory [COUNTS]: the device memory a lab run holds, per sphere (the memory check's 1.5 kB, measured)
+      counts="250000 1000000 4000000"; if [[ "${2:-}" =~ ^[0-9\ ]+$ ]]; then counts=$2; shift; fi
+      # configs/quick.yaml at COUNT spheres, generated, listed and stepped 300 times (--stop-after-steps): the
+      # peak of nvidia-smi's memory.used, sampled every 20 ms, above the idle GPU's. The slope between counts is
+      # the per-sphere figure (the CUDA context and Kokkos's own buffers are the intercept).
+      idle=$(nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits | head -n 1)
+      echo "idle_MiB=$idle" | tee "$OUT/memory.txt"
+      for count in $counts; do
+        sed -e "s/count: 3000/count: $count/" configs/quick.yaml > /tmp/mem_$count.yaml
+        rm -rf /tmp/mem_out
+        nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits -lms 20 > /tmp/mem_$count.txt &
+        smi=$!
+        start=$(date +%s.%N)
+        build-gpu/grainlab run /tmp/mem_$count.yaml --out /tmp/mem_out --stop-after-steps 300 --quiet > /tmp/mem_run.log 2>&1
+        rc=$?
+        end=$(date +%s.%N)
+        kill $smi; wait $smi 2>/dev/null
+        peak=$(sort -n /tmp/mem_$count.txt | tail -n 1)
+        echo "count=$count rc=$rc peak_MiB=$peak above_idle_MiB=$((peak - idle)) wall_s=$(python3 -c "print(round($end - $start, 1))")" | tee -a "$OUT/memory.txt"
+        [ $rc -eq 0 ] || [ $rc -eq 130 ] || { tail -n 5 /tmp/mem_run.log; status=1; }
+      done
+      python3 - "$OUT/memory.txt" <<'PY' | tee -a "$OUT/memory.txt"
+import re, sys
+rows = [(int(m[0]), int(m[1])) for m in re.findall(r"count=(\d+) rc=\d+ peak_MiB=\d+ above_idle_MiB=(-?\d+)", open(sys.argv[1]).read())]
+if len(rows) >= 2:
+    (n0, m0), (n1, m1) = rows[0], rows[-1]
+    print(f"device_bytes_per_sphere={(m1 - m0) * 2**20 / (n1 - n0):.0f} (slope {n0}..{n1}) intercept_MiB={m0 - (m1 - m0) * n0 / (n1 - n0):.0f}")
+PY
+      ;;
+    *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], base [TILES], ur1 [SECONDS], profile [TILE], memory [COUNTS])" >&2; exit 2 ;;
   esac
   shift
 done
