@@ -251,12 +251,29 @@ def fig_oedometric(runs, out):
     finish(fig, ax, ax[0], 8, out, "oedometric")
 
 
+def drained_friction(j, mono, cs, peak):
+    """The drained triaxial compressions (b = 0) of K0 test j's prepared sample (study job "sample") among the study's
+    monotonic shears mono: per test its name, phi'_max at the largest stress ratio (as in the peak table) and phi'_cs
+    at critical state (as in the critical-state table; None where the shear reached none). cs: (window, qp_tol,
+    p_tol, e_tol); peak: peak_settings."""
+    out = []
+    for jd, _, sd in mono:
+        if jd.get("sample") != j.get("sample") or jd["drainage"] != "drained":
+            continue
+        ps = peak_state(sd, peak)
+        if ps["ext"] or ps["b"] > 0 or "M" not in ps:
+            continue
+        c = critical_state(sd, *cs)
+        out.append((jd["name"], ps["phi"], c["phi"] if c is not None and c["ok"] else None))
+    return out
+
+
 def jaky_rows(oed, mono, cs, peak):
     """K0 against Jaky's K0 = 1 - sin phi' of the same sample: for each oedometric test, its first loading stage's K0
-    at the end and tangent K0, beside every drained triaxial compression (b = 0) of the same prepared sample in the
-    study (job "sample"), with that shear's largest mobilised friction angle and its critical-state one (when the
+    at the end and tangent K0, beside every drained triaxial compression of the same prepared sample in the study
+    (drained_friction), with that shear's largest mobilised friction angle and its critical-state one (when the
     shear reached a critical state) and 1 - sin of each; and the phi' for which Jaky's formula gives the tangent K0,
-    asin(1 - K0_t). cs: (window, qp_tol, p_tol, e_tol); peak: peak_settings. [] without such pairs."""
+    asin(1 - K0_t). [] without such pairs."""
     def jaky(phi):
         return None if phi is None else 1 - math.sin(math.radians(phi))
 
@@ -266,17 +283,10 @@ def jaky_rows(oed, mono, cs, peak):
         if not loading:
             continue
         st = loading[0]
-        for jd, _, sd in mono:
-            if jd.get("sample") != j.get("sample") or jd["drainage"] != "drained":
-                continue
-            ps = peak_state(sd, peak)
-            if ps["ext"] or ps["b"] > 0 or "M" not in ps:
-                continue
-            c = critical_state(sd, *cs)
-            phi_cs = c["phi"] if c is not None and c["ok"] else None
-            need = math.degrees(math.asin(1 - st["K0_t"])) if st["K0_t"] is not None and 0 < 1 - st["K0_t"] <= 1 else None
-            rows.append(f"| {j['name']} | {st['name']} | {jd['name']} | {st['K0']:.3f} | {number_text(st['K0_t'], '.3f')} | "
-                        f"{ps['phi']:.1f} | {jaky(ps['phi']):.3f} | {number_text(phi_cs, '.1f')} | "
+        need = math.degrees(math.asin(1 - st["K0_t"])) if st["K0_t"] is not None and 0 < 1 - st["K0_t"] <= 1 else None
+        for name, phi_max, phi_cs in drained_friction(j, mono, cs, peak):
+            rows.append(f"| {j['name']} | {st['name']} | {name} | {st['K0']:.3f} | {number_text(st['K0_t'], '.3f')} | "
+                        f"{phi_max:.1f} | {jaky(phi_max):.3f} | {number_text(phi_cs, '.1f')} | "
                         f"{number_text(jaky(phi_cs), '.3f')} | {number_text(need, '.1f')} |")
     if not rows:
         return []
@@ -288,12 +298,48 @@ def jaky_rows(oed, mono, cs, peak):
             "1 - sin phi'_cs | phi' for the tangent K0 [°] |", "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
+def unloading_rows(oed, mono, cs, peak):
+    """Unloading against Mayne & Kulhawy (1982), K0 = K0,nc OCR^(sin phi'): for each unloading stage of a K0 test that
+    follows a loading stage, OCR = sigma_v,max / sigma_v at its end (sigma_v,max the largest sigma_v of the test's
+    oedometric stages up to its end), K0,nc the K0 at the end of the last loading stage before it, and the exponent
+    alpha = ln(K0 / K0,nc) / ln OCR at its end; beside sin phi'_max and sin phi'_cs of each drained compression of
+    the same sample (drained_friction; none where mono is empty), the exponent of Mayne & Kulhawy's relation.
+    [] without such stages."""
+    def sin(phi):
+        return None if phi is None else math.sin(math.radians(phi))
+
+    rows = []
+    for j, _, s in oed:
+        k0_nc, sv_max = None, 0.0
+        for st in oedometric_stages(s):
+            sv_max = max(sv_max, float(np.max(st["sv"])))
+            if st["loading"]:
+                k0_nc = st["K0"]
+                continue
+            if k0_nc is None or not st["sv"][-1] > 0:
+                continue
+            ocr = sv_max / st["sv"][-1]
+            alpha = math.log(st["K0"] / k0_nc) / math.log(ocr) if ocr > 1 and st["K0"] > 0 and k0_nc > 0 else None
+            cells = f"| {j['name']} | {st['name']} | {ocr:.2f} | {k0_nc:.3f} | {st['K0']:.3f} | {number_text(alpha, '.2f')} |"
+            for name, phi_max, phi_cs in (drained_friction(j, mono, cs, peak) if mono else []) or [("-", None, None)]:
+                rows.append(f"{cells} {name} | {number_text(sin(phi_max), '.3f')} | {number_text(sin(phi_cs), '.3f')} |")
+    if not rows:
+        return []
+    return ["Unloading against Mayne & Kulhawy (1982), K0 = K0,nc OCR^(sin phi'): each unloading stage's OCR = "
+            "sigma_v,max / sigma_v at its end, K0,nc at the end of the loading before it, and the exponent "
+            "alpha = ln(K0 / K0,nc) / ln OCR at its end, beside sin phi'_max and sin phi'_cs of the drained compression "
+            "tests of its sample (as in the table against Jaky; '-' where the study has none).", "",
+            "| K0 test | stage | OCR at end | K0,nc | K0 at end | alpha | drained test | sin phi'_max | sin phi'_cs |",
+            "|---|---|---|---|---|---|---|---|---|", *rows, ""]
+
+
 def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
     """The study report's oedometric tests: per stage of each, sigma_v from its start to its end, K0 at its end, the
     tangent K0 and constrained modulus M over its second half (oedometric_stages), and e at its end; with the figure
     (figures/oedometric.png). Tests that differ only in their seed: each stage's K0, tangent K0 and M as mean ± sd
     [95 % half-width] over the seeds. With the study's monotonic shears (mono, and cs, peak as jaky_rows takes them):
-    K0 against Jaky's estimate from the drained compression tests of the same samples."""
+    K0 against Jaky's estimate from the drained compression tests of the same samples. Unloading stages against
+    Mayne & Kulhawy's OCR relation (unloading_rows), with those tests' angles where the study has them."""
     rows, groups = [], {}
     for j, d, s in oed:
         for st in oedometric_stages(s):
@@ -319,10 +365,11 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
             "sigma_y) / 2 of the walls; K0 = sigma_h / sigma_v at the stage's end, and over the second half of its axial "
             "strain the tangent d sigma_h / d sigma_v (the K0 of the normally consolidated line, on loading) and the "
             "constrained modulus M = d sigma_v / d eps_a (least squares). Jaky's K0 = 1 - sin phi' is the usual "
-            "reference for loading. Figure: `figures/oedometric.png`.", "",
+            "reference for loading, Mayne & Kulhawy's K0 = K0,nc OCR^(sin phi') for unloading. Figure: "
+            "`figures/oedometric.png`.", "",
             "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | e at end |",
             "|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows,
-            *(jaky_rows(oed, mono, cs, peak) if mono else [])]
+            *(jaky_rows(oed, mono, cs, peak) if mono else []), *unloading_rows(oed, mono, cs, peak)]
 
 
 def fig_cyclic(runs, out):

@@ -15,7 +15,10 @@ grainlab plot's figure of it, on synthetic K0 tests whose wall stresses lie on k
   stress ratio peaks at M = 0.75 (10 %) and is steady at 0.60 from 30 % to 40 % (a critical state): phi'_max =
   asin(3 x 0.75 / 6.75) = 19.47°, 1 - sin = 0.667; phi'_cs = asin(1.8 / 6.6) = 15.83°, 1 - sin = 0.727; the tangent
   K0 0.450 needs phi' = asin(0.55) = 33.4°. A drained compression of another sample, a drained extension and an
-  undrained compression of the same sample are left out of the comparison."""
+  undrained compression of the same sample are left out of the comparison.
+- Against Mayne & Kulhawy (unloading_rows): each unloading stage's OCR 500 / 300 = 1.67, K0,nc (the loading's end) and
+  K0 at its end give alpha = ln(K0 / K0,nc) / ln OCR (0.70 and 0.74), with '-' for the angles in the first study and
+  sin phi'_max = 0.333, sin phi'_cs = 0.273 of the same drained compression in the second."""
 import csv
 import json
 import math
@@ -76,6 +79,11 @@ want = ["| shear_oedometric_s1_n300 | 0 | load | loading | 100.0 → 500.0 | 0.5
         f"{spread(20, 20, 1)} |",
         f"| shear_oedometric_s*_n300 | unload | 2 (1, 2) | {spread(0.8, 280 / 300, 3)} | {spread(0.2, 0.2, 3)} | "
         f"{spread(40, 40, 1)} |"]
+# Against Mayne & Kulhawy (unloading_rows): unloaded from sigma_v,max = 500 to 300 kPa, OCR 5/3, from K0,nc = 280 / 500
+# (seed 1) and 320 / 500 (seed 2) to 240 / 300 and 280 / 300; no drained test in this study.
+for seed, k_nc, k_end in ((1, 0.56, 0.8), (2, 0.64, 280 / 300)):
+    want.append(f"| shear_oedometric_s{seed}_n300 | unload | 1.67 | {k_nc:.3f} | {k_end:.3f} | "
+                f"{math.log(k_end / k_nc) / math.log(5 / 3):.2f} | - | - | - |")
 rows = [line for line in sec.splitlines() if line.startswith("| shear_")]
 if rows != want:
     fails.append("rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
@@ -145,6 +153,12 @@ if rows != want:
     fails.append("Jaky rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
 if "phi' for the tangent K0" not in sec:
     fails.append("no Jaky table header")
+# The unloading stage beside the same drained compression: sin phi'_max = 2.25 / 6.75, sin phi'_cs = 1.8 / 6.6.
+want = [f"| shear_oedometric_s1_n300 | unload | 1.67 | 0.560 | 0.800 | {math.log(0.8 / 0.56) / math.log(5 / 3):.2f} | "
+        f"shear_drained_s1_n300_to0.4 | {2.25 / 6.75:.3f} | {1.8 / 6.6:.3f} |"]
+rows = [line for line in sec.splitlines() if line.startswith("| shear_oedometric") and "| unload | 1.67 |" in line]
+if rows != want:
+    fails.append("Mayne-Kulhawy rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
 if fails:
     sys.exit("\n".join(fails))
 print("oedometric ok")
