@@ -206,8 +206,8 @@ def fig_forcechains(run, out):
 def oedometric_stages(s):
     """The oedometric stages of a run's series (stage_type 5: lateral walls held, zero lateral strain), in order: per
     stage its name, whether it loads (compression) or unloads (extension), and its rows' sigma_v = sigma_z and sigma_h =
-    (sigma_x + sigma_y) / 2 of the walls, eps_a from the stage's start and e; with K0 = sigma_h / sigma_v at its end
-    and, over the second half of its axial strain (past the turn from the isotropic or loaded state), the tangent
+    (sigma_x + sigma_y) / 2 of the walls, eps_a from the stage's start and e; with K0 = sigma_h / sigma_v at its end,
+    OCR = the largest sigma_v of the run's rows up to there over sigma_v at its end (summary.json's), and, over the second half of its axial strain (past the turn from the isotropic or loaded state), the tangent
     K0 = d sigma_h / d sigma_v and the constrained modulus M = d sigma_v / d eps_a (least squares)."""
     out = []
     m = s.get("oedometric")
@@ -219,8 +219,10 @@ def oedometric_stages(s):
         ea, e = s["eps_a"][r], s["e"][r]
         span = ea[-1] - ea[0]
         late = np.abs(ea - ea[0]) >= 0.5 * abs(span)
+        # OCR as summary.json's: the largest sigma_v of the run's rows up to the stage's last over that row's
+        end = int(np.nonzero(r)[0][-1])
         st = {"name": name, "loading": span > 0, "sv": sv, "sh": sh, "eps_a": ea, "e": e, "K0": sh[-1] / sv[-1],
-              "K0_t": None, "M": None}
+              "OCR": float(np.nanmax(s["sigma_z"][:end + 1]) / sv[-1]) if sv[-1] > 0 else None, "K0_t": None, "M": None}
         if late.sum() >= 2 and np.ptp(sv[late]) > 0 and np.ptp(ea[late]) > 0:
             st["K0_t"] = float(np.polyfit(sv[late], sh[late], 1)[0])
             st["M"] = float(np.polyfit(ea[late], sv[late], 1)[0])
@@ -300,8 +302,8 @@ def jaky_rows(oed, mono, cs, peak):
 
 def unloading_rows(oed, mono, cs, peak):
     """Unloading against Mayne & Kulhawy (1982), K0 = K0,nc OCR^(sin phi'): for each unloading stage of a K0 test that
-    follows a loading stage, OCR = sigma_v,max / sigma_v at its end (sigma_v,max the largest sigma_v of the test's
-    oedometric stages up to its end), K0,nc the K0 at the end of the last loading stage before it, and the exponent
+    follows a loading stage, its OCR (oedometric_stages: the largest sigma_v of the run up to its end over sigma_v
+    there), K0,nc the K0 at the end of the last loading stage before it, and the exponent
     alpha = ln(K0 / K0,nc) / ln OCR at its end; beside sin phi'_max and sin phi'_cs of each drained compression of
     the same sample (drained_friction; none where mono is empty), the exponent of Mayne & Kulhawy's relation.
     [] without such stages."""
@@ -310,15 +312,14 @@ def unloading_rows(oed, mono, cs, peak):
 
     rows = []
     for j, _, s in oed:
-        k0_nc, sv_max = None, 0.0
+        k0_nc = None
         for st in oedometric_stages(s):
-            sv_max = max(sv_max, float(np.max(st["sv"])))
             if st["loading"]:
                 k0_nc = st["K0"]
                 continue
-            if k0_nc is None or not st["sv"][-1] > 0:
+            if k0_nc is None or st["OCR"] is None:
                 continue
-            ocr = sv_max / st["sv"][-1]
+            ocr = st["OCR"]
             alpha = math.log(st["K0"] / k0_nc) / math.log(ocr) if ocr > 1 and st["K0"] > 0 and k0_nc > 0 else None
             cells = f"| {j['name']} | {st['name']} | {ocr:.2f} | {k0_nc:.3f} | {st['K0']:.3f} | {number_text(alpha, '.2f')} |"
             for name, phi_max, phi_cs in (drained_friction(j, mono, cs, peak) if mono else []) or [("-", None, None)]:

@@ -387,6 +387,7 @@ class Laboratory {
   Real servo_error(const StageConfig& sc, const Measure& m) const;
   Real stage_servo_error(const StageConfig& sc) const;
   Real stage_k0(size_t k) const;
+  Real stage_ocr(size_t k) const;
   void check_servo(const StageConfig& sc, const Measure& m);
   Real inner_void_ratio() const;
   Real core_void_ratio() const;
@@ -1373,6 +1374,19 @@ Real Laboratory::stage_k0(size_t k) const {
   return std::numeric_limits<Real>::quiet_NaN();
 }
 
+// The overconsolidation ratio at the end of stage k, OCR = sigma_v,max / sigma_v: the largest sigma_z of the series rows
+// of stages 0..k over that of stage k's last row (1 where the stage ends at the largest vertical stress so far; the
+// study report's unloading rows read the same rows); NaN without a row.
+Real Laboratory::stage_ocr(size_t k) const {
+  const size_t iz = series_column("sigma_z");
+  Real top = 0, last = std::numeric_limits<Real>::quiet_NaN();
+  for (size_t r = 0; r < lab_.series.rows.size() && lab_.series.stage[r] <= int(k); ++r) {
+    top = std::max(top, lab_.series.rows[r][iz]);
+    if (lab_.series.stage[r] == int(k)) last = lab_.series.rows[r][iz];
+  }
+  return last > 0 ? top / last : std::numeric_limits<Real>::quiet_NaN();
+}
+
 // Every series row of a drained shear: a lateral wall stress further than max_servo_error from its target stops
 // the run (StageConfig::max_servo_error), with the row that found it written.
 void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
@@ -1630,7 +1644,8 @@ void Laboratory::write_summary() const {
          << num(sc.liquefaction_da_strain) << ", \"n_da\": " << met(r.n_da);
     }
     if (lateral_servo(sc)) js << ", \"servo_error\": " << num(r.servo_error);
-    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Oedometric) js << ", \"K0\": " << num(stage_k0(k));
+    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Oedometric)
+      js << ", \"K0\": " << num(stage_k0(k)) << ", \"OCR\": " << num(stage_ocr(k));
     if (sc.type == StageType::Cyclic) js << ", \"quarter_cycle_transits\": " << num(r.quarter_transits);
     if (sc.type == StageType::Isotropic) js << ", \"e_inner\": " << num(r.e_inner) << ", \"e_core\": " << num(r.e_core);
     js << "}";

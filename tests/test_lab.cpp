@@ -4,6 +4,7 @@
 #include <hdf5.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -934,6 +935,11 @@ TEST(Lab, OedometricStageHoldsTheLateralWallsAndGivesK0) {
   EXPECT_EQ(sum["stages"][0]["drainage"].as<std::string>(), "oedometric");
   EXPECT_NEAR(sum["stages"][0]["K0"].as<double>(), k0_load, 1e-12 * k0_load);
   EXPECT_NEAR(sum["stages"][1]["K0"].as<double>(), k0_unload, 1e-12 * k0_unload);
+  // OCR = the largest sigma_v of the rows so far over the stage's last: ~1 after loading, > 1 unloaded.
+  const double top_load = *std::max_element(sz.begin(), sz.begin() + turn + 1), top = *std::max_element(sz.begin(), sz.end());
+  EXPECT_NEAR(sum["stages"][0]["OCR"].as<double>(), top_load / sz[turn], 1e-12);
+  EXPECT_NEAR(sum["stages"][1]["OCR"].as<double>(), top / sz.back(), 1e-12 * top / sz.back());
+  EXPECT_GT(top / sz.back(), 1.2);
   EXPECT_NE(slurp(out + "/config.yaml").find("drainage: oedometric"), std::string::npos);
   const std::string stopped = tmpdir("oed_stopped");
   ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps / 2).interrupted);
