@@ -274,8 +274,9 @@ def jaky_rows(oed, mono, cs, peak):
     """K0 against Jaky's K0 = 1 - sin phi' of the same sample: for each oedometric test, its first loading stage's K0
     at the end and tangent K0, beside every drained triaxial compression of the same prepared sample in the study
     (drained_friction), with that shear's largest mobilised friction angle and its critical-state one (when the
-    shear reached a critical state) and 1 - sin of each; and the phi' for which Jaky's formula gives the tangent K0,
-    asin(1 - K0_t). [] without such pairs."""
+    shear reached a critical state) and 1 - sin of each; the phi' for which Jaky's formula gives the tangent K0,
+    asin(1 - K0_t); and the friction angle the K0 line mobilises, asin((1 - K0_t) / (1 + K0_t)). [] without such
+    pairs."""
     def jaky(phi):
         return None if phi is None else 1 - math.sin(math.radians(phi))
 
@@ -285,19 +286,24 @@ def jaky_rows(oed, mono, cs, peak):
         if not loading:
             continue
         st = loading[0]
-        need = math.degrees(math.asin(1 - st["K0_t"])) if st["K0_t"] is not None and 0 < 1 - st["K0_t"] <= 1 else None
+        k = st["K0_t"]
+        need = math.degrees(math.asin(1 - k)) if k is not None and 0 < 1 - k <= 1 else None
+        mob = math.degrees(math.asin((1 - k) / (1 + k))) if k is not None and 0 < k <= 1 else None
         for name, phi_max, phi_cs in drained_friction(j, mono, cs, peak):
-            rows.append(f"| {j['name']} | {st['name']} | {name} | {st['K0']:.3f} | {number_text(st['K0_t'], '.3f')} | "
+            rows.append(f"| {j['name']} | {st['name']} | {name} | {st['K0']:.3f} | {number_text(k, '.3f')} | "
                         f"{phi_max:.1f} | {jaky(phi_max):.3f} | {number_text(phi_cs, '.1f')} | "
-                        f"{number_text(jaky(phi_cs), '.3f')} | {number_text(need, '.1f')} |")
+                        f"{number_text(jaky(phi_cs), '.3f')} | {number_text(need, '.1f')} | {number_text(mob, '.1f')} |")
     if not rows:
         return []
     return ["Against Jaky's K0 = 1 - sin phi' of the same sample: each K0 test's first loading stage beside the drained "
             "compression tests of its sample (phi'_max at the largest stress ratio, as in the peak table; phi'_cs at "
-            "critical state, as in the critical-state table, where the shear reached one), and the phi' that Jaky's "
-            "formula would need to give the tangent K0, asin(1 - tangent K0).", "",
+            "critical state, as in the critical-state table, where the shear reached one), the phi' that Jaky's "
+            "formula would need to give the tangent K0, asin(1 - tangent K0), and the friction angle the loading "
+            "mobilises, asin((1 - K0) / (1 + K0)) of the tangent K0 (the K0 line's stress ratio sigma_1 / sigma_3 = "
+            "1 / K0, read as a Mohr-Coulomb angle), to set beside phi'_max and phi'_cs.", "",
             "| K0 test | stage | drained test | K0 at end | tangent K0 | phi'_max [°] | 1 - sin phi'_max | phi'_cs [°] | "
-            "1 - sin phi'_cs | phi' for the tangent K0 [°] |", "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+            "1 - sin phi'_cs | phi' for the tangent K0 [°] | phi' mobilised on the tangent [°] |",
+            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def unloading_rows(oed, mono, cs, peak):

@@ -14,7 +14,7 @@ grainlab plot's figure of it, on synthetic K0 tests whose wall stresses lie on k
 - Against Jaky (jaky_rows), a second study: the seed-1 K0 test beside a drained compression of its sample whose
   stress ratio peaks at M = 0.75 (10 %) and is steady at 0.60 from 30 % to 40 % (a critical state): phi'_max =
   asin(3 x 0.75 / 6.75) = 19.47°, 1 - sin = 0.667; phi'_cs = asin(1.8 / 6.6) = 15.83°, 1 - sin = 0.727; the tangent
-  K0 0.450 needs phi' = asin(0.55) = 33.4°. A drained compression of another sample, a drained extension and an
+  K0 0.450 needs phi' = asin(0.55) = 33.4° and mobilises asin(0.55 / 1.45) = 22.3°. A drained compression of another sample, a drained extension and an
   undrained compression of the same sample are left out of the comparison.
 - Against Mayne & Kulhawy (unloading_rows): each unloading stage's OCR 500 / 300 = 1.67, K0,nc (the loading's end) and
   K0 at its end give alpha = ln(K0 / K0,nc) / ln OCR (0.70 and 0.74), with '-' for the angles in the first study and
@@ -147,7 +147,7 @@ sec = text.split("## Oedometric (K0) tests")[1].split("\n## ")[0] if "## Oedomet
 phi_max, phi_cs = math.degrees(math.asin(2.25 / 6.75)), math.degrees(math.asin(1.8 / 6.6))
 want = [f"| shear_oedometric_s1_n300 | load | shear_drained_s1_n300_to0.4 | 0.560 | 0.450 | {phi_max:.1f} | "
         f"{1 - math.sin(math.radians(phi_max)):.3f} | {phi_cs:.1f} | {1 - math.sin(math.radians(phi_cs)):.3f} | "
-        f"{math.degrees(math.asin(0.55)):.1f} |"]
+        f"{math.degrees(math.asin(0.55)):.1f} | {math.degrees(math.asin(0.55 / 1.45)):.1f} |"]
 rows = [line for line in sec.splitlines() if line.startswith("| shear_oedometric") and "| load | shear_" in line]
 if rows != want:
     fails.append("Jaky rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
