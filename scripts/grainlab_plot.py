@@ -207,8 +207,11 @@ def oedometric_stages(s):
     """The oedometric stages of a run's series (stage_type 5: lateral walls held, zero lateral strain), in order: per
     stage its name, whether it loads (compression) or unloads (extension), and its rows' sigma_v = sigma_z and sigma_h =
     (sigma_x + sigma_y) / 2 of the walls, eps_a from the stage's start and e; with K0 = sigma_h / sigma_v at its end,
-    OCR = the largest sigma_v of the run's rows up to there over sigma_v at its end (summary.json's), and, over the second half of its axial strain (past the turn from the isotropic or loaded state), the tangent
-    K0 = d sigma_h / d sigma_v and the constrained modulus M = d sigma_v / d eps_a (least squares)."""
+    OCR = the largest sigma_v of the run's rows up to there over sigma_v at its end (summary.json's), and, over the
+    second half of its axial strain (past the turn from the isotropic or loaded state), the tangent
+    K0 = d sigma_h / d sigma_v, the constrained modulus M = d sigma_v / d eps_a and the oedometer's index
+    C = -de / d log10 sigma_v (least squares): the compression index Cc on loading, the swelling index Cs on
+    unloading."""
     out = []
     m = s.get("oedometric")
     if m is None or not m.any():
@@ -222,10 +225,13 @@ def oedometric_stages(s):
         # OCR as summary.json's: the largest sigma_v of the run's rows up to the stage's last over that row's
         end = int(np.nonzero(r)[0][-1])
         st = {"name": name, "loading": span > 0, "sv": sv, "sh": sh, "eps_a": ea, "e": e, "K0": sh[-1] / sv[-1],
-              "OCR": float(np.nanmax(s["sigma_z"][:end + 1]) / sv[-1]) if sv[-1] > 0 else None, "K0_t": None, "M": None}
+              "OCR": float(np.nanmax(s["sigma_z"][:end + 1]) / sv[-1]) if sv[-1] > 0 else None, "K0_t": None, "M": None,
+              "C": None}
         if late.sum() >= 2 and np.ptp(sv[late]) > 0 and np.ptp(ea[late]) > 0:
             st["K0_t"] = float(np.polyfit(sv[late], sh[late], 1)[0])
             st["M"] = float(np.polyfit(ea[late], sv[late], 1)[0])
+            if np.all(sv[late] > 0):
+                st["C"] = -float(np.polyfit(np.log10(sv[late]), e[late], 1)[0])
         out.append(st)
     return out
 
@@ -354,7 +360,7 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
             rows.append(f"| {j['name']} | {j['mu_r']:g} | {st['name']} | {'loading' if st['loading'] else 'unloading'} | "
                         f"{st['sv'][0] / 1e3:.1f} → {st['sv'][-1] / 1e3:.1f} | {st['K0']:.3f} | "
                         f"{number_text(st['K0_t'], '.3f')} | {number_text(None if st['M'] is None else st['M'] / 1e6, '.1f')} | "
-                        f"{st['e'][-1]:.4f} |")
+                        f"{number_text(st['C'], '.4f')} | {st['e'][-1]:.4f} |")
     fig_oedometric([(d, s) for _, d, s in oed], figs)
     seeds_rows = []
     for (name, stage), g in sorted(groups.items()):
@@ -363,19 +369,21 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
         g = sorted(g, key=lambda t: t[0])
         seeds_rows.append(f"| {name} | {stage} | {len(g)} ({', '.join(str(seed) for seed, _ in g)}) | "
                           f"{seed_spread([st['K0'] for _, st in g], 3)} | {seed_spread([st['K0_t'] for _, st in g], 3)} | "
-                          f"{seed_spread([None if st['M'] is None else st['M'] / 1e6 for _, st in g], 1)} |")
+                          f"{seed_spread([None if st['M'] is None else st['M'] / 1e6 for _, st in g], 1)} | "
+                          f"{seed_spread([st['C'] for _, st in g], 4)} |")
     if seeds_rows:
-        seeds_rows = ["| tests (all seeds) | stage | seeds | K0 at end | tangent K0 | M [MPa] |", "|---|---|---|---|---|---|",
-                      *seeds_rows, ""]
+        seeds_rows = ["| tests (all seeds) | stage | seeds | K0 at end | tangent K0 | M [MPa] | Cc / Cs |",
+                      "|---|---|---|---|---|---|---|", *seeds_rows, ""]
     return ["## Oedometric (K0) tests", "",
             "Lateral walls held (zero lateral strain), axial walls moving: sigma_v = sigma_z and sigma_h = (sigma_x + "
             "sigma_y) / 2 of the walls; K0 = sigma_h / sigma_v at the stage's end, and over the second half of its axial "
-            "strain the tangent d sigma_h / d sigma_v (the K0 of the normally consolidated line, on loading) and the "
-            "constrained modulus M = d sigma_v / d eps_a (least squares). Jaky's K0 = 1 - sin phi' is the usual "
+            "strain the tangent d sigma_h / d sigma_v (the K0 of the normally consolidated line, on loading), the "
+            "constrained modulus M = d sigma_v / d eps_a and the index -de / d log10 sigma_v of the e - log sigma_v "
+            "curve, the compression index Cc on loading and the swelling index Cs on unloading (least squares). Jaky's K0 = 1 - sin phi' is the usual "
             "reference for loading, Mayne & Kulhawy's K0 = K0,nc OCR^(sin phi') for unloading. Figure: "
             "`figures/oedometric.png`.", "",
-            "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | e at end |",
-            "|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows,
+            "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | Cc / Cs | e at end |",
+            "|---|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows,
             *(jaky_rows(oed, mono, cs, peak) if mono else []), *unloading_rows(oed, mono, cs, peak)]
 
 

@@ -5,7 +5,9 @@ grainlab plot's figure of it, on synthetic K0 tests whose wall stresses lie on k
   (sigma_v - 100 kPa) (sigma_x = sigma_h + 1 kPa, sigma_y = sigma_h - 1 kPa: their mean is sigma_h). Row: sigma_v
   100.0 -> 500.0, K0 at the end 280 / 500 = 0.560, tangent K0 0.450, M 20.0 MPa.
   Stage `unload` (eps_a 0 -> -0.5 %): sigma_v = 500 kPa + 40 MPa eps_a, sigma_h = 280 kPa + 0.2 (sigma_v - 500 kPa):
-  unloading, 500.0 -> 300.0, K0 240 / 300 = 0.800, tangent 0.200, M 40.0 MPa.
+  unloading, 500.0 -> 300.0, K0 240 / 300 = 0.800, tangent 0.200, M 40.0 MPa. The void ratio lies on straight lines
+  in e - log10 sigma_v through e = 0.665 at 500 kPa: Cc = 0.05 on loading (e 0.6650 at its end), Cs = 0.01 on
+  unloading (e 0.6672 at its end).
 - Seed 2, the same test with a loading slope of 0.55: K0 320 / 500 = 0.640 at the end of loading; unloading from
   320 kPa, K0 280 / 300 = 0.933. Both seeds together: each stage's K0, tangent and M as mean ± sd [95 %, t = 12.706],
   worked out here.
@@ -33,6 +35,7 @@ work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/oedometric_check"
 shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "sigma_x", "sigma_y", "sigma_z",
         "inertial_number"]
+CC, CS, E_TOP = 0.05, 0.01, 0.665  # the e - log10 sigma_v lines: Cc on loading, Cs on unloading, e at 500 kPa
 
 
 def k0_test(seed, k_load):
@@ -53,7 +56,8 @@ def k0_test(seed, k_load):
         for step, (stage, ea, sv) in enumerate(rows):
             sh = 1e5 + k_load * (sv - 1e5) if stage == "load" else sh_top + 0.2 * (sv - 5e5)
             p, q = (sv + 2 * sh) / 3, sv - sh
-            w.writerow([stage, step, step, ea, p, q, q / p, 0.7 - ea, 0, 5, sh + 1e3, sh - 1e3, sv, 1e-4])
+            e = E_TOP + (CC if stage == "load" else CS) * math.log10(5e5 / sv)  # straight in e - log10 sigma_v
+            w.writerow([stage, step, step, ea, p, q, q / p, e, 0, 5, sh + 1e3, sh - 1e3, sv, 1e-4])
     return run, {"name": name, "dir": f"jobs/{name}/run", "sample": f"sample_s{seed}_n300", "mu_r": 0, "e0": 0,
                  "p0": 0, "drainage": "oedometric", "direction": "compression", "b": 0, "seed": seed, "count": 300,
                  "csr": 0, "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": ""}
@@ -71,14 +75,15 @@ def spread(a, b, digits):
     return f"{m:.{digits}f} ± {sd:.{digits}f} [{12.706 * sd / math.sqrt(2):.{digits}f}]"
 
 
-want = ["| shear_oedometric_s1_n300 | 0 | load | loading | 100.0 → 500.0 | 0.560 | 0.450 | 20.0 | 0.6800 |",
-        "| shear_oedometric_s1_n300 | 0 | unload | unloading | 500.0 → 300.0 | 0.800 | 0.200 | 40.0 | 0.7050 |",
-        "| shear_oedometric_s2_n300 | 0 | load | loading | 100.0 → 500.0 | 0.640 | 0.550 | 20.0 | 0.6800 |",
-        "| shear_oedometric_s2_n300 | 0 | unload | unloading | 500.0 → 300.0 | 0.933 | 0.200 | 40.0 | 0.7050 |",
+e_end = f"{E_TOP + CS * math.log10(5 / 3):.4f}"  # 0.6672
+want = ["| shear_oedometric_s1_n300 | 0 | load | loading | 100.0 → 500.0 | 0.560 | 0.450 | 20.0 | 0.0500 | 0.6650 |",
+        f"| shear_oedometric_s1_n300 | 0 | unload | unloading | 500.0 → 300.0 | 0.800 | 0.200 | 40.0 | 0.0100 | {e_end} |",
+        "| shear_oedometric_s2_n300 | 0 | load | loading | 100.0 → 500.0 | 0.640 | 0.550 | 20.0 | 0.0500 | 0.6650 |",
+        f"| shear_oedometric_s2_n300 | 0 | unload | unloading | 500.0 → 300.0 | 0.933 | 0.200 | 40.0 | 0.0100 | {e_end} |",
         f"| shear_oedometric_s*_n300 | load | 2 (1, 2) | {spread(0.56, 0.64, 3)} | {spread(0.45, 0.55, 3)} | "
-        f"{spread(20, 20, 1)} |",
+        f"{spread(20, 20, 1)} | {spread(CC, CC, 4)} |",
         f"| shear_oedometric_s*_n300 | unload | 2 (1, 2) | {spread(0.8, 280 / 300, 3)} | {spread(0.2, 0.2, 3)} | "
-        f"{spread(40, 40, 1)} |"]
+        f"{spread(40, 40, 1)} | {spread(CS, CS, 4)} |"]
 # Against Mayne & Kulhawy (unloading_rows): unloaded from sigma_v,max = 500 to 300 kPa, OCR 5/3, from K0,nc = 280 / 500
 # (seed 1) and 320 / 500 (seed 2) to 240 / 300 and 280 / 300; no drained test in this study.
 for seed, k_nc, k_end in ((1, 0.56, 0.8), (2, 0.64, 280 / 300)):
