@@ -333,7 +333,8 @@ def unloading_rows(oed, mono, cs, peak):
                 continue
             ocr = st["OCR"]
             alpha = math.log(st["K0"] / k0_nc) / math.log(ocr) if ocr > 1 and st["K0"] > 0 and k0_nc > 0 else None
-            cells = f"| {j['name']} | {st['name']} | {ocr:.2f} | {k0_nc:.3f} | {st['K0']:.3f} | {number_text(alpha, '.2f')} |"
+            cells = (f"| {j['name']} | {st['name']} | {ocr:.2f} | {k0_nc:.3f} | {st['K0']:.3f} | "
+                     f"{number_text(alpha, '.2f')} |")
             for name, phi_max, phi_cs in (drained_friction(j, mono, cs, peak) if mono else []) or [("-", None, None)]:
                 rows.append(f"{cells} {name} | {number_text(sin(phi_max), '.3f')} | {number_text(sin(phi_cs), '.3f')} |")
     if not rows:
@@ -348,11 +349,11 @@ def unloading_rows(oed, mono, cs, peak):
 
 def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
     """The study report's oedometric tests: per stage of each, sigma_v from its start to its end, K0 at its end, the
-    tangent K0 and constrained modulus M over its second half (oedometric_stages), and e at its end; with the figure
-    (figures/oedometric.png). Tests that differ only in their seed: each stage's K0, tangent K0 and M as mean ± sd
-    [95 % half-width] over the seeds. With the study's monotonic shears (mono, and cs, peak as jaky_rows takes them):
-    K0 against Jaky's estimate from the drained compression tests of the same samples. Unloading stages against
-    Mayne & Kulhawy's OCR relation (unloading_rows), with those tests' angles where the study has them."""
+    tangent K0, constrained modulus M and Cc / Cs over its second half (oedometric_stages), and e at its end; with the
+    figure (figures/oedometric.png). Tests that differ only in their seed: each stage's K0, tangent K0, M and Cc / Cs
+    as mean ± sd [95 % half-width] over the seeds. With the study's monotonic shears (mono, and cs, peak as jaky_rows
+    takes them): K0 against Jaky's estimate from the drained compression tests of the same samples. Unloading stages
+    against Mayne & Kulhawy's OCR relation (unloading_rows), with those tests' angles where the study has them."""
     rows, groups = [], {}
     for j, d, s in oed:
         for st in oedometric_stages(s):
@@ -379,9 +380,9 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
             "sigma_y) / 2 of the walls; K0 = sigma_h / sigma_v at the stage's end, and over the second half of its axial "
             "strain the tangent d sigma_h / d sigma_v (the K0 of the normally consolidated line, on loading), the "
             "constrained modulus M = d sigma_v / d eps_a and the index -de / d log10 sigma_v of the e - log sigma_v "
-            "curve, the compression index Cc on loading and the swelling index Cs on unloading (least squares). Jaky's K0 = 1 - sin phi' is the usual "
-            "reference for loading, Mayne & Kulhawy's K0 = K0,nc OCR^(sin phi') for unloading. Figure: "
-            "`figures/oedometric.png`.", "",
+            "curve, the compression index Cc on loading and the swelling index Cs on unloading (least squares). "
+            "Jaky's K0 = 1 - sin phi' is the usual reference for loading, Mayne & Kulhawy's K0 = K0,nc OCR^(sin phi') "
+            "for unloading. Figure: `figures/oedometric.png`.", "",
             "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | Cc / Cs | e at end |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows,
             *(jaky_rows(oed, mono, cs, peak) if mono else []), *unloading_rows(oed, mono, cs, peak)]

@@ -16,8 +16,8 @@ grainlab plot's figure of it, on synthetic K0 tests whose wall stresses lie on k
 - Against Jaky (jaky_rows), a second study: the seed-1 K0 test beside a drained compression of its sample whose
   stress ratio peaks at M = 0.75 (10 %) and is steady at 0.60 from 30 % to 40 % (a critical state): phi'_max =
   asin(3 x 0.75 / 6.75) = 19.47°, 1 - sin = 0.667; phi'_cs = asin(1.8 / 6.6) = 15.83°, 1 - sin = 0.727; the tangent
-  K0 0.450 needs phi' = asin(0.55) = 33.4° and mobilises asin(0.55 / 1.45) = 22.3°. A drained compression of another sample, a drained extension and an
-  undrained compression of the same sample are left out of the comparison.
+  K0 0.450 needs phi' = asin(0.55) = 33.4° and mobilises asin(0.55 / 1.45) = 22.3°. A drained compression of another
+  sample, a drained extension and an undrained compression of the same sample are left out of the comparison.
 - Against Mayne & Kulhawy (unloading_rows): each unloading stage's OCR 500 / 300 = 1.67, K0,nc (the loading's end) and
   K0 at its end give alpha = ln(K0 / K0,nc) / ln OCR (0.70 and 0.74), with '-' for the angles in the first study and
   sin phi'_max = 0.333, sin phi'_cs = 0.273 of the same drained compression in the second."""

@@ -936,7 +936,8 @@ TEST(Lab, OedometricStageHoldsTheLateralWallsAndGivesK0) {
   EXPECT_NEAR(sum["stages"][0]["K0"].as<double>(), k0_load, 1e-12 * k0_load);
   EXPECT_NEAR(sum["stages"][1]["K0"].as<double>(), k0_unload, 1e-12 * k0_unload);
   // OCR = the largest sigma_v of the rows so far over the stage's last: ~1 after loading, > 1 unloaded.
-  const double top_load = *std::max_element(sz.begin(), sz.begin() + turn + 1), top = *std::max_element(sz.begin(), sz.end());
+  const double top_load = *std::max_element(sz.begin(), sz.begin() + turn + 1);
+  const double top = *std::max_element(sz.begin(), sz.end());
   EXPECT_NEAR(sum["stages"][0]["OCR"].as<double>(), top_load / sz[turn], 1e-12);
   EXPECT_NEAR(sum["stages"][1]["OCR"].as<double>(), top / sz.back(), 1e-12 * top / sz.back());
   EXPECT_GT(top / sz.back(), 1.2);
