@@ -211,7 +211,8 @@ def oedometric_stages(s):
     second half of its axial strain (past the turn from the isotropic or loaded state), the tangent
     K0 = d sigma_h / d sigma_v, the constrained modulus M = d sigma_v / d eps_a and the oedometer's index
     C = -de / d log10 sigma_v (least squares): the compression index Cc on loading, the swelling index Cs on
-    unloading."""
+    unloading; "fabric": the last row's anisotropies a_c, a_d, a_n, a_t, contact q/p' and stress-force-fabric sum
+    (those of the columns the series has)."""
     out = []
     m = s.get("oedometric")
     if m is None or not m.any():
@@ -226,7 +227,8 @@ def oedometric_stages(s):
         end = int(np.nonzero(r)[0][-1])
         st = {"name": name, "loading": span > 0, "sv": sv, "sh": sh, "eps_a": ea, "e": e, "K0": sh[-1] / sv[-1],
               "OCR": float(np.nanmax(s["sigma_z"][:end + 1]) / sv[-1]) if sv[-1] > 0 else None, "K0_t": None, "M": None,
-              "C": None}
+              "C": None, "fabric": {k: float(s[k][r][-1]) for k in ("a_c", "a_d", "a_n", "a_t", "q_p", "sff")
+                                    if k in s}}
         if late.sum() >= 2 and np.ptp(sv[late]) > 0 and np.ptp(ea[late]) > 0:
             st["K0_t"] = float(np.polyfit(sv[late], sh[late], 1)[0])
             st["M"] = float(np.polyfit(ea[late], sv[late], 1)[0])
@@ -375,6 +377,14 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
     if seeds_rows:
         seeds_rows = ["| tests (all seeds) | stage | seeds | K0 at end | tangent K0 | M [MPa] | Cc / Cs |",
                       "|---|---|---|---|---|---|---|", *seeds_rows, ""]
+    keys = ("a_c", "a_d", "a_n", "a_t", "q_p", "sff")
+    fabric_rows = [f"| {j['name']} | {st['name']} | " + " | ".join(f"{st['fabric'][k]:.3f}" for k in keys) + " |"
+                   for j, _, s in oed for st in oedometric_stages(s) if all(k in st["fabric"] for k in keys)]
+    if fabric_rows:
+        fabric_rows = ["What carries the K0 stress ratio, at each stage's end (SPEC §7, signed anisotropies of the whole "
+                       "network; q/p' of the contacts' stress): q/p' ≈ 2/5 (a_c + a_d + a_n + 3/2 a_t).", "",
+                       "| test | stage | a_c | a_d | a_n | a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|",
+                       *fabric_rows, ""]
     return ["## Oedometric (K0) tests", "",
             "Lateral walls held (zero lateral strain), axial walls moving: sigma_v = sigma_z and sigma_h = (sigma_x + "
             "sigma_y) / 2 of the walls; K0 = sigma_h / sigma_v at the stage's end, and over the second half of its axial "
@@ -384,7 +394,7 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
             "Jaky's K0 = 1 - sin phi' is the usual reference for loading, Mayne & Kulhawy's K0 = K0,nc OCR^(sin phi') "
             "for unloading. Figure: `figures/oedometric.png`.", "",
             "| test | mu_r | stage | | sigma_v [kPa] | K0 at end | tangent K0 | M [MPa] | Cc / Cs | e at end |",
-            "|---|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows,
+            "|---|---|---|---|---|---|---|---|---|---|", *rows, "", *seeds_rows, *fabric_rows,
             *(jaky_rows(oed, mono, cs, peak) if mono else []), *unloading_rows(oed, mono, cs, peak)]
 
 

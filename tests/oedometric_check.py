@@ -18,6 +18,8 @@ grainlab plot's figure of it, on synthetic K0 tests whose wall stresses lie on k
   asin(3 x 0.75 / 6.75) = 19.47°, 1 - sin = 0.667; phi'_cs = asin(1.8 / 6.6) = 15.83°, 1 - sin = 0.727; the tangent
   K0 0.450 needs phi' = asin(0.55) = 33.4° and mobilises asin(0.55 / 1.45) = 22.3°. A drained compression of another
   sample, a drained extension and an undrained compression of the same sample are left out of the comparison.
+- What carries the stress ratio: each stage's last row's a_c, a_d, a_n, a_t (a_n rising over the loading, falling over
+  the unloading: anisotropies()), its q/p' and the stress-force-fabric sum, per test and stage.
 - Against Mayne & Kulhawy (unloading_rows): each unloading stage's OCR 500 / 300 = 1.67, K0,nc (the loading's end) and
   K0 at its end give alpha = ln(K0 / K0,nc) / ln OCR (0.70 and 0.74), with '-' for the angles in the first study and
   sin phi'_max = 0.333, sin phi'_cs = 0.273 of the same drained compression in the second."""
@@ -34,8 +36,14 @@ from synthetic_study import SCRIPT, study_report  # noqa: E402
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/oedometric_check"
 shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "sigma_x", "sigma_y", "sigma_z",
-        "inertial_number"]
+        "inertial_number", "a_c", "a_d", "a_n", "a_t", "sff"]
 CC, CS, E_TOP = 0.05, 0.01, 0.665  # the e - log10 sigma_v lines: Cc on loading, Cs on unloading, e at 500 kPa
+
+
+def anisotropies(stage, ea):
+    """a_c, a_d, a_n, a_t of a row: a_n climbs 0 -> 0.8 over the loading (40 eps_a) and falls back to 0.3 over the
+    unloading (0.8 + 100 eps_a); the others constant per stage."""
+    return (0.2, 0.01, 40 * ea, 0.2) if stage == "load" else (0.1, 0.01, 0.8 + 100 * ea, 0.0)
 
 
 def k0_test(seed, k_load):
@@ -57,7 +65,9 @@ def k0_test(seed, k_load):
             sh = 1e5 + k_load * (sv - 1e5) if stage == "load" else sh_top + 0.2 * (sv - 5e5)
             p, q = (sv + 2 * sh) / 3, sv - sh
             e = E_TOP + (CC if stage == "load" else CS) * math.log10(5e5 / sv)  # straight in e - log10 sigma_v
-            w.writerow([stage, step, step, ea, p, q, q / p, e, 0, 5, sh + 1e3, sh - 1e3, sv, 1e-4])
+            a = anisotropies(stage, ea)
+            w.writerow([stage, step, step, ea, p, q, q / p, e, 0, 5, sh + 1e3, sh - 1e3, sv, 1e-4, *a,
+                        0.4 * (a[0] + a[1] + a[2] + 1.5 * a[3])])
     return run, {"name": name, "dir": f"jobs/{name}/run", "sample": f"sample_s{seed}_n300", "mu_r": 0, "e0": 0,
                  "p0": 0, "drainage": "oedometric", "direction": "compression", "b": 0, "seed": seed, "count": 300,
                  "csr": 0, "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": ""}
@@ -89,9 +99,23 @@ want = ["| shear_oedometric_s1_n300 | 0 | load | loading | 100.0 → 500.0 | 0.5
 for seed, k_nc, k_end in ((1, 0.56, 0.8), (2, 0.64, 280 / 300)):
     want.append(f"| shear_oedometric_s{seed}_n300 | unload | 1.67 | {k_nc:.3f} | {k_end:.3f} | "
                 f"{math.log(k_end / k_nc) / math.log(5 / 3):.2f} | - | - | - |")
-rows = [line for line in sec.splitlines() if line.startswith("| shear_")]
+rows = [line for line in sec.splitlines() if line.startswith("| shear_") and "| 0.200 | 0.010 |" not in line
+        and "| 0.100 | 0.010 |" not in line]
 if rows != want:
     fails.append("rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
+# What carries the stress ratio, each stage's last row: load (eps_a 2 %) a_n 0.8, unload (-0.5 %) a_n 0.3; the
+# walls' q/p' there (sigma_h 280 / 320 kPa at sigma_v 500, then 240 / 280 at 300)
+want = []
+for seed, sh_load, sh_unload in ((1, 2.8e5, 2.4e5), (2, 3.2e5, 2.8e5)):
+    for stage, ea, sv, sh in (("load", 0.02, 5e5, sh_load), ("unload", -0.005, 3e5, sh_unload)):
+        a = anisotropies(stage, ea)
+        qp = (sv - sh) / ((sv + 2 * sh) / 3)
+        want.append(f"| shear_oedometric_s{seed}_n300 | {stage} | " + " | ".join(
+            f"{v:.3f}" for v in (*a, qp, 0.4 * (a[0] + a[1] + a[2] + 1.5 * a[3]))) + " |")
+rows = [line for line in sec.splitlines() if line.startswith("| shear_") and ("| 0.200 | 0.010 |" in line
+        or "| 0.100 | 0.010 |" in line)]
+if rows != want:
+    fails.append("fabric rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
 if "## Peak states" in text or "## Critical states" in text:
     fails.append("an oedometric-only study has peak or critical-state tables")
 if not os.path.isfile(os.path.join(work, "figures", "oedometric.png")):
