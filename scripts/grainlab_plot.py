@@ -77,7 +77,10 @@ def load(run):
 
 def label(run, s):
     mur = s["mu_r"][s["shear"]][-1] if s["shear"].any() else s["mu_r"][-1]
-    return f"{os.path.basename(os.path.normpath(run))} (mu_r={mur:g})"
+    name = os.path.basename(os.path.normpath(run))
+    if name == "run":  # a study job's run directory, jobs/<job>/run: the job's name tells the curves apart
+        name = os.path.basename(os.path.dirname(os.path.normpath(run)))
+    return f"{name} (mu_r={mur:g})"
 
 
 def save(fig, out, name):
@@ -239,25 +242,30 @@ def oedometric_stages(s):
 
 
 def fig_oedometric(runs, out):
-    """Oedometric (K0) stages: the stress path sigma_h - sigma_v (with the lines K0 = 0.5 and 1 for reference) and
-    K0 = sigma_h / sigma_v against the axial strain; nothing where no run has such a stage."""
+    """Oedometric (K0) stages: the stress path sigma_h - sigma_v (with the lines K0 = 0.5 and 1 for reference),
+    K0 = sigma_h / sigma_v against the axial strain, and the compression curve e - log sigma_v (whose slopes are the
+    report's Cc and Cs); nothing where no run has such a stage."""
     drawn = [(run, s, oedometric_stages(s)) for run, s in runs]
     drawn = [d for d in drawn if d[2]]
     if not drawn:
         return
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4.5))
     top = 0
     for run, s, stages in drawn:
         ln = None
         for st in stages:
             kw = {"color": ln.get_color()} if ln is not None else {"label": label(run, s)}
-            (ln,) = ax[0].plot(st["sv"] / 1e3, st["sh"] / 1e3, "-" if st["loading"] else "--", **kw)
-            ax[1].plot(100 * st["eps_a"], st["sh"] / st["sv"], "-" if st["loading"] else "--", color=ln.get_color())
+            style = "-" if st["loading"] else "--"
+            (ln,) = ax[0].plot(st["sv"] / 1e3, st["sh"] / 1e3, style, **kw)
+            ax[1].plot(100 * st["eps_a"], st["sh"] / st["sv"], style, color=ln.get_color())
+            pos = st["sv"] > 0  # a log axis: a row of a stage that left its walls (sigma_v <= 0) is not drawn
+            ax[2].plot(st["sv"][pos] / 1e3, st["e"][pos], style, color=ln.get_color())
             top = max(top, float(np.max(st["sv"])) / 1e3)
     for k0 in (0.5, 1.0):
         ax[0].plot([0, top], [0, k0 * top], ":", color="0.6", lw=0.8)
     ax[0].set(xlabel="sigma_v [kPa]", ylabel="sigma_h [kPa]", title="oedometric stress path (dotted: K0 = 0.5, 1)")
     ax[1].set(xlabel="eps_a of the stage [%] (dashed: unloading)", ylabel="K0 = sigma_h / sigma_v", title="K0")
+    ax[2].set(xscale="log", xlabel="sigma_v [kPa]", ylabel="e", title="compression curve (slopes: Cc, Cs)")
     finish(fig, ax, ax[0], 8, out, "oedometric")
 
 

@@ -12,7 +12,7 @@ grainlab plot's figure of it, on synthetic K0 tests whose wall stresses lie on k
   320 kPa, K0 280 / 300 = 0.933. Both seeds together: each stage's K0, tangent and M as mean ± sd [95 %, t = 12.706],
   worked out here.
 - A study of only these tests: no peak or critical-state tables (an oedometric test has neither), the K0 section, and
-  figures/oedometric.png. The lines are exact, so the printed strings must match.
+  figures/oedometric.png (its curves named by the job, not by the run directory "run"). The lines are exact, so the printed strings must match.
 - Against Jaky (jaky_rows), a second study: the seed-1 K0 test beside a drained compression of its sample whose
   stress ratio peaks at M = 0.75 (10 %) and is steady at 0.60 from 30 % to 40 % (a critical state): phi'_max =
   asin(3 x 0.75 / 6.75) = 19.47°, 1 - sin = 0.667; phi'_cs = asin(1.8 / 6.6) = 15.83°, 1 - sin = 0.727; the tangent
@@ -127,6 +127,9 @@ import grainlab_plot  # noqa: E402
 figs = os.path.join(work, "plot")
 os.makedirs(figs)
 s = grainlab_plot.load(run)
+# A study job's curves are named by the job (jobs/<job>/run), not by its run directory, which is "run" for all
+if grainlab_plot.label(run, s) != "shear_oedometric_s1_n300 (mu_r=0)":
+    fails.append(f"label of a study job's run: {grainlab_plot.label(run, s)!r}")
 grainlab_plot.fig_oedometric([(run, s)], figs)
 if not os.path.isfile(os.path.join(figs, "oedometric.png")):
     fails.append("fig_oedometric drew nothing")
