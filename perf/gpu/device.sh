@@ -8,7 +8,8 @@
 #                                      "TILES" (default "1 4"), rolling on: a baseline on the same card, same call
 #   perf/gpu/device.sh ur1 [SECONDS]   configs/paper/UR1.yaml end to end (stopped after SECONDS, default 540)
 #   perf/gpu/device.sh memory [COUNTS] device memory of configs/quick.yaml's run at COUNT spheres (default
-#                                      "250000 1000000 4000000"): the bytes per sphere behind the memory check
+#                                      "250000 1000000 4000000") and of the race scene at 2M and 11M: the bytes
+#                                      per sphere behind the memory check, loose and dense
 #   perf/gpu/device.sh profile [TILE]  each kernel's GPU time over 20 race steps (Nsight Compute), next to the
 #                                      step's wall time: what the per-step constant is made of (TILE 1 = 32k)
 # Several verbs run in order: perf/gpu/device.sh tests bench
@@ -136,12 +137,27 @@ while [ $# -gt 0 ]; do
         echo "count=$count rc=$rc peak_MiB=$peak above_idle_MiB=$((peak - idle)) wall_s=$(python3 -c "print(round($end - $start, 1))")" | tee -a "$OUT/memory.txt"
         [ $rc -eq 0 ] || [ $rc -eq 130 ] || { tail -n 5 /tmp/mem_run.log; status=1; }
       done
+      # The densest state a run meets: the race scene (5.4 contacts a sphere) tiled to 2.05M and 11.0M spheres, 400 steps.
+      for tile in 4 7; do
+        nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits -lms 20 > /tmp/mem_t$tile.txt &
+        smi=$!
+        build-gpu/perf/race_bench --scene "$S/scene_32k.txt" --box "$S/scene_32k_box.txt" --tile $tile --rolling 1 \
+          --reps 1 --warmup 200 --steps 200 > /tmp/mem_race.txt 2>&1 || { tail -n 3 /tmp/mem_race.txt; status=1; }
+        kill $smi; wait $smi 2>/dev/null
+        peak=$(sort -n /tmp/mem_t$tile.txt | tail -n 1)
+        n=$(sed -n 's/.* particles=\([0-9]*\) .*/\1/p' /tmp/mem_race.txt | head -n 1)
+        echo "race count=${n:-0} peak_MiB=$peak above_idle_MiB=$((peak - idle))" | tee -a "$OUT/memory.txt"
+      done
       python3 - "$OUT/memory.txt" <<'PY' | tee -a "$OUT/memory.txt"
 import re, sys
-rows = [(int(m[0]), int(m[1])) for m in re.findall(r"count=(\d+) rc=\d+ peak_MiB=\d+ above_idle_MiB=(-?\d+)", open(sys.argv[1]).read())]
-if len(rows) >= 2:
-    (n0, m0), (n1, m1) = rows[0], rows[-1]
-    print(f"device_bytes_per_sphere={(m1 - m0) * 2**20 / (n1 - n0):.0f} (slope {n0}..{n1}) intercept_MiB={m0 - (m1 - m0) * n0 / (n1 - n0):.0f}")
+text = open(sys.argv[1]).read()
+for what, pattern in (("lab run, loose", r"^count=(\d+) rc=\d+ peak_MiB=\d+ above_idle_MiB=(-?\d+)"),
+                      ("race scene, dense", r"^race count=(\d+) peak_MiB=\d+ above_idle_MiB=(-?\d+)")):
+    rows = [(int(a), int(b)) for a, b in re.findall(pattern, text, re.M)]
+    if len(rows) >= 2 and rows[-1][0] != rows[0][0]:
+        (n0, m0), (n1, m1) = rows[0], rows[-1]
+        print(f"{what}: device_bytes_per_sphere={(m1 - m0) * 2**20 / (n1 - n0):.0f} (slope {n0}..{n1}) "
+              f"intercept_MiB={m0 - (m1 - m0) * n0 / (n1 - n0):.0f}")
 PY
       ;;
     *) echo "device.sh: unknown verb '$1' (allowed: tests, bench [REPS], base [TILES], ur1 [SECONDS], profile [TILE], memory [COUNTS])" >&2; exit 2 ;;
