@@ -241,6 +241,17 @@ def oedometric_stages(s):
     return out
 
 
+def job_label(j, s, seed=False):
+    """A study job's curve in the study figures: mu_r, drainage (and extension: the job's direction, not the sign of
+    its last strain, which an unloading stage turns), then p'_0 and e_0 where the job sets them (0 in study.json: the
+    base's, left out) and, with seed, the sample's seed."""
+    m = s["shear"]
+    ext = j["direction"] == "extension" if "direction" in j else bool(m.any() and s["eps_a"][m][-1] < 0)
+    return (f"mu_r={j['mu_r']:g} {j['drainage']}" + (" extension" if ext else "")
+            + (f" p0={j['p0'] / 1e3:g}k" if j.get("p0") else "") + (f" e0={j['e0']:g}" if j.get("e0") else "")
+            + (f" seed {j['seed']}" if seed and j.get("seed") is not None else ""))
+
+
 def fig_oedometric(runs, out):
     """Oedometric (K0) stages: the stress path sigma_h - sigma_v (with the lines K0 = 0.5 and 1 for reference),
     K0 = sigma_h / sigma_v against the axial strain, and the compression curve e - log sigma_v (whose slopes are the
@@ -975,11 +986,11 @@ def study(out):
     murs = sorted({j["mu_r"] for j, _, _ in runs})
     colors = {m: plt.cm.viridis(i / max(1, len(murs) - 1)) for i, m in enumerate(murs)}
     fig, ax = plt.subplots(1, 3, figsize=(17, 4.8))
+    several_seeds = len({j.get("seed") for j, _, _ in runs}) > 1
     for j, d, s in runs:
         m = s["shear"]
         ls = "-" if j["drainage"] == "undrained" else "--"
-        lab = (f"mu_r={j['mu_r']:g} {j['drainage']}" + (" extension" if s["eps_a"][m][-1] < 0 else "")
-               + f" p0={j['p0'] / 1e3:g}k e0={j['e0']:g}")
+        lab = job_label(j, s, several_seeds)
         ax[0].plot(100 * s["eps_a"][m], s["q"][m] / 1e3, ls, color=colors[j["mu_r"]], label=lab)
         ax[1].plot(s["p"][m] / 1e3, s["q"][m] / 1e3, ls, color=colors[j["mu_r"]])
         ax[2].plot(s["p"][m] / 1e3, s["e"][m], ls, color=colors[j["mu_r"]])

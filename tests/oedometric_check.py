@@ -130,6 +130,13 @@ s = grainlab_plot.load(run)
 # A study job's curves are named by the job (jobs/<job>/run), not by its run directory, which is "run" for all
 if grainlab_plot.label(run, s) != "shear_oedometric_s1_n300 (mu_r=0)":
     fails.append(f"label of a study job's run: {grainlab_plot.label(run, s)!r}")
+# The study figures' legend: base p'_0 and e_0 (0 in study.json) left out, a job's own shown, the seed on request;
+# a compression test that ends unloading (this one) is no extension
+for job, seed, want_label in ((job1, False, "mu_r=0 oedometric"), (job1, True, "mu_r=0 oedometric seed 1"),
+                              (dict(job1, p0=2e5, e0=0.65), False, "mu_r=0 oedometric p0=200k e0=0.65"),
+                              (dict(job1, direction="extension"), False, "mu_r=0 oedometric extension")):
+    if grainlab_plot.job_label(job, s, seed) != want_label:
+        fails.append(f"job_label: {grainlab_plot.job_label(job, s, seed)!r}, wanted {want_label!r}")
 grainlab_plot.fig_oedometric([(run, s)], figs)
 if not os.path.isfile(os.path.join(figs, "oedometric.png")):
     fails.append("fig_oedometric drew nothing")
