@@ -4,7 +4,8 @@
   grainlab_plot.py plot RUN_DIR [RUN_DIR ...] [--out DIR]
   grainlab_plot.py csl  RUN_DIR [RUN_DIR ...] [--out DIR] [--window 0.05]
 
-Reads each run's series.csv (and its last snapshot for the force-chain picture); writes PNG and PDF.
+Reads each run's series.csv (its last snapshot for the force-chain picture, its snapshots for the local strain
+between them: scripts/localisation.py); writes PNG and PDF.
 Several runs are overlaid with a legend (e.g. the mu_r study).
 """
 import argparse
@@ -23,6 +24,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from atomic_write import write_atomically, write_text_atomically  # noqa: E402
+from localisation import fig_localisation  # noqa: E402
 
 # The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3), as
 # kQuasiStaticInertial in src/simulation.hpp: above it the stress ratio of a steady flow rises with I (the mu(I)
@@ -1937,6 +1939,7 @@ def main():
         fig_oedometric(runs, out)
         fig_modulus_damping(runs, out)
         fig_forcechains(a.runs[0], out)
+        fig_localisation(a.runs[0], out, save, plt)
     else:
         csl(runs, out, a.window)
 
