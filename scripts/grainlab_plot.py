@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from atomic_write import write_atomically, write_text_atomically  # noqa: E402
-from localisation import fig_localisation  # noqa: E402
+from localisation import fig_localisation, report_section as localisation_section  # noqa: E402
 
 # The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3), as
 # kQuasiStaticInertial in src/simulation.hpp: above it the stress ratio of a steady flow rises with I (the mu(I)
@@ -1111,6 +1111,7 @@ def study(out):
              *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
+             *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
              *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))

@@ -122,9 +122,9 @@ def _stage_of(tag, stages):
     return None
 
 
-def increments(run):
-    """The increments of a run's triaxial stages: (stage name, reference label, snapshot label, eps_a at each end
-    (None where not known), XA, XB, mean diameter), in the order written."""
+def snapshots(run):
+    """A run's positions in the order written: (label, stage config entry or None, X, eps_a of its stage or None, mean
+    diameter); first ("sample", None, X, 0.0, d) where the run sheared a sample file. Empty without snapshots."""
     import h5py
     import yaml
 
@@ -143,30 +143,61 @@ def increments(run):
             eps = {os.path.basename(p): float(v) for p, v in zip(files, vals)}
     except OSError:
         pass
-    prev = None  # (label, stage name, X, eps_a) of the previous snapshot
+    out = []
     sample = (cfg.get("sample") or {}).get("file")
     if sample and stages:
         path = sample if os.path.isabs(sample) else os.path.join(run, sample)
         try:
             with h5py.File(path, "r") as f:
-                prev = ("sample", None, f["state/x"][:], 0.0)
+                out.append(("sample", None, f["state/x"][:], 0.0, 2 * float(f["state/r"][:].mean())))
         except (OSError, KeyError):
-            prev = None
-    out = []
+            pass
     for p in snaps:
         with h5py.File(p, "r") as f:
             tag = f.attrs["tag"]
             tag = tag.decode() if isinstance(tag, bytes) else str(tag)
             X, r = f["particles/x"][:], f["particles/r"][:]
-        st = _stage_of(tag, stages)
         label = os.path.basename(p)
-        e = eps.get(label)
-        if st is not None and st.get("type") == "triaxial" and prev is not None and len(prev[2]) == len(X):
-            # within the stage, eps_a of the reference; from the stage's start (another stage's end, or the sample), 0
-            e0 = prev[3] if prev[1] == st["name"] else 0.0
-            out.append((st["name"], prev[0], label, e0, e, prev[2], X, 2 * float(r.mean())))
-        prev = (label, st["name"] if st else None, X, e)
+        out.append((label, _stage_of(tag, stages), X, eps.get(label), 2 * float(r.mean())))
     return out
+
+
+def _pair(a, b):
+    """The increment from position set a to b (entries of snapshots()), b in a triaxial stage: (stage name, a's label,
+    b's label, eps_a at each end, XA, XB, mean diameter). Within b's stage a's eps_a; from the stage's start (another
+    stage's end snapshot, or the sample file), 0."""
+    st = b[1]
+    e0 = a[3] if a[1] is not None and a[1].get("name") == st["name"] else 0.0
+    return (st["name"], a[0], b[0], e0, b[3], a[2], b[2], b[4])
+
+
+def _triaxial(snap):
+    return snap[1] is not None and snap[1].get("type") == "triaxial"
+
+
+def increments(run):
+    """The increments between consecutive snapshots of a run's triaxial stages (_pair), in the order written."""
+    snaps = snapshots(run)
+    return [_pair(a, b) for a, b in zip(snaps, snaps[1:]) if _triaxial(b) and len(a[2]) == len(b[2])]
+
+
+def window_increment(run, window):
+    """The increment over which a run's critical state is judged: from the last snapshot at least `window` of axial
+    strain before the run's last snapshot (or its stage's start) to that last one, which must be a triaxial stage's;
+    None otherwise."""
+    snaps = snapshots(run)
+    if len(snaps) < 2 or not _triaxial(snaps[-1]) or snaps[-1][3] is None:
+        return None
+    b, name = snaps[-1], snaps[-1][1]["name"]
+    ref = None
+    for k in range(len(snaps) - 2, -1, -1):
+        a = snaps[k]
+        ref = a
+        if a[1] is None or a[1].get("name") != name:  # the stage's start
+            break
+        if a[3] is not None and abs(b[3] - a[3]) >= window:
+            break
+    return _pair(ref, b) if ref is not None and len(ref[2]) == len(b[2]) else None
 
 
 COLUMNS = ["stage", "from", "to", "eps_a_from", "eps_a_to", "eps_zz_fit", "eps_v_fit", "eta_fit", "eta_mean",
@@ -244,3 +275,34 @@ def fig_localisation(run, out, save, plt, max_panels=6):
     fig.colorbar(sc, cax=axes[0][-1], label="local shear strain eta / its mean")
     save(fig, out, "localisation")
     return rows
+
+
+def report_section(tests, window):
+    """A study report's section: each monotonic test's local strain over its critical-state window (window_increment);
+    tests are (name, run directory). Empty where no test has the snapshots."""
+    rows = []
+    for name, run in tests:
+        inc = window_increment(run, window)
+        if inc is None:
+            continue
+        stage, a, b, ea, eb, XA, XB, d = inc
+        row, _, _ = analyse(XA, XB, d)
+        band = ("-" if math.isnan(row["band_contrast"]) else
+                f"{row['band_contrast']:.2f} ({row['band_dip']:.0f}° / {row['band_azimuth']:.0f}°)")
+        rows.append(f"| {name} | {100 * ea:.1f} to {100 * eb:.1f} | {row['eta_mean']:.3f} | {row['eta_cv']:.2f} | "
+                    f"{row['nonaffine_rms']:.3f} | {row['d2min_mean']:.4f} | {band} | {row['localised']} |")
+    if not rows:
+        return []
+    return ["## Where the critical state is measured: local strain and localisation", "",
+            f"Each test's local strain from the last snapshot at least {window:g} of axial strain before its end (or its "
+            "stage's start) to its end (scripts/localisation.py): every particle's displacement gradient fitted over its "
+            f"{K_NEIGHBOURS} nearest particles, eta its von Mises shear strain (Green-Lagrange), CV eta's coefficient of "
+            "variation over the particles, the rms displacement about the sample's best affine motion and D2min (Falk & "
+            "Langer's non-affine residual of each neighbourhood) in mean diameters. Band: the largest ratio of the mean "
+            f"eta in a slab {BAND_WIDTH:g} diameters thick (any orientation: dip from the horizontal / azimuth) to the "
+            f"rest's; localised from {BAND_CONTRAST:g} (a homogeneous shear's noise reaches 1.1-1.3). A localised test's "
+            "critical state is the band's, not the sample's: its e_c and p'_c average a band and the blocks beside it. "
+            "`grainlab plot` on a test's run draws the fields of every increment (figures/localisation.png).", "",
+            "| test | eps_a [%] | eta mean | CV | non-affine rms [d] | D2min [d^2] | band contrast (dip / azimuth) | "
+            "localised |",
+            "|---|---|---|---|---|---|---|---|", *rows, ""]

@@ -8,7 +8,7 @@
   3. noise alone on an affine motion: no band (contrast well below BAND_CONTRAST);
   4. a sample about one band width across: "too small", no contrast;
   5. the increments of a run: which snapshot pairs (a triaxial stage's, from the previous stage's end or the sample
-     file; not a cyclic stage's), with their eps_a;
+     file; not a cyclic stage's), with their eps_a; the increment over a critical-state window (extension's eps_a < 0);
   6. given a run (the smoke run: undrained to 1 %), its localisation.csv: the cloud's fitted eps_zz is the walls'
      strain within the boundary layer's d/(H - d), its volume change small, every column present.
 Usage: localisation_check.py [SMOKE_RUN_DIR FIGURES_DIR]"""
@@ -83,13 +83,12 @@ print("a 6-diameter sample: too small to tell")
 # 5. a run's increments
 import h5py  # noqa: E402
 
-with tempfile.TemporaryDirectory() as run:
+
+def make_run(run, stages, tags, eps):
+    """A run directory as grainlab writes it, with snapshots of these tags and eps_a (random positions)."""
     os.makedirs(os.path.join(run, "snapshots"))
     with open(os.path.join(run, "config.yaml"), "w") as f:
-        f.write("sample: {file: s.h5}\nstages:\n  - {name: cons, type: isotropic}\n  - {name: shear, type: triaxial}\n"
-                "  - {name: shake, type: cyclic}\n  - {name: shear_2, type: triaxial}\n")
-    tags = ["cons_end", "shear_eps0", "shear_end", "shake_peak1", "shake_end", "shear_2_end"]
-    eps = [0.003, 0.01, 0.015, 0.001, 0.004, 0.02]  # a stage's own eps_a; the next stage's starts at 0
+        f.write("sample: {file: s.h5}\nstages:\n" + "".join(f"  - {{name: {n}, type: {t}}}\n" for n, t in stages))
     X = {tag: rng.uniform(0, 5, (50, 3)) for tag in tags}
     for k, tag in enumerate(tags):
         with h5py.File(os.path.join(run, "snapshots", f"snap_{k:05d}.h5"), "w") as f:
@@ -98,20 +97,41 @@ with tempfile.TemporaryDirectory() as run:
             f["particles/r"] = np.full(50, 0.25)
     with h5py.File(os.path.join(run, "s.h5"), "w") as f:
         f["state/x"] = rng.uniform(0, 5, (50, 3))
+        f["state/r"] = np.full(50, 0.25)
     with h5py.File(os.path.join(run, "run.h5"), "w") as f:
         names = "\n".join(f"snapshots/snap_{k:05d}.h5" for k in range(len(tags)))
         f["snapshots/files"] = np.frombuffer(names.encode(), dtype=np.int8)
         f["snapshots/eps_a"] = np.array(eps)
+    return X
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    run = os.path.join(tmp, "a")
+    tags = ["cons_end", "shear_eps0", "shear_end", "shake_peak1", "shake_end", "shear_2_end"]
+    X = make_run(run, [("cons", "isotropic"), ("shear", "triaxial"), ("shake", "cyclic"), ("shear_2", "triaxial")],
+                 tags, [0.003, 0.01, 0.015, 0.001, 0.004, 0.02])  # a stage's own eps_a; the next stage's starts at 0
     inc = L.increments(run)
     got = [(i[0], i[1], i[2], i[3], i[4]) for i in inc]
     want = [("shear", "snap_00000.h5", "snap_00001.h5", 0.0, 0.01), ("shear", "snap_00001.h5", "snap_00002.h5", 0.01, 0.015),
             ("shear_2", "snap_00004.h5", "snap_00005.h5", 0.0, 0.02)]
     assert got == want, got
     assert np.array_equal(inc[0][5], X["cons_end"]) and np.array_equal(inc[2][6], X["shear_2_end"]) and inc[0][7] == 0.5
+    assert L.window_increment(run, 0.001)[:5] == want[-1]  # the last stage's start is nearer than the window
     # a run sheared from a sample file: its first increment starts there
     os.remove(os.path.join(run, "snapshots", "snap_00000.h5"))
     inc = L.increments(run)
     assert (inc[0][0], inc[0][1], inc[0][2], inc[0][3]) == ("shear", "sample", "snap_00001.h5", 0.0), inc[0][:4]
+    # the critical state's window: from the last snapshot at least `window` of eps_a before the end, or the stage's start
+    run = os.path.join(tmp, "b")
+    make_run(run, [("cons", "isotropic"), ("shear", "triaxial")],
+             ["cons_end", "shear_eps0", "shear_eps1", "shear_eps2", "shear_end"], [0.003, -0.01, -0.02, -0.03, -0.034])
+    assert L.window_increment(run, 0.01)[:5] == ("shear", "snap_00002.h5", "snap_00004.h5", -0.02, -0.034)
+    assert L.window_increment(run, 0.014)[:5] == ("shear", "snap_00002.h5", "snap_00004.h5", -0.02, -0.034)
+    assert L.window_increment(run, 0.0141)[:5] == ("shear", "snap_00001.h5", "snap_00004.h5", -0.01, -0.034)
+    assert L.window_increment(run, 0.05)[:5] == ("shear", "snap_00000.h5", "snap_00004.h5", 0.0, -0.034)
+    run = os.path.join(tmp, "c")
+    make_run(run, [("shear", "triaxial"), ("shake", "cyclic")], ["shear_end", "shake_end"], [0.01, 0.0])
+    assert L.window_increment(run, 0.01) is None  # the run ends in a cyclic stage
 print("increments: a triaxial stage's pairs from the previous stage's end or the sample file; a cyclic stage's none")
 
 # 6. a run's localisation.csv

@@ -56,7 +56,8 @@ for s in "$work"/jobs/shear_*; do
   [ -f "$f" ] || { echo "$s does not reuse a prepared sample ($f)"; exit 1; }
   [ -f "$s/done" ] || { echo "$s did not finish"; exit 1; }
 done
-for sec in "## Peak states" "## Critical states" "## Critical-state lines" "## Stress-force-fabric shares"; do
+for sec in "## Peak states" "## Critical states" "## Critical-state lines" "## Stress-force-fabric shares" \
+           "## Where the critical state is measured"; do
   grep -q "$sec" "$work/report.md" || { echo "report.md lacks '$sec'"; exit 1; }
 done
 verdicts=$(grep -cE '^\| shear_.* \| (yes|no: )' "$work/report.md")
