@@ -441,6 +441,12 @@ def fig_cyclic(runs, out):
     finish(fig, ax, ax[0], 8, out, "cyclic")
 
 
+def complete_cycles(rows):
+    """cycles.csv's rows of whole cycles: not the part of one a stage ended in (complete 0; a file of an older build
+    has no such rows, nor the column)."""
+    return [r for r in rows if r.get("complete", "1") != "0"]
+
+
 def modulus_curves(run, s):
     """A run's cycles.csv as modulus-reduction curves (None without rows): every cycle's single-amplitude axial strain
     amp [%] = 50 (eps_a_max - eps_a_min), E [MPa], D, and single-amplitude shear strain ga [%] with G [MPa]
@@ -448,7 +454,7 @@ def modulus_curves(run, s):
     amplitude (the curve), `known` those of them with a gamma; hf = (E_max [MPa], eps_r, rms) and gf = (G_max [MPa],
     gamma_r, rms), the Hardin-Drnevich hyperbolas through the curves (hyperbolic_fit), or None."""
     with open(os.path.join(run, "cycles.csv")) as f:
-        rows = list(csv.DictReader(f))
+        rows = complete_cycles(csv.DictReader(f))
     if not rows:
         return None
     # each stage's drainage, for cycle_shear's fallback on rows without gamma (stage_type 3: cyclic undrained)
@@ -1839,7 +1845,7 @@ def modulus_section(amp, stage, figs):
             cyc = []
             if os.path.isfile(path):
                 with open(path) as f:
-                    cyc = [r for r in csv.DictReader(f) if not stage or r["stage"] == stage]
+                    cyc = [r for r in complete_cycles(csv.DictReader(f)) if not stage or r["stage"] == stage]
             if cyc:
                 pts.append((j, cyc[-1], s["p"][s["cyclic"]][0]))  # p'_0: the stage's first row
             else:

@@ -124,17 +124,20 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
 
 // cycles.csv: one row per completed cycle of a cyclic stage (CycleLoop): the loop's extremes, its equivalent
 // modulus and damping ratio, p' and eps_v at its end, its largest r_u; then the extremes of the shear strain
-// gamma = eps_a - eps_r and the equivalent shear modulus G_eq (after the columns of older builds, so that a script
-// that reads them by position still does).
+// gamma = eps_a - eps_r and the equivalent shear modulus G_eq; then `complete`: 1 for a whole cycle, 0 for the part of
+// one that a stage ended in (it reached max_axial_strain, as a liquefying sample does, or max_steps): that last
+// loop's extremes, moduli, p', eps_v and r_u as far as it went, its damping NaN (an open path has no loop area).
+// Each group after the columns of older builds, so that a script that reads them by position still does.
 const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
   static const std::vector<std::pair<std::string, std::string>> cols = {
       {"cycle", "-"},   {"step", "-"},     {"q_max", "Pa"}, {"q_min", "Pa"},   {"eps_a_max", "-"}, {"eps_a_min", "-"},
       {"E_eq", "Pa"},   {"damping", "-"},  {"p", "Pa"},     {"eps_v", "-"},    {"r_u_max", "-"},
-      {"gamma_max", "-"}, {"gamma_min", "-"}, {"G_eq", "Pa"}};
+      {"gamma_max", "-"}, {"gamma_min", "-"}, {"G_eq", "Pa"}, {"complete", "-"}};
   return cols;
 }
-// cycles.csv's columns in builds before gamma_max (their checkpoints hold rows this long)
-constexpr size_t kCycleColumnsNoShear = 11;
+// cycles.csv's columns in builds before gamma_max, and before `complete` (their checkpoints hold rows this long; every
+// row they hold is a whole cycle: they wrote no other)
+constexpr size_t kCycleColumnsNoShear = 11, kCycleColumnsNoComplete = 14, kCycleComplete = 14;
 
 namespace {
 
@@ -155,7 +158,8 @@ struct Series {
       os << stages[stage[r]].name;
       for (size_t c = 0; c < cols.size(); ++c) {
         os << ',';
-        const bool whole = cols[c].first == "step" || (cols[c].first == "cycle" && columns == &cycle_columns());
+        const bool whole = cols[c].first == "step" ||
+                           (columns == &cycle_columns() && (cols[c].first == "cycle" || cols[c].first == "complete"));
         if (whole) os << long(rows[r][c]);
         else os << rows[r][c];
       }
@@ -825,7 +829,7 @@ void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn)
     if (std::floor(N) > std::floor(L.n)) {
       lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count()), L.q_max, L.q_min, L.e_max, L.e_min,
                                   L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.p0, L.g_max, L.g_min,
-                                  L.shear_modulus()});
+                                  L.shear_modulus(), 1.0});
       lab_.cycles.stage.push_back(lab_.stage);
       L.start(m.q, m.eps_a, m.gamma, m.u);
     }
@@ -1044,6 +1048,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   int rows_since_flush = 0;
   bool done = false;
   Measure final_m{};
+  long final_step = 0;  // the step of final_m (the stage's last series row)
   while (lab_.stage_step < sc.max_steps) {
     // What this step does is known before it runs: counters, and the axial strain, which comes from the
     // wall positions that evaluate() leaves alone.
@@ -1132,6 +1137,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
           check_servo(sc, m);
         }
         final_m = m;
+        final_step = e.step_count();
         if (!snap) snapshot(sc.name + "_end");
       }
       ramp_pressure(sc, lab_.stage_step);
@@ -1168,6 +1174,16 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         res.quarter_transits = (lab_.cycles.rows[k][1] - double(start)) * e.dt() / 4 / transit_;
         break;
       }
+    // A stage that ended inside a cycle (max_axial_strain: the sample liquefied or failed; or max_steps): that cycle's
+    // row as far as it went, complete 0. A stage that did its cycles has just started the next loop at its last
+    // measure: nothing in it.
+    const CycleLoop& L = lab_.loop;
+    if (L.open && (L.e_max > L.e_min || L.q_max > L.q_min)) {
+      lab_.cycles.rows.push_back({std::floor(L.n) + 1, double(final_step), L.q_max, L.q_min, L.e_max, L.e_min,
+                                  L.modulus(), std::nan(""), m.p, m.eps_v, L.u_max / lab_.p0, L.g_max, L.g_min,
+                                  L.shear_modulus(), 0.0});
+      lab_.cycles.stage.push_back(lab_.stage);
+    }
   }
   res.servo_error = stage_servo_error(sc);
   if (sc.type == StageType::Isotropic) {
@@ -1534,12 +1550,16 @@ bool Laboratory::load_newest_checkpoint() {
         const auto cflat = r.doubles("/lab/cycles");
         lab.cycles.stage = r.ints("/lab/cycles_stage");
         const size_t nrows = lab.cycles.stage.size(), cc = cycle_columns().size();
-        // 11 columns in a checkpoint from before gamma: its cycles' gamma extremes and G_eq are not known (NaN)
-        const size_t cc_read = nrows > 0 && cflat.size() == nrows * kCycleColumnsNoShear ? kCycleColumnsNoShear : cc;
+        // 11 columns in a checkpoint from before gamma: its cycles' gamma extremes and G_eq are not known (NaN); 14
+        // from before `complete`: every row whole
+        size_t cc_read = cc;
+        for (const size_t older : {kCycleColumnsNoShear, kCycleColumnsNoComplete})
+          if (nrows > 0 && cflat.size() == nrows * older) cc_read = older;
         if (cflat.size() != nrows * cc_read) throw H5Error(path + ": cycle rows have the wrong size (corrupt?)");
         for (size_t k = 0; k < nrows; ++k) {
           lab.cycles.rows.emplace_back(cflat.begin() + long(k * cc_read), cflat.begin() + long((k + 1) * cc_read));
           lab.cycles.rows.back().resize(cc, std::nan(""));
+          lab.cycles.rows.back()[kCycleComplete] = cc_read < cc ? 1.0 : lab.cycles.rows.back()[kCycleComplete];
         }
       }
       const auto res = r.doubles("/lab/results");
@@ -1599,6 +1619,12 @@ bool Laboratory::load_newest_checkpoint() {
           --lab_.stage;
           lab_.started = true;
           lab_.results.pop_back();
+          // the part of a cycle the stage ended in goes on: its row (complete 0) is written again when it ends
+          while (!lab_.cycles.rows.empty() && lab_.cycles.stage.back() == lab_.stage &&
+                 lab_.cycles.rows.back()[kCycleComplete] == 0) {
+            lab_.cycles.rows.pop_back();
+            lab_.cycles.stage.pop_back();
+          }
         }
       }
       if (!opt_.quiet) std::printf("resuming from %s (step %ld)\n", path.c_str(), s.step);

@@ -7,6 +7,7 @@ hand from his equation; a cycles.csv row's shear strain and G_eq, and the fallba
 plot`'s curves of a run (modulus_curves): each stage's last cycle, G - gamma fitted beside E - eps_a. The study
 report's modulus section (modulus_section) when a group's smallest amplitude has no complete cycle: G_0 is the next
 test's, and the report says so."""
+import math
 import os
 import sys
 import tempfile
@@ -87,7 +88,7 @@ for old in (dict(row, G_eq="nan", gamma_max="nan", gamma_min="nan"),
 with tempfile.TemporaryDirectory() as run:
     def write(stages):
         cols = ["cycle", "step", "q_max", "q_min", "eps_a_max", "eps_a_min", "E_eq", "damping", "p", "eps_v", "r_u_max",
-                "gamma_max", "gamma_min", "G_eq", "stage"]
+                "gamma_max", "gamma_min", "G_eq", "complete", "stage"]
         with open(os.path.join(run, "cycles.csv"), "w") as f:
             f.write(",".join(cols) + "\n")
             for k, (name, ea, old_row) in enumerate(stages):
@@ -95,7 +96,9 @@ with tempfile.TemporaryDirectory() as run:
                 for n in (1, 2):  # the first cycle off the curve: the last one counts
                     ee = e * (1.1 if n == 1 else 1.0)
                     g = "nan,nan,nan" if old_row else f"{1.5 * ea!r},{-1.5 * ea!r},{ee / 3!r}"
-                    f.write(f"{n},{100 * k + n},1,-1,{ea!r},{-ea!r},{ee!r},0.1,1e5,0,0,{g},{name}\n")
+                    f.write(f"{n},{100 * k + n},1,-1,{ea!r},{-ea!r},{ee!r},0.1,1e5,0,0,{g},1,{name}\n")
+                # the part of a third cycle the stage ended in (complete 0): off the curve, though its stage's last row
+                f.write(f"3,{100 * k + 3},1,0,{3 * ea!r},0,{0.5 * e!r},nan,1e5,0,0,{g},0,{name}\n")
     amps = [1e-5, 1e-4, 1e-3, 5e-3]
     s = dict(stage=np.array(["iso", "a", "b", "c", "d"]), stage_type=np.array([0, 3, 3, 3, 3]))
     write([(n, ea, n == "d") for n, ea in zip("abcd", amps)])
@@ -111,7 +114,7 @@ with tempfile.TemporaryDirectory() as run:
     if len(c["known"]) != 3 or len(c["last"]) != 4:
         fails.append(f"drained stage without gamma: {len(c['known'])} of {len(c['last'])} on the G curve, expected 3 of 4")
 # modulus_section: a group of three amplitudes (0.001, 0.01, 0.1 %) whose smallest test stopped before a complete cycle
-# (no cycles.csv). Its row says so; G_0 is the 0.01 % test's G_eq (its G_eq/G_0 exactly 1, the 0.1 % test's the
+# (its cycles.csv has only the part of the first, complete 0). Its row says so; G_0 is the 0.01 % test's G_eq (its G_eq/G_0 exactly 1, the 0.1 % test's the
 # ratio of the two G_eq on the hyperbola); and the section names the stand-in. With the smallest test's cycle there,
 # no such note (and G_eq/G_0 of the 0.01 % test below 1).
 with tempfile.TemporaryDirectory() as work:
@@ -123,12 +126,14 @@ with tempfile.TemporaryDirectory() as work:
             path = os.path.join(d, "cycles.csv")
             if os.path.exists(path):
                 os.remove(path)
-            if k > 0 or with_smallest:
-                g = E_max / 3 / (1 + a / eps_r)  # G on its hyperbola (G = E/3, gamma = 1.5 eps_a: undrained)
-                with open(path, "w") as f:
-                    f.write("cycle,step,q_max,q_min,eps_a_max,eps_a_min,E_eq,damping,p,eps_v,r_u_max,gamma_max,gamma_min,"
-                            "G_eq,stage\n")
-                    f.write(f"1,100,1,-1,{a!r},{-a!r},{3 * g!r},0.1,1e5,0,0.1,{1.5 * a!r},{-1.5 * a!r},{g!r},cyc\n")
+            g = E_max / 3 / (1 + a / eps_r)  # G on its hyperbola (G = E/3, gamma = 1.5 eps_a: undrained)
+            with open(path, "w") as f:
+                f.write("cycle,step,q_max,q_min,eps_a_max,eps_a_min,E_eq,damping,p,eps_v,r_u_max,gamma_max,gamma_min,"
+                        "G_eq,complete,stage\n")
+                # without its first cycle, the smallest test stopped in it: only that part (complete 0)
+                whole = k > 0 or with_smallest
+                f.write(f"1,100,1,-1,{a!r},{-a!r},{3 * g!r},{0.1 if whole else math.nan},1e5,0,0.1,{1.5 * a!r},"
+                        f"{-1.5 * a!r},{g!r},{int(whole)},cyc\n")
             j = dict(name=f"t{k}", mu_r=0.0, e0=0, p0=1e5, seed=1, count=300, drainage="undrained", csr=0,
                      strain_amplitude=a)
             amp.append((j, d, dict(p=np.array([1e5, 1e5]), cyclic=np.array([False, True]))))

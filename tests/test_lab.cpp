@@ -1466,6 +1466,55 @@ TEST(Lab, CyclicStressReversalResumesAndExtendsBitwise) {
   }
 }
 
+// A cyclic stage that ends inside a cycle (here max_steps, at N ~ 1.3; max_axial_strain, as a liquefying sample does,
+// ends it the same way) writes that cycle's row as far as it went: complete 0, at the stage's last series row, its
+// extremes bounding the series rows since the last whole cycle (eps_a every row; q the rows between, as for a whole
+// cycle: the loop reads the wall loads a step before the row's), E_eq their secant, no damping (an open path has no
+// loop area); the whole cycle before it exactly the uninterrupted run's row. Extended to its 2 cycles (--resume with
+// max_steps moved), the part is dropped and the cycle written whole when it ends: cycles.csv and summary.json are the
+// uninterrupted run's, byte for byte (the series keeps the cut's end row).
+TEST(Lab, ACyclicStageEndedInACycleWritesItsPartAndExtendsBitwise) {
+  const std::string stage = "  - {name: cyc, type: cyclic, drainage: undrained, strain_amplitude: 0.001, cycles: 2, "
+                            "axial_strain_rate: 1.0, damping: 0.2";
+  const std::string cfg = on_reference("cyclic_part", stage + "}\n", 50);
+  const std::string direct = tmpdir("cyclic_part_direct"), out = tmpdir("cyclic_part");
+  const RunResult whole = run(cfg, direct);
+  ASSERT_TRUE(whole.stages[0].converged);
+  const long cut = whole.stages[0].steps * 13 / 20;  // N ~ 1.3: past cycle 2's first peak (N = 1.25)
+  const RunResult part = run(on_reference("cyclic_part_cut", stage + ", max_steps: " + std::to_string(cut) + "}\n", 50), out);
+  ASSERT_FALSE(part.stages[0].converged);
+  const std::string a = slurp(direct + "/cycles.csv"), b = slurp(out + "/cycles.csv");
+  ASSERT_EQ(csv_column(a, "complete"), (std::vector<std::string>{"1", "1"})) << a;
+  ASSERT_EQ(csv_column(b, "complete"), (std::vector<std::string>{"1", "0"})) << b;
+  EXPECT_EQ(b.substr(0, b.find('\n', b.find('\n') + 1)), a.substr(0, a.find('\n', a.find('\n') + 1)))
+      << "the whole first cycle is the uninterrupted run's row";
+  EXPECT_EQ(csv_column(b, "cycle")[1], "2");
+  EXPECT_EQ(csv_column(b, "damping")[1], "nan");
+  H5Reader h(out + "/run.h5");
+  const std::vector<double> step = h.doubles("/series/step"), q = h.doubles("/series/q"), ea = h.doubles("/series/eps_a");
+  EXPECT_EQ(std::stod(csv_column(b, "step")[1]), step.back()) << "the part ends at the stage's end";
+  const double from = std::stod(csv_column(b, "step")[0]), qmax = std::stod(csv_column(b, "q_max")[1]),
+               qmin = std::stod(csv_column(b, "q_min")[1]), emax = std::stod(csv_column(b, "eps_a_max")[1]),
+               emin = std::stod(csv_column(b, "eps_a_min")[1]);
+  int rows = 0;
+  for (size_t i = 0; i < step.size(); ++i)
+    if (step[i] >= from) {
+      ++rows;
+      // the CSV's 12 significant digits
+      EXPECT_LE(ea[i], emax + 1e-14) << "row " << i;
+      EXPECT_GE(ea[i], emin - 1e-14) << "row " << i;
+      if (step[i] == from || step[i] == step.back()) continue;
+      EXPECT_LE(q[i], qmax + 1e-11 * std::abs(qmax)) << "row " << i;
+      EXPECT_GE(q[i], qmin - 1e-11 * std::abs(qmin)) << "row " << i;
+    }
+  EXPECT_GT(rows, 5);
+  EXPECT_GT(emax, 0.001) << "cycle 2's first peak, +A, is in the part";
+  EXPECT_NEAR(std::stod(csv_column(b, "E_eq")[1]), (qmax - qmin) / (emax - emin), 1e-10 * (qmax - qmin) / (emax - emin));
+  ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
+  EXPECT_EQ(slurp(out + "/cycles.csv"), a);
+  EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
+}
+
 // Drained cyclic loading, stress reversal at q = +-0.2 p'_0 for 2 cycles: the lateral servo holds sigma_3 at p'_0
 // through every reversal (within 1 %, as in a monotonic drained shear; measured 0.13 %), so the effective stress path
 // is the drained one, p' = p'_0 + q/3 (p' - q/3 = (sigma_x + sigma_y)/2 exactly); no pore pressure (u = 0, r_u never
