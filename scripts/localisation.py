@@ -124,7 +124,8 @@ def _stage_of(tag, stages):
 
 def snapshots(run):
     """A run's positions in the order written: (label, stage config entry or None, X, eps_a of its stage or None, mean
-    diameter); first ("sample", None, X, 0.0, d) where the run sheared a sample file. Empty without snapshots."""
+    diameter, radii, time or None); first ("sample", None, X, 0.0, d, r, None) where the run sheared a sample file.
+    Empty without snapshots."""
     import h5py
     import yaml
 
@@ -149,7 +150,8 @@ def snapshots(run):
         path = sample if os.path.isabs(sample) else os.path.join(run, sample)
         try:
             with h5py.File(path, "r") as f:
-                out.append(("sample", None, f["state/x"][:], 0.0, 2 * float(f["state/r"][:].mean())))
+                r = f["state/r"][:]
+                out.append(("sample", None, f["state/x"][:], 0.0, 2 * float(r.mean()), r, None))
         except (OSError, KeyError):
             pass
     for p in snaps:
@@ -157,18 +159,19 @@ def snapshots(run):
             tag = f.attrs["tag"]
             tag = tag.decode() if isinstance(tag, bytes) else str(tag)
             X, r = f["particles/x"][:], f["particles/r"][:]
+            time = float(f.attrs["time"]) if "time" in f.attrs else None
         label = os.path.basename(p)
-        out.append((label, _stage_of(tag, stages), X, eps.get(label), 2 * float(r.mean())))
+        out.append((label, _stage_of(tag, stages), X, eps.get(label), 2 * float(r.mean()), r, time))
     return out
 
 
 def _pair(a, b):
     """The increment from position set a to b (entries of snapshots()), b in a triaxial stage: (stage name, a's label,
-    b's label, eps_a at each end, XA, XB, mean diameter). Within b's stage a's eps_a; from the stage's start (another
-    stage's end snapshot, or the sample file), 0."""
+    b's label, eps_a at each end, XA, XB, mean diameter, b's radii, b's time). Within b's stage a's eps_a; from the
+    stage's start (another stage's end snapshot, or the sample file), 0."""
     st = b[1]
     e0 = a[3] if a[1] is not None and a[1].get("name") == st["name"] else 0.0
-    return (st["name"], a[0], b[0], e0, b[3], a[2], b[2], b[4])
+    return (st["name"], a[0], b[0], e0, b[3], a[2], b[2], b[4], b[5], b[6])
 
 
 def _triaxial(snap):
@@ -224,21 +227,50 @@ def analyse(XA, XB, d):
     return row, eta, d2
 
 
+def write_fields(out, fields, write_atomically, write_text_atomically):
+    """localisation.h5 (/increments/K/{x, radius, eta, d2min}, K from 0) and localisation.xdmf: every increment's
+    particles at its end as points with their eta and D2min [mean diameters^2], at the end snapshot's time (the
+    increment's number where it has none), for ParaView (Point Gaussian or Glyph by radius, coloured by eta)."""
+    import h5py
+
+    def fill(tmp):
+        with h5py.File(tmp, "w") as f:
+            for k, (_, XB, eta, _, _, d2, r, _) in enumerate(fields):
+                g = f.create_group(f"increments/{k}")
+                g["x"], g["radius"], g["eta"], g["d2min"] = XB, r, eta, d2
+
+    write_atomically(os.path.join(out, "localisation.h5"), fill)
+    x = ['<?xml version="1.0" ?>', '<Xdmf Version="3.0">', "<Domain>",
+         '<Grid Name="localisation" GridType="Collection" CollectionType="Temporal">']
+    for k, (_, XB, _, row, _, _, _, t) in enumerate(fields):
+        n = len(XB)
+        x += [f' <Grid Name="i{k}"><Time Value="{t if t is not None else k!r}"/>',
+              f'  <Topology TopologyType="Polyvertex" NumberOfElements="{n}"/>',
+              f'  <Geometry GeometryType="XYZ"><DataItem Dimensions="{n} 3" NumberType="Float" Precision="8" '
+              f'Format="HDF">localisation.h5:/increments/{k}/x</DataItem></Geometry>']
+        for name in ("radius", "eta", "d2min"):
+            x.append(f'  <Attribute Name="{name}" Center="Node"><DataItem Dimensions="{n}" NumberType="Float" '
+                     f'Precision="8" Format="HDF">localisation.h5:/increments/{k}/{name}</DataItem></Attribute>')
+        x.append(" </Grid>")
+    write_text_atomically(os.path.join(out, "localisation.xdmf"), "\n".join(x + ["</Grid>", "</Domain>", "</Xdmf>", ""]))
+
+
 def fig_localisation(run, out, save, plt, max_panels=6):
-    """figures/localisation.csv (a row per increment) and localisation.png: eta / its mean on a mid slab (y within
-    15 % of the width of the centre) at the increment's end, for up to max_panels increments (evenly spaced, the
-    last included), the band's trace where there is one. Nothing without a triaxial increment."""
-    from atomic_write import write_text_atomically
+    """figures/localisation.csv (a row per increment), localisation.png (eta / its mean on a mid slab, y within 15 % of
+    the width of the centre, at the increment's end, for up to max_panels increments, evenly spaced, the last included;
+    the band's trace where there is one) and, for ParaView, localisation.h5 + localisation.xdmf (every increment's
+    particles at its end with eta and D2min, one time step each). Nothing without a triaxial increment."""
+    from atomic_write import write_atomically, write_text_atomically
 
     incs = increments(run)
     if not incs:
         return []
     rows, fields = [], []
-    for stage, a, b, ea, eb, XA, XB, d in incs:
-        row, eta, _ = analyse(XA, XB, d)
+    for stage, a, b, ea, eb, XA, XB, d, r, t in incs:
+        row, eta, d2 = analyse(XA, XB, d)
         row.update({"stage": stage, "from": a, "to": b, "eps_a_from": ea, "eps_a_to": eb})
         rows.append(row)
-        fields.append((XA, XB, eta, row, d))
+        fields.append((XA, XB, eta, row, d, d2, r, t))
 
     def fmt(v):
         return f"{v:.6g}" if isinstance(v, float) else ("" if v is None else str(v))
@@ -246,19 +278,20 @@ def fig_localisation(run, out, save, plt, max_panels=6):
     write_text_atomically(os.path.join(out, "localisation.csv"),
                           ",".join(COLUMNS) + "\n" + "".join(",".join(fmt(r[c]) for c in COLUMNS) + "\n"
                                                              for r in rows))
+    write_fields(out, fields, write_atomically, write_text_atomically)
     pick = sorted(set(np.linspace(0, len(fields) - 1, min(max_panels, len(fields))).round().astype(int)))
     fig, axes = plt.subplots(1, len(pick) + 1, figsize=(3.2 * len(pick) + 0.8, 3.9), squeeze=False,
                              gridspec_kw={"width_ratios": [1.0] * len(pick) + [0.06]})
     for ax, k in zip(axes[0], pick):
-        XA, XB, eta, row, d = fields[k]
+        XA, XB, eta, row, d = fields[k][:5]
         y0, y1 = XB[:, 1].min(), XB[:, 1].max()
         yc = 0.5 * (y0 + y1)
         m = np.abs(XB[:, 1] - yc) < 0.15 * (y1 - y0)
         sc = ax.scatter(XB[m, 0], XB[m, 2], c=eta[m] / row["eta_mean"], s=9, cmap="magma", vmin=0, vmax=3,
                         linewidths=0)
         if row["localised"] == "yes":
-            # the band's mid-plane where it cuts y = yc, in the increment's start frame mapped by the affine fit
-            # (close enough to draw: the trace is a guide, the numbers are in localisation.csv)
+            # the band's mid-plane where it cuts y = yc: found in the start positions, drawn about the end positions'
+            # centre (a guide; the numbers are in localisation.csv)
             t, az = math.radians(row["band_dip"]), math.radians(row["band_azimuth"])
             nrm = np.array([math.sin(t) * math.cos(az), math.sin(t) * math.sin(az), math.cos(t)])
             c = XB.mean(0) + row["band_offset"] * d * nrm
@@ -285,7 +318,7 @@ def report_section(tests, window):
         inc = window_increment(run, window)
         if inc is None:
             continue
-        stage, a, b, ea, eb, XA, XB, d = inc
+        stage, a, b, ea, eb, XA, XB, d = inc[:8]
         row, _, _ = analyse(XA, XB, d)
         band = ("-" if math.isnan(row["band_contrast"]) else
                 f"{row['band_contrast']:.2f} ({row['band_dip']:.0f}° / {row['band_azimuth']:.0f}°)")

@@ -10,7 +10,8 @@
   5. the increments of a run: which snapshot pairs (a triaxial stage's, from the previous stage's end or the sample
      file; not a cyclic stage's), with their eps_a; the increment over a critical-state window (extension's eps_a < 0);
   6. given a run (the smoke run: undrained to 1 %), its localisation.csv: the cloud's fitted eps_zz is the walls'
-     strain within the boundary layer's d/(H - d), its volume change small, every column present.
+     strain within the boundary layer's d/(H - d), its volume change small, every column present; localisation.h5
+     holds the fields as recomputed, localisation.xdmf points at them.
 Usage: localisation_check.py [SMOKE_RUN_DIR FIGURES_DIR]"""
 import csv
 import math
@@ -148,6 +149,18 @@ if len(sys.argv) > 2:
     fit = float(r["eps_zz_fit"])
     assert walls < 0 and 0 <= fit / walls - 1 <= d / (H - d), (fit, walls, d / (H - d))
     assert abs(float(r["eps_v_fit"])) < 0.1 * abs(walls), r  # undrained: the walls keep the volume
+    # the fields for ParaView: the last increment's eta and D2min as recomputed from its snapshots, and the XDMF that
+    # points at them
+    import xml.etree.ElementTree as ET
+
+    inc = L.increments(run)[-1]
+    _, eta, d2 = L.local_strain(inc[5], inc[6], inc[7])
+    with h5py.File(os.path.join(figs, "localisation.h5"), "r") as f:
+        k = str(len(rows) - 1)
+        assert np.array_equal(f[f"increments/{k}/eta"][:], eta) and np.array_equal(f[f"increments/{k}/d2min"][:], d2)
+        assert np.array_equal(f[f"increments/{k}/x"][:], X) and np.array_equal(f[f"increments/{k}/radius"][:], rad)
+    items = [e.text for e in ET.parse(os.path.join(figs, "localisation.xdmf")).iter("DataItem")]
+    assert f"localisation.h5:/increments/{k}/eta" in items and f"localisation.h5:/increments/{k}/x" in items, items
     print(f"run: eps_zz {fit:.5f} fitted, {walls:.5f} from the walls (boundary layer bound {d / (H - d):.3f}); "
           f"eps_v {float(r['eps_v_fit']):.2e}; {r['localised']}")
 print("localisation ok")
