@@ -196,12 +196,16 @@ def fig_forcechains(run, out):
     lo, hi = y0 + 0.35 * (y1 - y0), y0 + 0.65 * (y1 - y0)
     keep = (x[i, 1] > lo) & (x[i, 1] < hi) & (x[j, 1] > lo) & (x[j, 1] < hi)
     fbar = fn.mean()
+    from matplotlib.collections import LineCollection
+
     fig, ax = plt.subplots(figsize=(7, 7))
-    for strong in (False, True):
+    for strong in (False, True):  # the strong network drawn over the weak
         m = keep & ((fn > fbar) == strong)
-        for a, b, f in zip(i[m], j[m], fn[m]):
-            ax.plot([x[a, 0], x[b, 0]], [x[a, 2], x[b, 2]], color="black" if strong else "0.7",
-                    lw=0.3 + 3.0 * f / fn.max(), solid_capstyle="round")
+        # one collection, not a line each: a 32 000-sphere slab has ~10^4 contacts
+        segs = np.stack([x[i[m]][:, [0, 2]], x[j[m]][:, [0, 2]]], axis=1)
+        ax.add_collection(LineCollection(segs, colors="black" if strong else "0.7",
+                                         linewidths=0.3 + 3.0 * fn[m] / fn.max(), capstyle="round"))
+    ax.autoscale_view()
     ax.set(aspect="equal", xlabel="x [m]", ylabel="z [m]",
            title=f"force chains, {os.path.basename(snaps[-1])} (mid slab)")
     save(fig, out, "forcechains")
