@@ -4,8 +4,9 @@
   grainlab_plot.py plot RUN_DIR [RUN_DIR ...] [--out DIR]
   grainlab_plot.py csl  RUN_DIR [RUN_DIR ...] [--out DIR] [--window 0.05]
 
-Reads each run's series.csv (its last snapshot for the force-chain picture, its snapshots for the local strain
-between them: scripts/localisation.py); writes PNG and PDF.
+Reads each run's series.csv (its last snapshot for the force-chain picture, its snapshots' contacts for the force
+distribution and the anisotropy roses: scripts/contacts.py, and for the local strain between them:
+scripts/localisation.py); writes PNG and PDF.
 Several runs are overlaid with a legend (e.g. the mu_r study).
 """
 import argparse
@@ -24,6 +25,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from atomic_write import write_atomically, write_text_atomically  # noqa: E402
+from contacts import fig_contacts  # noqa: E402
 from localisation import fig_localisation, report_section as localisation_section  # noqa: E402
 
 # The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3), as
@@ -1950,6 +1952,7 @@ def main():
         fig_oedometric(runs, out)
         fig_modulus_damping(runs, out)
         fig_forcechains(a.runs[0], out)
+        fig_contacts(a.runs[0], out, save, plt)
         fig_localisation(a.runs[0], out, save, plt)
     else:
         csl(runs, out, a.window)

@@ -1,0 +1,214 @@
+"""The contact network of a snapshot: force distribution and the orientation roses behind the anisotropies.
+
+From a snapshot's contacts (normal n from i to j, normal force f_n, tangential force f_t on j, positions for the branch
+vectors), recomputed here on the host exactly as SPEC §7 defines them (the device's series columns a_c, a_d, a_n, a_t
+at the same instant are the same numbers: tests/contacts_check.py), and drawn the way the micromechanics literature
+reads them:
+  - P(f_n / <f_n>): the normal-force distribution; above the mean it decays exponentially, P ~ exp(-beta f/<f>)
+    (Radjai, Jean, Moreau & Roux 1996, Phys. Rev. Lett. 77, 274: beta ~ 1.4 in 2-D), the strong network's signature;
+    beta is fitted over f/<f> from 1 to the first bin with fewer than TAIL_MIN_COUNT contacts;
+  - roses in the x-z plane (the axial plane of a triaxial test), each averaged over the azimuth: the density of contact
+    normals E(n) 4 pi against its second-order fit 1 + a^c : nn (Rothenburg & Bathurst 1989, Geotechnique 39, eq. 4
+    in 3-D form), the mean normal force of the contacts in a direction over f_0 against 1 + a^n : nn, and the mean
+    tangential force along the meridian over f_0 against e_theta . a^t n (Ouadfel & Rothenburg 2001, Mech. Mater. 33):
+    where the measured roses leave the fits, the anisotropies (and the stress-force-fabric sum built on them) miss
+    part of the distribution.
+"""
+import glob
+import math
+import os
+
+import numpy as np
+
+# Bins of P(f / <f>) and of the roses: the distribution in BIN_WIDTH of f/<f>; the roses in ROSE_BINS bands of equal
+# solid angle (equal steps of cos theta) from the z axis to the equator, the two hemispheres folded (n and -n are the
+# same contact seen from its other particle).
+BIN_WIDTH, ROSE_BINS = 0.2, 9
+# The exponential tail is fitted where a bin holds at least this many contacts (a Poisson count's log has a standard
+# error of 1/sqrt(count): 0.45 here).
+TAIL_MIN_COUNT = 5
+
+
+def load(path):
+    """A snapshot's contacts: n, f_n, f_t, branch vectors d = x_j - x_i and their lengths, the step and tag."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        x = f["particles/x"][:]
+        i, j = f["contacts/i"][:], f["contacts/j"][:]
+        c = dict(n=f["contacts/n"][:], fn=f["contacts/f_n"][:], ft=f["contacts/f_t"][:], d=x[j] - x[i],
+                 step=float(f.attrs.get("step", float("nan"))))
+        tag = f.attrs.get("tag", "")
+        c["tag"] = tag.decode() if isinstance(tag, bytes) else str(tag)
+    c["l"] = np.linalg.norm(c["d"], axis=1) if len(c["fn"]) else np.zeros(0)
+    return c
+
+
+def _dev(a):
+    return a - np.trace(a) / 3 * np.eye(3)
+
+
+def _sym(a):
+    return 0.5 * (a + a.T)
+
+
+def anisotropy(n, fn, ft, d, l):
+    """SPEC §7 for one network: the tensors a^c, a^d, a^n, a^t (3x3), f_0, d_0, and each one's signed scalar (its
+    sign that of a : s, s the deviator of the Christoffersen stress sum f (x) d of these contacts)."""
+    nc = len(fn)
+    if nc == 0:
+        return None
+    f = fn[:, None] * n + ft
+    s = _dev(_sym(np.einsum("ci,cj->ij", f, d)))
+    ac = 7.5 * _dev(np.einsum("ci,cj->ij", n, n) / nc)
+    w = 1 / (1 + np.einsum("ij,ci,cj->c", ac, n, n))
+    dd = np.einsum("c,ci,cj->ij", w * l, n, n) / nc
+    chn = np.einsum("c,ci,cj->ij", w * fn, n, n) / nc
+    cht = _sym(np.einsum("c,ci,cj->ij", w, ft, n) / nc)
+    d0, f0 = np.trace(dd), np.trace(chn)
+    out = dict(ac=ac, ad=7.5 * _dev(dd) / d0, an=7.5 * _dev(chn) / f0, at=5.0 * _dev(cht) / f0, f0=f0, d0=d0)
+    for k in ("ac", "ad", "an", "at"):
+        a = out[k]
+        mag = math.sqrt(1.5 * float((a * a).sum()))
+        out["a_" + k[1]] = -mag if float((a * s).sum()) < 0 else mag
+    return out
+
+
+def exponential_tail(x):
+    """beta and its standard error of P(x) ~ exp(-beta x) over x >= 1 (x = f/<f>): weighted least squares of ln(count)
+    on the bins' centres, each weighted by its count (the inverse variance of a Poisson count's log), up to the last
+    bin before the first with fewer than TAIL_MIN_COUNT contacts; NaN where fewer than three bins qualify."""
+    edges = np.arange(1.0, max(1.0 + 3 * BIN_WIDTH, x.max() + BIN_WIDTH), BIN_WIDTH)
+    cnt, _ = np.histogram(x, edges)
+    # up to the first bin below TAIL_MIN_COUNT: the sparse bins beyond, kept only where not empty, would bias the
+    # tail up
+    low = np.nonzero(cnt < TAIL_MIN_COUNT)[0]
+    k = np.arange(low[0] if len(low) else len(cnt))
+    if len(k) < 3:
+        return float("nan"), float("nan")
+    xc, y, wt = 0.5 * (edges[k] + edges[k + 1]), np.log(cnt[k]), cnt[k].astype(float)
+    A = np.stack([np.ones_like(xc), xc], 1)
+    cov = np.linalg.inv(A.T @ (wt[:, None] * A))
+    coef = cov @ A.T @ (wt * y)
+    res = y - A @ coef
+    dof = len(k) - 2
+    # the residuals' scatter about the line, beyond Poisson's, widens the error when it is larger (reduced chi^2 > 1)
+    scale = max(1.0, float((wt * res ** 2).sum()) / dof) if dof > 0 else 1.0
+    return float(-coef[1]), float(math.sqrt(cov[1, 1] * scale))
+
+
+def roses(n, fn, ft, f0):
+    """The azimuth-averaged roses over ROSE_BINS bands of theta (from z), both hemispheres folded: the bands' centres
+    theta [rad], the normals' density 4 pi E, the mean f_n / f_0, the mean f_t . e_theta / f_0 (NaN in an empty band)."""
+    flip = n[:, 2] < 0  # n -> -n, and the force on the other particle: f_t -> -f_t
+    m = np.where(flip[:, None], -n, n)
+    t = np.where(flip[:, None], -ft, ft)
+    cz = np.clip(m[:, 2], 0, 1)
+    edges = np.linspace(1, 0, ROSE_BINS + 1)  # cos theta from the pole to the equator
+    k = np.minimum((((1 - cz) * ROSE_BINS)).astype(int), ROSE_BINS - 1)
+    theta = np.arccos(m[:, 2].clip(-1, 1))
+    phi = np.arctan2(m[:, 1], m[:, 0])
+    e_theta = np.stack([np.cos(theta) * np.cos(phi), np.cos(theta) * np.sin(phi), -np.sin(theta)], 1)
+    cnt = np.bincount(k, minlength=ROSE_BINS).astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dens = cnt / (len(fn) * (edges[:-1] - edges[1:]))
+        fnm = np.bincount(k, weights=fn, minlength=ROSE_BINS) / cnt / f0
+        ftm = np.bincount(k, weights=(t * e_theta).sum(1), minlength=ROSE_BINS) / cnt / f0
+    centres = np.arccos(0.5 * (edges[:-1] + edges[1:]))
+    return centres, dens, fnm, ftm
+
+
+def rose_fit(a, theta):
+    """The azimuth average of a : nn at polar angle theta (for the density and normal-force roses: 1 + this) and of
+    e_theta . a n (the tangential rose), for a symmetric tensor a."""
+    c2, s2 = np.cos(theta) ** 2, np.sin(theta) ** 2
+    lat = 0.5 * (a[0, 0] + a[1, 1])
+    return a[2, 2] * c2 + lat * s2, np.sin(theta) * np.cos(theta) * (lat - a[2, 2])
+
+
+def network(c):
+    """One snapshot's numbers: (row for contacts.csv, anisotropy dict, x = f_n / <f_n>); None without contacts."""
+    if len(c["fn"]) == 0:
+        return None
+    A = anisotropy(c["n"], c["fn"], c["ft"], c["d"], c["l"])
+    x = c["fn"] / c["fn"].mean()
+    beta, se = exponential_tail(x)
+    row = dict(contacts=len(x), f_mean=float(c["fn"].mean()), strong_frac=float((x > 1).mean()), beta=beta,
+               beta_se=se, a_c=A["a_c"], a_d=A["a_d"], a_n=A["a_n"], a_t=A["a_t"])
+    return row, A, x
+
+
+COLUMNS = ["snapshot", "tag", "step", "contacts", "f_mean", "strong_frac", "beta", "beta_se", "a_c", "a_d", "a_n", "a_t"]
+
+
+def fig_contacts(run, out, save, plt):
+    """figures/contacts.csv (a row per snapshot) and contacts.png: P(f_n/<f_n>) and the three roses for the run's
+    last snapshot and, where the last stage has a snapshot before it, the previous stage's end (the shear's start)."""
+    from atomic_write import write_text_atomically
+
+    snaps = sorted(glob.glob(os.path.join(run, "snapshots", "snap_*.h5")))
+    if not snaps:
+        return []
+    rows, nets = [], {}
+    for p in snaps:
+        c = load(p)
+        got = network(c)
+        if got is None:
+            continue
+        row, A, x = got
+        row.update(snapshot=os.path.basename(p), tag=c["tag"], step=c["step"])
+        rows.append(row)
+        nets[p] = (c, A, x, row)
+    if not rows:
+        return []
+
+    def fmt(v):
+        return f"{v:.6g}" if isinstance(v, float) else str(v)
+
+    write_text_atomically(os.path.join(out, "contacts.csv"), ",".join(COLUMNS) + "\n"
+                          + "".join(",".join(fmt(r[k]) for k in COLUMNS) + "\n" for r in rows))
+    last = max(nets)
+    stage = nets[last][0]["tag"].rsplit("_", 1)[0]
+    before = [p for p in nets if p < last and not nets[p][0]["tag"].startswith(stage + "_")]
+    show = ([max(before)] if before else []) + [last]
+    fig = plt.figure(figsize=(16, 4.2))
+    ax0 = fig.add_subplot(1, 4, 1)
+    axr = [fig.add_subplot(1, 4, k, projection="polar") for k in (2, 3)]
+    ax3 = fig.add_subplot(1, 4, 4)
+    full = np.linspace(0, 2 * np.pi, 361)
+    for p, style in zip(show, ["--", "-"][-len(show):]):
+        c, A, x, row = nets[p]
+        lab = f"{row['tag']}"
+        edges = np.arange(0, x.max() + BIN_WIDTH, BIN_WIDTH)
+        cnt, _ = np.histogram(x, edges)
+        pdf = cnt / (len(x) * BIN_WIDTH)
+        line, = ax0.semilogy(0.5 * (edges[:-1] + edges[1:])[cnt > 0], pdf[cnt > 0], "o" + style, ms=3,
+                             label=f"{lab}: beta {row['beta']:.2f} ± {row['beta_se']:.2f}")
+        if row["beta"] == row["beta"]:
+            xs = np.linspace(1, x.max(), 50)
+            # the fitted line through the tail's density at its first bin
+            ax0.semilogy(xs, pdf[int(1 / BIN_WIDTH)] * np.exp(-row["beta"] * (xs - 1 - BIN_WIDTH / 2)), ":",
+                         color=line.get_color())
+        th, dens, fnm, ftm = roses(c["n"], c["fn"], c["ft"], A["f0"])
+        # each band drawn at its theta in the four quadrants of the x-z plane (polar angle from z: theta = 0 at the top)
+        quads = np.concatenate([th, np.pi - th[::-1], np.pi + th, 2 * np.pi - th[::-1]])
+        for ax, val, a in ((axr[0], dens, A["ac"]), (axr[1], fnm, A["an"])):
+            v = np.concatenate([val, val[::-1], val, val[::-1]])
+            ax.plot(quads, v, "o", ms=3, color=line.get_color())
+            ax.plot(full, 1 + rose_fit(a, full)[0], style, color=line.get_color(), lw=1)
+        ax3.plot(np.degrees(th), ftm, "o", ms=3, color=line.get_color())
+        tf = np.linspace(0, np.pi / 2, 91)
+        ax3.plot(np.degrees(tf), rose_fit(A["at"], tf)[1], style, color=line.get_color(), lw=1,
+                 label=f"{lab}: a_c {row['a_c']:.3f}, a_n {row['a_n']:.3f}, a_t {row['a_t']:.3f}")
+    ax0.set(xlabel="f_n / <f_n>", ylabel="probability density", title="normal forces (dotted: exponential tail)")
+    for ax, t in zip(axr, ["contact normals 4 pi E(n) (line: 1 + a_c:nn)", "mean f_n / f_0 (line: 1 + a_n:nn)"]):
+        ax.set_theta_zero_location("N")
+        ax.set_title(t, fontsize=9)
+    ax3.set(xlabel="angle from the axial direction z [deg]", ylabel="mean f_t . e_theta / f_0",
+            title="tangential forces (line: e_theta . a_t n)")
+    ax0.legend(fontsize=7)
+    ax3.legend(fontsize=7)
+    ax0.grid(alpha=0.3)
+    ax3.grid(alpha=0.3)
+    save(fig, out, "contacts")
+    return rows

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""scripts/contacts.py against known answers:
+  1. a synthetic network of N contacts whose normals are drawn from E(n) ~ 1 + A_c : nn, normal forces f_0 (1 + A_n : nn)
+     times an exponential, tangential forces f_0 (A_t n - (n . A_t n) n): SPEC §7's tensors give back A_c, A_n and
+     A_t (the weights w_c undo the orientation density; the 15/2 and 15/3 make a^t = A_t for this field: chi^t = f_0 A_t
+     / 5), and the roses follow their fits, within the sampling's error;
+  2. P(f/<f>) with an exponential tail of known slope: beta back within three of its standard errors and 5 %;
+  3. given a run and its figures directory (the smoke run, cli_plot's figures): the anisotropies recomputed from the
+     snapshot at the shear's end are the device's series columns at that step (an independent check of SPEC §7's
+     kernels), and contacts.csv has a row per snapshot.
+Usage: contacts_check.py [RUN_DIR FIGURES_DIR]"""
+import csv
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+import contacts as C  # noqa: E402
+
+rng = np.random.default_rng(3)
+N = 400_000
+Ac, An, At = np.diag([-0.2, -0.2, 0.4]), np.diag([0.3, -0.45, 0.15]), np.diag([-0.1, -0.1, 0.2])
+At[0, 2] = At[2, 0] = 0.05
+f0 = 2.0
+# rejection sampling of E(n) ~ 1 + Ac : nn (its largest value 1.4)
+n = rng.normal(size=(3 * N, 3))
+n /= np.linalg.norm(n, axis=1)[:, None]
+n = n[rng.uniform(0, 1.4, len(n)) < 1 + np.einsum("ij,ci,cj->c", Ac, n, n)][:N]
+assert len(n) == N
+fn = f0 * (1 + np.einsum("ij,ci,cj->c", An, n, n)) * rng.exponential(1.0, N)
+ft = f0 * (n @ At - np.einsum("ij,ci,cj->c", At, n, n)[:, None] * n)  # A_t symmetric: (A_t n)_i = n_j A_t,ji
+d = n * rng.uniform(0.9, 1.1, N)[:, None]  # branch vectors along n
+A = C.anisotropy(n, fn, ft, d, np.linalg.norm(d, axis=1))
+# Sampling errors: 15/2 times a second moment's standard error, ~7.5 * 0.3 / sqrt(N) = 0.004 for the fabric; the
+# exponential factor makes the force moments' ~2x that. Tolerances are about four standard errors.
+TOL_C, TOL_N = 0.015, 0.03
+assert np.abs(A["ac"] - Ac).max() < TOL_C, A["ac"]
+assert np.abs(A["an"] - An).max() < TOL_N, A["an"]
+assert abs(A["f0"] / f0 - 1) < 0.01, A["f0"]
+# a^t: f_0 in its denominator is the normal forces' estimate (within 1 %), the field itself is exact
+assert np.abs(A["at"] - At).max() < 0.01 * np.abs(At).max() + 1e-3, A["at"]
+assert abs(A["a_c"] - math.sqrt(1.5 * (Ac * Ac).sum())) < 2 * TOL_C  # s from f (x) d: along A_n + A_c here: positive
+th, dens, fnm, ftm = C.roses(n, fn, ft, A["f0"])
+# a rose band holds N / ROSE_BINS contacts: its density's relative error sqrt(ROSE_BINS / N) ~ 0.5 %, the mean f_n's
+# ~1 % (exponential), f_t exact but for f_0
+assert np.abs(dens - (1 + C.rose_fit(Ac, th)[0])).max() < 0.03, dens
+assert np.abs(fnm - (1 + C.rose_fit(An, th)[0])).max() < 0.05, fnm
+assert np.abs(ftm - C.rose_fit(At, th)[1]).max() < 0.01, (ftm, C.rose_fit(At, th)[1])
+print(f"synthetic network: a^c, a^n, a^t back within {TOL_C}, {TOL_N}, 1 %; roses on their fits")
+
+# 2. exponential tail: 40 % weak contacts below m, the rest m + Exp(rate b); in units of the mean the slope is b <f>
+m, b = 0.5, 2.0
+f = np.concatenate([rng.uniform(0, m, 40_000), m + rng.exponential(1 / b, 60_000)])
+beta, se = C.exponential_tail(f / f.mean())
+want = b * f.mean()
+assert abs(beta - want) < 3 * se and abs(beta / want - 1) < 0.05, (beta, se, want)
+print(f"exponential tail: beta {beta:.3f} ± {se:.3f}, {want:.3f} by construction")
+
+# 3. a run: the device's anisotropies
+if len(sys.argv) > 2:
+    run, figs = sys.argv[1], sys.argv[2]
+    rows = list(csv.DictReader(open(os.path.join(run, "series.csv"))))
+    snaps = sorted(os.listdir(os.path.join(run, "snapshots")))
+    c = C.load(os.path.join(run, "snapshots", snaps[-1]))
+    row = [r for r in rows if float(r["step"]) == c["step"]]
+    assert row, f"no series row at the last snapshot's step {c['step']}"
+    got = C.network(c)[0]
+    for k in ("a_c", "a_d", "a_n", "a_t"):
+        dev = float(row[-1][k])
+        # the series' 12 significant digits; sums in another order: 1e-9 of the largest
+        assert abs(got[k] - dev) <= 1e-9 * max(abs(dev), 1e-3), (k, got[k], dev)
+    print("run: a_c, a_d, a_n, a_t from " + snaps[-1] + " = the series' at step "
+          f"{c['step']:.0f} ({', '.join(f'{got[k]:.6f}' for k in ('a_c', 'a_d', 'a_n', 'a_t'))})")
+    out = list(csv.DictReader(open(os.path.join(figs, "contacts.csv"))))
+    assert [r["snapshot"] for r in out] == snaps and list(out[0]) == C.COLUMNS, out[:1]
+    assert abs(float(out[-1]["a_n"]) - got["a_n"]) <= 1e-6 * abs(got["a_n"]), (out[-1], got)
+print("contacts ok")
