@@ -26,6 +26,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from atomic_write import write_atomically, write_text_atomically  # noqa: E402
 from contacts import fig_contacts  # noqa: E402
+import dilatancy  # noqa: E402
 from localisation import fig_localisation, report_section as localisation_section  # noqa: E402
 
 # The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3), as
@@ -1124,9 +1125,65 @@ def study(out):
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
+             *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
              *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
+
+
+def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
+    """Stress and dilatancy of the drained compression tests (b = 0; scripts/dilatancy.py): each test's largest
+    dilation rate and angle against its peak and critical-state friction angles (Bolton's triaxial relation), and
+    Rowe's K and phi_f beside phi'_cs and the grains' friction; figures/stress_dilatancy.png. Empty without such tests."""
+    rows, fits, figdata = [], [], []
+    for j, d, s in mono:
+        ps = peak_state(s, peak)
+        if j["drainage"] != "drained" or ps["ext"] or ps["b"] > 0 or "M" not in ps or "eps_v" not in s:
+            continue
+        m = s["monotonic"]
+        a = dilatancy.analyse(s["eps_a"][m], s["eps_v"][m], s["q_p"][m])
+        c = critical_state(s, window, *tol)
+        cs = c["phi"] if c is not None and c["ok"] else None
+        phi_mu = math.degrees(math.atan(float(s["mu"][m][-1]))) if "mu" in s else None
+        sig = a["psi_max"] == a["psi_max"]
+        bolton = (ps["phi"] - cs) / a["neg_d_max"] if cs is not None and sig and a["neg_d_max"] > 0 else None
+        rows.append(f"| {j['name']} | {j['mu_r']:g} | {ps['phi']:.1f} | {number_text(cs, '.1f')} | "
+                    f"{a['neg_d_max']:.3f} ± {a['se']:.3f} ({100 * a['eps_max']:.1f}) | {number_text(a['psi_max'], '.1f')} | "
+                    f"{number_text(bolton, '.1f')} | {a['K']:.3f} | {a['phi_f']:.1f} ({a['rms']:.3f}) | {number_text(phi_mu, '.1f')} |")
+        if cs is not None and a["phi_f"] == a["phi_f"]:
+            fits.append(a["phi_f"] - cs)
+        figdata.append((j, s, m, a))
+    if not rows:
+        return []
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.4))
+    for j, s, m, a in figdata:
+        line, = ax[0].plot(100 * s["eps_a"][m], -a["d"], label=j["name"])
+        R, D = dilatancy.principal_ratio(s["q_p"][m]), 1 - a["d"]
+        k0 = int(np.argmax(s["eps_v"][m]))
+        ax[1].plot(D[k0:], R[k0:], ".", ms=3, color=line.get_color())
+        xs = np.array([np.nanmin(D[k0:]), np.nanmax(D[k0:])])
+        ax[1].plot(xs, a["K"] * xs, "-", lw=1, color=line.get_color())
+    ax[0].axhline(0, color="0.5", lw=0.8)
+    ax[0].set(xlabel="eps_a [%]", ylabel="-d eps_v / d eps_a (> 0 dilating)", title="dilatancy rate")
+    ax[1].set(xlabel="1 - d eps_v / d eps_a", ylabel="sigma_1 / sigma_3 (contact stress)",
+              title="Rowe: sigma_1/sigma_3 = K (1 - d), from the largest contraction on")
+    finish(fig, ax, ax[0], 6, figs, "stress_dilatancy")
+    note = (f"Over the tests that reached critical state, phi_f - phi'_cs is {min(fits):+.1f} to {max(fits):+.1f}°."
+            if fits else "")
+    return ["## Stress and dilatancy (drained compression)", "",
+            "The dilatancy rate d = d eps_v / d eps_a (compression positive; < 0 dilating) is the slope of a line through "
+            f"the rows within {dilatancy.WINDOW / 2:g} of axial strain either side (wider where the rows are sparser), with "
+            "its standard error; its largest dilation, (-d)_max, at the strain given, and the dilation angle of triaxial "
+            "strain there, sin psi = -d / (2 - d) ('-' where (-d)_max is within "
+            f"{dilatancy.SIGNIFICANT:g} standard errors of 0: no dilatancy to speak of). Bolton (1986) gives for triaxial "
+            "strain phi'_max - phi'_cs = 10 (-d)_max degrees: the column gives the measured ratio, to read against 10. "
+            "Rowe's stress-dilatancy sigma_1/sigma_3 = K (1 - d), fitted from the largest contraction to the end (the "
+            "principal stress ratio (3 + 2 q/p') / (3 - q/p') of the contact stress), gives phi_f = asin((K - 1)/(K + 1)), "
+            "with the rms of the relative residuals; Rowe read phi_f between the grains' friction phi_mu = atan(mu) and "
+            "phi'_cs. " + note, "",
+            "| test | mu_r | phi'_max [°] | phi'_cs [°] | (-d)_max ± se (eps_a %) | psi_max [°] | (phi'_max - phi'_cs) / "
+            "(-d)_max [°] | Rowe K | phi_f [°] (rms) | phi_mu [°] |",
+            "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def sample_count(run_dir):
