@@ -253,6 +253,7 @@ def write_fields(out, fields, write_atomically, write_text_atomically):
                      f'Precision="8" Format="HDF">localisation.h5:/increments/{k}/{name}</DataItem></Attribute>')
         x.append(" </Grid>")
     write_text_atomically(os.path.join(out, "localisation.xdmf"), "\n".join(x + ["</Grid>", "</Domain>", "</Xdmf>", ""]))
+    print(f"ParaView: open {os.path.join(out, 'localisation.xdmf')} (local strain eta, D2min)")
 
 
 def fig_localisation(run, out, save, plt, max_panels=6):
