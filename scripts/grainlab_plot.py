@@ -25,7 +25,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from atomic_write import write_atomically, write_text_atomically  # noqa: E402
-from contacts import fig_contacts  # noqa: E402
+from contacts import fig_contacts, report_section as contacts_section  # noqa: E402
 import dilatancy  # noqa: E402
 from localisation import fig_localisation, report_section as localisation_section  # noqa: E402
 
@@ -1126,6 +1126,7 @@ def study(out):
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
              *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
+             *contacts_section([(j["name"], d) for j, d, _ in mono]),
              *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))

@@ -5,9 +5,11 @@
      A_t (the weights w_c undo the orientation density; the 15/2 and 15/3 make a^t = A_t for this field: chi^t = f_0 A_t
      / 5), and the roses follow their fits, within the sampling's error;
   2. P(f/<f>) with an exponential tail of known slope: beta back within three of its standard errors and 5 %;
+     what the second-order fits leave is sampling noise there, and a fourth-order density departs from them by its
+     known amount;
   3. given a run and its figures directory (the smoke run, cli_plot's figures): the anisotropies recomputed from the
      snapshot at the shear's end are the device's series columns at that step (an independent check of SPEC §7's
-     kernels), and contacts.csv has a row per snapshot.
+     kernels), contacts.csv has a row per snapshot, and the study report's row is the last snapshot's network.
 Usage: contacts_check.py [RUN_DIR FIGURES_DIR]"""
 import csv
 import math
@@ -48,7 +50,27 @@ th, dens, fnm, ftm = C.roses(n, fn, ft, A["f0"])
 assert np.abs(dens - (1 + C.rose_fit(Ac, th)[0])).max() < 0.03, dens
 assert np.abs(fnm - (1 + C.rose_fit(An, th)[0])).max() < 0.05, fnm
 assert np.abs(ftm - C.rose_fit(At, th)[1]).max() < 0.01, (ftm, C.rose_fit(At, th)[1])
-print(f"synthetic network: a^c, a^n, a^t back within {TOL_C}, {TOL_N}, 1 %; roses on their fits")
+# what the second-order fits leave: nothing but sampling noise here (the largest of 9 |z| < 2.5 nine times in ten:
+# this draw's must stay below 3.5)
+dn, zn, df, zf = C.rose_departure(dict(n=n, fn=fn, ft=ft), A)
+assert zn < 3.5 and zf < 3.5, (dn, zn, df, zf)
+# a fourth-order density, E ~ 1 + c P4(cos theta): no second-order part (a^c ~ 0, the fit is 1), so each band departs
+# by c times P4's mean over its cos theta, (7x^5 - 10x^3 + 3x) / 8 integrated: the largest is known exactly
+c4 = 0.3
+n4 = rng.normal(size=(4 * N, 3))
+n4 /= np.linalg.norm(n4, axis=1)[:, None]
+x4 = n4[:, 2]
+n4 = n4[rng.uniform(0, 1 + c4, len(n4)) < 1 + c4 * (35 * x4 ** 4 - 30 * x4 ** 2 + 3) / 8][:N]
+f4 = f0 * rng.exponential(1.0, len(n4))
+A4 = C.anisotropy(n4, f4, np.zeros_like(n4), n4, np.ones(len(n4)))
+P4int = lambda x: (7 * x ** 5 - 10 * x ** 3 + 3 * x) / 8  # noqa: E731
+e = np.linspace(1, 0, C.ROSE_BINS + 1)
+want4 = np.abs(c4 * (P4int(e[:-1]) - P4int(e[1:])) / (e[:-1] - e[1:])).max()
+dn4, zn4, _, zf4 = C.rose_departure(dict(n=n4, fn=f4, ft=np.zeros_like(n4)), A4)
+# the band's density to ~0.5 % (N / ROSE_BINS contacts) plus the residual a^c (~0.01) the fit takes from it
+assert abs(dn4 - want4) < 0.03 and zn4 > 10 and zf4 < 3.5, (dn4, want4, zn4, zf4)
+print(f"synthetic network: a^c, a^n, a^t back within {TOL_C}, {TOL_N}, 1 %; roses on their fits (largest z "
+      f"{zn:.1f}, {zf:.1f}); a fourth-order density departs by {dn4:.3f} ({want4:.3f} exactly), z {zn4:.0f}")
 
 # 2. exponential tail: 40 % weak contacts below m, the rest m + Exp(rate b); in units of the mean the slope is b <f>
 m, b = 0.5, 2.0
@@ -76,4 +98,8 @@ if len(sys.argv) > 2:
     out = list(csv.DictReader(open(os.path.join(figs, "contacts.csv"))))
     assert [r["snapshot"] for r in out] == snaps and list(out[0]) == C.COLUMNS, out[:1]
     assert abs(float(out[-1]["a_n"]) - got["a_n"]) <= 1e-6 * abs(got["a_n"]), (out[-1], got)
+    # the study report's row: the last snapshot's network
+    sec = C.report_section([("smoke", run)])
+    cells = next(l for l in sec if l.startswith("| smoke |")).split(" | ")
+    assert int(cells[1]) == got["contacts"] and cells[3] == f"{got['beta']:.2f} ± {got['beta_se']:.2f}", cells
 print("contacts ok")
