@@ -1181,7 +1181,7 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
             "Rowe's stress-dilatancy sigma_1/sigma_3 = K (1 - d), fitted from the largest contraction to the end (the "
             "principal stress ratio (3 + 2 q/p') / (3 - q/p') of the contact stress), gives phi_f = asin((K - 1)/(K + 1)), "
             "with the rms of the relative residuals; Rowe read phi_f between the grains' friction phi_mu = atan(mu) and "
-            "phi'_cs. " + note, "",
+            "phi'_cs. figures/stress_dilatancy.png draws d against eps_a and each test's Rowe line. " + note, "",
             "| test | mu_r | phi'_max [°] | phi'_cs [°] | (-d)_max ± se (eps_a %) | psi_max [°] | (phi'_max - phi'_cs) / "
             "(-d)_max [°] | Rowe K | phi_f [°] (rms) | phi_mu [°] |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]

@@ -137,7 +137,8 @@ const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
 }
 // cycles.csv's columns in builds before gamma_max, and before `complete` (their checkpoints hold rows this long; every
 // row they hold is a whole cycle: they wrote no other)
-constexpr size_t kCycleColumnsNoShear = 11, kCycleColumnsNoComplete = 14, kCycleComplete = 14;
+constexpr size_t kCycleColumnsNoShear = 11, kCycleColumnsNoComplete = 14;
+constexpr size_t kCycleComplete = kCycleColumnsNoComplete;  // the index of `complete`: the first column after those
 
 namespace {
 
