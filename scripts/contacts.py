@@ -219,6 +219,9 @@ def fig_contacts(run, out, save, plt):
     ax0.grid(alpha=0.3)
     ax3.grid(alpha=0.3)
     save(fig, out, "contacts")
+    r = nets[last][3]
+    print(f"contacts at {r['snapshot']} ({r['tag']}): {r['contacts']}, beta {r['beta']:.2f} ± {r['beta_se']:.2f}, "
+          f"a_c {r['a_c']:.3f}, a_d {r['a_d']:.3f}, a_n {r['a_n']:.3f}, a_t {r['a_t']:.3f}")
     return rows
 
 

@@ -308,6 +308,11 @@ def fig_localisation(run, out, save, plt, max_panels=6):
         ax.set_ylim(XB[:, 2].min(), XB[:, 2].max())
     fig.colorbar(sc, cax=axes[0][-1], label="local shear strain eta / its mean")
     save(fig, out, "localisation")
+    top = max(rows, key=lambda r: -1.0 if math.isnan(r["band_contrast"]) else r["band_contrast"])
+    print(f"local strain: {len(rows)} increment(s); eta's CV {min(r['eta_cv'] for r in rows):.2f}-"
+          f"{max(r['eta_cv'] for r in rows):.2f}; largest band contrast {top['band_contrast']:.2f} ({top['to']}): "
+          + ("localised" if any(r["localised"] == "yes" for r in rows) else
+             "too small to tell" if all(r["localised"] == "too small" for r in rows) else "no band"))
     return rows
 
 
