@@ -75,7 +75,8 @@ def anisotropy(n, fn, ft, d, l):
 
 
 def exponential_tail(x):
-    """beta and its standard error of P(x) ~ exp(-beta x) over x >= 1 (x = f/<f>): weighted least squares of ln(count)
+    """beta, its standard error and the line's ln(count) at x = 0, of P(x) ~ exp(-beta x) over x >= 1 (x = f/<f>), the
+    counts in bins of BIN_WIDTH from 1: weighted least squares of ln(count)
     on the bins' centres, each weighted by its count (the inverse variance of a Poisson count's log), up to the last
     bin before the first with fewer than TAIL_MIN_COUNT contacts; NaN where fewer than three bins qualify."""
     edges = np.arange(1.0, max(1.0 + 3 * BIN_WIDTH, x.max() + BIN_WIDTH), BIN_WIDTH)
@@ -85,7 +86,7 @@ def exponential_tail(x):
     low = np.nonzero(cnt < TAIL_MIN_COUNT)[0]
     k = np.arange(low[0] if len(low) else len(cnt))
     if len(k) < 3:
-        return float("nan"), float("nan")
+        return float("nan"), float("nan"), float("nan")
     xc, y, wt = 0.5 * (edges[k] + edges[k + 1]), np.log(cnt[k]), cnt[k].astype(float)
     A = np.stack([np.ones_like(xc), xc], 1)
     cov = np.linalg.inv(A.T @ (wt[:, None] * A))
@@ -94,7 +95,7 @@ def exponential_tail(x):
     dof = len(k) - 2
     # the residuals' scatter about the line, beyond Poisson's, widens the error when it is larger (reduced chi^2 > 1)
     scale = max(1.0, float((wt * res ** 2).sum()) / dof) if dof > 0 else 1.0
-    return float(-coef[1]), float(math.sqrt(cov[1, 1] * scale))
+    return float(-coef[1]), float(math.sqrt(cov[1, 1] * scale)), float(coef[0])
 
 
 def roses(n, fn, ft, f0, errors=False):
@@ -140,9 +141,9 @@ def network(c):
         return None
     A = anisotropy(c["n"], c["fn"], c["ft"], c["d"], c["l"])
     x = c["fn"] / c["fn"].mean()
-    beta, se = exponential_tail(x)
+    beta, se, ln0 = exponential_tail(x)
     row = dict(contacts=len(x), f_mean=float(c["fn"].mean()), strong_frac=float((x > 1).mean()), beta=beta,
-               beta_se=se, a_c=A["a_c"], a_d=A["a_d"], a_n=A["a_n"], a_t=A["a_t"])
+               beta_se=se, tail_ln0=ln0, a_c=A["a_c"], a_d=A["a_d"], a_n=A["a_n"], a_t=A["a_t"])
     return row, A, x
 
 
@@ -194,8 +195,8 @@ def fig_contacts(run, out, save, plt):
                              label=f"{lab}: beta {row['beta']:.2f} ± {row['beta_se']:.2f}")
         if row["beta"] == row["beta"]:
             xs = np.linspace(1, x.max(), 50)
-            # the fitted line through the tail's density at its first bin
-            ax0.semilogy(xs, pdf[int(1 / BIN_WIDTH)] * np.exp(-row["beta"] * (xs - 1 - BIN_WIDTH / 2)), ":",
+            # the fitted line, its counts in bins of BIN_WIDTH as a density
+            ax0.semilogy(xs, np.exp(row["tail_ln0"] - row["beta"] * xs) / (len(x) * BIN_WIDTH), ":",
                          color=line.get_color())
         th, dens, fnm, ftm = roses(c["n"], c["fn"], c["ft"], A["f0"])
         # each band drawn at its theta in the four quadrants of the x-z plane (polar angle from z: theta = 0 at the top)
@@ -244,11 +245,12 @@ def report_section(tests):
     rows = []
     for name, run in tests:
         snaps = sorted(glob.glob(os.path.join(run, "snapshots", "snap_*.h5")))
-        got = network(load(snaps[-1])) if snaps else None
+        c = load(snaps[-1]) if snaps else None
+        got = network(c) if c is not None else None
         if got is None:
             continue
         row, A, _ = got
-        dn, zn, df, zf = rose_departure(load(snaps[-1]), A)
+        dn, zn, df, zf = rose_departure(c, A)
         beta = "-" if row["beta"] != row["beta"] else f"{row['beta']:.2f} ± {row['beta_se']:.2f}"
         rows.append(f"| {name} | {row['contacts']} | {row['strong_frac']:.3f} | {beta} | {dn:.3f} (z {zn:.1f}) | "
                     f"{df:.3f} (z {zf:.1f}) |")

@@ -79,8 +79,8 @@ def rowe_fit(ratio, d, start):
 
 def analyse(eps_a, eps_v, eta, window=WINDOW):
     """One test's dilatancy: the largest dilation rate (-d)_max, its standard error, strain and angle psi_max (NaN
-    where it is not SIGNIFICANT standard errors above 0), the strain of the largest contraction, Rowe's K, phi_f and
-    rms; and the per-row d (for figures)."""
+    where it is not SIGNIFICANT standard errors above 0), the row and strain of the largest contraction (turn,
+    eps_turn), Rowe's K, phi_f and rms over the rows from it; and the per-row d (for figures)."""
     d, se = rate(eps_a, eps_v, window)
     out = dict(d=d, neg_d_max=float("nan"), se=float("nan"), eps_max=float("nan"), psi_max=float("nan"))
     if np.isfinite(d).any():
@@ -89,6 +89,6 @@ def analyse(eps_a, eps_v, eta, window=WINDOW):
         if -d[k] > SIGNIFICANT * se[k]:
             out["psi_max"] = float(dilation_angle(d[k]))
     k0 = int(np.argmax(eps_v))  # the largest contraction: where the sample turns to dilate
-    out["eps_turn"] = float(eps_a[k0])
+    out["turn"], out["eps_turn"] = k0, float(eps_a[k0])
     out["K"], out["phi_f"], out["rms"] = rowe_fit(principal_ratio(eta), d, k0)
     return out

@@ -1160,7 +1160,7 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
     for j, s, m, a in figdata:
         line, = ax[0].plot(100 * s["eps_a"][m], -a["d"], label=j["name"])
         R, D = dilatancy.principal_ratio(s["q_p"][m]), 1 - a["d"]
-        k0 = int(np.argmax(s["eps_v"][m]))
+        k0 = a["turn"]  # Rowe's fit starts there
         ax[1].plot(D[k0:], R[k0:], ".", ms=3, color=line.get_color())
         xs = np.array([np.nanmin(D[k0:]), np.nanmax(D[k0:])])
         ax[1].plot(xs, a["K"] * xs, "-", lw=1, color=line.get_color())

@@ -17,9 +17,9 @@ which the mean local one is checked, and the rms non-affine displacement about i
 
 A band is searched as the slab of BAND_WIDTH mean diameters, over every orientation of its normal (dip 0-90 deg in
 DIP_STEP, azimuth 0-360 deg in AZIMUTH_STEP) and every position (steps of one diameter, the slab holding between
-BAND_MIN_SHARE and BAND_MAX_SHARE of the particles), whose mean eta exceeds the rest's the most: the contrast. A sample deforming
-homogeneously still has a noisy field (eta's coefficient of variation 0.26-0.36 in the quick study's 5 000-sphere
-drained shears) whose best slab reaches a contrast of 1.1-1.3 there, at the box's edges; a slab that deforms
+BAND_MIN_SHARE and BAND_MAX_SHARE of the particles), whose mean eta exceeds the rest's the most: the contrast. A
+sample deforming homogeneously still has a noisy field (eta's coefficient of variation 0.25-0.36 in the quick study's
+5 000-sphere drained shears) whose best slab reaches a contrast of 1.1-1.3 there, at the box's edges; a slab that deforms
 BAND_CONTRAST times faster than the rest is called a band. The dip is the band plane's angle to the horizontal
 (the plane of the lateral stresses in a triaxial test; Coulomb's band lies at 45 + phi/2 deg to it, Roscoe's at
 45 + psi/2).
@@ -235,15 +235,15 @@ def write_fields(out, fields, write_atomically, write_text_atomically):
 
     def fill(tmp):
         with h5py.File(tmp, "w") as f:
-            for k, (_, XB, eta, _, _, d2, r, _) in enumerate(fields):
+            for k, fl in enumerate(fields):
                 g = f.create_group(f"increments/{k}")
-                g["x"], g["radius"], g["eta"], g["d2min"] = XB, r, eta, d2
+                g["x"], g["radius"], g["eta"], g["d2min"] = fl["XB"], fl["r"], fl["eta"], fl["d2"]
 
     write_atomically(os.path.join(out, "localisation.h5"), fill)
     x = ['<?xml version="1.0" ?>', '<Xdmf Version="3.0">', "<Domain>",
          '<Grid Name="localisation" GridType="Collection" CollectionType="Temporal">']
-    for k, (_, XB, _, row, _, _, _, t) in enumerate(fields):
-        n = len(XB)
+    for k, fl in enumerate(fields):
+        n, t = len(fl["XB"]), fl["t"]
         x += [f' <Grid Name="i{k}"><Time Value="{t if t is not None else k!r}"/>',
               f'  <Topology TopologyType="Polyvertex" NumberOfElements="{n}"/>',
               f'  <Geometry GeometryType="XYZ"><DataItem Dimensions="{n} 3" NumberType="Float" Precision="8" '
@@ -271,7 +271,7 @@ def fig_localisation(run, out, save, plt, max_panels=6):
         row, eta, d2 = analyse(XA, XB, d)
         row.update({"stage": stage, "from": a, "to": b, "eps_a_from": ea, "eps_a_to": eb})
         rows.append(row)
-        fields.append((XA, XB, eta, row, d, d2, r, t))
+        fields.append(dict(XB=XB, eta=eta, row=row, d=d, d2=d2, r=r, t=t))
 
     def fmt(v):
         return f"{v:.6g}" if isinstance(v, float) else ("" if v is None else str(v))
@@ -284,7 +284,7 @@ def fig_localisation(run, out, save, plt, max_panels=6):
     fig, axes = plt.subplots(1, len(pick) + 1, figsize=(3.2 * len(pick) + 0.8, 3.9), squeeze=False,
                              gridspec_kw={"width_ratios": [1.0] * len(pick) + [0.06]})
     for ax, k in zip(axes[0], pick):
-        XA, XB, eta, row, d = fields[k][:5]
+        XB, eta, row, d = (fields[k][key] for key in ("XB", "eta", "row", "d"))
         y0, y1 = XB[:, 1].min(), XB[:, 1].max()
         yc = 0.5 * (y0 + y1)
         m = np.abs(XB[:, 1] - yc) < 0.15 * (y1 - y0)
@@ -324,7 +324,7 @@ def report_section(tests, window):
         inc = window_increment(run, window)
         if inc is None:
             continue
-        stage, a, b, ea, eb, XA, XB, d = inc[:8]
+        ea, eb, XA, XB, d = inc[3:8]
         row, _, _ = analyse(XA, XB, d)
         band = ("-" if math.isnan(row["band_contrast"]) else
                 f"{row['band_contrast']:.2f} ({row['band_dip']:.0f}° / {row['band_azimuth']:.0f}°)")
