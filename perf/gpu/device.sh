@@ -54,6 +54,9 @@ while [ $# -gt 0 ]; do
       # -j 6: the tests are small; several share the GPU (and its 16 host cores) and none is timed.
       # GPU_TESTS_EXCLUDE: a CTest -E regex; GPU_TESTS_SECONDS: stop every test that long from now (CTest's
       # --stop-time), so that a call's time limit ends the suite with its summary written, not mid-log.
+      # The CPU suite's test times (pack.sh), unless this machine has timed its own: longest first.
+      [ -f build-gpu/Testing/Temporary/CTestCostData.txt ] || { [ -f "$C/CTestCostData.txt" ] && \
+        mkdir -p build-gpu/Testing/Temporary && cp "$C/CTestCostData.txt" build-gpu/Testing/Temporary/; }
       stop=(); [ -n "${GPU_TESTS_SECONDS:-}" ] && stop=(--stop-time "$(date -d "+${GPU_TESTS_SECONDS} seconds" +%H:%M:%S)")
       (cd build-gpu && ctest --output-on-failure -j "${GPU_TESTS_JOBS:-6}" --timeout 500 ${regex:+-R "$regex"} \
         ${GPU_TESTS_EXCLUDE:+-E "$GPU_TESTS_EXCLUDE"} "${stop[@]}") > "$OUT/ctest.log" 2>&1 || status=1

@@ -34,5 +34,11 @@ if [ -n "${BASE_BUILD:-}" ]; then
   xz -T0 -6 -c "$BASE_BUILD/perf/race_bench" > "$C/race_bench_base.xz"
   git -C "$BASE_BUILD/.." describe --always --dirty > "$C/base_commit.txt"
 fi
+# CTest's cost data of the CPU build (build/, `make test`), the gtests renamed to their one CUDA entry: a fresh
+# GPU machine then starts the longest tests first (study_quick), as the CPU suite does, instead of last.
+if [ -f "${BUILD:-build}/Testing/Temporary/CTestCostData.txt" ]; then
+  awk '$0 == "---" {exit} / /{n = split($1, a, ".")} a[n] == "omp1" {next} {sub(/\.omp2$/, ".cuda", $1)} NF == 3; END {print "---"}' \
+    "${BUILD:-build}/Testing/Temporary/CTestCostData.txt" > "$C/CTestCostData.txt"
+fi
 cp "$PEERS_DIR/scene_32k.txt" "$PEERS_DIR/scene_32k_box.txt" "$C/scene/"
 echo "pack.sh: $(du -sh "$C" | cut -f1) in $C (${#exes[@]} executables, $(ls "$C/lib" | wc -l) libraries)"
