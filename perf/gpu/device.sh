@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs on the lent GPU machine over a copy of the working tree with .gpucarry/ (perf/gpu/pack.sh) carried.
 # Everything it measures lands in $OUT (the tool's result folder; ./gpu-out elsewhere).
-#   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects;
-#                                      env GPU_TESTS_EXCLUDE, GPU_TESTS_SECONDS, GPU_TESTS_JOBS: see the verb)
+#   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects; env
+#                                      GPU_TESTS_EXCLUDE, GPU_TESTS_SECONDS, GPU_TESTS_JOBS, GPU_TESTS_GPU_SLOTS: see the verb)
 #   perf/gpu/device.sh bench [REPS]    copy bandwidth + race scene 32k .. 11M, rolling on/off (perf/RESULTS.md)
 #   perf/gpu/device.sh base [TILES]    the race bench of an older build (pack.sh BASE_BUILD=...) at the tiles
 #                                      "TILES" (default "1 4"), rolling on: a baseline on the same card, same call
@@ -58,8 +58,15 @@ while [ $# -gt 0 ]; do
       [ -f build-gpu/Testing/Temporary/CTestCostData.txt ] || { [ -f "$C/CTestCostData.txt" ] && \
         mkdir -p build-gpu/Testing/Temporary && cp "$C/CTestCostData.txt" build-gpu/Testing/Temporary/; }
       stop=(); [ -n "${GPU_TESTS_SECONDS:-}" ] && stop=(--stop-time "$(date -d "+${GPU_TESTS_SECONDS} seconds" +%H:%M:%S)")
+      # The GPU in GPU_TESTS_GPU_SLOTS slots (default 1: tests/CMakeLists.txt says why the engine's tests take it in
+      # turn); the config checks and the rest of the -j slots run beside.
+      spec=(); if ctest --help | grep -q resource-spec-file; then
+        printf '{"version": {"major": 1, "minor": 0}, "local": [{"gpus": [{"id": "0", "slots": %d}]}]}\n' \
+          "${GPU_TESTS_GPU_SLOTS:-1}" > /tmp/gpu_resources.json
+        spec=(--resource-spec-file /tmp/gpu_resources.json)
+      fi
       (cd build-gpu && ctest --output-on-failure -j "${GPU_TESTS_JOBS:-6}" --timeout 500 ${regex:+-R "$regex"} \
-        ${GPU_TESTS_EXCLUDE:+-E "$GPU_TESTS_EXCLUDE"} "${stop[@]}") > "$OUT/ctest.log" 2>&1 || status=1
+        ${GPU_TESTS_EXCLUDE:+-E "$GPU_TESTS_EXCLUDE"} "${stop[@]}" "${spec[@]}") > "$OUT/ctest.log" 2>&1 || status=1
       tail -n 25 "$OUT/ctest.log" ;;
     bench)
       reps=3; if [[ "${2:-}" =~ ^[0-9]+$ ]]; then reps=$2; shift; fi
