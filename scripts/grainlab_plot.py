@@ -563,7 +563,43 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     # and the interior's void ratio (series e_inner: the whole box's e counts the looser layer along the walls)
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
                 M=M, b=b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)),
-                e_inner=window_mean(s, "e_inner", m, w), **last)
+                e_inner=window_mean(s, "e_inner", m, w), M_walls=window_ratio(s, "q", "p", m, w),
+                M_inner=window_ratio(s, "q_inner", "p_inner", m, w), **last)
+
+
+def window_ratio(s, qcol, pcol, m, w):
+    """The mean of |q/p'| from columns qcol, pcol over the rows `w` of the rows `m` (the stress ratio of another
+    stress than the contacts' q_p: the walls', the interior's), NaN rows left out; None where not measured."""
+    if qcol not in s or pcol not in s:
+        return None
+    q, p = s[qcol][m][w], s[pcol][m][w]
+    ok = np.isfinite(q) & np.isfinite(p) & (p > 0)
+    return float(np.mean(np.abs(q[ok] / p[ok]))) if ok.any() else None
+
+
+# Which stress the stress ratio is of (the report's critical-state sections): SPEC §7's contact stress sums the
+# sphere-sphere contacts over the whole box; the walls' stress is the sample's mean stress (with the sphere-wall
+# contacts, series q_contacts_walls equals it in equilibrium); the interior's (series p_inner, q_inner) is that of
+# the spheres two mean diameters or more from the walls, without the layers along them.
+STRESS_MEASURES_TEXT = (
+    "q/p' is SPEC §7's contact stress (every sphere-sphere contact over the box's volume), as are M, phi_cs and the "
+    "stress-force-fabric sum; it leaves out the sphere-wall contacts' share of the sample's stress, largest along "
+    "the loaded axis of a squat sample. q/p' walls is the walls' own (the sample's mean stress), q/p' interior that "
+    "of the spheres whose centres lie in e_c interior's box (series p_inner, q_inner): the material without the "
+    "layers along the walls. The three agree in a sample large against its grains; where they differ, the walls' is "
+    "a walled specimen's and the interior's the material's.")
+
+
+def stress_measures_note(states):
+    """One line on how far the walls' and the interior's critical stress ratios are from the contacts' (states: critical
+    states of critical_state); empty where neither was measured."""
+    parts = []
+    for key, what in (("M_walls", "the walls'"), ("M_inner", "the interior's")):
+        d = [100 * (c[key] / c["M"] - 1) for c in states if c.get(key) is not None and c["M"] > 0]
+        if d:
+            parts.append(f"{what} {min(d):+.0f} to {max(d):+.0f} %")
+    return ("Over the critical states, q/p' of the walls and of the interior against the contacts': " +
+            ", ".join(parts) + ".") if parts else ""
 
 
 def drift_and_error(x, y):
@@ -924,7 +960,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         groups.setdefault((cs["mu_r"], cs["ext"], cs["b"], cs["rate"]), []).append(cs)
     several_rates = len({k[3] for k in groups}) > 1
     lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | interior e_c = a + b p' | a_c = c + d ln(p'/1 kPa) "
-             "| M = abs(q/p') (phi_cs) | largest I |", "|---|---|---|---|---|---|---|---|"]
+             "| M = abs(q/p') (phi_cs) | largest I | M walls, interior |", "|---|---|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
@@ -937,6 +973,10 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         m_txt = f"{M.mean():.3f}" + (f" ± {M.std(ddof=1):.3f}" if len(M) > 1 else "") + f" ({phi:.1f}°)"
         Is = [c["I"] for c in g if c.get("I") is not None]
         m_txt += " | " + (f"{max(Is):.1e}" if len(Is) == len(g) else "-")  # a group with an unmeasured I: unknown
+        # M of the walls' and of the interior's stress (STRESS_MEASURES_TEXT), where every state measured it
+        m_txt += " | " + ", ".join(
+            f"{np.mean([c[k] for c in g]):.3f}" if all(c.get(k) is not None for c in g) else "-"
+            for k in ("M_walls", "M_inner"))
         tag = (f"mu_r = {mur:g}" + (" extension" if ext else "") + (f" b = {bv:g}" if bv > 0 else "")
                + (rate_text(rate, " ") if several_rates else ""))
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
@@ -969,7 +1009,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         legend(a_, fontsize=8)
     save(fig, out, "csl")
     if not groups:
-        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | | |")
+        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | | | |")
     note = inertial_note([c for _, c in states])
     text = "\n".join(lines + (["", note] if note else []))
     if not quiet:
@@ -1020,7 +1060,7 @@ def study(out):
     cyc = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) <= 0]
     oed = [r for r in runs if r[2]["oedometric"].any()]  # K0 tests: their own section
     peak = peak_settings(idx)  # how the peaks are taken (the study's peak block)
-    peak_lines, cs_rows, share_rows, peak_I = [], [], [], []
+    peak_lines, cs_rows, share_rows, peak_I, cs_ok = [], [], [], [], []
     for j, d, s in mono:
         ps = peak_state(s, peak)
         direction = ("extension" if ps["ext"] else "compression") + (f", b = {ps['b']:g}" if ps["b"] > 0 else "")
@@ -1043,11 +1083,13 @@ def study(out):
         if c["ok"]:
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | "
                            f"{c['e']:.4f} | {c['qp']:.3f} | {c['phi']:.1f} | {c['a_c']:.3f} | "
-                           f"{quasi_static_text(c['I'], c['ke'])} | {number_text(c['e_inner'], '.4f')} |")
+                           f"{quasi_static_text(c['I'], c['ke'])} | {number_text(c['e_inner'], '.4f')} | "
+                           f"{number_text(c['M_walls'], '.3f')} | {number_text(c['M_inner'], '.3f')} |")
+            cs_ok.append(c)
             share_rows.append(f"| {j['name']} | {j['mu_r']:g} | {c['sff_share_c']:.2f} | {c['sff_share_d']:.2f} | "
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
-            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | | |")
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | | | | |")
     csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
@@ -1117,11 +1159,12 @@ def study(out):
              f"{QUASI_STATIC_I:g}) and KE/E_el the mean kinetic energy of the skeleton about its affine motion over "
              "its elastic energy (ke_fluct_ratio; ke_ratio, with the imposed motion, in runs of older builds). e_c "
              "interior is the window's mean void ratio of the box inset by two mean diameters (series e_inner): e_c "
-             "counts the looser layer along the walls, whose share falls as count^(-1/3) (configs/size-study.yaml).", "",
+             "counts the looser layer along the walls, whose share falls as count^(-1/3) (configs/size-study.yaml). "
+             + STRESS_MEASURES_TEXT, "",
              "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c | I | KE/E_el "
-             "| e_c interior |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
-             *cs_rows, "", "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
+             "| e_c interior | q/p' walls | q/p' interior |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+             *cs_rows, "", *([stress_measures_note(cs_ok), ""] if stress_measures_note(cs_ok) else []), "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),

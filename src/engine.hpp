@@ -209,6 +209,13 @@ class Engine {
   // SPEC §7 descriptors of the current evaluation (call between evaluate() and advance() for
   // positions and forces of one instant). Volume: the box's, or `volume` when given.
   Descriptors analyze(Real volume = 0);
+  // The stress of the spheres whose centres lie in the box [lo, hi]: each one's Love-Weber moment sum over its
+  // contacts, sum_c (x_c - x_i) (x) f_c, over the box's volume (Christoffersen et al. 1981; Bagi 1996). A contact's
+  // branch vector splits at the contact point, levers r_i - delta/2 and r_j - delta/2 along n, so a box around every
+  // centre gives analyze()'s sigma (its symmetric part, compression positive) and boxes that tile the sample add up
+  // to it. Sphere-wall contacts are not counted: the interior box it is meant for is inset from the walls by more
+  // than a radius. Zero for an empty box.
+  Sym stress_in(const Vec3d& lo, const Vec3d& hi);
 
   const Particles& particles() const { return P_; }
   const PairList& pairs() const { return lists_[cur_]; }

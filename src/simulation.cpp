@@ -118,6 +118,11 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       // the void ratio of the interior (Laboratory::inner_void_ratio): e of the whole box counts the looser layer
       // along the flat walls, whose share falls as count^(-1/3) (configs/size-study.yaml)
       {"e_inner", "-"},
+      // q of the contact stress with the sphere-wall contacts (p_contacts_walls' q), and the interior's stress
+      // (Laboratory::inner_stress, the box of e_inner): the boundary layer's share of the measured stress
+      {"q_contacts_walls", "Pa"},
+      {"p_inner", "Pa"},
+      {"q_inner", "Pa"},
   };
   return cols;
 }
@@ -395,8 +400,10 @@ class Laboratory {
   Real stage_ocr(size_t k) const;
   void check_servo(const StageConfig& sc, const Measure& m);
   Real inner_void_ratio() const;
+  Sym inner_stress();
   Real core_void_ratio() const;
   Real void_ratio_inset(const Real (&inset)[3]) const;
+  Real inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const;
   void warn_graded(const StageConfig& sc, const StageResult& r) const;
   void place_lateral_walls();
   void ramp_pressure(const StageConfig& sc, long stage_step);
@@ -656,6 +663,8 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
   lab_.last_eps = m.eps_a;
   lab_.last_time = e.time();
   const Real I = m.p > 0 ? rate * d_mean_ * std::sqrt(density_ * scaling_ / m.p) : 0;
+  Real p_in = 0, q_in = 0;
+  stress_invariants(inner_stress(), p_in, q_in);
   return {e.time(),
           double(e.step_count()),
           m.eps_a,
@@ -712,17 +721,38 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           std::max(Real(0), e.deepest_overlap().ratio),
           sc.type == StageType::Cyclic ? (lab_.cycle = std::max(lab_.cycle, cycle_number(sc, m))) : 0.0,
           d.potential > 0 ? d.kinetic_fluct / d.potential : 0,
-          inner_void_ratio()};
+          inner_void_ratio(),
+          D.q_walls,
+          p_in,
+          q_in};
 }
 
-// The interior's void ratio: the wall box inset by kInnerMargin mean diameters on every side, its solids by centre
-// counting (Engine::solid_volume_in). (choice) 2 diameters: the wall's ordering of the first layers of a packing
-// decays within a few diameters, and the interior must keep a useful share of a few thousand spheres (30 % of a
-// 2 000-sphere box, 43 % of a 5 000-sphere one). NaN where no interior is left or it holds no centre.
+// The interior: the wall box inset by kInnerMargin mean diameters on every side. (choice) 2 diameters: the wall's
+// ordering of the first layers of a packing decays within a few diameters, and the interior must keep a useful share
+// of a few thousand spheres (30 % of a 2 000-sphere box, 43 % of a 5 000-sphere one).
+constexpr Real kInnerMargin = 2;
+
+// The interior's void ratio, its solids by the caps the box's faces cut off (Engine::solid_volume_in). NaN where no
+// interior is left or it holds no centre.
 Real Laboratory::inner_void_ratio() const {
-  constexpr Real kInnerMargin = 2;
   const Real m = kInnerMargin * d_mean_, inset[3] = {m, m, m};
   return void_ratio_inset(inset);
+}
+
+// The interior's stress (Engine::stress_in: the spheres whose centres it holds). SPEC §7's contact stress sums every
+// sphere-sphere contact over the whole box, so it misses the sphere-wall contacts' share (p_contacts_walls adds it) and
+// averages the layers along the walls in: in the quick study's drained shears over 35-41 % axial strain (5 000 spheres,
+// 10 diameters high by then), q/p' of the contacts 0.67-0.76, of the interior 0.75-0.84, of the walls 0.81-0.94.
+// NaN components where no interior is left.
+Sym Laboratory::inner_stress() {
+  const Real m = kInnerMargin * d_mean_, inset[3] = {m, m, m};
+  Vec3d lo{}, hi{};
+  if (!(inset_box(inset, lo, hi) > 0)) {
+    Sym nan;
+    for (Real& v : nan.v) v = std::numeric_limits<Real>::quiet_NaN();
+    return nan;
+  }
+  return eng_->stress_in(lo, hi);
 }
 
 // The core's void ratio: the central eighth of the box (a quarter of each side in from each wall), where a sample
@@ -735,16 +765,21 @@ Real Laboratory::core_void_ratio() const {
 
 // The void ratio of the wall box inset by inset[a] on both sides along axis a (Engine::solid_volume_in: the parts of
 // the spheres inside it); NaN where no box is left or it holds no solid.
-Real Laboratory::void_ratio_inset(const Real (&inset)[3]) const {
-  const Engine& e = *eng_;
-  Vec3d lo{}, hi{};
+// The wall box inset by inset[a] along each axis: [lo, hi] and its volume (0 where nothing is left).
+Real Laboratory::inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const {
   Real V = 1;
   for (int a = 0; a < 3; ++a) {
-    lo[a] = e.wall_position(2 * a) + inset[a];
-    hi[a] = e.wall_position(2 * a + 1) - inset[a];
+    lo[a] = eng_->wall_position(2 * a) + inset[a];
+    hi[a] = eng_->wall_position(2 * a + 1) - inset[a];
     V *= std::max(Real(0), hi[a] - lo[a]);
   }
-  const Real Vs = V > 0 ? e.solid_volume_in(lo, hi) : 0;
+  return V;
+}
+
+Real Laboratory::void_ratio_inset(const Real (&inset)[3]) const {
+  Vec3d lo{}, hi{};
+  const Real V = inset_box(inset, lo, hi);
+  const Real Vs = V > 0 ? eng_->solid_volume_in(lo, hi) : 0;
   return Vs > 0 ? (V - Vs) / Vs : std::numeric_limits<Real>::quiet_NaN();
 }
 
@@ -1524,12 +1559,13 @@ bool Laboratory::load_newest_checkpoint() {
       auto flat = r.doubles("/lab/series");
       lab.series.stage = r.ints("/lab/series_stage");
       const size_t nc = series_columns().size();
-      // A checkpoint from before the trailing columns `cycle`, `ke_fluct_ratio` and `e_inner` has one to three
-      // columns fewer: its rows get 0 for `cycle` (no cyclic stage measured it) and NaN for the others (not measured).
+      // A checkpoint from before the trailing columns `cycle` ... `q_inner` has one to six columns fewer: its rows
+      // get 0 for `cycle` (no cyclic stage measured it) and NaN for the others (not measured).
       const size_t rows = lab.series.stage.size();
       const double nan = std::numeric_limits<double>::quiet_NaN();
-      const double trailing[] = {0, nan, nan};  // cycle, ke_fluct_ratio, e_inner
-      for (size_t missing = 1; missing <= 3; ++missing) {
+      const double trailing[] = {0, nan, nan, nan, nan, nan};  // cycle, ke_fluct_ratio, e_inner, q_contacts_walls,
+                                                               // p_inner, q_inner
+      for (size_t missing = 1; missing <= std::size(trailing); ++missing) {
         const size_t nc_old = nc - missing;
         if (flat.size() != rows * nc_old || rows == 0) continue;
         std::vector<double> padded;

@@ -280,6 +280,53 @@ TEST(Analysis, DeviceMatchesHostReference) {
   EXPECT_LT(D.p, pw);
   EXPECT_GT(D.p, pw * (1 - 2 * rmax / L - 0.01));
   EXPECT_GT(D.z_mech, D.z);
+  // Axis by axis too (q_contacts_walls is this tensor's q): each diagonal component is its two walls' mean stress,
+  // within the same 1 % of p (the servo holds 190 kPa on each wall to ~0.1 %, so q itself is ~0 and a relative
+  // tolerance on it would test noise).
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(D.sigma_walls[a][a], 0.5 * (eng.wall_stress(2 * a) + eng.wall_stress(2 * a + 1)), 0.01 * pw) << a;
+
+  // Engine::stress_in, the stress of the spheres whose centres lie in a box, against the same contacts on the host.
+  // A box around every centre (the walls' own) is analyze()'s sigma, whose levers add up to the branch vectors; two
+  // halves weighted by their volumes add up to it; an inset box is the per-particle formula summed here contact by
+  // contact, levers a_i = (l + r_i - r_j) / 2 and l - a_i (1e-10 relative to the trace: summation order only).
+  Vec3d lo{}, hi{};
+  for (int a = 0; a < 3; ++a) lo[a] = eng.wall_position(2 * a), hi[a] = eng.wall_position(2 * a + 1);
+  const Sym all = eng.stress_in(lo, hi), sym = Sym::symmetric_part(D.sigma);
+  const double tr = std::abs(sym.trace());
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(all.v[k], sym.v[k], 1e-12 * tr) << k;
+  Vec3d mid_hi = hi, mid_lo = lo;
+  mid_hi[2] = mid_lo[2] = 0.5 * (lo[2] + hi[2]);
+  const Sym below = eng.stress_in(lo, mid_hi), above = eng.stress_in(mid_lo, hi);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(0.5 * (below.v[k] + above.v[k]), all.v[k], 1e-12 * tr) << k;
+  const double m = 4 * rmean;  // two mean diameters, the series' interior
+  const Vec3d ilo{lo[0] + m, lo[1] + m, lo[2] + m}, ihi{hi[0] - m, hi[1] - m, hi[2] - m};
+  auto in_box = [&](int i) {
+    for (int a = 0; a < 3; ++a)
+      if (!(x[i][a] >= ilo[a] && x[i][a] < ihi[a])) return false;
+    return true;
+  };
+  Eigen::Matrix3d inner = Eigen::Matrix3d::Zero();
+  int counted = 0;
+  for (int p = 0; p < eng.pairs().npairs; ++p) {
+    if (!(fl(p) & kTouching)) continue;
+    const int i = pi(p), j = pj(p);
+    const Eigen::Vector3d d(x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]);
+    const double l = d.norm(), ai = 0.5 * (l + sc.setup.r[i] - sc.setup.r[j]);
+    const double lever = (in_box(i) ? ai : 0) + (in_box(j) ? l - ai : 0);
+    if (lever > 0) ++counted;
+    inner += Eigen::Vector3d(fp[p][0], fp[p][1], fp[p][2]) * (lever / l * d).transpose();
+  }
+  inner /= (ihi[0] - ilo[0]) * (ihi[1] - ilo[1]) * (ihi[2] - ilo[2]);
+  const Sym got = eng.stress_in(ilo, ihi);
+  ASSERT_GT(counted, 100) << "the inset box holds too few contacts to test";
+  const int ia[6] = {0, 1, 2, 0, 1, 2}, ib[6] = {0, 1, 2, 1, 2, 0};  // Sym's (xx, yy, zz, xy, yz, zx)
+  for (int k = 0; k < 6; ++k)
+    EXPECT_NEAR(got.v[k], 0.5 * (inner(ia[k], ib[k]) + inner(ib[k], ia[k])), 1e-10 * tr) << k;
+  // An empty box: no volume, no stress (the series' NaN comes from Laboratory, which never asks for one).
+  EXPECT_EQ(eng.stress_in(ihi, ilo).trace(), 0.0);
+  std::printf("  interior (%d contacts with a centre in it): p %.5g Pa against the box's %.5g Pa\n", counted,
+              got.trace() / 3, all.trace() / 3);
 }
 
 // The unbalanced-force ratio measured between evaluate() and advance() belongs to that instant. Until
