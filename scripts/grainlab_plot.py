@@ -144,7 +144,14 @@ def fig_sff(runs, out):
         e = 100 * s["eps_a"][m]
         (ln,) = ax[0].plot(e, s["q_p"][m], label=label(run, s) + ": q/p' (contacts)")
         ax[0].plot(e, s["sff"][m], "--", color=ln.get_color(), label="2/5 (a_c + a_d + a_n + 3/2 a_t)")
-    ax[0].set(xlabel="eps_a [%]", ylabel="q/p'", title="stress-force-fabric")
+        # The same ratio of the walls' stress and of the interior's (STRESS_MEASURES_TEXT), where the series has them
+        for qcol, pcol, style, what in (("q", "p", ":", "walls"), ("q_inner", "p_inner", "-.", "interior")):
+            if qcol in s and pcol in s:
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    ratio = np.abs(s[qcol][m] / s[pcol][m])
+                if np.isfinite(ratio).any():
+                    ax[0].plot(e, ratio, style, color=ln.get_color(), lw=0.8, label=f"q/p' ({what})")
+    ax[0].set(xlabel="eps_a [%]", ylabel="q/p'", title="stress-force-fabric; q/p' of contacts, walls, interior")
     legend(ax[0], fontsize=7)
     run, s = runs[0]
     m = s["shear"]
