@@ -90,10 +90,13 @@ def label(run, s):
 
 def save(fig, out, name):
     fig.tight_layout()  # keeps a row's axis labels off the titles of the row below
+    # The tight box once for both files: bbox_inches="tight" draws the figure a second time in each savefig to find
+    # it, a fifth of a report's time (study_tiny's report: 9.2 -> 7.2 s). Its padding is savefig's default.
+    box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
     for ext in ("png", "pdf"):
         # format= because the temporary name does not end in .png / .pdf
         write_atomically(os.path.join(out, f"{name}.{ext}"),
-                         lambda tmp, e=ext: fig.savefig(tmp, dpi=130, bbox_inches="tight", format=e))
+                         lambda tmp, e=ext: fig.savefig(tmp, dpi=130, bbox_inches=box, format=e))
     plt.close(fig)
     print(os.path.join(out, name + ".png"))
 
