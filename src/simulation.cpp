@@ -763,9 +763,7 @@ Real Laboratory::core_void_ratio() const {
   return void_ratio_inset(inset);
 }
 
-// The void ratio of the wall box inset by inset[a] on both sides along axis a (Engine::solid_volume_in: the parts of
-// the spheres inside it); NaN where no box is left or it holds no solid.
-// The wall box inset by inset[a] along each axis: [lo, hi] and its volume (0 where nothing is left).
+// The wall box inset by inset[a] on both sides along axis a: [lo, hi] and its volume (0 where nothing is left).
 Real Laboratory::inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const {
   Real V = 1;
   for (int a = 0; a < 3; ++a) {
@@ -776,6 +774,8 @@ Real Laboratory::inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const {
   return V;
 }
 
+// The void ratio of that box (Engine::solid_volume_in: the parts of the spheres inside it); NaN where no box is left or
+// it holds no solid.
 Real Laboratory::void_ratio_inset(const Real (&inset)[3]) const {
   Vec3d lo{}, hi{};
   const Real V = inset_box(inset, lo, hi);
