@@ -596,8 +596,8 @@ STRESS_MEASURES_TEXT = (
     "stress-force-fabric sum; it leaves out the sphere-wall contacts' share of the sample's stress, largest along "
     "the loaded axis of a squat sample. q/p' walls is the walls' own (the sample's mean stress), q/p' interior that "
     "of the spheres whose centres lie in e_c interior's box (series p_inner, q_inner): the material without the "
-    "layers along the walls. The three agree in a sample large against its grains; where they differ, the walls' is "
-    "a walled specimen's and the interior's the material's.")
+    "layers along the walls. Their differences come from those layers, whose share falls with the sample's size "
+    "against its grains: the walls' ratio is a walled specimen's, the interior's the material's.")
 
 
 def stress_measures_note(states):
