@@ -588,16 +588,21 @@ def window_ratio(s, qcol, pcol, m, w):
 
 
 # Which stress the stress ratio is of (the report's critical-state sections): SPEC §7's contact stress sums the
-# sphere-sphere contacts over the whole box; the walls' stress is the sample's mean stress (with the sphere-wall
-# contacts, series q_contacts_walls equals it in equilibrium); the interior's (series p_inner, q_inner) is that of
-# the spheres two mean diameters or more from the walls, without the layers along them.
+# sphere-sphere contacts over the whole box; the walls' stress is the boundary's; the interior's (series p_inner,
+# q_inner) is that of the spheres two mean diameters or more from the walls. Measured on configs/size-study.yaml
+# (mu_r 0, 100 kPa, 2 000 / 5 000 / 10 000 spheres, 3 seeds, critical-state window 35-41 %): q/p' of the contacts
+# 0.630 / 0.695 / 0.713, of the interior 0.751 / 0.793 / 0.781, of the contacts with the sphere-wall contacts
+# (q_contacts_walls) 0.750 / 0.781 / 0.783, of the walls 0.804 / 0.868 / 0.902. The walls' excess over the contacts
+# with wall contacts is the local damping's drag (SPEC §4) on the flowing sample, a body force whose moment grows
+# with the sample's length: at 5-10 % strain q_contacts_walls / q = 0.958 (2 000) and 0.913 (10 000) at damping 0.2,
+# 0.988 and 0.970 at 0.05.
 STRESS_MEASURES_TEXT = (
     "q/p' is SPEC §7's contact stress (every sphere-sphere contact over the box's volume), as are M, phi_cs and the "
-    "stress-force-fabric sum; it leaves out the sphere-wall contacts' share of the sample's stress, largest along "
-    "the loaded axis of a squat sample. q/p' walls is the walls' own (the sample's mean stress), q/p' interior that "
-    "of the spheres whose centres lie in e_c interior's box (series p_inner, q_inner): the material without the "
-    "layers along the walls. Their differences come from those layers, whose share falls with the sample's size "
-    "against its grains: the walls' ratio is a walled specimen's, the interior's the material's.")
+    "stress-force-fabric sum; it leaves out the sphere-wall contacts, whose share falls with the sample's size "
+    "against its grains. q/p' interior is that of the spheres whose centres lie in e_c interior's box (series "
+    "p_inner, q_inner): the material without the layers along the walls. q/p' walls is the walls' own: besides the "
+    "contacts it carries the local damping's drag on the flowing sample, which grows with the sample's size and its "
+    "damping (configs/README.md, series q_contacts_walls).")
 
 
 def stress_measures_note(states):

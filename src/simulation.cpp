@@ -741,9 +741,10 @@ Real Laboratory::inner_void_ratio() const {
 
 // The interior's stress (Engine::stress_in: the spheres whose centres it holds). SPEC §7's contact stress sums every
 // sphere-sphere contact over the whole box, so it misses the sphere-wall contacts' share (p_contacts_walls adds it) and
-// averages the layers along the walls in: in the quick study's drained shears over 35-41 % axial strain (5 000 spheres,
-// 10 diameters high by then), q/p' of the contacts 0.67-0.76, of the interior 0.75-0.84, of the walls 0.81-0.94.
-// NaN components where no interior is left.
+// averages the layers along the walls in; the walls' stress also carries the local damping's drag on a flowing sample.
+// Over the last 5 % of strain of configs/size-study.yaml's shears at 2 000 / 10 000 spheres: q/p' of the contacts
+// 0.630 / 0.713, of the interior 0.751 / 0.781, of the walls 0.804 / 0.902 (configs/README.md, series p_inner). NaN
+// components where no interior is left.
 Sym Laboratory::inner_stress() {
   const Real m = kInnerMargin * d_mean_, inset[3] = {m, m, m};
   Vec3d lo{}, hi{};
