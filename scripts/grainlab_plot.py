@@ -1105,6 +1105,7 @@ def study(out):
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | | | | |")
+    measures_note = stress_measures_note(cs_ok)
     csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
@@ -1179,7 +1180,7 @@ def study(out):
              "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c | I | KE/E_el "
              "| e_c interior | q/p' walls | q/p' interior |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
-             *cs_rows, "", *([stress_measures_note(cs_ok), ""] if stress_measures_note(cs_ok) else []), "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
+             *cs_rows, "", *([measures_note, ""] if measures_note else []), "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),

@@ -35,7 +35,7 @@ if [ -n "${BASE_BUILD:-}" ]; then
   git -C "$BASE_BUILD/.." describe --always --dirty > "$C/base_commit.txt"
 fi
 # CTest's cost data of the CPU build (build/, `make test`), the gtests renamed to their one CUDA entry: a fresh
-# GPU machine then starts the longest tests first (study_quick), as the CPU suite does, instead of last.
+# GPU machine then orders them longest first (study_quick) instead of as they are declared.
 if [ -f "${BUILD:-build}/Testing/Temporary/CTestCostData.txt" ]; then
   awk '$0 == "---" {exit} / /{n = split($1, a, ".")} a[n] == "omp1" {next} {sub(/\.omp2$/, ".cuda", $1)} NF == 3; END {print "---"}' \
     "${BUILD:-build}/Testing/Temporary/CTestCostData.txt" > "$C/CTestCostData.txt"
