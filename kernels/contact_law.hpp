@@ -136,4 +136,14 @@ struct WallLaw {
   KOKKOS_INLINE_FUNCTION static Real stiffness(Real E_wall, Real r) { return E_wall * r; }
 };
 
+// SPEC §4 local non-viscous (Cundall) damping: each component of a force (torque) loses alpha of its magnitude
+// against the current velocity (angular velocity) component. The integration damps with it, and
+// Engine::damping_moment measures the drag it applies (damped(f, v, alpha) - f) with the same expression.
+struct CundallDamping {
+  KOKKOS_INLINE_FUNCTION static Vec3 damped(const Vec3& f, const Vec3& v, Real alpha) {
+    return Vec3(f.x - alpha * math::fabs(f.x) * sign0(v.x), f.y - alpha * math::fabs(f.y) * sign0(v.y),
+                f.z - alpha * math::fabs(f.z) * sign0(v.z));
+  }
+};
+
 }  // namespace grainlab

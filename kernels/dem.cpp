@@ -408,10 +408,8 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
     Vec3 vi = load(v, i), wi = load(w, i);
     if (Damped) {
       // Cundall local non-viscous damping per component, against the current (half-step) velocity.
-      f = Vec3(f.x - alpha * math::fabs(f.x) * sign0(vi.x), f.y - alpha * math::fabs(f.y) * sign0(vi.y),
-               f.z - alpha * math::fabs(f.z) * sign0(vi.z));
-      t = Vec3(t.x - alpha * math::fabs(t.x) * sign0(wi.x), t.y - alpha * math::fabs(t.y) * sign0(wi.y),
-               t.z - alpha * math::fabs(t.z) * sign0(wi.z));
+      f = CundallDamping::damped(f, vi, alpha);
+      t = CundallDamping::damped(t, wi, alpha);
     }
     vi += (dt / m(i)) * f;
     wi += (dt / I(i)) * t;

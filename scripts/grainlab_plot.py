@@ -59,6 +59,10 @@ def load(run):
     cols["monotonic"] = (cols["stage_type"] > 0) & (cols["stage_type"] < 3)  # critical states come from these
     cols["cyclic"] = (cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)
     cols["oedometric"] = cols["stage_type"] == 5  # K0 tests: no peak, no critical state
+    # the walls' p and q less the local damping's drag (series p_drag, q_drag, Laboratory::drag_stress: both linear in
+    # the wall stresses, so the difference is the walls' stress without the drag): STRESS_MEASURES_TEXT
+    if "p_drag" in cols and "q_drag" in cols:
+        cols["p_less_drag"], cols["q_less_drag"] = cols["p"] - cols["p_drag"], cols["q"] - cols["q_drag"]
     # a true-triaxial stage's b (summary.json; 0 where it has none, or for a run of a build before b): its friction
     # angles come from the principal stresses, not from M's axisymmetric relations (critical_state)
     # and the largest lateral servo error of its drained shear stages (summary.json servo_error; None: not given)
@@ -148,12 +152,14 @@ def fig_sff(runs, out):
         (ln,) = ax[0].plot(e, s["q_p"][m], label=label(run, s) + ": q/p' (contacts)")
         ax[0].plot(e, s["sff"][m], "--", color=ln.get_color(), label="2/5 (a_c + a_d + a_n + 3/2 a_t)")
         # The same ratio of the walls' stress and of the interior's (STRESS_MEASURES_TEXT), where the series has them
-        for qcol, pcol, style, what in (("q", "p", ":", "walls"), ("q_inner", "p_inner", "-.", "interior")):
+        for qcol, pcol, style, what in (("q", "p", ":", "walls"), ("q_less_drag", "p_less_drag", (0, (4, 1, 1, 1, 1, 1)),
+                                                                   "walls less drag"),
+                                        ("q_inner", "p_inner", "-.", "interior")):
             if qcol in s and pcol in s:
                 with np.errstate(divide="ignore", invalid="ignore"):
                     ratio = np.abs(s[qcol][m] / s[pcol][m])
                 if np.isfinite(ratio).any():
-                    ax[0].plot(e, ratio, style, color=ln.get_color(), lw=0.8, label=f"q/p' ({what})")
+                    ax[0].plot(e, ratio, linestyle=style, color=ln.get_color(), lw=0.8, label=f"q/p' ({what})")
     ax[0].set(xlabel="eps_a [%]", ylabel="q/p'", title="stress-force-fabric; q/p' of contacts, walls, interior")
     legend(ax[0], fontsize=7)
     run, s = runs[0]
@@ -574,7 +580,8 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
                 M=M, b=b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)),
                 e_inner=window_mean(s, "e_inner", m, w), M_walls=window_ratio(s, "q", "p", m, w),
-                M_inner=window_ratio(s, "q_inner", "p_inner", m, w), **last)
+                M_inner=window_ratio(s, "q_inner", "p_inner", m, w),
+                M_less_drag=window_ratio(s, "q_less_drag", "p_less_drag", m, w), **last)
 
 
 def window_ratio(s, qcol, pcol, m, w):
@@ -595,25 +602,31 @@ def window_ratio(s, qcol, pcol, m, w):
 # (q_contacts_walls) 0.750 / 0.781 / 0.783, of the walls 0.804 / 0.868 / 0.902. The walls' excess over the contacts
 # with wall contacts is the local damping's drag (SPEC §4) on the flowing sample, a body force whose moment grows
 # with the sample's length: at 5-10 % strain q_contacts_walls / q = 0.958 (2 000) and 0.913 (10 000) at damping 0.2,
-# 0.988 and 0.970 at 0.05.
+# 0.988 and 0.970 at 0.05. Measured since as series p_drag, q_drag (configs/damping-drag.yaml, 5-10 %): at damping 0.2
+# the walls' q/p' 0.781, less the drag 0.744, the contacts' with the wall contacts 0.747 (0.727, 0.714, 0.720 at 0.05);
+# what is left between the last two is the spheres' inertia, row by row.
 STRESS_MEASURES_TEXT = (
     "q/p' is SPEC §7's contact stress (every sphere-sphere contact over the box's volume), as are M, phi_cs and the "
     "stress-force-fabric sum; it leaves out the sphere-wall contacts, whose share falls with the sample's size "
     "against its grains. q/p' interior is that of the spheres whose centres lie in e_c interior's box (series "
     "p_inner, q_inner): the material without the layers along the walls. q/p' walls is the walls' own: besides the "
     "contacts it carries the local damping's drag on the flowing sample, which grows with the sample's size and its "
-    "damping (configs/README.md, series q_contacts_walls).")
+    "damping (configs/README.md). The drag is measured (series p_drag, q_drag: the damping forces' first moment about "
+    "the box's centre over its volume), and the walls' stress less it is what the contacts, with the sphere-wall "
+    "contacts, and the spheres' inertia carry.")
 
 
 def stress_measures_note(states):
-    """One line on how far the walls' and the interior's critical stress ratios are from the contacts' (states: critical
-    states of critical_state); empty where neither was measured."""
+    """One line on how far the walls' (as measured, and less the damping's drag) and the interior's critical stress
+    ratios are from the contacts' (states: critical states of critical_state); empty where none was measured."""
     parts = []
-    for key, what in (("M_walls", "the walls'"), ("M_inner", "the interior's")):
+    for key, what in (("M_walls", "the walls'"), ("M_less_drag", "the walls' less the damping's drag"),
+                      ("M_inner", "the interior's")):
         d = [100 * (c[key] / c["M"] - 1) for c in states if c.get(key) is not None and c["M"] > 0]
         if d:
             parts.append(f"{what} {min(d):+.0f} to {max(d):+.0f} %")
-    return ("Over the critical states, q/p' of the walls and of the interior against the contacts': " +
+    return ("Over the critical states, q/p' of the walls, of the walls less the damping's drag and of the interior "
+            "against the contacts': " +
             ", ".join(parts) + ".") if parts else ""
 
 

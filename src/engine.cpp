@@ -219,6 +219,7 @@ void Engine::evaluate() {
   // 2. Wall loads at x(t) (deterministic sums: they drive the servo).
   loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_);
   evaluated_ = true;
+  forces_current_ = false;  // P.f, P.t are the last instant's until a gather (diagnostics(), damping_moment())
 }
 
 void Engine::step() {
@@ -291,6 +292,7 @@ Real Engine::wall_position(int k) const {
 void Engine::set_wall_position(int k, Real pos) {
   if (!box_) throw std::logic_error("set_wall_position needs box walls");
   walls_.w[k].offset = (k % 2 == 0) ? pos : -pos;
+  forces_current_ = false;  // the walls' share of P.f changed
 }
 
 Real Engine::wall_area(int k) const {
@@ -389,7 +391,7 @@ Real affine_residual(const Real* mo) {
 Diagnostics Engine::diagnostics() {
   // Between evaluate() and advance() P.f still holds the previous step's forces (the gather runs in
   // advance()), so the unbalanced force would lag the contacts by one step: gather them at this instant.
-  if (evaluated_) {
+  if (evaluated_ && !forces_current_) {
     gather_forces(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.pair_kernel);
     forces_current_ = true;
   }
@@ -724,6 +726,35 @@ Sym Engine::stress_in(const Vec3d& lo_, const Vec3d& hi_) {
       },
       s);
   for (int k = 0; k < 6; ++k) out.v[k] = s[k] / V;
+  return out;
+}
+
+Vec3d Engine::damping_moment(const Vec3d& c_) {
+  if (!evaluated_) throw std::logic_error("Engine::damping_moment() outside evaluate() .. advance()");
+  if (!forces_current_) {  // the forces the next kick damps: this instant's (as diagnostics())
+    gather_forces(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall, params_.pair_kernel);
+    forces_current_ = true;
+  }
+  Vec3d out{0, 0, 0};
+  const Real alpha = params_.damping;
+  if (!(alpha > 0)) return out;
+  const auto x = P_.x;
+  const auto v = P_.v;
+  const auto f = P_.f;
+  const Vec3 c{c_[0], c_[1], c_[2]};
+  Real s[3] = {};
+  red_.run(
+      "grainlab::analysis::damping_moment", P_.n, 3,
+      KOKKOS_LAMBDA(int i, Real* acc) {
+        const Vec3 fi = load(f, i);
+        const Vec3 drag = CundallDamping::damped(fi, load(v, i), alpha) - fi;
+        const Vec3 d = load(x, i) - c;
+        acc[0] += d.x * drag.x;
+        acc[1] += d.y * drag.y;
+        acc[2] += d.z * drag.z;
+      },
+      s);
+  for (int a = 0; a < 3; ++a) out[a] = s[a];
   return out;
 }
 

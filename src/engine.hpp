@@ -216,6 +216,16 @@ class Engine {
   // to it. Sphere-wall contacts are not counted: the interior box it is meant for is inset from the walls by more
   // than a radius. Zero for an empty box.
   Sym stress_in(const Vec3d& lo, const Vec3d& hi);
+  // The local damping's drag (SPEC §4) as a first moment about the point c: per axis a, sum_i (x_i - c)_a d_i,a, where
+  // d_i = CundallDamping::damped(F_i, v_i, alpha) - F_i is the force the damping adds in the next kick (F_i the
+  // undamped total force at this instant, v_i = v(t - dt/2)). Why: the first moments of the kick balance,
+  //   sum_i (x_i - c) (x) m_i a_i = sum_c d^c (x) f^c + sum_i (x_i - c) (x) f_i^walls + sum_i (x_i - c) (x) d_i,
+  // so about the box's centre, over its volume V, the walls' mean stress along an axis is the contacts' stress with
+  // the sphere-wall contacts (analyze()'s sigma_walls, levers to the contact point; the remaining delta^2/2 terms are
+  // O(delta/r)) plus this drag minus the inertial term. On a flowing sample the drag grows with the sample's length
+  // (configs/damping-drag.yaml): Laboratory::row's series p_drag, q_drag. Between evaluate() and advance() only
+  // (std::logic_error otherwise); zero without damping.
+  Vec3d damping_moment(const Vec3d& c);
 
   const Particles& particles() const { return P_; }
   const PairList& pairs() const { return lists_[cur_]; }

@@ -123,6 +123,10 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       {"q_contacts_walls", "Pa"},
       {"p_inner", "Pa"},
       {"q_inner", "Pa"},
+      // the local damping's drag on the walls' stress (Laboratory::drag_stress): p and q of the walls (series p, q)
+      // less these are what the contacts and the spheres' inertia carry; 0 without damping
+      {"p_drag", "Pa"},
+      {"q_drag", "Pa"},
   };
   return cols;
 }
@@ -401,6 +405,7 @@ class Laboratory {
   void check_servo(const StageConfig& sc, const Measure& m);
   Real inner_void_ratio() const;
   Sym inner_stress();
+  Vec3d drag_stress();
   Real core_void_ratio() const;
   Real void_ratio_inset(const Real (&inset)[3]) const;
   Real inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const;
@@ -665,6 +670,7 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
   const Real I = m.p > 0 ? rate * d_mean_ * std::sqrt(density_ * scaling_ / m.p) : 0;
   Real p_in = 0, q_in = 0;
   stress_invariants(inner_stress(), p_in, q_in);
+  const Vec3d drag = drag_stress();
   return {e.time(),
           double(e.step_count()),
           m.eps_a,
@@ -724,7 +730,25 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           inner_void_ratio(),
           D.q_walls,
           p_in,
-          q_in};
+          q_in,
+          (drag[0] + drag[1] + drag[2]) / 3,
+          drag[2] - 0.5 * (drag[0] + drag[1])};  // as measure()'s p and q of the walls' mean stresses
+}
+
+// The local damping's drag as a stress on the walls, per axis: Engine::damping_moment about the box's centre over its
+// volume. Why: about the centre, the first-moment balance of the next kick gives each axis's mean wall stress (of
+// measure()) as the contact stress with the sphere-wall contacts (analyze()'s sigma_walls) plus this drag, less the
+// spheres' inertial term, to O(delta/r) of the wall contacts' share (test Diagnostics.DampingDragClosesTheWallBalance).
+// On a flowing sample the drag grows with its length (configs/damping-drag.yaml), so the walls' stress overstates the
+// material's by it; walls' stress less drag is the material's as the boundary measures it.
+Vec3d Laboratory::drag_stress() {
+  Engine& e = *eng_;
+  Vec3d c{};
+  for (int a = 0; a < 3; ++a) c[a] = 0.5 * (e.wall_position(2 * a) + e.wall_position(2 * a + 1));
+  Vec3d m = e.damping_moment(c);
+  const Real V = e.box_volume();
+  for (Real& v : m) v = V > 0 ? v / V : 0;
+  return m;
 }
 
 // The interior: the wall box inset by kInnerMargin mean diameters on every side. (choice) 2 diameters: the wall's
@@ -1560,12 +1584,12 @@ bool Laboratory::load_newest_checkpoint() {
       auto flat = r.doubles("/lab/series");
       lab.series.stage = r.ints("/lab/series_stage");
       const size_t nc = series_columns().size();
-      // A checkpoint from before the trailing columns `cycle` ... `q_inner` has one to six columns fewer: its rows
+      // A checkpoint from before the trailing columns `cycle` ... `q_drag` has one to eight columns fewer: its rows
       // get 0 for `cycle` (no cyclic stage measured it) and NaN for the others (not measured).
       const size_t rows = lab.series.stage.size();
       const double nan = std::numeric_limits<double>::quiet_NaN();
-      const double trailing[] = {0, nan, nan, nan, nan, nan};  // cycle, ke_fluct_ratio, e_inner, q_contacts_walls,
-                                                               // p_inner, q_inner
+      // cycle, ke_fluct_ratio, e_inner, q_contacts_walls, p_inner, q_inner, p_drag, q_drag
+      const double trailing[] = {0, nan, nan, nan, nan, nan, nan, nan};
       for (size_t missing = 1; missing <= std::size(trailing); ++missing) {
         const size_t nc_old = nc - missing;
         if (flat.size() != rows * nc_old || rows == 0) continue;

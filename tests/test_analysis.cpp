@@ -360,6 +360,65 @@ TEST(Diagnostics, UnbalancedForceIsOfTheEvaluatedInstant) {
   EXPECT_NEAR(d.unbalanced_ratio, expect, 1e-12 * expect);
 }
 
+// Engine::damping_moment is the drag the integration applies, and with it the walls' mean stress balances (series
+// p_drag, q_drag; Laboratory::drag_stress). A consolidated sample flowing as a shear does (axial compression at
+// 0.25 /s and lateral expansion at 0.125 /s about the box's centre, v up to ~1 mm/s, plus a seeded 0.2 mm/s
+// fluctuation), damping 0.7. Oracles on the host, from the state before advance() and the velocities after it:
+// (1) the moment recomputed from forces() (advance() stores the forces gathered at the evaluated instant) and the
+//     velocities before, by SPEC §4's formula written out here: 1e-12 relative (summation order only);
+// (2) per axis a, the first-moment balance of the kick about the box's centre c, with nothing of the engine's drag:
+//     V s_a = V sigma_walls_aa + M_a - sum_wall contacts k_w delta^2 / 2 - sum_i (x_i - c)_a m_i (v'_i - v_i)_a / dt,
+//     s_a the two walls' mean stress, sigma_walls analyze()'s (levers r - delta/2 to the contact point, hence the
+//     delta^2 / 2 term). Tolerance 1e-9 of V s_a: the velocity differences lose ~|v| / |v' - v| ~ 1e3 of 1e-16 per
+//     term. The drag must be >= 1e-3 of V s_a on every axis, so a drag left out or of the wrong sign fails by 1e6 x.
+TEST(Diagnostics, DampingDragClosesTheWallBalance) {
+  const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
+  Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  ASSERT_EQ(eng.params().damping, 0.7);
+  Vec3d c{};
+  for (int a = 0; a < 3; ++a) c[a] = 0.5 * (sc.lo[a] + sc.hi[a]);
+  {
+    EngineState s = eng.capture();
+    std::mt19937_64 gen(3);
+    std::uniform_real_distribution<double> u(-2e-4, 2e-4);
+    const double rate[3] = {0.125, 0.125, -0.25};
+    for (size_t i = 0; i < s.v.size(); ++i)
+      for (int a = 0; a < 3; ++a) s.v[i][a] = rate[a] * (s.x[i][a] - c[a]) + u(gen);
+    eng.restore(s);
+  }
+  eng.evaluate();
+  EXPECT_THROW(Engine(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true).damping_moment(c), std::logic_error);
+  const Vec3d M = eng.damping_moment(c);
+  const Descriptors D = eng.analyze();
+  Real s_walls[3];
+  for (int a = 0; a < 3; ++a) s_walls[a] = 0.5 * (eng.wall_stress(2 * a) + eng.wall_stress(2 * a + 1));
+  const std::vector<Vec3d> x = eng.positions(), v0 = eng.velocities();
+  eng.advance();
+  const std::vector<Vec3d> F = eng.forces(), v1 = eng.velocities();
+  const auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), eng.particles().m);
+  const auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), eng.particles().r);
+  const Real alpha = 0.7, dt = eng.dt(), Ew = eng.params().E_wall, V = eng.box_volume();
+  const int n = eng.num_particles();
+  for (int a = 0; a < 3; ++a) {
+    SCOPED_TRACE(a);
+    double moment = 0, inertia = 0, lever = 0;
+    for (int i = 0; i < n; ++i) {
+      const double sgn = v0[i][a] > 0 ? 1.0 : (v0[i][a] < 0 ? -1.0 : 0.0);
+      moment += (x[i][a] - c[a]) * (-alpha * std::abs(F[i][a]) * sgn);
+      inertia += (x[i][a] - c[a]) * hm(i) * (v1[i][a] - v0[i][a]) / dt;
+      // the sphere's overlaps with the two walls of this axis (at lo[a] and hi[a])
+      for (const double dw : {hr(i) - (x[i][a] - sc.lo[a]), hr(i) - (sc.hi[a] - x[i][a])})
+        if (dw > 0) lever += Ew * hr(i) * dw * dw / 2;
+    }
+    const double Vs = V * s_walls[a];
+    std::printf("  axis %d: V s %.6e, V sigma_walls %.6e, drag %.6e (oracle %.6e), delta^2/2 %.3e, inertia %.6e\n", a,
+                Vs, V * D.sigma_walls[a][a], M[a], moment, lever, inertia);
+    EXPECT_NEAR(M[a], moment, 1e-12 * std::abs(moment));
+    EXPECT_GT(std::abs(M[a]), 1e-3 * Vs);
+    EXPECT_NEAR(Vs, V * D.sigma_walls[a][a] + M[a] - lever - inertia, 1e-9 * Vs);
+  }
+}
+
 // step() skips the stores of P.f and P.t (output, not state: perf/NOTES.md attempt 27), so forces() keeps
 // the last measured instant and a ratio after step() is NaN instead of mixing two instants.
 TEST(Diagnostics, StepLeavesForcesAndTheRatioSaysSo) {
