@@ -77,6 +77,19 @@ grep -E '^\| shear_.* \| yes \|' "$work/report.md" | while IFS='|' read -r _ nam
   [ -n "$win" ] && [ "$got" = "$want" ] || {
     echo "$name: I, q/p' walls, q/p' interior = $got in the critical-state table, $want from its series"; exit 1; }
 done || exit 1
+# The line under the table gives, over those critical states, how far q/p' of the walls less the damping's drag
+# ((q - q_drag) / (p - p_drag), the engine's columns) lies from the contacts' (q_p): recomputed from each series.
+range=$(grep -E '^\| shear_.* \| yes \|' "$work/report.md" | while IFS='|' read -r _ name _; do
+  awk -F, -v w="$win" 'function abs(x) { return x < 0 ? -x : x }
+    NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
+    $c["stage_type"] == 1 || $c["stage_type"] == 2 { n++; ea[n] = $c["eps_a"]; qp[n] = $c["q_p"]
+      md[n] = abs(($c["q"] - $c["q_drag"]) / ($c["p"] - $c["p_drag"])) }
+    END { for (i = 1; i <= n; ++i) if (ea[i] >= ea[n] - w) { s += qp[i]; sd += md[i]; k++ }
+          print 100 * ((sd / k) / abs(s / k) - 1) }' "$work/jobs/$(echo $name)/run/series.csv"
+done | sort -g | awk 'NR == 1 { lo = $1 } { hi = $1 } END { printf "%+.0f to %+.0f %%", lo, hi }')
+grep -qF "the walls' less the damping's drag $range" "$work/report.md" || {
+  echo "the walls' q/p' less the drag, against the contacts': $range from the series, not in the report's line:"
+  grep -F "Over the critical states" "$work/report.md"; exit 1; }
 # Each peak row's I is the inertial_number of its series' first row at the largest q_p of the shear (the quick study
 # takes its peaks from single rows).
 grep -q "Peaks are the largest of single rows;" "$work/report.md" || { echo "the quick study's peaks are not single rows"; exit 1; }
