@@ -349,6 +349,10 @@ void Engine::move_walls() {
 }
 
 namespace {
+// A centre in the half-open box [lo, hi) (Engine::stress_in): boxes that tile space hold each centre once.
+KOKKOS_INLINE_FUNCTION bool in_box(const Vec3& x, const Vec3& lo, const Vec3& hi) {
+  return x.x >= lo.x && x.x < hi.x && x.y >= lo.y && x.y < hi.y && x.z >= lo.z && x.z < hi.z;
+}
 // Index of (a, b), a <= b, in the 6 stored entries of a symmetric 3x3 matrix (row by row: xx xy xz yy yz zz).
 KOKKOS_INLINE_FUNCTION constexpr int kSym(int a, int b) { return a == 0 ? b : a == 1 ? 2 + b : 5; }
 constexpr int kMoments = 23;  // the moments Engine::diagnostics sums for kinetic_fluct
@@ -708,13 +712,12 @@ Sym Engine::stress_in(const Vec3d& lo_, const Vec3d& hi_) {
       "grainlab::analysis::stress_in", P_.n, 6,
       KOKKOS_LAMBDA(int i, Real* acc) {
         const Vec3 xi = load(x, i);
-        const bool in_i = xi.x >= lo.x && xi.x < hi.x && xi.y >= lo.y && xi.y < hi.y && xi.z >= lo.z && xi.z < hi.z;
+        const bool in_i = in_box(xi, lo, hi);
         for (int p = off(i); p < off(i + 1); ++p) {
           if (!(flags(p) & kTouching)) continue;
           const int j = pj(p);
           const Vec3 xj = load(x, j);
-          const bool in_j =
-              xj.x >= lo.x && xj.x < hi.x && xj.y >= lo.y && xj.y < hi.y && xj.z >= lo.z && xj.z < hi.z;
+          const bool in_j = in_box(xj, lo, hi);
           if (!in_i && !in_j) continue;
           const Vec3 d = xj - xi;
           const Real l = norm(d);
