@@ -228,9 +228,10 @@ def analyse(XA, XB, d):
 
 
 def write_fields(out, fields, write_atomically, write_text_atomically):
-    """localisation.h5 (/increments/K/{x, radius, eta, d2min}, K from 0) and localisation.xdmf: every increment's
-    particles at its end as points with their eta and D2min [mean diameters^2], at the end snapshot's time (the
-    increment's number where it has none), for ParaView (Point Gaussian or Glyph by radius, coloured by eta)."""
+    """localisation.h5 (/increments/K/{x, radius, eta, d2min, vertex}, K from 0) and localisation.xdmf: every
+    increment's particles at its end as vertex cells with their eta and D2min [mean diameters^2], at the end snapshot's
+    time (the increment's number where it has none), for ParaView (Point Gaussian or Glyph by radius, coloured by eta).
+    `vertex` (0 .. n-1) is the Polyvertex topology's connectivity: without one VTK's Xdmf3 reader makes no cells."""
     import h5py
 
     def fill(tmp):
@@ -238,6 +239,7 @@ def write_fields(out, fields, write_atomically, write_text_atomically):
             for k, fl in enumerate(fields):
                 g = f.create_group(f"increments/{k}")
                 g["x"], g["radius"], g["eta"], g["d2min"] = fl["XB"], fl["r"], fl["eta"], fl["d2"]
+                g["vertex"] = np.arange(len(fl["XB"]), dtype=np.int32)
 
     write_atomically(os.path.join(out, "localisation.h5"), fill)
     x = ['<?xml version="1.0" ?>', '<Xdmf Version="3.0">', "<Domain>",
@@ -245,7 +247,9 @@ def write_fields(out, fields, write_atomically, write_text_atomically):
     for k, fl in enumerate(fields):
         n, t = len(fl["XB"]), fl["t"]
         x += [f' <Grid Name="i{k}"><Time Value="{t if t is not None else k!r}"/>',
-              f'  <Topology TopologyType="Polyvertex" NumberOfElements="{n}"/>',
+              f'  <Topology TopologyType="Polyvertex" NodesPerElement="1" NumberOfElements="{n}"><DataItem '
+              f'Dimensions="{n} 1" NumberType="Int" Precision="4" Format="HDF">localisation.h5:/increments/{k}/vertex'
+              '</DataItem></Topology>',
               f'  <Geometry GeometryType="XYZ"><DataItem Dimensions="{n} 3" NumberType="Float" Precision="8" '
               f'Format="HDF">localisation.h5:/increments/{k}/x</DataItem></Geometry>']
         for name in ("radius", "eta", "d2min"):

@@ -1328,6 +1328,7 @@ void Laboratory::snapshot(const std::string& tag) {
   // history arrays in capture() are in the same (sorted, touching-only) order as the loop above
   cft = s.ft;
   cmr = s.mr;
+  // The particles' ids are their rows here, 0 .. n-1: particles.xdmf's vertex cells use them as their connectivity.
   std::vector<int> ids(s.x.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = int(i);
   write_h5_atomic(out_ + "/" + name, [&](H5Writer& w) {
@@ -1361,7 +1362,9 @@ void Laboratory::snapshot(const std::string& tag) {
 
 void Laboratory::write_xdmf() {
   // ParaView: particles as points (apply "Point Gaussian" or Glyph by `radius`), contacts as lines
-  // coloured by f_n (force chains), one time step per snapshot.
+  // coloured by f_n (force chains), one time step per snapshot. Each particle is a vertex cell: a Polyvertex topology
+  // needs its connectivity (here the ids, 0 .. n-1), without which VTK's Xdmf3 reader (ParaView 5.11) makes points but
+  // no cells, which the default representations do not draw (tests/xdmf_check.py).
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
     << "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
@@ -1373,7 +1376,8 @@ void Laboratory::write_xdmf() {
     const size_t m = r.ints("/contacts/i").size();
     const std::string f = lab_.snapshot_files[k];
     x << " <Grid Name=\"p" << k << "\"><Time Value=\"" << std::setprecision(12) << lab_.snapshot_time[k] << "\"/>\n"
-      << "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n"
+      << "  <Topology TopologyType=\"Polyvertex\" NodesPerElement=\"1\" NumberOfElements=\"" << n << "\"><DataItem Dimensions=\""
+      << n << " 1\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << f << ":/particles/id</DataItem></Topology>\n"
       << "  <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"" << n << " 3\" NumberType=\"Float\" Precision=\"8\" "
          "Format=\"HDF\">" << f << ":/particles/x</DataItem></Geometry>\n";
     for (auto& a : {std::make_pair("radius", "/particles/r"), std::make_pair("id", "/particles/id")})
