@@ -762,8 +762,9 @@ def peak_state(s, peak):
     (q_peak < 0 in extension, its strain eps_peak and q/p' there, qp_peak) and the largest stress ratio (maximum
     obliquity: past the peak of q in an undrained test, where p' still grows along the failure line) M with its angle
     phi (the angles' own largest at b > 0) and the inertial number there, I (None where the series has no such column
-    or its rows there did not measure it: a checkpoint of an older build). Each measure is a running mean over the
-    peak window."""
+    or its rows there did not measure it: a checkpoint of an older build); and the peak of the walls' |q| less the
+    local damping's drag (series q_drag), q_peak_less_drag (None without the column). Each measure is a running mean
+    over the peak window."""
     m = s["shear"]
     ext = bool(s["eps_a"][m][-1] < 0)  # as critical_state tells it: older study.json files have no direction
     b = float(s.get("b", 0.0))
@@ -776,6 +777,9 @@ def peak_state(s, peak):
     along, qp = running_mean(s, rows, sign * s["q"], window), running_mean(s, rows, s["q_p"], window)
     k, kq = int(np.argmax(along)), int(np.argmax(qp))
     I = float(running_mean(s, rows, s["inertial_number"], window)[kq]) if "inertial_number" in s else None
+    if "q_less_drag" in s:
+        less = running_mean(s, rows, sign * s["q_less_drag"], window)
+        out["q_peak_less_drag"] = float(sign * np.max(less)) if np.isfinite(less).any() else None
     out.update(q_peak=float(sign * along[k]), eps_peak=float(s["eps_a"][rows[k]]), qp_peak=float(qp[k]),
                M=float(qp[kq]), phi=float(np.max(running_mean(s, rows, ang, window))) if b > 0
                else friction_angle(qp[kq], ext), I=I if I is not None and math.isfinite(I) else None)
@@ -1094,15 +1098,17 @@ def study(out):
         direction = ("extension" if ps["ext"] else "compression") + (f", b = {ps['b']:g}" if ps["b"] > 0 else "")
         note = single_row_note(s, ps["m"], ps["rows"], ps["ang"], peak[1])
         if "M" not in ps:
-            peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | - | - | - | - | - | "
+            peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | - | - | - | - | - | - | "
                               f"{note} |")
         else:
             # The inertial number at the largest stress ratio: a peak taken in a dense flow, I > QUASI_STATIC_I,
             # overstates the rate-independent one.
             if ps["I"] is not None:
                 peak_I.append(ps["I"])
+            qld = ps.get("q_peak_less_drag")
             peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | "
-                              f"{ps['q_peak'] / 1e3:.1f} | {100 * ps['eps_peak']:.2f} | {ps['qp_peak']:.3f} | "
+                              f"{ps['q_peak'] / 1e3:.1f} | {number_text(qld / 1e3 if qld is not None else None, '.1f')} | "
+                              f"{100 * ps['eps_peak']:.2f} | {ps['qp_peak']:.3f} | "
                               f"{ps['M']:.3f} ({ps['phi']:.1f}°) | {number_text(ps['I'], '.1e')} | "
                               f"{note} |")
         c = critical_state(s, cs_cfg["window"], *tol)
@@ -1174,10 +1180,13 @@ def study(out):
              "The peak of |q| along the loading (q from the walls, < 0 in extension); the stress ratio M = q/p' of the "
              "contact stress (q = sqrt(3/2 s:s) >= 0) there and at its largest, with the mobilised friction angle "
              "(Mohr-Coulomb: sin phi' = 3M / (6 + M) in compression, 3M / (6 - M) in extension; a true-triaxial test, b > 0: "
-             "sin phi' = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses). " + peak_text(*peak), "",
-             "| test | mu_r | drainage | direction | q_peak [kPa] | eps_a at peak [%] | q/p' at peak | max q/p' (phi'_max) "
-             "| I at max q/p' | largest single row |",
-             "|---|---|---|---|---|---|---|---|---|---|", *peak_lines, "",
+             "sin phi' = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses). q_peak less drag is the peak "
+             "of the walls' q less the local damping's drag (series q_drag; the drag grows with the strain rate and "
+             "the damping, the walls' q overstates the material's by it), \"-\" where the series did not measure it. "
+             + peak_text(*peak), "",
+             "| test | mu_r | drainage | direction | q_peak [kPa] | q_peak less drag [kPa] | eps_a at peak [%] "
+             "| q/p' at peak | max q/p' (phi'_max) | I at max q/p' | largest single row |",
+             "|---|---|---|---|---|---|---|---|---|---|---|", *peak_lines, "",
              *([peak_inertial_note(peak_I), ""] if peak_inertial_note(peak_I) else []),
              "## Critical states", "",
              f"A test is at critical state when, over the last {cs_cfg['window']:g} of axial strain, the drift of q/p' (slope of a least-squares line times the window) is below "

@@ -90,16 +90,18 @@ done | sort -g | awk 'NR == 1 { lo = $1 } { hi = $1 } END { printf "%+.0f to %+.
 grep -qF "the walls' less the damping's drag $range" "$work/report.md" || {
   echo "the walls' q/p' less the drag, against the contacts': $range from the series, not in the report's line:"
   grep -F "Over the critical states" "$work/report.md"; exit 1; }
-# Each peak row's I is the inertial_number of its series' first row at the largest q_p of the shear (the quick study
-# takes its peaks from single rows).
+# Each peak row's I is the inertial_number of its series' first row at the largest q_p of the shear, and its q_peak
+# less drag the largest q - q_drag of the shear's rows [kPa] (the quick study takes its peaks from single rows; all
+# compression).
 grep -q "Peaks are the largest of single rows;" "$work/report.md" || { echo "the quick study's peaks are not single rows"; exit 1; }
 n=0
-while IFS='|' read -r _ name _ _ _ _ _ _ _ I _; do
-  name=$(echo $name); I=$(echo $I); n=$((n + 1))
+while IFS='|' read -r _ name _ _ _ _ qld _ _ _ I _; do
+  name=$(echo $name); got="$(echo $I) $(echo $qld)"; n=$((n + 1))
   want=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
     $c["stage_type"] > 0 && (!seen || $c["q_p"] + 0 > best) { seen = 1; best = $c["q_p"] + 0; v = $c["inertial_number"] }
-    END { printf "%.1e", v }' "$work/jobs/$name/run/series.csv")
-  [ "$I" = "$want" ] || { echo "$name: I = $I at max q/p' in the peak table, $want from its series"; exit 1; }
+    $c["stage_type"] > 0 && (!sd || $c["q"] - $c["q_drag"] > qd) { sd = 1; qd = $c["q"] - $c["q_drag"] }
+    END { printf "%.1e %.1f", v, qd / 1e3 }' "$work/jobs/$name/run/series.csv")
+  [ "$got" = "$want" ] || { echo "$name: I at max q/p', q_peak less drag = $got in the peak table, $want from its series"; exit 1; }
 done < <(sed -n '/^## Peak states/,/^## Critical states/p' "$work/report.md" | grep -E '^\| shear_') || exit 1
 [ "$n" -eq 6 ] || { echo "expected 6 peak rows, read $n"; exit 1; }
 # Critical-state lines: one fitted row per mu_r (all compression), each from at least three critical states, with the

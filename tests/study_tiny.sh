@@ -23,7 +23,7 @@ for s in st/jobs/shear_*_ext; do
 done
 rows=$(grep -E '^\| shear_.*_ext \| [0-9.]+ \| drained \| extension \| -' st/report.md)
 [ "$(printf '%s\n' "$rows" | grep -c .)" -eq 2 ] || fail "expected 2 extension peak rows with q < 0: $(cat st/report.md)"
-printf '%s\n' "$rows" | awk -F'|' '{ split($9, a, /[ (°)]+/); M = a[2]; phi = a[3];
+printf '%s\n' "$rows" | awk -F'|' '{ split($10, a, /[ (°)]+/); M = a[2]; phi = a[3];
   s = 3 * M / (6 - M); want = atan2(s, sqrt(1 - s * s)) * 180 / 3.141592653589793;
   if (!(M > 0) || (phi - want) > 0.051 || (want - phi) > 0.051) { print "bad phi: " $0; exit 1 } }' ||
   fail "an extension row's friction angle is not Mohr-Coulomb's of its M"
