@@ -1118,12 +1118,13 @@ def study(out):
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | yes | {c['p'] / 1e3:.1f} | {c['q'] / 1e3:.1f} | "
                            f"{c['e']:.4f} | {c['qp']:.3f} | {c['phi']:.1f} | {c['a_c']:.3f} | "
                            f"{quasi_static_text(c['I'], c['ke'])} | {number_text(c['e_inner'], '.4f')} | "
-                           f"{number_text(c['M_walls'], '.3f')} | {number_text(c['M_inner'], '.3f')} |")
+                           f"{number_text(c['M_walls'], '.3f')} | {number_text(c['M_less_drag'], '.3f')} | "
+                           f"{number_text(c['M_inner'], '.3f')} |")
             cs_ok.append(c)
             share_rows.append(f"| {j['name']} | {j['mu_r']:g} | {c['sff_share_c']:.2f} | {c['sff_share_d']:.2f} | "
                               f"{c['sff_share_n']:.2f} | {c['sff_share_t']:.2f} | {c['qp']:.3f} | {c['sff']:.3f} |")
         else:
-            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | | | | |")
+            cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | | | | | |")
     measures_note = stress_measures_note(cs_ok)
     csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
@@ -1200,8 +1201,8 @@ def study(out):
              "counts the looser layer along the walls, whose share falls as count^(-1/3) (configs/size-study.yaml). "
              + STRESS_MEASURES_TEXT, "",
              "| test | mu_r | direction | critical | p'_c [kPa] | q_c [kPa] | e_c | q/p' | phi_cs [°] | a_c | I | KE/E_el "
-             "| e_c interior | q/p' walls | q/p' interior |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+             "| e_c interior | q/p' walls | q/p' walls less drag | q/p' interior |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
              *cs_rows, "", *([measures_note, ""] if measures_note else []), "## Critical-state lines (least squares, ± one standard error)", "", csl_text, "",
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
