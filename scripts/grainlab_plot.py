@@ -992,7 +992,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         groups.setdefault((cs["mu_r"], cs["ext"], cs["b"], cs["rate"]), []).append(cs)
     several_rates = len({k[3] for k in groups}) > 1
     lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | interior e_c = a + b p' | a_c = c + d ln(p'/1 kPa) "
-             "| M = abs(q/p') (phi_cs) | largest I | M walls, interior |", "|---|---|---|---|---|---|---|---|---|"]
+             "| M = abs(q/p') (phi_cs) | largest I | M walls, less drag, interior |", "|---|---|---|---|---|---|---|---|---|"]
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
@@ -1005,10 +1005,11 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         m_txt = f"{M.mean():.3f}" + (f" ± {M.std(ddof=1):.3f}" if len(M) > 1 else "") + f" ({phi:.1f}°)"
         Is = [c["I"] for c in g if c.get("I") is not None]
         m_txt += " | " + (f"{max(Is):.1e}" if len(Is) == len(g) else "-")  # a group with an unmeasured I: unknown
-        # M of the walls' and of the interior's stress (STRESS_MEASURES_TEXT), where every state measured it
+        # M of the walls' stress, of the walls' less the damping's drag and of the interior's (STRESS_MEASURES_TEXT),
+        # where every state measured it
         m_txt += " | " + ", ".join(
             f"{np.mean([c[k] for c in g]):.3f}" if all(c.get(k) is not None for c in g) else "-"
-            for k in ("M_walls", "M_inner"))
+            for k in ("M_walls", "M_less_drag", "M_inner"))
         tag = (f"mu_r = {mur:g}" + (" extension" if ext else "") + (f" b = {bv:g}" if bv > 0 else "")
                + (rate_text(rate, " ") if several_rates else ""))
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)

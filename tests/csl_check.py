@@ -12,8 +12,9 @@ Each line gives the largest mean inertial number I of its critical states over t
 such column): mu_r 0.1 compressions I = 4e-4 (1 - eps_a), mean 2.6e-4 over 30-40 % (3.2e-4 over the whole shear);
 mu_r 0.5 compressions I = (k + 1) 1e-3, one NaN row (a checkpoint of an older build) in the window of the last; the
 4 critical states above the quasi-static 1e-3 are named below the table. The mu_r 0.5 compressions' series also have
-the walls' q (q/p' = 0.72 against the contacts' 0.6) and the interior's p_inner, q_inner (q/p' = 0.66, one NaN row in a
-window): the line's last column gives M of both ("-, -" for the runs without those columns)."""
+the walls' q (q/p' = 0.72 against the contacts' 0.6), the damping's drag p_drag, q_drag (the walls' less it: 0.70, one
+NaN row in a window) and the interior's p_inner, q_inner (q/p' = 0.66, one NaN row in a window): the line's last column
+gives M of the three ("-, -, -" for the runs without those columns)."""
 import csv, math, os, shutil, subprocess, sys
 
 grainlab, work = sys.argv[1], sys.argv[2]
@@ -28,7 +29,8 @@ for mur, (a, b, c, d) in truth.items():
         os.makedirs(run)
         with open(os.path.join(run, "series.csv"), "w", newline="") as f:
             w = csv.writer(f)
-            w.writerow(["stage"] + cols + (["e_inner", "q", "p_inner", "q_inner"] if mur == 0.5 else []))
+            w.writerow(["stage"] + cols + (["e_inner", "q", "p_inner", "q_inner", "p_drag", "q_drag"] if mur == 0.5
+                                           else []))
             for i in range(41):  # shear to 40 %, steady over the last 10 %
                 ea = 0.01 * i
                 approach = min(1.0, ea / 0.3)
@@ -38,9 +40,13 @@ for mur, (a, b, c, d) in truth.items():
                 I = 4e-4 * (1 - ea) if mur == 0.1 else ("nan" if (k, i) == (3, 35) else (k + 1) * 1e-3)
                 # e_inner: on its line over the window, NaN in one row there (restored from an older build's checkpoint)
                 ei = ["nan" if (k, i) == (1, 38) else inner_truth[0] + inner_truth[1] * pc if ea >= 0.3 else 0.6]
-                # the walls' q/p' 0.72; the interior's p' 10 % above the walls', its q/p' 0.66 (NaN in one window row)
+                # the walls' q/p' 0.72; the interior's p' 10 % above the walls', its q/p' 0.66 (NaN in one window row);
+                # the damping's drag 0.04 p' on p and 0.048 p' on q: the walls' q/p' less it 0.672 / 0.96 = 0.700 (NaN
+                # in another window row: restored from an older build's checkpoint)
                 inner = ["nan", "nan"] if (k, i) == (2, 36) else [1.1 * p, 0.66 * 1.1 * p]
-                w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1, I] + (ei + [0.72 * p] + inner if mur == 0.5 else []))
+                drag = ["nan", "nan"] if (k, i) == (0, 37) else [0.04 * p, 0.048 * p]
+                w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1, I] +
+                           (ei + [0.72 * p] + inner + drag if mur == 0.5 else []))
         runs.append(run)
 # Extensions of mu_r 0.1: eps_a to -40 %, q/p' = -0.6, on their own lines
 ext_truth = (0.85, -1.0e-4, -0.15, 0.01)
@@ -110,7 +116,8 @@ for mur, (a, b, c, d) in truth.items():
     line = next(l for l in table.splitlines() if l.startswith(f"| {mur:g} | compression |"))
     assert "| 4 |" in line, line  # the moving run (mu_r 0.1) was not fitted
     assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
-    assert "| 0.600 ± 0.000 (15.8°) | " + ("2.6e-04 | -, - |" if mur == 0.1 else "4.0e-03 | 0.720, 0.660 |") in line, line
+    assert "| 0.600 ± 0.000 (15.8°) | " + ("2.6e-04 | -, -, - |" if mur == 0.1 else "4.0e-03 | 0.720, 0.700, 0.660 |") \
+        in line, line
     inner = line.split("|")[5].strip()
     if mur == 0.5:
         assert inner.startswith(f"a = {inner_truth[0]:.4f} ± 0.0000, b = {inner_truth[1]:.3e} ± "), line
@@ -120,7 +127,7 @@ a, b, c, d = ext_truth
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | extension |"))
 assert "| 3 |" in line and line.split("|")[5].strip() == "-", line
 assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
-assert "| 0.600 ± 0.000 (19.5°) | - | -, - |" in line, line
+assert "| 0.600 ± 0.000 (19.5°) | - | -, -, - |" in line, line
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | compression, b = 0.5 |"))
 assert "| 3 |" in line and "(30.0°) | - |" in line, line
 assert "\n4 of 14 critical states were reached at an inertial number above the quasi-static limit I < 0.001 " \
