@@ -779,7 +779,8 @@ def peak_state(s, peak):
     I = float(running_mean(s, rows, s["inertial_number"], window)[kq]) if "inertial_number" in s else None
     if "q_less_drag" in s:
         less = running_mean(s, rows, sign * s["q_less_drag"], window)
-        out["q_peak_less_drag"] = float(sign * np.max(less)) if np.isfinite(less).any() else None
+        # (NaN rows: restored from a checkpoint of a build before the column)
+        out["q_peak_less_drag"] = float(sign * np.nanmax(less)) if np.isfinite(less).any() else None
     out.update(q_peak=float(sign * along[k]), eps_peak=float(s["eps_a"][rows[k]]), qp_peak=float(qp[k]),
                M=float(qp[kq]), phi=float(np.max(running_mean(s, rows, ang, window))) if b > 0
                else friction_angle(qp[kq], ext), I=I if I is not None and math.isfinite(I) else None)

@@ -12,7 +12,8 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
   three peaks on the line (± 0.000), two critical states, which the line meets exactly (no ±).
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
 - Series D at 10 and 30 /s reaches I = 1.2e-2, past the line's low-I range (1e-2): a note names it, and only it.
-- The peak table gives each test's I at its largest stress ratio (I starts at twice its steady value and falls to it
+- The peak table gives each test's q_peak, and the walls' q less the damping's drag (2 % of q, NaN in the first two
+  rows) at its peak, and its I at its largest stress ratio (I starts at twice its steady value and falls to it
   by the peak, so a wrong row shows) and counts the peaks above the quasi-static I = 1e-3.
 - The critical-state lines are fitted per rate (summary.json's axial_strain_rate), named where there are several:
   the three critical states at 1 /s share one p'_c, so no line (a fit through them was singular and stopped the
@@ -30,7 +31,8 @@ from synthetic_study import study_report
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/rate_check"
 shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t", "sff_share_c",
-        "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y", "sigma_z"]
+        "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y", "sigma_z", "p_drag",
+        "q_drag"]
 jobs = []
 
 
@@ -51,8 +53,11 @@ def test(name, group, rate, drifting=False):
             e = e_cs - (0.2 * (ea - 0.3) if drifting and ea > 0.3 else 0.0)
             p = 1e5
             I_row = I * (2 - ea / 0.1) if ea < 0.1 else I  # a start-up transient: twice the steady I, gone by the peak
+            # the damping's drag: 2 % of q, none on p; NaN in the first two rows (restored from a checkpoint of a build
+            # before the columns)
+            drag = ["nan", "nan"] if i < 2 else [0.0, 0.02 * qp * p]
             w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25, 0.25, qp, I_row,
-                        p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3])
+                        p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3] + drag)
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.3, "e0": 0, "p0": 0,
                  "drainage": "drained", "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
                  "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": rate if group else 0, "rate_group": group})
@@ -107,15 +112,15 @@ if "shear_c" in sec.split("## ")[0]:
     fails.append("a test without a rate is in the rate section")
 csl_rows = [l for l in text.split("## Critical-state lines")[1].split("## ")[0].splitlines() if l.startswith("| 0.3 |")]
 if csl_rows != ["| 0.3 | compression, 0.5/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
-                f"0.605 ({phi(0.605):.1f}°) | 2.0e-04 | 0.605, -, - |",
+                f"0.605 ({phi(0.605):.1f}°) | 2.0e-04 | 0.605, 0.593, - |",
                 "| 0.3 | compression, 1/s | 3 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
-                f"0.610 ± 0.000 ({phi(0.61):.1f}°) | 4.0e-04 | 0.610, -, - |",
+                f"0.610 ± 0.000 ({phi(0.61):.1f}°) | 4.0e-04 | 0.610, 0.598, - |",
                 "| 0.3 | compression, 2/s | 2 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
-                f"0.620 ± 0.000 ({phi(0.62):.1f}°) | 8.0e-04 | 0.620, -, - |",
+                f"0.620 ± 0.000 ({phi(0.62):.1f}°) | 8.0e-04 | 0.620, 0.608, - |",
                 "| 0.3 | compression, 10/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
-                f"0.700 ({phi(0.7):.1f}°) | 4.0e-03 | 0.700, -, - |",
+                f"0.700 ({phi(0.7):.1f}°) | 4.0e-03 | 0.700, 0.686, - |",
                 "| 0.3 | compression, 30/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
-                f"0.900 ({phi(0.9):.1f}°) | 1.2e-02 | 0.900, -, - |"]:
+                f"0.900 ({phi(0.9):.1f}°) | 1.2e-02 | 0.900, 0.882, - |"]:
     fails.append("critical-state lines not one per rate: " + "\n".join(csl_rows))
 # The peak table gives the I at each test's largest stress ratio (the steady I, not the start-up's twice that), and a
 # note counts those above the quasi-static 1e-3: shear_b_rate3 (1.2e-3), shear_d_rate10 and _rate30, of 9.
@@ -125,6 +130,9 @@ for name, rate in (("shear_a_rate0.5", 0.5), ("shear_b", 2), ("shear_c", 1), ("s
     m = 0.75 + 50 * 4e-4 * rate
     if not row.endswith(f"| {m:.3f} ({phi(m):.1f}°) | {4e-4 * rate:.1e} | {phi(m):.1f}° at 10.0 % |"):
         fails.append(f"peak table, {name}: expected max q/p' {m:.3f} at I {4e-4 * rate:.1e}, got '{row}'")
+    # q_peak and q_peak less drag (the walls' q less 2 % of it, past two NaN rows): at 10 %, p' = 100 kPa
+    if f" | {100 * m:.1f} | {98 * m:.1f} | 10.00 | " not in row:
+        fails.append(f"peak table, {name}: expected q_peak {100 * m:.1f} and less drag {98 * m:.1f} kPa, got '{row}'")
 if "3 of 9 largest stress ratios were reached at an inertial number above the quasi-static limit I < 0.001 " \
         "(up to 1.2e-02)" not in pk_sec:
     fails.append(f"the peak table's note must count 3 of 9 peaks above I = 1e-3: {pk_sec}")
