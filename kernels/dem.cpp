@@ -342,10 +342,13 @@ struct WallLoadTerms {
 // measures nothing the two stores cost 1.05-1.08x of the step (perf/NOTES.md attempt 27).
 // device_max (with Loads = false): the max goes to that device address instead of the host (attempt 32); NaN
 // is returned.
-template <bool Damped, bool RowPairs, bool Loads, bool Store, bool Move>
+// Drag (with Loads): acc also sums the damping's drag moment about drag_c after the wall terms, into *drag_moment
+// (gather_integrate_load_walls_and_drag).
+template <bool Damped, bool RowPairs, bool Loads, bool Store, bool Move, bool Drag = false>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                     const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads,
-                    Real* device_max = nullptr) {
+                    Real* device_max = nullptr, Vec3 drag_c = Vec3(), Vec3* drag_moment = nullptr) {
+  static_assert(!Drag || (Loads && Move), "the drag moment rides on the loads' sums, in a kick");
   auto x = P.x;
   auto v = P.v;
   auto w = P.w;
@@ -408,7 +411,15 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
     Vec3 vi = load(v, i), wi = load(w, i);
     if (Damped) {
       // Cundall local non-viscous damping per component, against the current (half-step) velocity.
-      f = CundallDamping::damped(f, vi, alpha);
+      const Vec3 fd = CundallDamping::damped(f, vi, alpha);
+      if (Drag) {  // Engine::damping_moment's terms, in its order
+        const Vec3 drag = fd - f;
+        const Vec3 d = xi - drag_c;
+        acc[3 * ws.count] += d.x * drag.x;
+        acc[3 * ws.count + 1] += d.y * drag.y;
+        acc[3 * ws.count + 2] += d.z * drag.z;
+      }
+      f = fd;
       t = CundallDamping::damped(t, wi, alpha);
     }
     vi += (dt / m(i)) * f;
@@ -423,8 +434,9 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   const char* label = !Move ? "grainlab::gather::forces" : Damped ? "grainlab::integrate::damped" : "grainlab::integrate::free";
   if constexpr (Loads) {
     Real out[DeterministicSum::kMaxValues] = {};
-    const Real maxd2 = red->run_with_max(label, P.n, 3 * ws.count, particle, out);
+    const Real maxd2 = red->run_with_max(label, P.n, 3 * ws.count + (Drag ? 3 : 0), particle, out);
     *loads = unpack_wall_loads(out, ws.count);
+    if constexpr (Drag) *drag_moment = Vec3(out[3 * ws.count], out[3 * ws.count + 1], out[3 * ws.count + 2]);
     return maxd2;
   } else {
     Real maxd2 = 0;
@@ -474,17 +486,25 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
 
 // The one dispatch of integrate_impl: where i's share is (kernel) and whether damping is on (alpha), at run
 // time once per call; Loads, Store and Move are the caller's.
-template <bool Loads, bool Store, bool Move>
+template <bool Loads, bool Store, bool Move, bool Drag = false>
 Real integrate_dispatch(const char* who, const Particles& P, const PairList& L, const FlagView& flags,
                         const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
-                        DeterministicSum* red, WallLoads* loads, Real* device_max = nullptr) {
+                        DeterministicSum* red, WallLoads* loads, Real* device_max = nullptr, Vec3 drag_c = Vec3(),
+                        Vec3* drag_moment = nullptr) {
   if (kernel == PairKernel::Lanes && !kPairLanesBuilt)
     throw std::logic_error(std::string(who) + ": the pair-lane kernel is not built here (kPairLanesBuilt)");
-  if (per_pair_shares(kernel))
-    return alpha > 0 ? integrate_impl<true, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max)
-                     : integrate_impl<false, true, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max);
-  return alpha > 0 ? integrate_impl<true, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max)
-                   : integrate_impl<false, false, Loads, Store, Move>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max);
+  if (!(alpha > 0)) {
+    if constexpr (Drag) *drag_moment = Vec3();  // no damping, no drag (and no undamped instantiation with Drag)
+    constexpr bool D = false;
+    return per_pair_shares(kernel)
+               ? integrate_impl<false, true, Loads, Store, Move, D>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max)
+               : integrate_impl<false, false, Loads, Store, Move, D>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads, device_max);
+  }
+  return per_pair_shares(kernel)
+             ? integrate_impl<true, true, Loads, Store, Move, Drag>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads,
+                                                                    device_max, drag_c, drag_moment)
+             : integrate_impl<true, false, Loads, Store, Move, Drag>(P, L, flags, F, walls, E_wall, alpha, dt, red, loads,
+                                                                     device_max, drag_c, drag_moment);
 }
 
 Real remap_affine(const Particles& P, const Vec3& lo0, const Vec3& scale, const Vec3& lo1) {
@@ -538,6 +558,19 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
     red.fetch(nv + 1, out);
     loads = unpack_wall_loads(out, walls.count);
     return P.n > 0 ? out[nv] : Real(0);
+  }
+}
+
+Real gather_integrate_load_walls_and_drag(const Particles& P, const PairList& L, const FlagView& flags,
+                                          const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt,
+                                          PairKernel kernel, DeterministicSum& red, WallLoads& loads, const Vec3& c,
+                                          Vec3& moment) {
+  static_assert(3 * kMaxWalls + 3 <= DeterministicSum::kMaxValues, "the loads and the drag fit the sums");
+  if constexpr (!kHostBackend) {
+    throw std::logic_error("gather_integrate_load_walls_and_drag: host backends only (Engine::step_measuring_drag)");
+  } else {
+    return integrate_dispatch<true, false, true, true>("gather_integrate_load_walls_and_drag", P, L, flags, F, walls,
+                                                       E_wall, alpha, dt, kernel, &red, &loads, nullptr, c, &moment);
   }
 }
 

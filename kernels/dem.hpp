@@ -304,6 +304,15 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
                                      const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
                                      DeterministicSum& red, WallLoads& loads);
 
+// gather_integrate_and_load_walls on a host backend (the one pass), which also sums the local damping's drag of this
+// kick as its first moment about c, per axis a: sum_i (x_i - c)_a d_i,a with d_i = damped(f_i, v_i) - f_i at x(t):
+// Engine::damping_moment's expression and sums, bitwise, without its own gather pass. A cyclic stage takes it every
+// step for its loops less the drag (CycleLoop). Dynamics bitwise gather_integrate_and_load_walls'.
+Real gather_integrate_load_walls_and_drag(const Particles& P, const PairList& L, const FlagView& flags,
+                                          const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt,
+                                          PairKernel kernel, DeterministicSum& red, WallLoads& loads, const Vec3& c,
+                                          Vec3& moment);
+
 // Affine remap of the positions with a moving box (beyond SPEC §6.2, Engine::set_affine_box): per axis a,
 // x_a <- lo1_a + (x_a - lo0_a) * scale_a, so every particle keeps its relative place in the box as the walls move
 // (LAMMPS `fix deform ... remap x`). Velocities are left alone. Returns max |x - x_ref|^2 after the remap (exact

@@ -68,6 +68,24 @@ void BM_Step(benchmark::State& st) {
   st.counters["rebuilds_per_100_steps"] = 100.0 * (eng.rebuild_count() - rebuilds0) / double(st.iterations() * kSteps);
 }
 
+// BM_Step (rolling on) as a damped cyclic stage steps: Engine::step_measuring_drag, whose fused pass also sums the
+// damping's drag moment (CycleLoop's loops less the drag). Its rate against BM_Step/N/1's is that feature's cost.
+void BM_StepMeasuringDrag(benchmark::State& st) {
+  Scene sc = fcc_scene(int(st.range(0)), 1);
+  Engine eng(sc.setup, bench_params(true), make_box_walls(sc.lo, sc.hi), true);
+  eng.run(20);
+  Vec3d c{};
+  for (int a = 0; a < 3; ++a) c[a] = 0.5 * (sc.lo[a] + sc.hi[a]);
+  double sink = 0;
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st)
+    for (int k = 0; k < kSteps; ++k) sink += eng.step_measuring_drag(c)[2];
+  compat::fence("grainlab::bench::after");
+  benchmark::DoNotOptimize(sink);
+  st.SetItemsProcessed(st.iterations() * long(kSteps) * eng.num_particles());
+  st.counters["particles"] = eng.num_particles();
+}
+
 // The contact kernel alone (SPEC §2), rolling on and off; third argument the kernel (0 row, 1 pair lanes,
 // 2 one pair per work item; kernels/dem.hpp). On the FCC scene every listed pair touches, the pair-lane kernel's best case.
 void BM_ContactForces(benchmark::State& st) {
@@ -239,6 +257,7 @@ BENCHMARK(BM_Integrate)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(
 BENCHMARK(BM_WallLoads)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Step)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}})->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_StepMeasuringDrag)->Arg(4000)->Arg(32000)->Arg(256000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_ContactForces)->ArgsProduct({{4000, 32000, 256000, 1024000}, {0, 1}, {0, 1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_NeighborBuild)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_NeighborBuildPSD)->ArgsProduct({{32000, 256000}, {15, 30, 100}})->Unit(benchmark::kMicrosecond)->UseRealTime();

@@ -472,7 +472,8 @@ def complete_cycles(rows):
 
 def modulus_curves(run, s):
     """A run's cycles.csv as modulus-reduction curves (None without rows): every cycle's single-amplitude axial strain
-    amp [%] = 50 (eps_a_max - eps_a_min), E [MPa], D, and single-amplitude shear strain ga [%] with G [MPa]
+    amp [%] = 50 (eps_a_max - eps_a_min), E [MPa], D, Dn (D less the damping's drag, cycle_damping_less_drag), and
+    single-amplitude shear strain ga [%] with G [MPa]
     (cycle_shear; nan for a drained cycle of a build before gamma); `last`, each stage's last cycle in order of
     amplitude (the curve), `known` those of them with a gamma; hf = (E_max [MPa], eps_r, rms) and gf = (G_max [MPa],
     gamma_r, rms), the Hardin-Drnevich hyperbolas through the curves (hyperbolic_fit), or None."""
@@ -484,11 +485,12 @@ def modulus_curves(run, s):
     drainage = {st: "undrained" if ty == 3 else "drained" for st, ty in zip(s["stage"], s["stage_type"])}
     amp = np.array([50 * (float(r["eps_a_max"]) - float(r["eps_a_min"])) for r in rows])
     E, D = np.array([float(r["E_eq"]) / 1e6 for r in rows]), np.array([float(r["damping"]) for r in rows])
+    Dn = np.array([cycle_damping_less_drag(r) for r in rows])
     ga, G = np.array([cycle_shear(r, drainage.get(r["stage"], "drained")) for r in rows]).T
     ga, G = 100 * ga, G / 1e6
     last = sorted({r["stage"]: k for k, r in enumerate(rows)}.values(), key=lambda k: amp[k])
     known = [k for k in last if ga[k] == ga[k]]
-    return dict(amp=amp, E=E, D=D, ga=ga, G=G, last=last, known=known, hf=hyperbolic_fit(amp[last] / 100, E[last]),
+    return dict(amp=amp, E=E, D=D, Dn=Dn, ga=ga, G=G, last=last, known=known, hf=hyperbolic_fit(amp[last] / 100, E[last]),
                 gf=hyperbolic_fit(ga[known] / 100, G[known]) if known else None)
 
 
@@ -497,7 +499,8 @@ def fig_modulus_damping(runs, out):
     Young's modulus E_eq against the single-amplitude axial strain, and the equivalent shear modulus G_eq and the
     damping ratio D against the single-amplitude shear strain, the G - gamma curve a site-response code takes. Every
     cycle a faint point, the curve through each stage's last cycle, and (dotted, the fit in the legend) the hyperbola
-    of Hardin & Drnevich fitted to that curve."""
+    of Hardin & Drnevich fitted to that curve; D also less the local damping's drag (dashed, x), where cycles.csv has
+    it."""
     runs = [(run, s) for run, s in runs if os.path.isfile(os.path.join(run, "cycles.csv"))]
     if not runs:
         return
@@ -516,6 +519,9 @@ def fig_modulus_damping(runs, out):
         gfit = f", G_max {gf[0]:.3g} MPa, gamma_r {100 * gf[1]:.2g} %" if gf else ""
         ax[1].plot(ga[known], G[known], "o-", color=color, label=label(run, s) + gfit)
         ax[2].plot(ga[known], D[known], "o-", color=color)
+        Dn = c["Dn"]
+        if np.isfinite(Dn[known]).any():
+            ax[2].plot(ga[known], Dn[known], "x--", color=color, label=label(run, s) + ", less the damping's drag")
         for a, x, h in ((ax[0], amp[last], hf), (ax[1], ga[known], gf)):
             if h:
                 xs = np.geomspace(x.min() / 3, x.max() * 3, 100)
@@ -527,6 +533,7 @@ def fig_modulus_damping(runs, out):
         a.grid(alpha=0.3)
     legend(ax[0], fontsize=8)
     legend(ax[1], fontsize=8)
+    legend(ax[2], fontsize=8)
     save(fig, out, "modulus_damping")
 
 
@@ -1964,6 +1971,13 @@ def cycle_shear(row, drainage):
     return float("nan"), float("nan")
 
 
+def cycle_damping_less_drag(row):
+    """A cycles.csv row's damping ratio of the walls' q less the local damping's drag (CycleLoop): the contacts' loop,
+    where the walls' D carries the drag's area too; nan from a build before the column, or where it was not known."""
+    v = row.get("damping_less_drag")
+    return float(v) if v not in (None, "") else float("nan")
+
+
 def modulus_section(amp, stage, figs):
     """Tests of a strain_amplitude axis: each test's last complete cycle of the strain-controlled stage (cycles.csv),
     its equivalent moduli E_eq and G_eq and damping ratio D against the measured single-amplitude strains, per group
@@ -1998,11 +2012,12 @@ def modulus_section(amp, stage, figs):
                 pts.append((j, cyc[-1], s["p"][s["cyclic"]][0]))  # p'_0: the stage's first row
             else:
                 rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | no complete cycle "
-                            "| | | | | | | | |")
+                            "| | | | | | | | | |")
         if not pts:
             continue
         ea = np.array([(float(r["eps_a_max"]) - float(r["eps_a_min"])) / 2 for _, r, _ in pts])  # single amplitude
         E, D = (np.array([float(r[k]) for _, r, _ in pts]) for k in ("E_eq", "damping"))
+        Dn = np.array([cycle_damping_less_drag(r) for _, r, _ in pts])
         ga, G = np.array([cycle_shear(r, j["drainage"]) for j, r, _ in pts]).T
         # G_0: the group's smallest amplitude (the lab's small-strain modulus); where that test has no complete
         # cycle, the smallest that has one, and the report says so (every G_eq/G_0 of the group is relative to it)
@@ -2011,15 +2026,18 @@ def modulus_section(amp, stage, figs):
         if pts[0][0]["strain_amplitude"] > smallest:
             notes.append(f"Group {name(key)}: G_0 is the {100 * pts[0][0]['strain_amplitude']:.3g} % test's G_eq, since "
                          f"the group's smallest amplitude ({100 * smallest:.3g} %) has no complete cycle.")
-        for (j, r, p0j), a, g, e, gm, dmp in zip(pts, ea, ga, E, G, D):
+        for (j, r, p0j), a, g, e, gm, dmp, dn in zip(pts, ea, ga, E, G, D, Dn):
             ru = f"{float(r['r_u_max']):.3f}" if j["drainage"] == "undrained" else "–"
             rows.append(f"| {j['name']} | {name(key)} | {100 * j['strain_amplitude']:.3g} | {100 * a:.4g} | "
                         f"{pct(g, '.4g')} | {r['cycle']} | {e / 1e6:.4g} | {gm / 1e6:.4g} | {gm / G0:.3f} | {dmp:.3f} | "
-                        f"{float(r['p']) / p0j:.3f} | {ru} |")
+                        + ("–" if dn != dn else f"{dn:.3f}") + f" | {float(r['p']) / p0j:.3f} | {ru} |")
         c = f"C{i % 10}"
         ok = ga == ga  # cycles with a shear strain (all but a drained pre-gamma build's)
         ax[0].plot(100 * ga[ok], G[ok] / G0, "o", color=c, label=name(key))
         ax[1].plot(100 * ga[ok], D[ok], "o", color=c)
+        known_n = ok & (Dn == Dn)
+        if known_n.any():
+            ax[1].plot(100 * ga[known_n], Dn[known_n], "x", color=c)
         xs = np.geomspace(max(ga[ok].min(), 1e-7) / 3, ga[ok].max() * 3, 100) if ok.any() else None
         if xs is not None:
             span = (min(span[0], xs[0]), max(span[1], xs[-1]))
@@ -2028,22 +2046,27 @@ def modulus_section(amp, stage, figs):
         e_txt = f"{hf_e[0] / 1e6:.4g} | {100 * hf_e[1]:.3g}" if hf_e else "– | –"
         dar = f"{100 * darendeli_gamma_r(p0):.3g}"
         if hf is None:
-            fits.append(f"| {name(key)} | {len(pts)} | {e_txt} | no fit: G_eq does not fall with strain | | | | | {dar} |")
+            fits.append(f"| {name(key)} | {len(pts)} | {e_txt} | no fit: G_eq does not fall with strain | | | | | | | "
+                        f"{dar} |")
             continue
         g_max, g_r, rms = hf
         df = damping_fit(G[ok] / g_max, D[ok])
+        # the same fit to D less the drag, where every test of the group has it (an older build's cycles.csv has not)
+        dfn = damping_fit(G[ok] / g_max, Dn[ok]) if np.isfinite(Dn[ok]).all() else None
         ax[0].plot(100 * xs, g_max / (1 + xs / g_r) / G0, "--", color=c)
         if df is not None:
             ax[1].plot(100 * xs, df[0] + (df[1] - df[0]) * (1 - 1 / (1 + xs / g_r)), "--", color=c)
         fits.append(f"| {name(key)} | {len(pts)} | {e_txt} | {g_max / 1e6:.4g} | {100 * g_r:.3g} | {100 * rms:.1f} | "
-                    + (f"{df[0]:.3f} | {df[1]:.3f}" if df else "– | –") + f" | {dar} |")
+                    + (f"{df[0]:.3f} | {df[1]:.3f}" if df else "– | –") + " | "
+                    + (f"{dfn[0]:.3f} | {dfn[1]:.3f}" if dfn else "– | –") + f" | {dar} |")
     for k, p in enumerate(sorted(refs)):  # Darendeli's clean sand, once per p'_0 (groups often share it)
         xs = np.geomspace(*span, 100)
         ax[0].plot(100 * xs, darendeli_modulus(xs, p), ":", color=str(0.2 + 0.5 * k / max(1, len(refs) - 1)),
                    label=f"Darendeli (2001) clean sand, p'_0 = {p / 1e3:g} kPa")
     ax[0].set(xscale="log", xlabel="single-amplitude gamma = eps_a - eps_r [%]", ylabel="G_eq / G_0",
               title="modulus reduction (dashed: hyperbola)")
-    ax[1].set(xscale="log", xlabel="single-amplitude gamma [%]", ylabel="D", title="damping ratio")
+    ax[1].set(xscale="log", xlabel="single-amplitude gamma [%]", ylabel="D",
+              title="damping ratio (x: less the damping's drag)")
     finish(fig, ax, ax[0], 8, figs, "modulus_reduction")
     return ["## Modulus reduction and damping", "",
             "One test per strain amplitude, each on its own specimen of the sample, at one loading frequency (every "
@@ -2052,18 +2075,23 @@ def modulus_section(amp, stage, figs):
             "strain (eps_a_max - eps_a_min)/2 and of shear strain gamma = eps_a - eps_r (gamma_max - gamma_min)/2, the "
             "equivalent moduli E_eq = (q_max - q_min)/(eps_a_max - eps_a_min) and G_eq = (tau_max - tau_min)/(gamma_max "
             "- gamma_min) with tau = q/2, G_eq/G_0 with G_0 at the group's smallest amplitude, the damping ratio D = loop "
-            "area / (2 pi q_a eps_a) (ASTM D3999), p'/p'_0 at the cycle's end and its largest r_u.", "",
+            "area / (2 pi q_a eps_a) (ASTM D3999) of the walls' q and of the walls' q less the local damping's drag "
+            "(cycles.csv damping_less_drag: the drag opposes the straining both ways, so it adds area to the walls' loop; "
+            "less it, the loop is the contacts'. It matters most at small strains, where the contacts dissipate least: "
+            "30-60 % of D at eps_a = 1e-5 on configs/modulus_damping.yaml; \"–\" from a build before the column), "
+            "p'/p'_0 at the cycle's end and its largest r_u.", "",
             "| test | group | eps_a amplitude [%] | measured eps_a [%] | gamma [%] | cycle | E_eq [MPa] | G_eq [MPa] | "
-            "G_eq/G_0 | D | p'/p'_0 | max r_u |",
-            "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "", *(notes + [""] if notes else []),
+            "G_eq/G_0 | D | D less drag | p'/p'_0 | max r_u |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "", *(notes + [""] if notes else []),
             "Per group, the hyperbolas of Hardin & Drnevich (1972), E_eq = E_max / (1 + eps_a/eps_r) and G_eq = G_max / "
             "(1 + gamma/gamma_r), fitted to the relative misfit (rms given for G), and D = D_min + (D_max - D_min)(1 - "
-            "G_eq/G_max), by least squares with D_min >= 0 (a D_min of 0 is the bound). Darendeli's gamma_r is that of clean sand at the group's p'_0 (Darendeli "
+            "G_eq/G_max), by least squares with D_min >= 0 (a D_min of 0 is the bound), to D and to D less the drag. "
+            "Darendeli's gamma_r is that of clean sand at the group's p'_0 (Darendeli "
             "2001: 0.0352 % (p'_0/p_a)^0.3483; dotted in the figure, with its curvature 0.919), a reference for real "
             "sands, not a fit.", "",
             "| group | tests | E_max [MPa] | eps_r [%] | G_max [MPa] | gamma_r [%] | rms misfit of G [%] | D_min | D_max | "
-            "Darendeli gamma_r [%] |",
-            "|---|---|---|---|---|---|---|---|---|---|", *fits, ""]
+            "D_min less drag | D_max less drag | Darendeli gamma_r [%] |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|", *fits, ""]
 
 
 def main():

@@ -11,7 +11,11 @@
 //    tau = q/2 and gamma = eps_a - eps_r (the engineering shear strain there; 1.5 eps_q): the modulus resonant-column
 //    and simple-shear tests report and the G/G_max curves of site response (Darendeli 2001) use. Undrained (eps_v = 0)
 //    gamma = 1.5 eps_a to first order and G_eq = E_eq/3; drained the sample's lateral strain sets it, and
-//    E_eq/G_eq = 2 (1 + nu_eq).
+//    E_eq/G_eq = 2 (1 + nu_eq);
+//  - E_eq and D of the walls' q less the local damping's drag q_drag (series q_drag, fed each step with q): the walls'
+//    q carries the drag (SPEC section 4's damping acts on every sphere against its velocity, so on a cycle it opposes
+//    the straining both ways and adds area to the loop). Less the drag, the loop is the material's as the boundary
+//    measures it: on configs/modulus_damping.yaml the drag is 30-60 % of D at eps_a = 1e-5 and 2-6 % from 1e-4 on.
 // Host code, no Kokkos: Laboratory feeds it the measure it turns on, once a step (test_cycle_loop checks it on
 // analytic loops).
 #include <algorithm>
@@ -27,21 +31,31 @@ struct CycleLoop {
   double q_prev = 0, e_prev = 0;
   double g_max = 0, g_min = 0;  // extremes of the shear strain gamma = eps_a - eps_r (NaN: not known, see set_state)
   double u_max = 0;        // the largest excess pore pressure u seen in the cycle [Pa]
+  double work_drag = 0;    // integral of q_drag d eps_a so far [Pa]
+  double qd_prev = 0;
+  double qn_max = 0, qn_min = 0;  // extremes of q - q_drag (NaN: not known, see set_state)
   bool open = false;
   double n = 0;            // the stage's cycle number N at the last step fed (it never decreases)
 
-  // The cycle starts at this measure.
-  void start(double q, double e, double g, double u) {
+  // The cycle starts at this measure (qd: the drag's share of q, 0 without damping).
+  void start(double q, double e, double g, double u, double qd = 0) {
     q_max = q_min = q_prev = q;
     e_max = e_min = e_prev = e;
     g_max = g_min = g;
     work = 0;
     u_max = u;
+    work_drag = 0;
+    qd_prev = qd;
+    qn_max = qn_min = q - qd;
     open = true;
   }
-  void add(double q, double e, double g, double u) {
+  void add(double q, double e, double g, double u, double qd = 0) {
     work += 0.5 * (q + q_prev) * (e - e_prev);
+    work_drag += 0.5 * (qd + qd_prev) * (e - e_prev);  // the same trapezoids: q's less q_drag's is (q - q_drag)'s
     q_prev = q;
+    qd_prev = qd;
+    qn_max = std::max(qn_max, q - qd);  // NaN stays NaN, as g's below
+    qn_min = std::min(qn_min, q - qd);
     e_prev = e;
     q_max = std::max(q_max, q);
     q_min = std::min(q_min, q);
@@ -57,20 +71,32 @@ struct CycleLoop {
     if (std::isnan(g_max - g_min)) return std::nan("");
     return g_max > g_min ? 0.5 * (q_max - q_min) / (g_max - g_min) : 0;
   }
-  double damping() const {
-    const double qa = 0.5 * (q_max - q_min), ea = 0.5 * (e_max - e_min);
-    return qa > 0 && ea > 0 ? work / (2 * M_PI * qa * ea) : 0;
+  double damping() const { return damping_of(work, q_max, q_min); }
+  // Of q - q_drag: its own extremes and loop area (NaN where a checkpoint from before the drag left them unknown).
+  double modulus_less_drag() const {
+    if (std::isnan(qn_max - qn_min)) return std::nan("");
+    return e_max > e_min ? (qn_max - qn_min) / (e_max - e_min) : 0;
+  }
+  double damping_less_drag() const {
+    if (std::isnan(qn_max - qn_min + work_drag)) return std::nan("");
+    return damping_of(work - work_drag, qn_max, qn_min);
+  }
+  double damping_of(double w, double qmax, double qmin) const {
+    const double qa = 0.5 * (qmax - qmin), ea = 0.5 * (e_max - e_min);
+    return qa > 0 && ea > 0 ? w / (2 * M_PI * qa * ea) : 0;
   }
 
   // For checkpoints: the state as numbers, and back. A checkpoint written before gamma was tracked holds the first
   // kStateSizeNoShear numbers: the open cycle's gamma extremes are then unknown (NaN), and so is its G_eq, rather than
-  // a modulus over the part of the cycle after the restart; the cycles after it are whole again.
-  static constexpr size_t kStateSize = 12, kStateSizeNoShear = 10;
+  // a modulus over the part of the cycle after the restart; the cycles after it are whole again. One written before
+  // the drag holds kStateSizeNoDrag: the open cycle's values less the drag are unknown alike.
+  static constexpr size_t kStateSize = 16, kStateSizeNoDrag = 12, kStateSizeNoShear = 10;
   std::vector<double> state() const {
-    return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n, g_max, g_min};
+    return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n, g_max, g_min,
+            work_drag, qd_prev, qn_max, qn_min};
   }
   void set_state(const std::vector<double>& s) {
-    if (s.size() != kStateSize && s.size() != kStateSizeNoShear)
+    if (s.size() != kStateSize && s.size() != kStateSizeNoDrag && s.size() != kStateSizeNoShear)
       throw std::runtime_error("cycle loop state has the wrong length (corrupt?)");
     q_max = s[0];
     q_min = s[1];
@@ -82,8 +108,13 @@ struct CycleLoop {
     u_max = s[7];
     open = s[8] != 0;
     n = s[9];
-    g_max = s.size() == kStateSize ? s[10] : std::nan("");
-    g_min = s.size() == kStateSize ? s[11] : std::nan("");
+    g_max = s.size() > kStateSizeNoShear ? s[10] : std::nan("");
+    g_min = s.size() > kStateSizeNoShear ? s[11] : std::nan("");
+    const bool drag = s.size() == kStateSize;
+    work_drag = drag ? s[12] : std::nan("");
+    qd_prev = drag ? s[13] : std::nan("");
+    qn_max = drag ? s[14] : std::nan("");
+    qn_min = drag ? s[15] : std::nan("");
   }
 };
 

@@ -234,6 +234,26 @@ void Engine::step() {
   finish_step(maxd2);
 }
 
+Vec3d Engine::step_measuring_drag(const Vec3d& c) {
+  if constexpr (kHostBackend) {
+    const ContactParams& cp = params_.contact;
+    compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, ContactFeatures{cp.mu_r > 0, cp.normal_damping > 0},
+                        params_.pair_kernel);
+    Vec3 m;
+    const Real maxd2 = gather_integrate_load_walls_and_drag(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_,
+                                                            params_.E_wall, params_.damping, cp.dt, params_.pair_kernel,
+                                                            red_, loads_, Vec3(c[0], c[1], c[2]), m);
+    forces_current_ = false;
+    finish_step(maxd2);
+    return {m.x, m.y, m.z};
+  } else {
+    evaluate();
+    const Vec3d m = damping_moment(c);
+    advance();
+    return m;
+  }
+}
+
 void Engine::advance_impl(bool store_forces) {
   if (!evaluated_) throw std::logic_error("Engine::advance() without evaluate()");
   evaluated_ = false;

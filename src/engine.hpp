@@ -151,6 +151,10 @@ class Engine {
   // step() does not update forces()/torques() (they are output, not state: the fused step skips their
   // stores, perf/NOTES.md attempt 27); advance() does, and so does diagnostics() between the halves.
   void step();
+  // step(), bitwise, returning damping_moment(c) of its instant: on a host backend from the fused pass itself (three
+  // more sums in it, no gather pass of its own), on a GPU as evaluate(), damping_moment(c), advance(). A cyclic
+  // stage's loops less the drag take it every step (CycleLoop).
+  Vec3d step_measuring_drag(const Vec3d& c);
   void evaluate();
   void advance() { advance_impl(true); }
   void run(long nsteps) {

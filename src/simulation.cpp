@@ -143,18 +143,20 @@ size_t series_column(const char* name) {
 // modulus and damping ratio, p' and eps_v at its end, its largest r_u; then the extremes of the shear strain
 // gamma = eps_a - eps_r and the equivalent shear modulus G_eq; then `complete`: 1 for a whole cycle, 0 for the part of
 // one that a stage ended in (it reached max_axial_strain, as a liquefying sample does, or max_steps): that last
-// loop's extremes, moduli, p', eps_v and r_u as far as it went, its damping NaN (an open path has no loop area).
+// loop's extremes, moduli, p', eps_v and r_u as far as it went, its damping NaN (an open path has no loop area);
+// then E_eq and D of the walls' q less the local damping's drag (CycleLoop; equal to E_eq and D without damping).
 // Each group after the columns of older builds, so that a script that reads them by position still does.
 const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
   static const std::vector<std::pair<std::string, std::string>> cols = {
       {"cycle", "-"},   {"step", "-"},     {"q_max", "Pa"}, {"q_min", "Pa"},   {"eps_a_max", "-"}, {"eps_a_min", "-"},
       {"E_eq", "Pa"},   {"damping", "-"},  {"p", "Pa"},     {"eps_v", "-"},    {"r_u_max", "-"},
-      {"gamma_max", "-"}, {"gamma_min", "-"}, {"G_eq", "Pa"}, {"complete", "-"}};
+      {"gamma_max", "-"}, {"gamma_min", "-"}, {"G_eq", "Pa"}, {"complete", "-"},
+      {"E_eq_less_drag", "Pa"}, {"damping_less_drag", "-"}};
   return cols;
 }
-// cycles.csv's columns in builds before gamma_max, and before `complete` (their checkpoints hold rows this long; every
-// row they hold is a whole cycle: they wrote no other)
-constexpr size_t kCycleColumnsNoShear = 11, kCycleColumnsNoComplete = 14;
+// cycles.csv's columns in builds before gamma_max, before `complete` (their checkpoints hold rows this long; every
+// row they hold is a whole cycle: they wrote no other), and before the loops less the drag (those unknown: NaN)
+constexpr size_t kCycleColumnsNoShear = 11, kCycleColumnsNoComplete = 14, kCycleColumnsNoDrag = 15;
 constexpr size_t kCycleComplete = kCycleColumnsNoComplete;  // the index of `complete`: the first column after those
 
 namespace {
@@ -400,7 +402,8 @@ class Laboratory {
   // A triaxial stage's axial strain along its loading: eps_a in compression, -eps_a in extension (what
   // max_axial_strain, snapshot_strain and the plan count).
   static Real strain_along(const StageConfig& sc, Real eps_a) { return sc.extension ? -eps_a : eps_a; }
-  void watch_cycle(const StageConfig& sc, const Measure& m, bool turn);
+  Real watch_cycle_number(const StageConfig& sc, const Measure& m) const;
+  void watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, Real q_drag);
   // A stress-controlled cyclic stage at its first load reversal: a warning if that quarter cycle was dynamic.
   void warn_dynamic_loops(const StageConfig& sc) const;
   void write_summary() const;
@@ -414,6 +417,8 @@ class Laboratory {
   Real inner_void_ratio() const;
   Sym inner_stress();
   Vec3d drag_stress();
+  Vec3d box_centre() const;
+  static Real q_drag_of(const Vec3d& moment, Real V);
   Real core_void_ratio() const;
   Real void_ratio_inset(const Real (&inset)[3]) const;
   Real inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const;
@@ -751,12 +756,23 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
 // material's by it; walls' stress less drag is the material's as the boundary measures it.
 Vec3d Laboratory::drag_stress() {
   Engine& e = *eng_;
-  Vec3d c{};
-  for (int a = 0; a < 3; ++a) c[a] = 0.5 * (e.wall_position(2 * a) + e.wall_position(2 * a + 1));
-  Vec3d m = e.damping_moment(c);
+  Vec3d m = e.damping_moment(box_centre());
   const Real V = e.box_volume();
-  for (Real& v : m) v = V > 0 ? v / V : 0;
+  for (Real& v : m) v = V > 0 ? v / V : 0;  // q_drag_of's arithmetic
   return m;
+}
+
+Vec3d Laboratory::box_centre() const {
+  Vec3d c{};
+  for (int a = 0; a < 3; ++a) c[a] = 0.5 * (eng_->wall_position(2 * a) + eng_->wall_position(2 * a + 1));
+  return c;
+}
+
+// q_drag of a drag moment about the box's centre, V the box's volume at its instant: row()'s arithmetic (drag_stress).
+Real Laboratory::q_drag_of(const Vec3d& moment, Real V) {
+  Vec3d d{};
+  for (int a = 0; a < 3; ++a) d[a] = V > 0 ? moment[a] / V : 0;
+  return d[2] - 0.5 * (d[0] + d[1]);
 }
 
 // The interior: the wall box inset by kInnerMargin mean diameters on every side. (choice) 2 diameters: the wall's
@@ -877,9 +893,11 @@ Real Laboratory::cycle_number(const StageConfig& sc, const Measure& m) const {
 }
 
 // A cyclic stage, on every step, from the same measure as the turn (so a resumed run sees the same steps), at the
-// cycle number N of that measure (never below the series' N, nor the last step's):
-//  - the cycle's loop (CycleLoop): fed every step; when N passes a whole number the cycle is done, its row goes to
-//    cycles.csv and the next loop starts at this measure;
+// cycle number N of that measure (never below the series' N, nor the last step's: watch_cycle_number, taken before
+// the step, as the series' N may rise in it):
+//  - the cycle's loop (CycleLoop): fed every step, with the damping's drag of the step's kick (q_drag: fed after the
+//    step, which measures it); when N passes a whole number the cycle is done, its row goes to cycles.csv and the
+//    next loop starts at this measure;
 //  - the liquefaction criteria:
 //    - initial liquefaction: the excess pore pressure ratio r_u = u / p'_0 reaches liquefaction_ru (undrained only;
 //      u = p_total - p', SPEC §6.3);
@@ -888,19 +906,23 @@ Real Laboratory::cycle_number(const StageConfig& sc, const Measure& m) const {
 //      cycle just ended (ASTM D5311's double amplitude); between reversals it is the span so far, so a sample that
 //      flows past the criterion mid half cycle meets it there. Before the first reversal: |eps_a| from the start.
 //    They are first checked, then a turn (decided by this step's cyclic_turn) starts the next half cycle from here.
-void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn) {
+Real Laboratory::watch_cycle_number(const StageConfig& sc, const Measure& m) const {
+  return std::max({lab_.cycle, Real(lab_.loop.n), cycle_number(sc, m)});
+}
+
+void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, Real q_drag) {
   CycleLoop& L = lab_.loop;
-  const Real N = std::max({lab_.cycle, Real(L.n), cycle_number(sc, m)});
   if (!L.open) {
-    L.start(m.q, m.eps_a, m.gamma, m.u);
+    L.start(m.q, m.eps_a, m.gamma, m.u, q_drag);
   } else {
-    L.add(m.q, m.eps_a, m.gamma, m.u);
+    L.add(m.q, m.eps_a, m.gamma, m.u, q_drag);
     if (std::floor(N) > std::floor(L.n)) {
-      lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count()), L.q_max, L.q_min, L.e_max, L.e_min,
+      // the step: the measure's (the loop's last instant), which the step after it has already counted
+      lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count() - 1), L.q_max, L.q_min, L.e_max, L.e_min,
                                   L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.p0, L.g_max, L.g_min,
-                                  L.shear_modulus(), 1.0});
+                                  L.shear_modulus(), 1.0, L.modulus_less_drag(), L.damping_less_drag()});
       lab_.cycles.stage.push_back(lab_.stage);
-      L.start(m.q, m.eps_a, m.gamma, m.u);
+      L.start(m.q, m.eps_a, m.gamma, m.u, q_drag);
     }
   }
   L.n = N;
@@ -1146,7 +1168,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       }
       for (int k = 0; k < 4; ++k) e.wall_control(k).target_stress = k < 2 ? t.sx : t.sy;
     }
-    if (cyclic) watch_cycle(sc, m0, turn);
+    const Real cycle_n = cyclic ? watch_cycle_number(sc, m0) : 0;  // watch_cycle's N, as the step finds it
+    // A damped cyclic stage's loops less the drag want the drag of every step's kick: the step measures it.
+    const bool loop_drag = cyclic && sc.damping > 0;
+    Real q_drag = 0;
     if (turn && lab_.half_cycles == 1 && sc.q_amplitude > 0) warn_dynamic_loops(sc);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
     const bool snap =
@@ -1157,7 +1182,12 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       // the particles on host backends (perf/NOTES.md attempt 21).
       ++lab_.stage_step;
       ramp_pressure(sc, lab_.stage_step);  // servo targets: read when the walls move, at the step's end
-      e.step();
+      if (loop_drag) {
+        const Real V = e.box_volume();  // the walls' at this instant: the step moves them at its end
+        q_drag = q_drag_of(e.step_measuring_drag(box_centre()), V);
+      } else {
+        e.step();
+      }
     } else {
       e.evaluate();  // x(t), pair forces, history and wall loads now belong to the same instant
       ++lab_.stage_step;
@@ -1210,8 +1240,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         if (!snap) snapshot(sc.name + "_end");
       }
       ramp_pressure(sc, lab_.stage_step);
+      if (loop_drag) q_drag = q_drag_of(e.damping_moment(box_centre()), e.box_volume());  // row()'s, bitwise
       e.advance();  // a step always completes: the history increments of evaluate() are already applied
     }
+    if (cyclic) watch_cycle(sc, m0, turn, cycle_n, q_drag);
     ++total_steps_;
     if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained) place_lateral_walls();
     if (done) break;
@@ -1250,7 +1282,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     if (L.open && (L.e_max > L.e_min || L.q_max > L.q_min)) {
       lab_.cycles.rows.push_back({std::floor(L.n) + 1, double(final_step), L.q_max, L.q_min, L.e_max, L.e_min,
                                   L.modulus(), std::nan(""), m.p, m.eps_v, L.u_max / lab_.p0, L.g_max, L.g_min,
-                                  L.shear_modulus(), 0.0});
+                                  L.shear_modulus(), 0.0, L.modulus_less_drag(), std::nan("")});
       lab_.cycles.stage.push_back(lab_.stage);
     }
   }
@@ -1292,6 +1324,25 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         std::printf("stage %s: the damping's drag is %.1f %% of the walls' q at its end (q/p' %.3f of the walls, %.3f less "
                     "the drag; series q_drag): a slower shear or less damping lowers it\n",
                     sc.name.c_str(), 100 * qd / q, std::abs(q / p), std::abs((q - qd) / (p - pd)));
+    }
+    // A cyclic stage's: the share of its last whole cycle's damping ratio that is the drag's area (cycles.csv). On
+    // configs/modulus_damping.yaml (damping 0.1) 30-60 % of D at eps_a = 1e-5, 2-6 % from 1e-4 on.
+    if (sc.type == StageType::Cyclic && sc.damping > 0) {
+      const auto col = [](const char* name) {
+        const auto& c = cycle_columns();
+        return size_t(std::find_if(c.begin(), c.end(), [&](const auto& x) { return x.first == name; }) - c.begin());
+      };
+      const size_t kD = col("damping"), kDn = col("damping_less_drag");
+      for (size_t k = lab_.cycles.rows.size(); k-- > 0 && lab_.cycles.stage[k] == lab_.stage;) {
+        const auto& row = lab_.cycles.rows[k];
+        if (row[kCycleComplete] != 1.0) continue;
+        if (row[kD] > 0 && row[kDn] == row[kDn])
+          std::printf("stage %s: the damping's drag is %.1f %% of the damping ratio of its last cycle (D %.4f of the "
+                      "walls' loop, %.4f less the drag; cycles.csv damping_less_drag): a slower cycle or less "
+                      "damping lowers it\n",
+                      sc.name.c_str(), 100 * (row[kD] - row[kDn]) / row[kD], row[kD], row[kDn]);
+        break;
+      }
     }
   }
   return true;
@@ -1630,15 +1681,15 @@ bool Laboratory::load_newest_checkpoint() {
         lab.cycles.stage = r.ints("/lab/cycles_stage");
         const size_t nrows = lab.cycles.stage.size(), cc = cycle_columns().size();
         // 11 columns in a checkpoint from before gamma: its cycles' gamma extremes and G_eq are not known (NaN); 14
-        // from before `complete`: every row whole
+        // from before `complete`: every row whole; 15 from before the loops less the drag (NaN)
         size_t cc_read = cc;
-        for (const size_t older : {kCycleColumnsNoShear, kCycleColumnsNoComplete})
+        for (const size_t older : {kCycleColumnsNoShear, kCycleColumnsNoComplete, kCycleColumnsNoDrag})
           if (nrows > 0 && cflat.size() == nrows * older) cc_read = older;
         if (cflat.size() != nrows * cc_read) throw H5Error(path + ": cycle rows have the wrong size (corrupt?)");
         for (size_t k = 0; k < nrows; ++k) {
           lab.cycles.rows.emplace_back(cflat.begin() + long(k * cc_read), cflat.begin() + long((k + 1) * cc_read));
           lab.cycles.rows.back().resize(cc, std::nan(""));
-          lab.cycles.rows.back()[kCycleComplete] = cc_read < cc ? 1.0 : lab.cycles.rows.back()[kCycleComplete];
+          if (cc_read <= kCycleComplete) lab.cycles.rows.back()[kCycleComplete] = 1.0;
         }
       }
       const auto res = r.doubles("/lab/results");

@@ -30,10 +30,15 @@ for mur in 0 0.3; do
     want=$(echo "$last" | awk -F, '{printf "%.4g | 2 | %.4g | %.4g", 50 * ($13 - $14), $8 / 1e6, $15 / 1e6}')
     grep -q "^| ${d#ss/jobs/} | mu_r=$mur | [0-9.]* | [0-9.]* | $want | " ss/report.md ||
       fail "report.md: ${d#ss/jobs/} does not give cycle 2's gamma, E_eq, G_eq = $want: $(grep "${d#ss/jobs/}" ss/report.md)"
+    # then G_eq/G_0, and D and D less the damping's drag (columns 9 and 18), the latter below D (the drag's area)
+    want=$(echo "$last" | awk -F, '{printf "%.3f | %.3f", $9, $18}')
+    grep -q "^| ${d#ss/jobs/} | .* | [0-9.]* | $want | [0-9.]* | " ss/report.md ||
+      fail "report.md: ${d#ss/jobs/} does not give cycle 2's D, D less drag = $want: $(grep "${d#ss/jobs/}" ss/report.md)"
+    echo "$last" | awk -F, '{exit !($18 > 0 && $18 < $9)}' || fail "$d/run/cycles.csv: D less drag not in (0, D): $last"
   done
   grep -q "^| $(job $mur 0.0001 | sed 's|ss/jobs/||') | .* | 1.000 | " ss/report.md || fail "mu_r $mur: G_eq/G_0 is not 1 at 1e-4"
-  # the fit: E_max, eps_r, G_max, gamma_r, rms, D_min, D_max, and Darendeli's gamma_r at p'_0
-  grep -q "^| mu_r=$mur | 3 | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* | -*[0-9.]* | [0-9.]* | [0-9.]* |$" ss/report.md ||
+  # the fit: E_max, eps_r, G_max, gamma_r, rms, D_min, D_max, the two less the drag, and Darendeli's gamma_r at p'_0
+  grep -q "^| mu_r=$mur | 3 | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* | [0-9.]* | -*[0-9.]* | [0-9.]* | -*[0-9.]* | [0-9.]* | [0-9.]* |$" ss/report.md ||
     fail "report.md: no hyperbolic fit for mu_r $mur: $(grep "^| mu_r=$mur | 3" ss/report.md)"
 done
 [ -f ss/figures/modulus_reduction.png ] || fail "no figures/modulus_reduction.png"

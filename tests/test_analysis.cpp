@@ -371,14 +371,17 @@ TEST(Diagnostics, UnbalancedForceIsOfTheEvaluatedInstant) {
 //     s_a the two walls' mean stress, sigma_walls analyze()'s (levers r - delta/2 to the contact point, hence the
 //     delta^2 / 2 term). Tolerance 1e-9 of V s_a: the velocity differences lose ~|v| / |v' - v| ~ 1e3 of 1e-16 per
 //     term. The drag must be >= 1e-3 of V s_a on every axis, so a drag left out or of the wrong sign fails by 1e6 x.
+// (3) Engine::step_measuring_drag (a cyclic stage's every step: on a host backend the fused pass sums the moment) gives
+//     damping_moment's bits and the same dynamics, from the same state and then over 20 more steps, each against
+//     evaluate(), damping_moment(), advance() (bitwise step()'s).
 TEST(Diagnostics, DampingDragClosesTheWallBalance) {
   const test::DenseScene sc = test::consolidated_scene(400, 3, 9, 0.3, 0.3, 5000);
   Engine eng(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
   ASSERT_EQ(eng.params().damping, 0.7);
   Vec3d c{};
   for (int a = 0; a < 3; ++a) c[a] = 0.5 * (sc.lo[a] + sc.hi[a]);
+  EngineState s = eng.capture();
   {
-    EngineState s = eng.capture();
     std::mt19937_64 gen(3);
     std::uniform_real_distribution<double> u(-2e-4, 2e-4);
     const double rate[3] = {0.125, 0.125, -0.25};
@@ -416,6 +419,26 @@ TEST(Diagnostics, DampingDragClosesTheWallBalance) {
     EXPECT_NEAR(M[a], moment, 1e-12 * std::abs(moment));
     EXPECT_GT(std::abs(M[a]), 1e-3 * Vs);
     EXPECT_NEAR(Vs, V * D.sigma_walls[a][a] + M[a] - lever - inertia, 1e-9 * Vs);
+  }
+  // (3)
+  Engine fused(sc.setup, sc.params, make_box_walls(sc.lo, sc.hi), true);
+  fused.restore(s);
+  for (int k = 0; k <= 20; ++k) {
+    SCOPED_TRACE(k);
+    Vec3d ck{}, Me = M;
+    for (int a = 0; a < 3; ++a) ck[a] = 0.5 * (eng.wall_position(2 * a) + eng.wall_position(2 * a + 1));
+    if (k > 0) {
+      eng.evaluate();
+      Me = eng.damping_moment(ck);
+      eng.advance();
+    } else {
+      ck = c;
+    }
+    const Vec3d Mf = fused.step_measuring_drag(ck);
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(Mf[a], Me[a]) << a;
+    ASSERT_EQ(fused.positions(), eng.positions());
+    ASSERT_EQ(fused.velocities(), eng.velocities());
+    ASSERT_NE(Mf[0], 0.0);
   }
 }
 
