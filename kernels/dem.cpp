@@ -411,15 +411,17 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
     Vec3 vi = load(v, i), wi = load(w, i);
     if (Damped) {
       // Cundall local non-viscous damping per component, against the current (half-step) velocity.
-      const Vec3 fd = CundallDamping::damped(f, vi, alpha);
-      if (Drag) {  // Engine::damping_moment's terms, in its order
+      if constexpr (Drag) {  // Engine::damping_moment's terms, in its order (without Drag not even captured)
+        const Vec3 fd = CundallDamping::damped(f, vi, alpha);
         const Vec3 drag = fd - f;
         const Vec3 d = xi - drag_c;
         acc[3 * ws.count] += d.x * drag.x;
         acc[3 * ws.count + 1] += d.y * drag.y;
         acc[3 * ws.count + 2] += d.z * drag.z;
+        f = fd;
+      } else {
+        f = CundallDamping::damped(f, vi, alpha);
       }
-      f = fd;
       t = CundallDamping::damped(t, wi, alpha);
     }
     vi += (dt / m(i)) * f;
