@@ -370,6 +370,8 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   // One particle: gather, walls, damping, kick, drift. With Loads it also adds its wall terms to acc in
   // reduce_wall_loads' order (wall k: k_w delta, k_w, 1), from the same overlaps at the same x(t).
   auto particle = KOKKOS_LAMBDA(int i, Real* acc, Real& mx) {
+    // drag_c named outside the if constexpr below: nvcc's extended lambdas may not first-capture inside one
+    const Vec3 c = drag_c;
     // Row share (i first: -F, summed by the contact kernel), then the transposed pairs in ascending
     // pair order (i second: +F): a fixed order, so bitwise the same on any thread count.
     Vec3 f, t;
@@ -411,17 +413,15 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
     Vec3 vi = load(v, i), wi = load(w, i);
     if (Damped) {
       // Cundall local non-viscous damping per component, against the current (half-step) velocity.
-      if constexpr (Drag) {  // Engine::damping_moment's terms, in its order (without Drag not even captured)
-        const Vec3 fd = CundallDamping::damped(f, vi, alpha);
+      const Vec3 fd = CundallDamping::damped(f, vi, alpha);
+      if constexpr (Drag) {  // Engine::damping_moment's terms, in its order
         const Vec3 drag = fd - f;
-        const Vec3 d = xi - drag_c;
+        const Vec3 d = xi - c;
         acc[3 * ws.count] += d.x * drag.x;
         acc[3 * ws.count + 1] += d.y * drag.y;
         acc[3 * ws.count + 2] += d.z * drag.z;
-        f = fd;
-      } else {
-        f = CundallDamping::damped(f, vi, alpha);
       }
+      f = fd;
       t = CundallDamping::damped(t, wi, alpha);
     }
     vi += (dt / m(i)) * f;
