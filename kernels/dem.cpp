@@ -347,7 +347,7 @@ struct WallLoadTerms {
 template <bool Damped, bool RowPairs, bool Loads, bool Store, bool Move, bool Drag = false>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                     const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads,
-                    Real* device_max = nullptr, Vec3 drag_c = Vec3(), Vec3* drag_moment = nullptr) {
+                    Real* device_max = nullptr, const Vec3& drag_c = Vec3(), Vec3* drag_moment = nullptr) {
   static_assert(!Drag || (Loads && Move), "the drag moment rides on the loads' sums, in a kick");
   auto x = P.x;
   auto v = P.v;
@@ -491,7 +491,7 @@ void compute_pair_forces(const Particles& P, const PairList& L, const PairHistor
 template <bool Loads, bool Store, bool Move, bool Drag = false>
 Real integrate_dispatch(const char* who, const Particles& P, const PairList& L, const FlagView& flags,
                         const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
-                        DeterministicSum* red, WallLoads* loads, Real* device_max = nullptr, Vec3 drag_c = Vec3(),
+                        DeterministicSum* red, WallLoads* loads, Real* device_max = nullptr, const Vec3& drag_c = Vec3(),
                         Vec3* drag_moment = nullptr) {
   if (kernel == PairKernel::Lanes && !kPairLanesBuilt)
     throw std::logic_error(std::string(who) + ": the pair-lane kernel is not built here (kPairLanesBuilt)");

@@ -108,9 +108,9 @@ struct CycleLoop {
     u_max = s[7];
     open = s[8] != 0;
     n = s[9];
-    g_max = s.size() > kStateSizeNoShear ? s[10] : std::nan("");
-    g_min = s.size() > kStateSizeNoShear ? s[11] : std::nan("");
-    const bool drag = s.size() == kStateSize;
+    const bool shear = s.size() >= kStateSizeNoDrag, drag = s.size() == kStateSize;
+    g_max = shear ? s[10] : std::nan("");
+    g_min = shear ? s[11] : std::nan("");
     work_drag = drag ? s[12] : std::nan("");
     qd_prev = drag ? s[13] : std::nan("");
     qn_max = drag ? s[14] : std::nan("");

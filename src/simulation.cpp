@@ -1323,7 +1323,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       if (q != 0 && p > 0 && p - pd > 0)
         std::printf("stage %s: the damping's drag is %.1f %% of the walls' q at its end (q/p' %.3f of the walls, %.3f less "
                     "the drag; series q_drag): a slower shear or less damping lowers it\n",
-                    sc.name.c_str(), 100 * qd / q, std::abs(q / p), std::abs((q - qd) / (p - pd)));
+                    sc.name.c_str(), 100 * qd / q, std::fabs(q / p), std::fabs((q - qd) / (p - pd)));
     }
     // A cyclic stage's: the share of its last whole cycle's damping ratio that is the drag's area (cycles.csv). On
     // configs/modulus_damping.yaml (damping 0.1) 30-60 % of D at eps_a = 1e-5, 2-6 % from 1e-4 on.
