@@ -132,11 +132,11 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
 }
 
 namespace {
-// The position of a series column (series_columns()) by its name.
-size_t series_column(const char* name) {
-  const auto& cols = series_columns();
+// The position of a column by its name: in the series (series_columns()), in cycles.csv (cycle_columns()).
+size_t column_of(const std::vector<std::pair<std::string, std::string>>& cols, const char* name) {
   return size_t(std::find_if(cols.begin(), cols.end(), [&](const auto& c) { return c.first == name; }) - cols.begin());
 }
+size_t series_column(const char* name) { return column_of(series_columns(), name); }
 }  // namespace
 
 // cycles.csv: one row per completed cycle of a cyclic stage (CycleLoop): the loop's extremes, its equivalent
@@ -1328,11 +1328,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // A cyclic stage's: the share of its last whole cycle's damping ratio that is the drag's area (cycles.csv). On
     // configs/modulus_damping.yaml (damping 0.1) 30-60 % of D at eps_a = 1e-5, 2-6 % from 1e-4 on.
     if (sc.type == StageType::Cyclic && sc.damping > 0) {
-      const auto col = [](const char* name) {
-        const auto& c = cycle_columns();
-        return size_t(std::find_if(c.begin(), c.end(), [&](const auto& x) { return x.first == name; }) - c.begin());
-      };
-      const size_t kD = col("damping"), kDn = col("damping_less_drag");
+      const size_t kD = column_of(cycle_columns(), "damping"), kDn = column_of(cycle_columns(), "damping_less_drag");
       for (size_t k = lab_.cycles.rows.size(); k-- > 0 && lab_.cycles.stage[k] == lab_.stage;) {
         const auto& row = lab_.cycles.rows[k];
         if (row[kCycleComplete] != 1.0) continue;
