@@ -343,7 +343,7 @@ struct WallLoadTerms {
 // device_max (with Loads = false): the max goes to that device address instead of the host (attempt 32); NaN
 // is returned.
 // Drag (with Loads): acc also sums the damping's drag moment about drag_c after the wall terms, into *drag_moment
-// (gather_integrate_load_walls_and_drag).
+// (gather_integrate_and_load_walls with a DragMeasure).
 template <bool Damped, bool RowPairs, bool Loads, bool Store, bool Move, bool Drag = false>
 Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                     const WallSet& walls, Real E_wall, Real alpha, Real dt, DeterministicSum* red, WallLoads* loads,
@@ -546,11 +546,17 @@ void gather_forces(const Particles& P, const PairList& L, const FlagView& flags,
 
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                                      const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
-                                     DeterministicSum& red, WallLoads& loads) {
+                                     DeterministicSum& red, WallLoads& loads, DragMeasure* drag) {
   if constexpr (kHostBackend) {
+    static_assert(3 * kMaxWalls + 3 <= DeterministicSum::kMaxValues, "the loads and the drag fit the sums");
+    if (drag)
+      return integrate_dispatch<true, false, true, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall,
+                                                         alpha, dt, kernel, &red, &loads, nullptr, drag->c, &drag->moment);
     return integrate_dispatch<true, false, true>("gather_integrate_and_load_walls", P, L, flags, F, walls, E_wall, alpha, dt,
                                                  kernel, &red, &loads);
   } else {
+    if (drag) throw std::logic_error("gather_integrate_and_load_walls: the drag on host backends only (a GPU's "
+                                     "Engine::step_measuring_drag takes damping_moment between the step's halves)");
     // The loads at x(t) into device slots 0 .. 3 nw, the max after the drift into slot 3 nw, then one copy.
     const int nv = 3 * walls.count;
     red.run_one_term_on_device("grainlab::walls::loads", P.n, nv, WallLoadTerms{P.x, P.r, walls, E_wall});
@@ -560,19 +566,6 @@ Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, cons
     red.fetch(nv + 1, out);
     loads = unpack_wall_loads(out, walls.count);
     return P.n > 0 ? out[nv] : Real(0);
-  }
-}
-
-Real gather_integrate_load_walls_and_drag(const Particles& P, const PairList& L, const FlagView& flags,
-                                          const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt,
-                                          PairKernel kernel, DeterministicSum& red, WallLoads& loads, const Vec3& c,
-                                          Vec3& moment) {
-  static_assert(3 * kMaxWalls + 3 <= DeterministicSum::kMaxValues, "the loads and the drag fit the sums");
-  if constexpr (!kHostBackend) {
-    throw std::logic_error("gather_integrate_load_walls_and_drag: host backends only (Engine::step_measuring_drag)");
-  } else {
-    return integrate_dispatch<true, false, true, true>("gather_integrate_load_walls_and_drag", P, L, flags, F, walls,
-                                                       E_wall, alpha, dt, kernel, &red, &loads, nullptr, c, &moment);
   }
 }
 

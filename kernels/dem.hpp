@@ -295,23 +295,25 @@ Real gather_and_integrate(const Particles& P, const PairList& L, const FlagView&
 void gather_forces(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                    const WallSet& walls, Real E_wall, PairKernel kernel = kDefaultPairKernel);
 
+// The local damping's drag of a step's kick as its first moment about c, per axis a: sum_i (x_i - c)_a d_i,a with
+// d_i = damped(f_i, v_i) - f_i at x(t) (Engine::damping_moment's expression). A cyclic stage takes it every step for
+// its loops less the drag (CycleLoop).
+struct DragMeasure {
+  Vec3 c;
+  Vec3 moment;
+};
+
 // reduce_wall_loads at the positions before the drift, then gather_and_integrate (store_forces = false: P.f
 // and P.t are left alone): the same bits for both (DeterministicSum's chunks and order). Host backends do
 // both in one pass over the particles (one 256-particle chunk per work item). A GPU keeps two kernels (inside
 // the integration the team path cost more than the pass it saves, perf/NOTES.md attempt 31), but the loads
 // and the displacement max stay on the device until one copy brings both over (attempt 32).
+// drag (host backends only; a GPU throws): the same pass also sums drag->moment after the wall terms, in
+// DeterministicSum's chunks: Engine::damping_moment's bits without its own gather pass, the dynamics unchanged
+// (the Drag terms are a compile-time branch of the kernel: the step that measures nothing has none).
 Real gather_integrate_and_load_walls(const Particles& P, const PairList& L, const FlagView& flags, const PairForces& F,
                                      const WallSet& walls, Real E_wall, Real alpha, Real dt, PairKernel kernel,
-                                     DeterministicSum& red, WallLoads& loads);
-
-// gather_integrate_and_load_walls on a host backend (the one pass), which also sums the local damping's drag of this
-// kick as its first moment about c, per axis a: sum_i (x_i - c)_a d_i,a with d_i = damped(f_i, v_i) - f_i at x(t):
-// Engine::damping_moment's expression and sums, bitwise, without its own gather pass. A cyclic stage takes it every
-// step for its loops less the drag (CycleLoop). Dynamics bitwise gather_integrate_and_load_walls'.
-Real gather_integrate_load_walls_and_drag(const Particles& P, const PairList& L, const FlagView& flags,
-                                          const PairForces& F, const WallSet& walls, Real E_wall, Real alpha, Real dt,
-                                          PairKernel kernel, DeterministicSum& red, WallLoads& loads, const Vec3& c,
-                                          Vec3& moment);
+                                     DeterministicSum& red, WallLoads& loads, DragMeasure* drag = nullptr);
 
 // Affine remap of the positions with a moving box (beyond SPEC §6.2, Engine::set_affine_box): per axis a,
 // x_a <- lo1_a + (x_a - lo0_a) * scale_a, so every particle keeps its relative place in the box as the walls move

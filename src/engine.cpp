@@ -222,30 +222,23 @@ void Engine::evaluate() {
   forces_current_ = false;  // P.f, P.t are the last instant's until a gather (diagnostics(), damping_moment())
 }
 
-void Engine::step() {
+void Engine::fused_step(DragMeasure* drag) {
   const ContactParams& cp = params_.contact;
   compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, ContactFeatures{cp.mu_r > 0, cp.normal_damping > 0},
                       params_.pair_kernel);
   // Steps 2 and 3 together: the loads at x(t) are summed before the particles drift, in the integration's pass
   // on a host backend, and on a GPU brought over with the displacement max in one copy (perf/NOTES.md).
   const Real maxd2 = gather_integrate_and_load_walls(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_, params_.E_wall,
-                                                     params_.damping, cp.dt, params_.pair_kernel, red_, loads_);
+                                                     params_.damping, cp.dt, params_.pair_kernel, red_, loads_, drag);
   forces_current_ = false;
   finish_step(maxd2);
 }
 
 Vec3d Engine::step_measuring_drag(const Vec3d& c) {
   if constexpr (kHostBackend) {
-    const ContactParams& cp = params_.contact;
-    compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, ContactFeatures{cp.mu_r > 0, cp.normal_damping > 0},
-                        params_.pair_kernel);
-    Vec3 m;
-    const Real maxd2 = gather_integrate_load_walls_and_drag(P_, lists_[cur_], hist_[cur_].flags, pf_, walls_,
-                                                            params_.E_wall, params_.damping, cp.dt, params_.pair_kernel,
-                                                            red_, loads_, Vec3(c[0], c[1], c[2]), m);
-    forces_current_ = false;
-    finish_step(maxd2);
-    return {m.x, m.y, m.z};
+    DragMeasure d{Vec3(c[0], c[1], c[2]), Vec3()};
+    fused_step(&d);
+    return {d.moment.x, d.moment.y, d.moment.z};
   } else {
     evaluate();
     const Vec3d m = damping_moment(c);

@@ -150,7 +150,7 @@ class Engine {
   // GPU they stay on the device until one copy brings them over with the displacement max.
   // step() does not update forces()/torques() (they are output, not state: the fused step skips their
   // stores, perf/NOTES.md attempt 27); advance() does, and so does diagnostics() between the halves.
-  void step();
+  void step() { fused_step(nullptr); }
   // step(), bitwise, returning damping_moment(c) of its instant: on a host backend from the fused pass itself (three
   // more sums in it, no gather pass of its own), on a GPU as evaluate(), damping_moment(c), advance(). A cyclic
   // stage's loops less the drag take it every step (CycleLoop).
@@ -271,6 +271,7 @@ class Engine {
   // Makes lists_[next] current: history carried over from (old, old_h) by pair identity, x_ref = x.
   void install(int next, const PairList& old, const PairHistory& old_h);
   void move_walls();
+  void fused_step(DragMeasure* drag);  // step(); with drag, the drag's moment too (host backends)
   void finish_step(Real maxd2);  // steps 4-5 of a step after the integration (time, walls, lists)
 
   EngineParams params_;

@@ -1193,7 +1193,9 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       ++lab_.stage_step;
       const Measure m = measure(sc);
       const Diagnostics d = e.diagnostics();
+      bool rowed = false;  // a series row of this instant: its q_drag is the loop's (row()'s drag_stress)
       if (report) {
+        rowed = true;
         lab_.series.rows.push_back(row(sc, m, d));
         lab_.series.stage.push_back(lab_.stage);
         const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_t0_).count();
@@ -1231,6 +1233,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       if (done || last_step) {
         // The stage's final row and snapshot, at the very instant its end criteria were evaluated.
         if (!report) {
+          rowed = true;
           lab_.series.rows.push_back(row(sc, m, d));
           lab_.series.stage.push_back(lab_.stage);
           check_servo(sc, m);
@@ -1240,7 +1243,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         if (!snap) snapshot(sc.name + "_end");
       }
       ramp_pressure(sc, lab_.stage_step);
-      if (loop_drag) q_drag = q_drag_of(e.damping_moment(box_centre()), e.box_volume());  // row()'s, bitwise
+      // The drag of this kick: a row of this instant has it (q_drag_of is row()'s arithmetic: the same bits).
+      if (loop_drag)
+        q_drag = rowed ? Real(lab_.series.rows.back()[series_column("q_drag")])
+                       : q_drag_of(e.damping_moment(box_centre()), e.box_volume());
       e.advance();  // a step always completes: the history increments of evaluate() are already applied
     }
     if (cyclic) watch_cycle(sc, m0, turn, cycle_n, q_drag);
