@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -131,6 +132,29 @@ class Section {
   std::set<std::string> seen_;
 };
 
+// A key given twice in one mapping is an error: YAML wants keys unique, and yaml-cpp keeps both and looks up the
+// first, so `{count: 100, count: 200}` would run 100 spheres without a word. The screen of load_yaml_screened bounds
+// the nesting, and with it this recursion.
+void reject_duplicate_keys(const YAML::Node& n, const std::string& where, const std::string& path) {
+  if (n.IsSequence()) {
+    for (size_t i = 0; i < n.size(); ++i) reject_duplicate_keys(n[i], where + "[" + std::to_string(i) + "]", path);
+  } else if (n.IsMap()) {
+    std::map<std::string, int> line;  // key -> its first line (1-based)
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const std::string k = it->first.IsScalar() ? it->first.Scalar() : "?";
+      const std::string at = where.empty() ? k : where + "." + k;
+      const int l = it->first.Mark().line + 1;
+      const auto [first, fresh] = line.emplace(k, l);
+      if (!fresh)
+        throw ConfigError(path + ": " + at + ": given twice (" +
+                          (first->second == l ? "on line " + std::to_string(l)
+                                              : "lines " + std::to_string(first->second) + " and " + std::to_string(l)) +
+                          "); a key may appear once in its mapping");
+      reject_duplicate_keys(it->second, at, path);
+    }
+  }
+}
+
 }  // namespace
 
 YAML::Node load_yaml_screened(const std::string& path) {
@@ -186,6 +210,7 @@ YAML::Node load_yaml_screened(const std::string& path) {
       throw ConfigError(path + ": cannot parse: " + e.what());
     }
   }
+  reject_duplicate_keys(root, "", path);
   return root;
 }
 

@@ -117,6 +117,15 @@ TEST(Config, RejectsBadInputClearly) {
       {"empty", "", "the file is empty"},
       {"yaml", "stages: [\n", "not valid YAML"},
       {"notmap", "- 1\n- 2\n", "must be a mapping"},
+      // a key twice in one mapping: yaml-cpp would take the first silently; the lines say where (one flow line, or two)
+      {"dup_flow", std::string("sample: {count: 100, seed: 3, count: 200}\n") + kMinimal,
+       "sample.count: given twice (on line 1); a key may appear once in its mapping"},
+      {"dup_block", "sample:\n  count: 100\n  count: 200\nstages:\n  - {type: isotropic}\n",
+       "sample.count: given twice (lines 2 and 3)"},
+      {"dup_stage", "stages:\n  - {type: isotropic}\n  - {type: triaxial, mu: 0.3, mu: 0.4}\n",
+       "stages[1].mu: given twice (on line 3)"},
+      {"dup_top", std::string("material: {mu: 0.3}\nmaterial: {mu: 0.4}\n") + kMinimal,
+       "material: given twice (lines 1 and 2)"},
       {"dtfactor", std::string("numerics: {dt_factor: 1.5}\n") + kMinimal, "numerics.dt_factor"},
       {"inner1", std::string("numerics: {inner_skin: 1}\n") + kMinimal, "numerics.inner_skin = 1 is outside the allowed range [0, 1)"},
       {"inner-", std::string("numerics: {inner_skin: -0.1}\n") + kMinimal, "numerics.inner_skin"},
@@ -234,6 +243,7 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
       {"study_pk_word", "peak: {max_ke_ratio: high}\n", "peak.max_ke_ratio: must be a number in (0, 10]"},
       {"study_pk_key", "peak: {width: 0.1}\n", "peak.width: unknown key (known: window, max_ke_ratio)"},
       {"study_pk_map", "peak: 0.1\n", "peak: must be a mapping"},
+      {"study_dup", "axes: {mu_r: [0.1], mu_r: [0.3]}\n", "axes.mu_r: given twice (on line 2)"},
       {"study_top", "peaks: {window: 0.01}\n", "peaks: unknown key (known: base, axes, extra, critical_state, peak)"},
   };
   for (const Case& c : cases) {
