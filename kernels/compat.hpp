@@ -3,6 +3,12 @@
 // grainlab calls grainlab::math::* and grainlab::compat::*. Facts: ../shared/DEPENDENCIES.md.
 #include <Kokkos_Core.hpp>
 
+#include <stdexcept>
+#include <string>
+#if defined(KOKKOS_ENABLE_OPENMP)
+#include <omp.h>
+#endif
+
 namespace grainlab {
 namespace math {
 // Math functions moved from Kokkos::Experimental to Kokkos:: in 3.7.
@@ -30,7 +36,24 @@ inline void fence(const char* label) {
 
 // Thread count through the API, never through stale command-line flags (--kokkos-threads in 3.x vs
 // --kokkos-num-threads in 4.x). nthreads <= 0 keeps the backend default (OMP_NUM_THREADS).
+// Kokkos's OpenMP backend keeps its threads' data in a fixed pool of 512 (OpenMPExec::MAX_THREAD_COUNT in 3.x,
+// OpenMPTraits::MAX_THREAD_COUNT in 4.x) and does not check the count against it: more threads write past the pool
+// (Kokkos 3.4, measured: 700 threads segfault in HostThreadTeamData::disband_pool). grainlab refuses more.
+constexpr int kMaxHostThreads = 512;
+// The host threads initialize(nthreads) starts: nthreads, or the OpenMP default (OMP_NUM_THREADS) where <= 0.
+inline int host_threads(int nthreads) {
+  if (nthreads > 0) return nthreads;
+#if defined(KOKKOS_ENABLE_OPENMP)
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
 inline void initialize(int nthreads) {
+  if (host_threads(nthreads) > kMaxHostThreads)
+    throw std::runtime_error(std::to_string(host_threads(nthreads)) + " threads (" +
+                             (nthreads > 0 ? "asked for" : "OMP_NUM_THREADS") + "): Kokkos's OpenMP backend runs at most " +
+                             std::to_string(kMaxHostThreads));
 #if KOKKOS_VERSION >= 30700
   Kokkos::InitializationSettings s;
   if (nthreads > 0) s.set_num_threads(nthreads);

@@ -223,6 +223,15 @@ bool is_study_file(const std::string& path) {
   }
 }
 
+bool is_run_config_file(const std::string& path) {
+  try {
+    const YAML::Node n = load_yaml_screened(path);
+    return n.IsMap() && n["stages"];
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 RunConfig load_run_config(const std::string& path) { return parse_run_config(load_yaml_screened(path), path); }
 
 RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {

@@ -111,6 +111,8 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path);
 YAML::Node load_yaml_screened(const std::string& path);
 // A study file (top-level `base:`) rather than a run config.
 bool is_study_file(const std::string& path);
+// A YAML mapping with `stages` (what `grainlab study` of a run config is told).
+bool is_run_config_file(const std::string& path);
 // The configuration with every default filled in, as YAML (stored in every run's files).
 std::string resolved_config_yaml(const RunConfig& c);
 // A number as YAML text: the shortest that reads back to the same double, with ".0" before a bare exponent so

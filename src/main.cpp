@@ -97,13 +97,24 @@ int main(int argc, char** argv) {
       if (s == "--out" && a + 1 < argc) so.out_dir = argv[++a];
       else if ((s == "--jobs" || s == "--threads") && a + 1 < argc) {
         long v = 0;
-        if (!whole_number(s.c_str(), argv[++a], 1, 4096, v)) return 2;
+        if (!whole_number(s.c_str(), argv[++a], 1, s == "--jobs" ? 4096 : grainlab::compat::kMaxHostThreads, v)) return 2;
         (s == "--jobs" ? so.jobs : so.threads) = int(v);
       } else if (s == "--quiet") so.quiet = true;
       else {
         std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
         return usage(stderr);
       }
+    }
+    // Its runs start with --threads, else OMP_NUM_THREADS: refused here, before any job starts, where too many.
+    if (const int t = grainlab::compat::host_threads(so.threads); t > grainlab::compat::kMaxHostThreads) {
+      std::fprintf(stderr, "grainlab: %d threads (OMP_NUM_THREADS): Kokkos's OpenMP backend runs at most %d: set fewer "
+                   "with --threads N\n", t, grainlab::compat::kMaxHostThreads);
+      return 2;
+    }
+    if (!grainlab::is_study_file(argv[2]) && grainlab::is_run_config_file(argv[2])) {
+      std::fprintf(stderr, "grainlab: error: %s: a run config, not a study (a study names its `base`): run it with "
+                   "`grainlab run %s`\n", argv[2], argv[2]);
+      return 1;
     }
     try {
       return grainlab::run_study(grainlab::load_study(argv[2]), so);
@@ -136,7 +147,7 @@ int main(int argc, char** argv) {
       opt.out_dir = argv[++a];
     } else if (s == "--threads" && a + 1 < argc) {
       long t = 0;
-      if (!whole_number("--threads", argv[++a], 1, 4096, t)) return 2;
+      if (!whole_number("--threads", argv[++a], 1, grainlab::compat::kMaxHostThreads, t)) return 2;
       threads = int(t);
     } else {
       std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
@@ -184,6 +195,11 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
+  if (cmd == "run" && grainlab::is_study_file(config)) {
+    std::fprintf(stderr, "grainlab: error: %s: a study (it names a `base`), not a run config: run it with "
+                 "`grainlab study %s`\n", config.c_str(), config.c_str());
+    return 1;
+  }
   grainlab::RunConfig cfg;
   try {
     cfg = grainlab::load_run_config(config);
@@ -213,7 +229,12 @@ int main(int argc, char** argv) {
     for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s: %s\n", config.c_str(), w.c_str());
     return 0;
   }
-  grainlab::compat::initialize(threads);
+  try {
+    grainlab::compat::initialize(threads);
+  } catch (const std::exception& e) {  // more threads than Kokkos's OpenMP pool (compat::kMaxHostThreads)
+    std::fprintf(stderr, "grainlab: %s: set fewer with --threads N\n", e.what());
+    return 2;
+  }
   int rc = 0;
   try {
     const grainlab::RunResult r = grainlab::run_simulation(cfg, opt);
