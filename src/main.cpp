@@ -209,15 +209,19 @@ int main(int argc, char** argv) {
   }
   if (cmd == "validate") {
     // The same checks a run makes before it writes anything (the sample's stable time step against the
-    // config's dt, memory), and what the run will do: a config that validates does not stop at its start.
+    // config's dt, memory, the spheres' placement), and what the run will do: a config that validates does not stop
+    // at its start.
     grainlab::RunPlan plan;
     try {
-      plan = grainlab::plan_run(cfg);
+      plan = grainlab::plan_run(cfg, 0, true);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), one_line(e.what()).c_str());
       return 1;
     }
-    std::printf("%s: ok (%zu stages, %ld particles)\n", config.c_str(), cfg.stages.size(), plan.particles);
+    std::printf("%s: ok (%zu stages, %ld particles%s)\n", config.c_str(), cfg.stages.size(), plan.particles,
+                !cfg.sample_file.empty() ? ", read from sample.file"
+                : plan.placed           ? ", placed as the run places them"
+                                        : "; their placement is checked at the run's start");
     std::printf("  dt = %.4g s: %.3g of the stable limit %.4g s (%s)\n", double(plan.dt), double(plan.dt / plan.dt_limit),
                 double(plan.dt_limit), plan.rolling ? "rolling on in some stage" : "no rolling resistance");
     std::printf("  memory: about %s (1.5 kB a sphere)", grainlab::memory_amount(plan.memory_need).c_str());

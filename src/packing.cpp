@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <iomanip>
 #include <sstream>
+#include <string>
 #include <unordered_map>
 
 namespace grainlab {
@@ -60,6 +62,42 @@ std::vector<Real> draw_radii(const PackingSpec& s, Rng& rng, Real& L) {
   if (L <= 2 * r.front()) throw ParameterError("box too small for the largest sphere; raise count or lower r_max");
   return r;
 }
+// Why a placement failed, and what would place it. Every centre keeps its radius from the walls, so in a small box
+// the spheres must fill more of the space their centres can reach than the box's solid fraction says: with r_mean
+// the mean radius, X(f) = V_s / (L(f) - 2 r_mean)^3, L(f) = (V_s / f)^(1/3). Random sequential addition of equal
+// spheres jams at 0.38 (Torquato et al., Phys. Rev. E 74, 061308, 2006); a spread of sizes placed largest first
+// gets further. The suggestion keeps X(f) <= kReach (choice: 0.36, below the jamming limit with room for the
+// run's 20 000 tries a sphere).
+std::string placement_failure(const PackingSpec& s, const std::vector<Real>& r, Real L, int i, int tries) {
+  constexpr double kReach = 0.36;
+  double vs = 0, rm = 0;
+  for (Real ri : r) {
+    vs += 4.0 / 3.0 * M_PI * double(ri) * ri * ri;
+    rm += ri;
+  }
+  rm /= double(r.size());
+  const auto reach = [&](double f) {
+    const double inner = std::cbrt(vs / f) - 2 * rm;
+    return inner > 0 ? vs / (inner * inner * inner) : 1.0;
+  };
+  std::ostringstream os;
+  os << std::setprecision(3) << "could not place sphere " << i + 1 << " of " << s.count << " without overlap ("
+     << tries << " random tries) at sample.initial_solid_fraction = " << s.solid_fraction << ": in a box of "
+     << L / (2 * rm) << " mean diameters, whose walls keep every centre a radius in, the spheres must fill ";
+  if (reach(s.solid_fraction) < 1)
+    os << reach(s.solid_fraction) << " of the space their centres can reach";
+  else
+    os << "more than the space their centres can reach (" << reach(s.solid_fraction) << " times it)";
+  os << " (random placement of equal spheres jams at 0.38)";
+  double f = s.solid_fraction;
+  while (f > 0.01 && reach(f) > kReach) f -= 0.01;
+  if (f > 0.01 && f < s.solid_fraction)
+    os << "; lower sample.initial_solid_fraction to " << std::floor(f * 100 + 0.5) / 100 << " or below, or raise "
+       << "sample.count (a larger box loses less of itself to the walls)";
+  else
+    os << "; lower sample.initial_solid_fraction";
+  return os.str();
+}
 }  // namespace
 
 std::vector<Real> packing_radii(const PackingSpec& s) {
@@ -111,12 +149,7 @@ Packing generate_packing(const PackingSpec& s) {
         placed = true;
       }
     }
-    if (!placed) {
-      std::ostringstream os;
-      os << "could not place sphere " << i << " of " << s.count << " without overlap at solid_fraction "
-         << s.solid_fraction << "; lower solid_fraction";
-      throw ParameterError(os.str());
-    }
+    if (!placed) throw ParameterError(placement_failure(s, p.r, L, i, max_tries));
   }
   // Order particles by cell (z, y, x) so neighbours are close in memory (better cache use in the
   // kernels); ties keep insertion order, so the result is still a pure function of the seed.

@@ -1915,7 +1915,7 @@ std::string memory_amount(double b) {
   return t;
 }
 
-RunPlan plan_run(const RunConfig& cfg, Real p_start) {
+RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
   RunPlan plan;
   EngineParams ep = cfg.engine;
   // The time step is chosen once for the whole run, for its stiffest stage (rolling on in any stage).
@@ -1931,6 +1931,11 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start) {
   } else {
     plan.memory_available = require_memory(cfg.packing.count, "sample.count", plan.memory_source);
     r = packing_radii(cfg.packing);
+    // The run's own placement, which can fail in a small box (generate_packing says why and what would place it).
+    if (place && cfg.packing.count <= kPlaceCheckMax) {
+      generate_packing(cfg.packing);
+      plan.placed = true;
+    }
   }
   plan.particles = long(r.size());
   plan.memory_need = double(plan.particles) * kBytesPerSphere;

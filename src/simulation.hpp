@@ -71,11 +71,17 @@ struct RunPlan {
   std::vector<std::string> warnings;  // a stage that max_steps cuts short, a ramp that never ends
   double inertial_max = 0;            // the largest estimated inertial number of a shear (0: p' unknown)
   double transit = 0;                 // the time a compression wave takes across the sample [s] (plan_run)
+  bool placed = false;                // the sample was placed as the run will place it (plan_run's place)
 };
+// plan_run's place checks samples of up to this many spheres (choice: 2e5 place in 2.9 s on one core of the 2-core
+// VM, 1e6 in 21 s; a larger sample, whose box loses little to its walls, is placed at the run's start, before
+// anything is written).
+constexpr long kPlaceCheckMax = 200000;
 // Throws (with the same messages as the run) when the sample cannot be drawn or read, does not fit in memory,
 // or the config's dt is above the stable limit. p_start: the p' a first triaxial stage starts from, where the
-// caller knows it (a study's shear of a sample it prepares); 0: unknown.
-RunPlan plan_run(const RunConfig& cfg, Real p_start = 0);
+// caller knows it (a study's shear of a sample it prepares); 0: unknown. place: also place a generated sample as the
+// run will (up to kPlaceCheckMax spheres), which throws the run's error where it cannot be placed (validate).
+RunPlan plan_run(const RunConfig& cfg, Real p_start = 0, bool place = false);
 // The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3).
 constexpr double kQuasiStaticInertial = 1e-3;
 // A cyclic stage's quarter cycle, in transit times of a compression wave across the sample, below which its loops are

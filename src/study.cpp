@@ -581,7 +581,7 @@ StudyPlan plan_study(const Study& s) {
   const auto where = [&](const StudyJob& j) { return s.path + " (job " + j.name + ")"; };
   const auto plan = [&](const StudyJob& j, const RunConfig& c, Real p_start) {
     try {
-      return plan_run(c, p_start);
+      return plan_run(c, p_start, j.is_sample);  // a sample job places its spheres as it will
     } catch (const std::exception& e) {
       throw std::runtime_error(where(j) + ": " + e.what());
     }
