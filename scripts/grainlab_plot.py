@@ -453,10 +453,11 @@ def fig_cyclic(runs, out):
         m = s["cyclic"]
         n, p = s["cycle"][m], s["p"][m]
         lab = label(run, s)
-        ax[0].plot(n, p / p[0], label=lab)
         und = m & (s["stage_type"] == 3)
-        if und.any():
-            ax[1].plot(s["cycle"][und], s["u"][und] / s["p"][und][0], label=lab)
+        with np.errstate(divide="ignore", invalid="ignore"):  # p'_0 = 0 (a sample without contacts) draws nothing
+            ax[0].plot(n, p / p[0], label=lab)
+            if und.any():
+                ax[1].plot(s["cycle"][und], s["u"][und] / s["p"][und][0], label=lab)
         ax[2].plot(n, 100 * s["eps_a"][m], label=lab)
     ax[0].set(xlabel="cycle N", ylabel="p' / p'_0", title="mean effective stress")
     ax[1].set(xlabel="cycle N", ylabel="r_u = u / p'_0", title="excess pore pressure ratio (undrained)")

@@ -270,6 +270,10 @@ def fig_localisation(run, out, save, plt, max_panels=6):
     incs = increments(run)
     if not incs:
         return []
+    n = len(incs[0][5])
+    if n <= K_NEIGHBOURS:  # each sphere's strain is fitted over its K_NEIGHBOURS nearest: fewer leave no field
+        print(f"localisation: none ({n} spheres: a local strain needs {K_NEIGHBOURS + 1} or more)")
+        return []
     rows, fields = [], []
     for stage, a, b, ea, eb, XA, XB, d, r, t in incs:
         row, eta, d2 = analyse(XA, XB, d)

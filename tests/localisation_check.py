@@ -85,20 +85,20 @@ print("a 6-diameter sample: too small to tell")
 import h5py  # noqa: E402
 
 
-def make_run(run, stages, tags, eps):
-    """A run directory as grainlab writes it, with snapshots of these tags and eps_a (random positions)."""
+def make_run(run, stages, tags, eps, n=50):
+    """A run directory as grainlab writes it, with snapshots of these tags and eps_a (n random positions)."""
     os.makedirs(os.path.join(run, "snapshots"))
     with open(os.path.join(run, "config.yaml"), "w") as f:
         f.write("sample: {file: s.h5}\nstages:\n" + "".join(f"  - {{name: {n}, type: {t}}}\n" for n, t in stages))
-    X = {tag: rng.uniform(0, 5, (50, 3)) for tag in tags}
+    X = {tag: rng.uniform(0, 5, (n, 3)) for tag in tags}
     for k, tag in enumerate(tags):
         with h5py.File(os.path.join(run, "snapshots", f"snap_{k:05d}.h5"), "w") as f:
             f.attrs["tag"] = tag
             f["particles/x"] = X[tag]
-            f["particles/r"] = np.full(50, 0.25)
+            f["particles/r"] = np.full(n, 0.25)
     with h5py.File(os.path.join(run, "s.h5"), "w") as f:
-        f["state/x"] = rng.uniform(0, 5, (50, 3))
-        f["state/r"] = np.full(50, 0.25)
+        f["state/x"] = rng.uniform(0, 5, (n, 3))
+        f["state/r"] = np.full(n, 0.25)
     with h5py.File(os.path.join(run, "run.h5"), "w") as f:
         names = "\n".join(f"snapshots/snap_{k:05d}.h5" for k in range(len(tags)))
         f["snapshots/files"] = np.frombuffer(names.encode(), dtype=np.int8)
@@ -133,6 +133,12 @@ with tempfile.TemporaryDirectory() as tmp:
     run = os.path.join(tmp, "c")
     make_run(run, [("shear", "triaxial"), ("shake", "cyclic")], ["shear_end", "shake_end"], [0.01, 0.0])
     assert L.window_increment(run, 0.01) is None  # the run ends in a cyclic stage
+    # a run of fewer spheres than a neighbourhood (one sphere: the fits were singular, a traceback) has no field
+    run = os.path.join(tmp, "d")
+    make_run(run, [("cons", "isotropic"), ("shear", "triaxial")], ["cons_end", "shear_end"], [0.0, 0.01],
+             n=L.K_NEIGHBOURS)
+    assert len(L.increments(run)) == 1 and L.fig_localisation(run, run, None, None) == []
+    assert not os.path.exists(os.path.join(run, "localisation.csv"))
 print("increments: a triaxial stage's pairs from the previous stage's end or the sample file; a cyclic stage's none")
 
 # 6. a run's localisation.csv
