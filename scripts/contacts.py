@@ -12,7 +12,11 @@ reads them:
     in 3-D form), the mean normal force of the contacts in a direction over f_0 against 1 + a^n : nn, and the mean
     tangential force along the meridian over f_0 against e_theta . a^t n (Ouadfel & Rothenburg 2001, Mech. Mater. 33):
     where the measured roses leave the fits, the anisotropies (and the stress-force-fabric sum built on them) miss
-    part of the distribution.
+    part of the distribution;
+  - roses in the three coordinate planes x-z, y-z and x-y (contacts_planes.png): the normals within PLANE_BAND of a
+    plane, by their angle in it, against the same fits averaged over the band. The azimuth average above is the whole
+    story of an axisymmetric test (a triaxial compression or extension, an oedometer); a true triaxial test (b > 0)
+    orders its contacts in the x-y plane too (Thornton 2000, Geotechnique 50, 43), which only the plane roses show.
 """
 import glob
 import math
@@ -27,6 +31,12 @@ BIN_WIDTH, ROSE_BINS = 0.2, 9
 # The exponential tail is fitted where a bin holds at least this many contacts (a Poisson count's log has a standard
 # error of 1/sqrt(count): 0.45 here).
 TAIL_MIN_COUNT = 5
+# The plane roses: the normals with |n . e_3| < PLANE_BAND (e_3 the plane's normal; sin 15 deg: a quarter of the
+# contacts, whose band-averaged fit departs from the plane's own value by s^2/3 = 2 % of a) in PLANE_BINS bins of
+# its angle over 180 deg (n and -n folded).
+PLANE_BAND, PLANE_BINS = math.sin(math.radians(15)), 12
+# (name, horizontal axis e_1, vertical axis e_2, normal axis e_3) of each plane; an angle psi from e_2 toward e_1.
+PLANES = (("x-z", 0, 2, 1), ("y-z", 1, 2, 0), ("x-y", 0, 1, 2))
 
 
 def load(path):
@@ -127,6 +137,37 @@ def roses(n, fn, ft, f0, errors=False):
     return centres, dens, fnm, ftm, se_d, se_f
 
 
+def plane_roses(n, fn, f0, plane, errors=False):
+    """The roses in one of PLANES: the bins' centre angles psi [rad] from e_2 toward e_1 in [0, pi), the density of
+    normals 4 pi E (the band's share of an isotropic distribution is PLANE_BAND dpsi / pi a bin) and the mean f_n / f_0
+    (NaN in an empty bin); with errors, their sampling standard errors as roses() gives them."""
+    _, i1, i2, i3 = plane
+    band = np.abs(n[:, i3]) < PLANE_BAND
+    psi = np.mod(np.arctan2(n[band, i1], n[band, i2]), np.pi)  # n and -n: the same contact, psi and psi + pi
+    k = np.minimum((psi / np.pi * PLANE_BINS).astype(int), PLANE_BINS - 1)
+    cnt = np.bincount(k, minlength=PLANE_BINS).astype(float)
+    f = fn[band]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dens = cnt / (len(fn) * PLANE_BAND / PLANE_BINS)
+        fnm = np.bincount(k, weights=f, minlength=PLANE_BINS) / cnt / f0
+        centres = (np.arange(PLANE_BINS) + 0.5) * np.pi / PLANE_BINS
+        if not errors:
+            return centres, dens, fnm
+        sq = np.bincount(k, weights=f * f, minlength=PLANE_BINS) / cnt / f0 ** 2
+        return centres, dens, fnm, dens / np.sqrt(cnt), np.sqrt(np.maximum(sq - fnm ** 2, 0) / cnt)
+
+
+def plane_fit(a, psi, plane):
+    """a : nn averaged over a plane rose's band at the angle psi (for the density and normal-force roses: 1 + this):
+    n = sqrt(1 - u^2) m + u e_3, m = sin psi e_1 + cos psi e_2, u uniform in (-PLANE_BAND, PLANE_BAND) (the solid
+    angle's measure), so <1 - u^2> = 1 - s^2/3, <u^2> = s^2/3 and the terms odd in u vanish."""
+    _, i1, i2, i3 = plane
+    s1, c1 = np.sin(psi), np.cos(psi)
+    mm = a[i1, i1] * s1 ** 2 + 2 * a[i1, i2] * s1 * c1 + a[i2, i2] * c1 ** 2
+    w = PLANE_BAND ** 2 / 3
+    return (1 - w) * mm + w * a[i3, i3]
+
+
 def rose_fit(a, theta):
     """The azimuth average of a : nn at polar angle theta (for the density and normal-force roses: 1 + this) and of
     e_theta . a n (the tangential rose), for a symmetric tensor a."""
@@ -220,10 +261,39 @@ def fig_contacts(run, out, save, plt):
     ax0.grid(alpha=0.3)
     ax3.grid(alpha=0.3)
     save(fig, out, "contacts")
+    fig_planes([nets[p] for p in show], out, save, plt)
     r = nets[last][3]
     print(f"contacts at {r['snapshot']} ({r['tag']}): {r['contacts']}, beta {r['beta']:.2f} ± {r['beta_se']:.2f}, "
           f"a_c {r['a_c']:.3f}, a_d {r['a_d']:.3f}, a_n {r['a_n']:.3f}, a_t {r['a_t']:.3f}")
     return rows
+
+
+def fig_planes(nets, out, save, plt):
+    """contacts_planes.png: the density of normals (top) and the mean f_n / f_0 (bottom) in the x-z, y-z and x-y
+    planes (points; line: the band-averaged fit 1 + a:nn) for each (contacts, anisotropies, x, row) of nets, the last
+    solid, the one before it dashed. Each plane is drawn with its vertical axis up and its horizontal axis right."""
+    fig, axes = plt.subplots(2, 3, figsize=(12, 8), subplot_kw={"projection": "polar"})
+    full = np.linspace(0, 2 * np.pi, 361)
+    for k, ((c, A, _, row), style) in enumerate(zip(nets, ["--", "-"][-len(nets):])):
+        colour = f"C{k}"
+        for j, plane in enumerate(PLANES):
+            psi, dens, fnm = plane_roses(c["n"], c["fn"], A["f0"], plane)
+            both = np.concatenate([psi, psi + np.pi])
+            for ax, val, a in ((axes[0, j], dens, A["ac"]), (axes[1, j], fnm, A["an"])):
+                ax.plot(both, np.concatenate([val, val]), "o", ms=3, color=colour)
+                ax.plot(full, 1 + plane_fit(a, full, plane), style, color=colour, lw=1,
+                        label=row["tag"] if ax is axes[0, 0] else None)
+    names = "xyz"
+    for j, (name, i1, i2, i3) in enumerate(PLANES):
+        for i, what in enumerate(("contact normals 4 pi E(n)", "mean f_n / f_0")):
+            ax = axes[i, j]
+            ax.set_theta_zero_location("N")
+            ax.set_theta_direction(-1)  # psi from the vertical axis toward the horizontal one, drawn to the right
+            ax.set_xticks(np.radians([0, 90, 180, 270]), [names[i2], names[i1], "", ""])
+            ax.set_title(f"{what}, {name} plane (|n_{names[i3]}| < {PLANE_BAND:.2f})", fontsize=9)
+    fig.legend(fontsize=8, loc="lower center", ncol=2)
+    fig.suptitle("roses in the coordinate planes (lines: 1 + a_c:nn, 1 + a_n:nn averaged over the band)", fontsize=10)
+    save(fig, out, "contacts_planes")
 
 
 def rose_departure(c, A):
