@@ -34,8 +34,6 @@ inline void fence(const char* label) {
 #endif
 }
 
-// Thread count through the API, never through stale command-line flags (--kokkos-threads in 3.x vs
-// --kokkos-num-threads in 4.x). nthreads <= 0 keeps the backend default (OMP_NUM_THREADS).
 // Kokkos's OpenMP backend keeps its threads' data in a fixed pool of 512 (OpenMPExec::MAX_THREAD_COUNT in 3.x,
 // OpenMPTraits::MAX_THREAD_COUNT in 4.x) and does not check the count against it: more threads write past the pool
 // (Kokkos 3.4, measured: 700 threads segfault in HostThreadTeamData::disband_pool). grainlab refuses more.
@@ -49,6 +47,8 @@ inline int host_threads(int nthreads) {
   return 1;
 #endif
 }
+// Thread count through the API, never through stale command-line flags (--kokkos-threads in 3.x vs
+// --kokkos-num-threads in 4.x). nthreads <= 0 keeps the backend default (OMP_NUM_THREADS).
 inline void initialize(int nthreads) {
   if (host_threads(nthreads) > kMaxHostThreads)
     throw std::runtime_error(std::to_string(host_threads(nthreads)) + " threads (" +

@@ -56,6 +56,15 @@ std::vector<Real> draw_radii(const PackingSpec& s, Rng& rng, Real& L) {
     ri = power_law_radius(rng.uniform(), s.D, s.r_min, s.r_max);
     vs += 4.0 / 3.0 * M_PI * ri * ri * ri;
   }
+  // The inverse CDF takes r_min^(1 - D) and r_max^(1 - D): an extreme r_min (1e-300 m at D = 3.63: 1e789) overflows
+  // and every radius is NaN.
+  if (!(std::isfinite(vs) && vs > 0)) {
+    std::ostringstream os;
+    os << "sample.r_min = " << s.r_min << " m, r_max = " << s.r_max << " m with D = " << s.D << ": the radii "
+       << "r_min^(1 - D) and r_max^(1 - D) of the inverse CDF, or the spheres' volume, are not finite numbers; "
+       << "use radii nearer 1 (they are in metres)";
+    throw ParameterError(os.str());
+  }
   // Largest first: the big spheres find room while the box is empty.
   std::sort(r.begin(), r.end(), std::greater<Real>());
   L = std::cbrt(vs / s.solid_fraction);

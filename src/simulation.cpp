@@ -1942,6 +1942,16 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
   plan.rolling = ep.contact.mu_r > 0;
   const StableStep st = stable_step(r, density, scaling, ep);
   plan.dt_limit = st.limit(plan.rolling);
+  // Every key's range admits a sphere too light for the arithmetic (r_min = 1e-300 m: m = 0 in a double), whose
+  // stable step is 0 or NaN: the plan would say "dt = nan" and the run divide by zero.
+  if (!(std::isfinite(double(plan.dt_limit)) && plan.dt_limit > 0 && st.m_min > 0 && std::isfinite(double(st.k_max)))) {
+    std::ostringstream os;
+    os << "the stable time step (SPEC §4: sqrt(m_min / k_max)) is " << plan.dt_limit << " s: the lightest sphere's "
+       << "mass m_min = " << st.m_min << " kg and the stiffest spring k_max = " << st.k_max << " N/m (smallest radius "
+       << *std::min_element(r.begin(), r.end()) << " m, density " << density << " kg/m^3, density_scaling " << scaling
+       << ", material.E " << ep.contact.E << " Pa) do not make a positive, finite one";
+    throw std::runtime_error(os.str());
+  }
   plan.dt = choose_time_step(st, ep);
   double d_mean = 0, v_solid = 0;
   for (Real ri : r) {

@@ -2,10 +2,13 @@
 """Config fuzzing (issue 7): >= N mutated configs made from the shipped ones (deleted keys, wrong types,
 huge/negative/NaN numbers, unicode, deep nesting, truncation, empty and binary files) through
 `grainlab validate`. Every one must end with exit 0, or exit 1 and exactly one error line naming the
-file; no crash (signal), no hang (10 s), no sanitizer report."""
+file; no crash (signal), no hang (10 s; an optional 4th argument gives another limit: the sanitized build runs
+15-20x slower, and validate's placement of UR1's 32 000 spheres takes 0.8 s in the release build, 12.8 s under
+ASan + UBSan), no sanitizer report."""
 import glob, os, random, subprocess, sys, tempfile
 
 binary, src, count = sys.argv[1], sys.argv[2], int(sys.argv[3])
+hang = float(sys.argv[4]) if len(sys.argv) > 4 else 10.0
 seeds = sorted(glob.glob(os.path.join(src, "configs", "**", "*.yaml"), recursive=True))
 seeds += sorted(glob.glob(os.path.join(src, "tests", "data", "*.yaml")))
 texts = [open(p, encoding="utf-8").read() for p in seeds]
@@ -78,9 +81,9 @@ with tempfile.TemporaryDirectory() as tmp:
         with open(path, "w", encoding="utf-8", errors="surrogatepass") as f:
             f.write(text)
         try:
-            r = subprocess.run([binary, "validate", path], capture_output=True, timeout=10, env=env)
+            r = subprocess.run([binary, "validate", path], capture_output=True, timeout=hang, env=env)
         except subprocess.TimeoutExpired:
-            fails.append((path, "hang (10 s)", text[:200]))
+            fails.append((path, f"hang ({hang:g} s)", text[:200]))
             continue
         err = r.stderr.decode("utf-8", "replace")
         bad = None

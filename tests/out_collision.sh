@@ -56,11 +56,11 @@ killed_early
 [ $? -eq 130 ] || fail "a run killed before its first checkpoint could not start again with --resume"
 
 # Counts on the command line.
-expect 2 "^grainlab: --threads must be an integer in \[1, 4096\], got 'abc'$" \
+expect 2 "^grainlab: --threads must be an integer in \[1, 512\], got 'abc'$" \
   "$bin" run "$cfg" --out "$work/t" --threads abc
 expect 2 "^grainlab: --jobs must be an integer in \[1, 4096\], got '0'$" \
   "$bin" study "$cfg" --out "$work/s" --jobs 0
-expect 2 "^grainlab: --threads must be an integer in \[1, 4096\], got '2.5'$" \
+expect 2 "^grainlab: --threads must be an integer in \[1, 512\], got '2.5'$" \
   "$bin" study "$cfg" --out "$work/s" --threads 2.5
 expect 2 "^grainlab: --stop-after-steps must be an integer in \[0, 1000000000000\], got '-3'$" \
   "$bin" run "$cfg" --out "$work/t" --stop-after-steps -3
