@@ -1,6 +1,7 @@
 #include "simulation.hpp"
 
 #include <fcntl.h>
+#include <sched.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -1906,6 +1907,13 @@ RunResult Laboratory::run() {
 }
 
 }  // namespace
+
+int usable_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  return int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
+}
 
 std::string memory_amount(double b) {
   constexpr double kGiB = 1024.0 * 1024 * 1024;

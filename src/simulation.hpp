@@ -103,6 +103,9 @@ constexpr int kGradedMinCount = 5000;
 std::string extension_mismatch(const std::string& then, const std::string& now, int k);
 // "4.4 MiB", "1.2 GiB".
 std::string memory_amount(double bytes);
+// The cores this process may run on (its CPU affinity: taskset, a container's cpuset), as OpenMP counts them for its
+// default thread count; the online CPUs where the affinity cannot be read.
+int usable_cores();
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt);
 

@@ -721,8 +721,9 @@ int run_study(const Study& s, const StudyOptions& o) {
   const fs::path out = o.out_dir.empty() ? fs::path("runs") / fs::path(s.path).stem() : fs::path(o.out_dir);
   fs::create_directories(out / "jobs");
   const StudyLock lock(out);
-  const int per_job_threads = std::max(1, (o.threads > 0 ? o.threads : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)))) /
-                                              std::max(1, o.jobs));
+  // The cores of this process's affinity, not the machine's: a container's cpuset of 2 on a 64-core host must not
+  // start 32 threads a job (OpenMP threads beyond the cores wait on each other at every barrier, main.cpp).
+  const int per_job_threads = std::max(1, (o.threads > 0 ? o.threads : usable_cores()) / std::max(1, o.jobs));
   // Write every job's config first: a bad one fails now, not hours in.
   auto cfg_path = [&](const StudyJob& j) { return out / "jobs" / j.name / "job.yaml"; };
   auto sample_file = [&](const StudyJob& sample) {
