@@ -1,6 +1,7 @@
 #include "packing.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <iomanip>
@@ -126,7 +127,11 @@ Packing generate_packing(const PackingSpec& s) {
   const Real h = 2 * rmax;
   const int nc = std::max(1, int(L / h));
   const Real cell = L / nc;
-  std::vector<std::vector<int>> cells(size_t(nc) * nc * nc);
+  // Each cell keeps its spheres' centres and radii itself (x, y, z, r): a try reads 27 short arrays instead of
+  // chasing indices into the whole packing (2e5 spheres: 1.2 s instead of 2.4 on the 2-core VM; the cells' own
+  // scattered heap blocks are most of the rest). The same arithmetic on the same values in the same order of tries:
+  // the packing is the one an index list gave, bit for bit (checked on three specs: positions and radii equal).
+  std::vector<std::vector<std::array<Real, 4>>> cells(size_t(nc) * nc * nc);
   auto cidx = [&](Real v) { return std::min(nc - 1, std::max(0, int(v / cell))); };
   p.x.resize(s.count);
   const int max_tries = 20000;
@@ -143,10 +148,10 @@ Packing generate_packing(const PackingSpec& s) {
           for (int dx = -1; dx <= 1 && ok; ++dx) {
             const int X = cx + dx, Y = cy + dy, Z = cz + dz;
             if (X < 0 || Y < 0 || Z < 0 || X >= nc || Y >= nc || Z >= nc) continue;
-            for (int j : cells[(size_t(Z) * nc + Y) * nc + X]) {
+            for (const std::array<Real, 4>& o : cells[(size_t(Z) * nc + Y) * nc + X]) {
               Real d2 = 0;
-              for (int d = 0; d < 3; ++d) d2 += (c[d] - p.x[j][d]) * (c[d] - p.x[j][d]);
-              if (d2 < (r + p.r[j]) * (r + p.r[j])) {
+              for (int d = 0; d < 3; ++d) d2 += (c[d] - o[d]) * (c[d] - o[d]);
+              if (d2 < (r + o[3]) * (r + o[3])) {
                 ok = false;
                 break;
               }
@@ -154,7 +159,7 @@ Packing generate_packing(const PackingSpec& s) {
           }
       if (ok) {
         p.x[i] = c;
-        cells[(size_t(cz) * nc + cy) * nc + cx].push_back(i);
+        cells[(size_t(cz) * nc + cy) * nc + cx].push_back({c[0], c[1], c[2], r});
         placed = true;
       }
     }
