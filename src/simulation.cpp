@@ -1908,11 +1908,23 @@ RunResult Laboratory::run() {
 
 }  // namespace
 
+int cores_of_cpu_max(const std::string& text) {
+  std::istringstream in(text);
+  double quota = 0, period = 0;
+  if (!(in >> quota >> period) || !(quota > 0) || !(period > 0)) return 0;  // "max" does not parse as a number
+  return int(std::min(1e6, std::ceil(quota / period)));
+}
+
 int usable_cores() {
   cpu_set_t set;
   CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
-  return int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
+  int cores = sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0
+                  ? CPU_COUNT(&set)
+                  : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
+  std::ifstream in("/sys/fs/cgroup/cpu.max");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (const int q = cores_of_cpu_max(text); q > 0) cores = std::min(cores, q);
+  return cores;
 }
 
 std::string memory_amount(double b) {

@@ -103,9 +103,13 @@ constexpr int kGradedMinCount = 5000;
 std::string extension_mismatch(const std::string& then, const std::string& now, int k);
 // "4.4 MiB", "1.2 GiB".
 std::string memory_amount(double bytes);
-// The cores this process may run on (its CPU affinity: taskset, a container's cpuset), as OpenMP counts them for its
-// default thread count; the online CPUs where the affinity cannot be read.
+// The cores this process may run on: its CPU affinity (taskset, a container's cpuset), as OpenMP counts them for its
+// default thread count (the online CPUs where the affinity cannot be read), and at most what a cgroup v2 CPU quota
+// (/sys/fs/cgroup/cpu.max: docker --cpus) allows, which OpenMP does not see.
 int usable_cores();
+// The cores of a cgroup v2 cpu.max text, "QUOTA PERIOD" (microseconds each), rounded up; 0 for "max PERIOD" (no
+// limit) or an unreadable text.
+int cores_of_cpu_max(const std::string& text);
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt);
 

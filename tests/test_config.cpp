@@ -11,6 +11,7 @@
 #include <set>
 
 #include "src/config.hpp"
+#include "src/simulation.hpp"
 #include "src/study.hpp"
 #include "scratch.hpp"
 
@@ -694,4 +695,15 @@ TEST(Config, StudyPlanCoversEveryJob) {
   EXPECT_NE(e.find("(job sample_mur0.1_ebase_pbase_s3_n500): numerics.dt = 0.001 s is above the stable limit"),
             std::string::npos)
       << e;
+}
+
+// A container's CPU quota (cgroup v2 cpu.max) as cores: usable_cores() takes the smaller of it and the affinity.
+TEST(Config, CpuQuotaCountsCores) {
+  EXPECT_EQ(cores_of_cpu_max("200000 100000\n"), 2);
+  EXPECT_EQ(cores_of_cpu_max("150000 100000"), 2);  // 1.5 cores: rounded up (a warning at 2 threads would be noise)
+  EXPECT_EQ(cores_of_cpu_max("50000 100000"), 1);
+  EXPECT_EQ(cores_of_cpu_max("max 100000\n"), 0);  // no limit
+  EXPECT_EQ(cores_of_cpu_max(""), 0);
+  EXPECT_EQ(cores_of_cpu_max("100000 0"), 0);
+  EXPECT_GE(usable_cores(), 1);
 }
