@@ -88,12 +88,18 @@ Ob = C.anisotropy(nb, fb, np.zeros_like(nb), nb, np.ones(N))
 assert np.abs(Ob["ac"] - Ab).max() < TOL_C and np.abs(Ob["an"] - An).max() < TOL_N, (Ob["ac"], Ob["an"])
 zmax, swapped = 0.0, 0.0
 for plane in C.PLANES:
-    psi, dens, fnm, se_d, se_f = C.plane_roses(nb, fb, Ob["f0"], plane, errors=True)
+    psi, dens, fnm, se_d, se_f, _ = C.plane_roses(nb, fb, Ob["f0"], plane, errors=True)
     zmax = max(zmax, np.abs((dens - 1 - C.plane_fit(Ab, psi, plane)) / se_d).max(),
                np.abs((fnm - 1 - C.plane_fit(An, psi, plane)) / se_f).max())
     name, i1, i2, i3 = plane
     swapped = max(swapped, np.abs((dens - 1 - C.plane_fit(Ab, psi, (name, i2, i1, i3))) / se_d).max())
 assert zmax < 4.0 and swapped > 10, (zmax, swapped)
+# the report's column: the same departures from the measured tensors; with the fabric's x-y order taken out (its
+# azimuth average, what an axisymmetric reading assumes) the planes see it
+pn, pzn, pf, pzf = C.plane_departure(dict(n=nb, fn=fb), Ob)
+assert pzn < 4.0 and pzf < 4.0 and pn < 0.05, (pn, pzn, pf, pzf)
+axi = dict(Ob, ac=np.diag([0.5 * (Ob["ac"][0, 0] + Ob["ac"][1, 1])] * 2 + [Ob["ac"][2, 2]]))
+assert C.plane_departure(dict(n=nb, fn=fb), axi)[1] > 10
 print(f"plane roses: every bin on the band-averaged fit (largest z {zmax:.1f}; a plane's axes swapped: z {swapped:.0f})")
 
 # 2. exponential tail: 40 % weak contacts below m, the rest m + Exp(rate b); in units of the mean the slope is b <f>
