@@ -214,23 +214,21 @@ YAML::Node load_yaml_screened(const std::string& path) {
   return root;
 }
 
-bool is_study_file(const std::string& path) {
+namespace {
+// A readable YAML mapping with this top-level key (false for anything that does not load).
+bool has_top_key(const std::string& path, const char* key) {
   try {
     const YAML::Node n = load_yaml_screened(path);
-    return n.IsMap() && n["base"];
+    return n.IsMap() && n[key];
   } catch (const std::exception&) {
     return false;
   }
 }
+}  // namespace
 
-bool is_run_config_file(const std::string& path) {
-  try {
-    const YAML::Node n = load_yaml_screened(path);
-    return n.IsMap() && n["stages"];
-  } catch (const std::exception&) {
-    return false;
-  }
-}
+bool is_study_file(const std::string& path) { return has_top_key(path, "base"); }
+
+bool is_run_config_file(const std::string& path) { return has_top_key(path, "stages"); }
 
 RunConfig load_run_config(const std::string& path) { return parse_run_config(load_yaml_screened(path), path); }
 
