@@ -142,14 +142,21 @@ void reject_duplicate_keys(const YAML::Node& n, const std::string& where, const 
     std::map<std::string, int> line;  // key -> its first line (1-based)
     for (auto it = n.begin(); it != n.end(); ++it) {
       const std::string k = it->first.IsScalar() ? it->first.Scalar() : "?";
-      const std::string at = where.empty() ? k : where + "." + k;
+      std::string at = where;
+      if (!at.empty()) at += '.';
+      at += k;
       const int l = it->first.Mark().line + 1;
       const auto [first, fresh] = line.emplace(k, l);
-      if (!fresh)
-        throw ConfigError(path + ": " + at + ": given twice (" +
-                          (first->second == l ? "on line " + std::to_string(l)
-                                              : "lines " + std::to_string(first->second) + " and " + std::to_string(l)) +
-                          "); a key may appear once in its mapping");
+      if (!fresh) {
+        std::ostringstream os;
+        os << path << ": " << at << ": given twice (";
+        if (first->second == l)
+          os << "on line " << l;
+        else
+          os << "lines " << first->second << " and " << l;
+        os << "); a key may appear once in its mapping";
+        throw ConfigError(os.str());
+      }
       reject_duplicate_keys(it->second, at, path);
     }
   }
