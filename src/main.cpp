@@ -240,11 +240,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   // OpenMP threads beyond the cores wait on each other at every barrier (several a step): measured on the 2-core VM,
-  // the tests' smoke run takes 0.45 s at 2 threads, 5.0 s at 3, 8.9 s at 8. Allowed (a user may know better), said.
+  // the tests' smoke run takes 0.47 s at 2 threads, 5.6 s at 3, 6.0 s at 4 (perf/startup.sh threads 4, medians of 3).
+  // Allowed (a user may know better), said.
   if (const int t = grainlab::compat::host_threads(threads), cores = grainlab::usable_cores(); t > cores)
     std::fprintf(stderr,
                  "grainlab: warning: %d threads on %d core%s (this process's CPU affinity and quota): OpenMP threads beyond the "
-                 "cores wait on each other at every step's barriers (a 300-sphere run: 11x slower at 3 threads on 2 "
+                 "cores wait on each other at every step's barriers (a 300-sphere run: 12x slower at 3 threads on 2 "
                  "cores than at 2); --threads %d\n",
                  t, cores, cores == 1 ? "" : "s", cores);
   int rc = 0;

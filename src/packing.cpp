@@ -128,8 +128,8 @@ Packing generate_packing(const PackingSpec& s) {
   const int nc = std::max(1, int(L / h));
   const Real cell = L / nc;
   // Each cell keeps its spheres' centres and radii itself (x, y, z, r): a try reads 27 short arrays instead of
-  // chasing indices into the whole packing (2e5 spheres: 1.2 s instead of 2.4 on the 2-core VM; the cells' own
-  // scattered heap blocks are most of the rest). The same arithmetic on the same values in the same order of tries:
+  // chasing indices into the whole packing (2e5 spheres: 0.82 s instead of 1.53, medians of 3 on the 2-core VM,
+  // perf/startup.sh; the cells' own scattered heap blocks are most of the rest). The same arithmetic on the same values in the same order of tries:
   // the packing is the one an index list gave, bit for bit (checked on three specs: positions and radii equal).
   std::vector<std::vector<std::array<Real, 4>>> cells(size_t(nc) * nc * nc);
   auto cidx = [&](Real v) { return std::min(nc - 1, std::max(0, int(v / cell))); };

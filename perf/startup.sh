@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Reproduces two numbers the README and the code quote about a run's start, as medians of REPS runs:
+#   placement: `grainlab validate` of a generated sample of N spheres (the default sample spec at 0.3 solid fraction),
+#     which places it as the run will (src/packing.cpp: 2e5 spheres in 0.82 s on the 2-core VM, 1.53 s before the cells
+#     kept their spheres' coordinates; session 42);
+#   threads: the tests' 300-sphere smoke run (tests/data/smoke.yaml) at 1 .. MAX threads, to see what threads beyond
+#     the cores cost (src/main.cpp's warning; session 42 on the 2-core VM, medians of 3: 0.60 s at 1 thread, 0.47 s at
+#     2, 5.6 s at 3, 6.0 s at 4).
+# Usage: perf/startup.sh [placement N | threads MAX] [REPS]   (build/ first; default: placement 200000, 3 reps)
+set -eu
+what=${1:-placement}; arg=${2:-}; reps=${3:-3}
+root=$(cd "$(dirname "$0")/.." && pwd)
+bin=$root/build/grainlab
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2)}'; }
+seconds() { local s e; s=$(date +%s.%N); "$@" > /dev/null 2>&1 || true; e=$(date +%s.%N); echo "$e - $s" | bc; }
+echo "machine: $(nproc) cores usable, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+if [ "$what" = placement ]; then
+  n=${arg:-200000}
+  printf 'sample: {count: %s}\nstages: [{type: isotropic, max_steps: 1}]\n' "$n" > "$work/p.yaml"
+  t=$(for _ in $(seq "$reps"); do seconds "$bin" validate "$work/p.yaml"; done | median)
+  "$bin" validate "$work/p.yaml" | head -1
+  echo "placement of $n spheres (validate, median of $reps): $t s"
+elif [ "$what" = threads ]; then
+  max=${arg:-4}
+  for t in $(seq 1 "$max"); do
+    s=$(for k in $(seq "$reps"); do
+          seconds "$bin" run "$root/tests/data/smoke.yaml" --out "$work/t${t}_$k" --threads "$t" --quiet
+        done | median)
+    echo "smoke run at $t thread(s) (median of $reps): $s s"
+  done
+else
+  echo "usage: perf/startup.sh [placement N | threads MAX] [REPS]" >&2
+  exit 2
+fi
