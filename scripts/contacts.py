@@ -111,6 +111,16 @@ def exponential_tail(x):
     return float(-coef[1]), float(math.sqrt(cov[1, 1] * scale)), float(coef[0])
 
 
+def _bin_forces(k, nbins, f, f0):
+    """Per bin k of nbins: the count, the mean f / f_0 (NaN in an empty bin) and its standard error (the bin's
+    standard deviation / sqrt(count))."""
+    cnt = np.bincount(k, minlength=nbins).astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.bincount(k, weights=f, minlength=nbins) / cnt / f0
+        sq = np.bincount(k, weights=f * f, minlength=nbins) / cnt / f0 ** 2
+        return cnt, mean, np.sqrt(np.maximum(sq - mean ** 2, 0) / cnt)
+
+
 def roses(n, fn, ft, f0, errors=False):
     """The azimuth-averaged roses over ROSE_BINS bands of theta (from z), both hemispheres folded: the bands' centres
     theta [rad], the normals' density 4 pi E, the mean f_n / f_0, the mean f_t . e_theta / f_0 (NaN in an empty band);
@@ -125,18 +135,14 @@ def roses(n, fn, ft, f0, errors=False):
     theta = np.arccos(m[:, 2].clip(-1, 1))
     phi = np.arctan2(m[:, 1], m[:, 0])
     e_theta = np.stack([np.cos(theta) * np.cos(phi), np.cos(theta) * np.sin(phi), -np.sin(theta)], 1)
-    cnt = np.bincount(k, minlength=ROSE_BINS).astype(float)
+    cnt, fnm, se_f = _bin_forces(k, ROSE_BINS, fn, f0)
     with np.errstate(invalid="ignore", divide="ignore"):
         dens = cnt / (len(fn) * (edges[:-1] - edges[1:]))
-        fnm = np.bincount(k, weights=fn, minlength=ROSE_BINS) / cnt / f0
         ftm = np.bincount(k, weights=(t * e_theta).sum(1), minlength=ROSE_BINS) / cnt / f0
+        se_d = dens / np.sqrt(cnt)
     centres = np.arccos(0.5 * (edges[:-1] + edges[1:]))
     if not errors:
         return centres, dens, fnm, ftm
-    with np.errstate(invalid="ignore", divide="ignore"):
-        sq = np.bincount(k, weights=fn * fn, minlength=ROSE_BINS) / cnt / f0 ** 2
-        se_f = np.sqrt(np.maximum(sq - fnm ** 2, 0) / cnt)
-        se_d = dens / np.sqrt(cnt)
     return centres, dens, fnm, ftm, se_d, se_f
 
 
@@ -148,16 +154,13 @@ def plane_roses(n, fn, f0, plane, errors=False):
     band = np.abs(n[:, i3]) < PLANE_BAND
     psi = np.mod(np.arctan2(n[band, i1], n[band, i2]), np.pi)  # n and -n: the same contact, psi and psi + pi
     k = np.minimum((psi / np.pi * PLANE_BINS).astype(int), PLANE_BINS - 1)
-    cnt = np.bincount(k, minlength=PLANE_BINS).astype(float)
-    f = fn[band]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        dens = cnt / (len(fn) * PLANE_BAND / PLANE_BINS)
-        fnm = np.bincount(k, weights=f, minlength=PLANE_BINS) / cnt / f0
-        centres = (np.arange(PLANE_BINS) + 0.5) * np.pi / PLANE_BINS
-        if not errors:
-            return centres, dens, fnm
-        sq = np.bincount(k, weights=f * f, minlength=PLANE_BINS) / cnt / f0 ** 2
-        return centres, dens, fnm, dens / np.sqrt(cnt), np.sqrt(np.maximum(sq - fnm ** 2, 0) / cnt), cnt
+    cnt, fnm, se_f = _bin_forces(k, PLANE_BINS, fn[band], f0)
+    dens = cnt / (len(fn) * PLANE_BAND / PLANE_BINS)
+    centres = (np.arange(PLANE_BINS) + 0.5) * np.pi / PLANE_BINS
+    if not errors:
+        return centres, dens, fnm
+    with np.errstate(divide="ignore"):
+        return centres, dens, fnm, dens / np.sqrt(cnt), se_f, cnt
 
 
 def plane_fit(a, psi, plane):

@@ -4,7 +4,8 @@ huge/negative/NaN numbers, unicode, deep nesting, truncation, empty and binary f
 `grainlab validate`. Every one must end with exit 0, or exit 1 and exactly one error line naming the
 file; no crash (signal), no hang (10 s; an optional 4th argument gives another limit: the sanitized build runs
 15-20x slower, and validate's placement of UR1's 32 000 spheres takes 0.8 s in the release build, 12.8 s under
-ASan + UBSan), no sanitizer report."""
+ASan + UBSan, so a valid mutation of UR1 would read as a hang at 10 s; this seed's 300 pass at 10 s too), no sanitizer
+report."""
 import glob, os, random, subprocess, sys, tempfile
 
 binary, src, count = sys.argv[1], sys.argv[2], int(sys.argv[3])
