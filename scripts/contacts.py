@@ -111,6 +111,12 @@ def exponential_tail(x):
     return float(-coef[1]), float(math.sqrt(cov[1, 1] * scale)), float(coef[0])
 
 
+def beta_text(row):
+    """beta and its standard error as printed, or "-" where the tail has fewer than three bins of TAIL_MIN_COUNT
+    contacts (exponential_tail's NaN): a small sample's console line, legend and report row say the same."""
+    return "-" if row["beta"] != row["beta"] else f"{row['beta']:.2f} ± {row['beta_se']:.2f}"
+
+
 def _bin_forces(k, nbins, f, f0):
     """Per bin k of nbins: the count, the mean f / f_0 (NaN in an empty bin) and its standard error (the bin's
     standard deviation / sqrt(count))."""
@@ -239,7 +245,7 @@ def fig_contacts(run, out, save, plt):
         cnt, _ = np.histogram(x, edges)
         pdf = cnt / (len(x) * BIN_WIDTH)
         line, = ax0.semilogy(0.5 * (edges[:-1] + edges[1:])[cnt > 0], pdf[cnt > 0], "o" + style, ms=3,
-                             label=f"{lab}: beta {row['beta']:.2f} ± {row['beta_se']:.2f}")
+                             label=f"{lab}: beta {beta_text(row)}")
         if row["beta"] == row["beta"]:
             xs = np.linspace(1, x.max(), 50)
             # the fitted line, its counts in bins of BIN_WIDTH as a density
@@ -269,7 +275,7 @@ def fig_contacts(run, out, save, plt):
     save(fig, out, "contacts")
     fig_planes([nets[p] for p in show], out, save, plt)
     r = nets[last][3]
-    print(f"contacts at {r['snapshot']} ({r['tag']}): {r['contacts']}, beta {r['beta']:.2f} ± {r['beta_se']:.2f}, "
+    print(f"contacts at {r['snapshot']} ({r['tag']}): {r['contacts']}, beta {beta_text(r)}, "
           f"a_c {r['a_c']:.3f}, a_d {r['a_d']:.3f}, a_n {r['a_n']:.3f}, a_t {r['a_t']:.3f}")
     return rows
 
@@ -347,9 +353,8 @@ def report_section(tests):
         row, A, _ = got
         dn, zn, df, zf = rose_departure(c, A)
         pn, pzn, pf, pzf = plane_departure(c, A)
-        beta = "-" if row["beta"] != row["beta"] else f"{row['beta']:.2f} ± {row['beta_se']:.2f}"
         planes = "-" if pn != pn else f"{pn:.3f} (z {pzn:.1f}), {pf:.3f} (z {pzf:.1f})"
-        rows.append(f"| {name} | {row['contacts']} | {row['strong_frac']:.3f} | {beta} | {dn:.3f} (z {zn:.1f}) | "
+        rows.append(f"| {name} | {row['contacts']} | {row['strong_frac']:.3f} | {beta_text(row)} | {dn:.3f} (z {zn:.1f}) | "
                     f"{df:.3f} (z {zf:.1f}) | {planes} |")
     if not rows:
         return []

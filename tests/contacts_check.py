@@ -113,6 +113,10 @@ cnt, edges = np.histogram(f / f.mean(), np.arange(1.0, 1.0 + 3.5 * C.BIN_WIDTH, 
 line = np.exp(ln0 - beta * 0.5 * (edges[:-1] + edges[1:]))
 assert np.abs(line / cnt - 1).max() < 0.06, (line, cnt)
 print(f"exponential tail: beta {beta:.3f} ± {se:.3f}, {want:.3f} by construction")
+# a small network (the 300-sphere run's 42 contacts): no three tail bins of TAIL_MIN_COUNT, so no beta, printed as "-"
+few = C.exponential_tail(f[:40] / f[:40].mean())
+assert few[0] != few[0] and C.beta_text(dict(beta=few[0], beta_se=few[1])) == "-", few
+assert C.beta_text(dict(beta=beta, beta_se=se)) == f"{beta:.2f} ± {se:.2f}"
 
 # 3. a run: the device's anisotropies
 if len(sys.argv) > 2:
