@@ -50,7 +50,16 @@ status=0
 while [ $# -gt 0 ]; do
   case "$1" in
     tests)  # tests [REGEX]: all of them, or those CTest's -R selects
-      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != base && "$2" != ur1 && "$2" != profile && "$2" != memory ]]; then regex=$2; shift; fi
+      regex=""; if [ $# -gt 1 ] && [[ "$2" != tests && "$2" != bench && "$2" != base && "$2" != ur1 && "$2" != profile && "$2" != memory ]]; then regex=$2; shift
+        # @FILE: the regex a first call wrote (tests_rest.txt, copied into the tree). An empty regex is refused: CTest
+        # would run every entry, and a "$(cat FILE)" of a file that is not there says nothing else (session 43 lost
+        # a call's 240 s so, to study_quick).
+        if [[ "$regex" == @* ]]; then
+          [ -s "${regex#@}" ] || { echo "device.sh tests: ${regex#@}: no such file, or empty (copy the first call's tests_rest.txt there)" >&2; exit 2; }
+          regex=$(cat "${regex#@}")
+        fi
+        [ -n "$regex" ] || { echo "device.sh tests: the REGEX given is empty (a missing tests_rest.txt?); run nothing" >&2; exit 2; }
+      fi
       # -j 6: the tests are small; several share the GPU (and its 16 host cores) and none is timed.
       # GPU_TESTS_EXCLUDE: a CTest -E regex; GPU_TESTS_SECONDS: stop every test that long from now (CTest's
       # --stop-time), so that a call's time limit ends the suite with its summary written, not mid-log.
@@ -70,7 +79,8 @@ while [ $# -gt 0 ]; do
       tail -n 25 "$OUT/ctest.log"
       # The entries of this selection that did not pass (stopped by GPU_TESTS_SECONDS, not reached, or failed), as
       # a -R regex in $OUT/tests_rest.txt: on one GPU slot the whole suite is ~620 s of GPU time on an H200
-      # (RESULTS_GPU.md, session 41), more than one call, so a second call runs `device.sh tests "$(cat it)"`.
+      # (RESULTS_GPU.md, session 41), more than one call, so a second call runs `device.sh tests @.gpucarry/tests_rest.txt` after
+      # `cp <the first call's files>/tests_rest.txt .gpucarry/`.
       (cd build-gpu && ctest -N ${regex:+-R "$regex"} ${GPU_TESTS_EXCLUDE:+-E "$GPU_TESTS_EXCLUDE"}) \
         | sed -n 's/^ *Test *#[0-9]*: //p' | sort > /tmp/tests_selected.txt
       sed -n -E 's/^ *[0-9]+\/[0-9]+ Test +#[0-9]+: ([^ ]+) .* Passed .*/\1/p' "$OUT/ctest.log" | sort > /tmp/tests_passed.txt
