@@ -2,7 +2,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <algorithm>
 #include <charconv>
@@ -167,13 +169,28 @@ void reject_duplicate_keys(const YAML::Node& n, const std::string& where, const 
 YAML::Node load_yaml_screened(const std::string& path) {
   YAML::Node root;
   {
+    // A directory opens as a stream and fails at the first read with the C++ library's words, naming no file. A pipe
+    // (`grainlab run <(sed ... base.yaml)`) or a device is read through once, but a config is read more than once
+    // (which command it is for, then the config; a run copies it into its output) and its relative paths resolve
+    // from its directory: the second read of a pipe found it empty. Both are refused by name.
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (fs::is_directory(st)) throw ConfigError(path + ": is a directory, not a config file");
+    if (fs::exists(st) && !fs::is_regular_file(st))
+      throw ConfigError(path + ": not a regular file (a pipe or a device?): a config is read more than once and its "
+                        "relative paths resolve from its directory; write it to a file first");
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw ConfigError(path + ": cannot open the file for reading");
+    if (!in) throw ConfigError(path + ": cannot open the file for reading (" + std::strerror(errno) + ")");
     // Screen the raw text before the parser sees it: yaml-cpp recurses once per nesting level without
     // a limit, so a hostile file could overflow the stack (issue 7: fuzzed configs must never crash).
     constexpr size_t kMaxBytes = 4 << 20;
     constexpr int kMaxDepth = 64;
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // At most one byte past the limit is read: /dev/zero or an endless pipe is refused, not read until memory ends.
+    std::string text(kMaxBytes + 1, '\0');
+    in.read(text.data(), std::streamsize(text.size()));
+    text.resize(size_t(in.gcount()));
+    if (in.bad()) throw ConfigError(path + ": cannot read the file (" + std::strerror(errno) + ")");
     if (text.size() > kMaxBytes) throw ConfigError(path + ": larger than 4 MiB: not a grainlab config");
     if (text.find('\0') != std::string::npos) throw ConfigError(path + ": contains NUL bytes: not a text file");
     int depth = 0, max_depth = 0;

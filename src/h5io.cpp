@@ -250,8 +250,15 @@ void write_state(H5Writer& w, const EngineState& s) {
 
 EngineState read_state(const H5Reader& r) {
   EngineState s;
+  // A run's other HDF5 files hold results, not a state to go on from: said by name, since a user pointing
+  // sample.file at the last snapshot would otherwise read "not a grainlab file".
+  if (!r.has("/state") && (r.has("/particles") || r.has("/series")))
+    fail(r.path(), std::string(r.has("/particles") ? "a snapshot of a run (positions and contact forces, no wall state or "
+                                                     "contact history)"
+                                                   : "a run's series (run.h5)") +
+                       ", not a sample or checkpoint: a run starts from a sample_<stage>.h5 of the run that prepared it");
   const auto sc = r.doubles("/state/scalars");
-  if (sc.size() != 8) throw H5Error("state scalars have the wrong length (corrupt file?)");
+  if (sc.size() != 8) fail(r.path(), "state scalars have the wrong length (corrupt file?)");
   s.step = long(sc[0]);
   s.time = sc[1];
   s.dt = sc[2];
@@ -275,7 +282,7 @@ EngineState read_state(const H5Reader& r) {
   // 14 values a wall; 12 in a checkpoint from before the servo's integral action (off there: integral = drift = 0).
   const size_t nw = walls.size() / kMaxWalls;
   if ((nw != 12 && nw != 14) || walls.size() != nw * kMaxWalls || s.walls.count < 0 || s.walls.count > kMaxWalls)
-    throw H5Error("state walls have the wrong length (corrupt file?)");
+    fail(r.path(), "state walls have the wrong length (corrupt file?)");
   for (int k = 0; k < kMaxWalls; ++k) {
     const double* q = &walls[nw * k];
     s.walls.w[k].n = Vec3(q[0], q[1], q[2]);
@@ -295,7 +302,7 @@ EngineState read_state(const H5Reader& r) {
   }
   const size_t n = s.x.size();
   if (s.v.size() != n || s.w.size() != n || s.f.size() != n || s.t.size() != n || s.r.size() != n)
-    throw H5Error("state particle arrays differ in length (corrupt file?)");
+    fail(r.path(), "state particle arrays differ in length (corrupt file?)");
   return s;
 }
 

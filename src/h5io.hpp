@@ -50,6 +50,7 @@ class H5Reader {
   std::string string(const std::string& name) const;
   double attr_double(const std::string& name) const;
   std::string attr_string(const std::string& name) const;
+  const std::string& path() const { return path_; }
 
  private:
   std::string path_;

@@ -598,6 +598,23 @@ void Laboratory::prepare_output_dir() {
   fs::remove(out_ + "/.write_probe", ec);
 }
 
+namespace {
+// The sample a run starts from (sample.file): its state and the density it was prepared with. A checkpoint has the
+// state but not the density (it continues its own run, whose config holds it): named, not "missing attribute density".
+struct SampleFile {
+  EngineState state;
+  Real density, density_scaling;
+};
+SampleFile read_sample_file(const std::string& path) {
+  const H5Reader r(path);
+  EngineState s = read_state(r);
+  if (!r.has("density") || !r.has("density_scaling"))
+    throw H5Error(path + ": a checkpoint, not a sample: a checkpoint continues its own run (grainlab run CONFIG "
+                         "--out <its run directory> --resume); a run starts from a sample_<stage>.h5 of the run that prepared it");
+  return {std::move(s), r.attr_double("density"), r.attr_double("density_scaling")};
+}
+}  // namespace
+
 void Laboratory::build_engine() {
   ParticleSetup setup;
   WallSet walls;
@@ -606,12 +623,12 @@ void Laboratory::build_engine() {
   for (const StageConfig& sc : cfg_.stages) ep.contact.mu_r = std::max(ep.contact.mu_r, sc.mu_r);
   std::unique_ptr<EngineState> sample;
   if (!cfg_.sample_file.empty()) {
-    H5Reader r(cfg_.sample_file);
-    sample = std::make_unique<EngineState>(read_state(r));
+    SampleFile f = read_sample_file(cfg_.sample_file);
+    sample = std::make_unique<EngineState>(std::move(f.state));
     setup.x = sample->x;
     setup.r = sample->r;
-    setup.density = r.attr_double("density");
-    setup.density_scaling = r.attr_double("density_scaling");
+    setup.density = f.density;
+    setup.density_scaling = f.density_scaling;
     walls = sample->walls;
     if (!sample->walls_are_box) throw std::runtime_error(cfg_.sample_file + ": the sample has no box walls");
   } else {
@@ -1943,11 +1960,11 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
   std::vector<Real> r;
   Real density = cfg.density, scaling = cfg.density_scaling;
   if (!cfg.sample_file.empty()) {
-    H5Reader h(cfg.sample_file);
-    r = read_state(h).r;
+    const SampleFile f = read_sample_file(cfg.sample_file);
+    r = f.state.r;
     plan.memory_available = require_memory(long(r.size()), "sample.file " + cfg.sample_file, plan.memory_source);
-    density = h.attr_double("density");
-    scaling = h.attr_double("density_scaling");
+    density = f.density;
+    scaling = f.density_scaling;
   } else {
     plan.memory_available = require_memory(cfg.packing.count, "sample.count", plan.memory_source);
     r = packing_radii(cfg.packing);

@@ -3,6 +3,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -186,7 +189,21 @@ TEST(Config, RejectsBadInputClearly) {
     EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
     EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
   }
-  EXPECT_NE(error_of("/nonexistent/grainlab.yaml").find("cannot open"), std::string::npos);
+  EXPECT_NE(error_of("/nonexistent/grainlab.yaml").find("cannot open the file for reading (No such file or directory)"),
+            std::string::npos);
+  // A directory, a pipe and a device, each named: the directory failed at its first read in the C++ library's words
+  // with no file name, a pipe's second read (the command's, after the check of which command the file is for) found
+  // it empty, and /dev/zero was read until memory ran out.
+  const fs::path dir = test::scratch("a_dir.yaml"), fifo = test::scratch("a_fifo.yaml");
+  fs::create_directories(dir);
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  EXPECT_EQ(error_of(dir.string()), dir.string() + ": is a directory, not a config file");
+  for (const std::string& p : {fifo.string(), std::string("/dev/zero")}) {
+    const std::string e = error_of(p);  // refused before the open: a FIFO's open would wait for a writer
+    EXPECT_EQ(e.rfind(p + ": not a regular file (a pipe or a device?)", 0), 0u) << e;
+    EXPECT_FALSE(is_run_config_file(p)) << p;
+  }
 }
 
 // Studies: the axes are checked as values, and every job's config is checked as its run would check it, at load
@@ -257,6 +274,15 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
 // How the report takes its peaks: single rows and every row unless the study's `peak` block says otherwise. A study
 // of a base alone (no axes: the base's own test, once) loads: it used to fail with "axes.mu_r: must be a number", an
 // absent axes block reading as a null value on every axis.
+TEST(Config, StudyOfAPipeOrWithAPipeAsBaseIsNamed) {
+  const fs::path fifo = test::scratch("study_fifo.yaml");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  const std::string e = error("study_pipe_base", "base: " + fifo.string() + "\n");
+  EXPECT_NE(e.find(fifo.string() + ": not a regular file"), std::string::npos) << e;
+  EXPECT_FALSE(is_study_file(fifo.string()));
+}
+
 TEST(Config, StudyPeakSettingsDefaultAndAreRead) {
   const std::string base = "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n";
   const Study alone = load_study(write_tmp("study_pk_default", base));
