@@ -2096,12 +2096,22 @@ def modulus_section(amp, stage, figs):
 
 
 def main():
-    ap = argparse.ArgumentParser(prog="grainlab")
-    ap.add_argument("cmd", choices=["plot", "csl", "study"])
-    ap.add_argument("runs", nargs="+")
-    ap.add_argument("--out", default=None, help="figure directory (default: the first run's figures/)")
-    ap.add_argument("--window", type=float, default=0.05, help="csl: axial-strain window of the steadiness test")
-    a = ap.parse_args()
+    # One parser per command, named as the user typed it ("grainlab plot"), with only its own options: one parser for
+    # all three printed "usage: grainlab {plot,csl,study} runs" (study is the study report's internal entry) and took
+    # --window for plot without a word.
+    cmd = sys.argv[1] if len(sys.argv) > 1 else ""
+    if cmd not in ("plot", "csl", "study"):
+        sys.exit("usage: grainlab_plot.py {plot,csl} RUN_DIR [RUN_DIR ...] [--out DIR] (csl: [--window W]); "
+                 "study STUDY_DIR")
+    ap = argparse.ArgumentParser(prog=f"grainlab {cmd}")
+    ap.add_argument("runs", nargs=1 if cmd == "study" else "+", metavar="STUDY_DIR" if cmd == "study" else "RUN_DIR")
+    if cmd != "study":
+        ap.add_argument("--out", default=None, help="figure directory (default: the first run's figures/)")
+    if cmd == "csl":
+        ap.add_argument("--window", type=float, default=0.05, help="axial-strain window of the steadiness test")
+    a = ap.parse_args(sys.argv[2:])
+    a.cmd = cmd
+    a.window = getattr(a, "window", 0.05)
     if not 0 < a.window < 1:  # as a study's critical_state.window
         sys.exit(f"grainlab {a.cmd}: --window must be in (0, 1) (a span of axial strain), got {a.window:g}")
     if a.cmd == "study":
