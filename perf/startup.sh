@@ -1,16 +1,20 @@
 #!/usr/bin/env bash
 # Reproduces two numbers the README and the code quote about a run's start, as medians of REPS runs:
 #   placement: `grainlab validate` of a generated sample of N spheres (the default sample spec at 0.3 solid fraction),
-#     which places it as the run will (src/packing.cpp: 2e5 spheres in 0.82 s on the 2-core VM, 1.53 s before the cells
-#     kept their spheres' coordinates; session 42);
+#     which places it as the run will (src/packing.cpp: 2e5 spheres in 0.52-0.77 s on the 2-core VM in session 43,
+#     flat cells; 0.82 s in session 42 with a heap block per cell, 1.53 s before the cells kept their spheres'
+#     coordinates);
 #   threads: the tests' 300-sphere smoke run (tests/data/smoke.yaml) at 1 .. MAX threads, to see what threads beyond
 #     the cores cost (src/main.cpp's warning; session 42 on the 2-core VM, medians of 3: 0.60 s at 1 thread, 0.47 s at
 #     2, 5.6 s at 3, 6.0 s at 4).
-# Usage: perf/startup.sh [placement N | threads MAX] [REPS]   (build/ first; default: placement 200000, 3 reps)
+#   start: a run of N spheres to its step-0 checkpoint (default 1e6: 7.0 s, placement half of it; 14.9 s with session
+#     42's placement; session 43);
+# Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX] [REPS]   (build/ first; default:
+#   placement 200000, 3 reps)
 set -eu
 what=${1:-placement}; arg=${2:-}; reps=${3:-3}
 root=$(cd "$(dirname "$0")/.." && pwd)
-bin=$root/build/grainlab
+bin=${GRAINLAB_BIN:-$root/build/grainlab}  # GRAINLAB_BIN: another build (a base to compare with)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2)}'; }
@@ -22,6 +26,14 @@ if [ "$what" = placement ]; then
   t=$(for _ in $(seq "$reps"); do seconds "$bin" validate "$work/p.yaml"; done | median)
   "$bin" validate "$work/p.yaml" | head -1
   echo "placement of $n spheres (validate, median of $reps): $t s"
+elif [ "$what" = start ]; then
+  # a run's start past validate's placement limit (kPlaceCheckMax, 2e5): placement, the first neighbour list and
+  # the step-0 checkpoint
+  n=${arg:-1000000}
+  printf 'sample: {count: %s}\nstages: [{type: isotropic, max_steps: 1}]\n' "$n" > "$work/s.yaml"
+  t=$(for k in $(seq "$reps"); do seconds "$bin" run "$work/s.yaml" --out "$work/s$k" --stop-after-steps 0 --quiet; \
+        rm -rf "$work/s$k"; done | median)
+  echo "start of a run of $n spheres (to its step-0 checkpoint, median of $reps): $t s"
 elif [ "$what" = threads ]; then
   max=${arg:-4}
   for t in $(seq 1 "$max"); do
@@ -31,6 +43,6 @@ elif [ "$what" = threads ]; then
     echo "smoke run at $t thread(s) (median of $reps): $s s"
   done
 else
-  echo "usage: perf/startup.sh [placement N | threads MAX] [REPS]" >&2
+  echo "usage: perf/startup.sh [placement N | start N | threads MAX] [REPS]" >&2
   exit 2
 fi

@@ -21,6 +21,7 @@ struct Packing {
   std::vector<Vec3d> x;
   std::vector<Real> r;
   Vec3d lo{}, hi{};
+  long overflowed = 0;  // spheres placed past their cell's flat slots (generate_packing): the tests see that path taken
 };
 
 // xoshiro256** seeded through splitmix64.
@@ -43,7 +44,9 @@ Real power_law_radius(Real u, Real D, Real a, Real b);
 std::vector<int> spatial_order(const std::vector<Vec3d>& x, Real cell);
 
 // Throws ParameterError when the spec is invalid or the cube cannot hold the spheres at that fraction.
-Packing generate_packing(const PackingSpec& spec);
+// slots_per_cell: the placement grid's flat slots a cell (0: sized from the mean occupancy); any value gives the
+// same packing, bit for bit (the tests force the overflow path with 1).
+Packing generate_packing(const PackingSpec& spec, int slots_per_cell = 0);
 // The radii generate_packing(spec) gives its spheres (as a multiset: largest first, before the spatial
 // order), without placing them: what the stable time step needs, in O(N). The same errors for the same specs
 // (but a failed placement, which only placing finds).

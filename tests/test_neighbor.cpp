@@ -323,3 +323,50 @@ TEST(Neighbor, AffineBoxRemapsPositionsAndKeepsTheListComplete) {
   EXPECT_GT(builds, 20);
   EXPECT_GT(touching, 300);  // compressed into a contact network, not only a shrunken gas
 }
+
+// The initial placement (generate_packing, random sequential addition on a grid of cells of 2 r_max) against the
+// N^2 oracle: no two spheres closer than the sum of their radii (the placement's own test, d^2 >= (r_i + r_j)^2,
+// so the bound is exact), every centre a radius inside the box [0, L]^3, the drawn radii all placed, and the spheres
+// in cell order (z, y, x). Placed again with one flat slot a cell (every further sphere in a cell's overflow list,
+// asserted), the packing is the same bit for bit: whether a try overlaps does not depend on the layout.
+TEST(Packing, PlacedSpheresAreApartInsideTheBoxAndInCellOrder) {
+  for (const Real ratio : {1.0, 3.0, 20.0}) {
+    PackingSpec spec;
+    spec.count = 4000;
+    spec.r_max = 0.6e-3;
+    spec.r_min = spec.r_max / ratio;
+    spec.seed = 11;
+    spec.solid_fraction = ratio == 1.0 ? 0.2 : 0.3;  // equal spheres jam earlier (cli_bad_placement)
+    const Packing pk = generate_packing(spec);
+    const int n = int(pk.x.size());
+    ASSERT_EQ(n, spec.count);
+    const Real L = pk.hi[0];
+    for (int i = 0; i < n; ++i) {
+      for (int d = 0; d < 3; ++d) {
+        EXPECT_GE(pk.x[i][d], pk.r[i]) << "ratio " << ratio << " sphere " << i;
+        EXPECT_LE(pk.x[i][d], L - pk.r[i]) << "ratio " << ratio << " sphere " << i;
+      }
+      for (int j = i + 1; j < n; ++j) {
+        Real d2 = 0;
+        for (int d = 0; d < 3; ++d) d2 += (pk.x[i][d] - pk.x[j][d]) * (pk.x[i][d] - pk.x[j][d]);
+        ASSERT_GE(d2, (pk.r[i] + pk.r[j]) * (pk.r[i] + pk.r[j])) << "ratio " << ratio << ": " << i << ", " << j;
+      }
+    }
+    std::vector<Real> placed = pk.r;
+    std::sort(placed.begin(), placed.end(), std::greater<Real>());
+    EXPECT_EQ(placed, packing_radii(spec));
+    const int nc = std::max(1, int(L / (2 * placed.front())));  // cells of twice the largest radius drawn
+    auto cell_of = [&](const Vec3d& x) {
+      long k = 0;
+      for (int d = 2; d >= 0; --d) k = k * nc + std::min(nc - 1, std::max(0, int(x[d] / (L / nc))));
+      return k;
+    };
+    for (int i = 1; i < n; ++i) ASSERT_LE(cell_of(pk.x[i - 1]), cell_of(pk.x[i])) << "ratio " << ratio << " sphere " << i;
+    const Packing one = generate_packing(spec, 1);
+    EXPECT_GT(one.overflowed, 0) << "ratio " << ratio;
+    EXPECT_EQ(one.r, pk.r) << "ratio " << ratio;
+    for (int i = 0; i < n; ++i) ASSERT_EQ(one.x[i], pk.x[i]) << "ratio " << ratio << " sphere " << i;
+    std::printf("r_max / r_min = %g: %d spheres apart, in cell order; %ld past their cell's slots (%ld with one slot, "
+                "the same packing)\n", ratio, n, pk.overflowed, one.overflowed);
+  }
+}
