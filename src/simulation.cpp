@@ -447,6 +447,7 @@ class Laboratory {
   Real planned_dt_ = 0;   // the time step this config gives (plan_run); an extended run must keep its own
   double transit_ = 0;    // a compression wave's time across the sample (plan_run): cyclic loading against it
   bool extended_ = false; // resumed from a checkpoint of a config that this one extends
+  void refuse_passed_end(const std::string& path, const YAML::Node& then) const;
   std::unique_ptr<Engine> eng_;
   Real Vs_ = 0, d_mean_ = 0, density_ = 0, scaling_ = 1;
   Lab lab_;
@@ -1757,6 +1758,7 @@ bool Laboratory::load_newest_checkpoint() {
       eng_->restore(s);
       lab_ = lab;
       extended_ = extends;
+      if (extends) refuse_passed_end(path, YAML::Load(then));
       if (extends && lab_.stage == int(YAML::Load(then)["stages"].size()) && !lab_.results.empty()) {
         // The run had finished: reopen its last stage if the moved end lies beyond where it stopped.
         const StageConfig& sc = cfg_.stages[lab_.stage - 1];
@@ -1784,6 +1786,43 @@ bool Laboratory::load_newest_checkpoint() {
     }
   }
   return false;
+}
+
+// A config that moves the end of the stage a run stopped in (extension_mismatch) extends the run only if the run
+// has not passed the new end: resumed, it must be the run this config starts. A later end always qualifies; an
+// earlier one where the run has not gone past it (its strain, step count and reversals in that stage, finished or
+// not: a study's step cap scaled down stays far above a shear that ended on its strain). A cyclic stage's
+// max_axial_strain may not move earlier (its peaks are not kept).
+void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& then) const {
+  const bool finished = lab_.stage >= int(then["stages"].size());
+  const int k = finished ? lab_.stage - 1 : lab_.stage;
+  if (k < 0 || (!finished && !lab_.started)) return;  // between stages: the next one has not begun
+  const StageConfig& sc = cfg_.stages[size_t(k)];
+  const YAML::Node old = then["stages"][k];
+  const Measure m = measure(sc);
+  struct End {
+    const char* key;
+    double now, reached;  // the new end; where the run is (NaN: not known)
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const End ends[] = {
+      {"max_axial_strain", sc.max_axial_strain, sc.type == StageType::Triaxial ? strain_along(sc, m.eps_a) : nan},
+      {"max_steps", double(sc.max_steps), double(lab_.stage_step)},
+      {"cycles", double(sc.cycles), sc.type == StageType::Cyclic ? 0.5 * double(lab_.half_cycles) : nan}};
+  for (const End& e : ends) {
+    if (!old[e.key]) continue;
+    const double before = old[e.key].as<double>();
+    if (!(e.now < before) || e.reached <= e.now) continue;  // NaN (not known) refuses
+    std::ostringstream os;
+    os << std::setprecision(6) << path << ": this config moves stages[" << k << "]." << e.key << " from " << before
+       << " to " << e.now
+       << (e.reached == e.reached ? ", which the run has passed" : ", which the run may have passed (a cyclic stage's "
+                                                                   "peaks are not kept)");
+    if (e.reached == e.reached) os << " (" << e.reached << (finished ? " where the stage ended)" : " where it stopped)");
+    os << ": resumed, it would not be the run this config starts; give an end beyond it, or start a new run from the "
+          "run's sample";
+    throw std::runtime_error(os.str());
+  }
 }
 
 // summary.json: what every finished stage ended at, for scripts (a study's report reads the cyclic ones), rewritten
@@ -1889,7 +1928,10 @@ RunResult Laboratory::run() {
   }
   if (extended_) {
     write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));  // the run's config is now this one
-    if (!opt_.quiet) std::printf("%s: extended by this config; going on from stage %d\n", out_.c_str(), lab_.stage + 1);
+    if (!opt_.quiet && lab_.stage < int(cfg_.stages.size()))
+      std::printf("%s: extended by this config; going on from stage %d\n", out_.c_str(), lab_.stage + 1);
+    else if (!opt_.quiet)  // a later end of a stage that ended short of it for another reason: the same run
+      std::printf("%s: this config moves an end the run stopped short of; config.yaml now records it\n", out_.c_str());
   }
   if (opt_.resume && lab_.stage >= int(cfg_.stages.size())) {
     // A finished run: its outputs were written with its final checkpoint, so rewriting them would change nothing.

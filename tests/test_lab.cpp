@@ -284,7 +284,9 @@ TEST(Lab, ResumeIsBitwiseIdentical) {
 // A finished run extended by --resume with a config that moves its shear's end (0.3 % -> 0.6 %) and then
 // appends a stage ends in the state of the uninterrupted run of the extended config, to the bit. A config that
 // changes anything the run already used (here the shear's friction) is refused, naming the key, and changes
-// nothing.
+// nothing; so is an end moved before where the run is (0.3 % -> 0.1 %, finished or stopped at ~0.3 %: it was
+// "extended", config.yaml rewritten to 0.1 % over a run that went to 0.3 %), while an earlier end the run has not
+// reached resumes (study_tiny: a finished shear's step cap lowered far above the steps it took).
 TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
   std::string longer = kSmall;
   longer.insert(longer.find("output:"), "  - {name: more, type: triaxial, drainage: drained, axial_strain_rate: 1.0, "
@@ -308,6 +310,32 @@ TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
   }
   EXPECT_NE(err.find("written by a different config (stages[1].mu differs)"), std::string::npos) << err;
   EXPECT_EQ(slurp(newest_checkpoint(ext)), before);
+  std::string earlier = kSmall;
+  earlier.replace(earlier.find("max_axial_strain: 0.006"), 23, "max_axial_strain: 0.001");
+  const std::string c_earlier = write_config("ext_earlier", earlier), config_before = slurp(ext + "/config.yaml");
+  const auto error_of_resume = [&](const std::string& cfg, const std::string& out) {
+    try {
+      run(cfg, out, -1, true);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  err = error_of_resume(c_earlier, ext);
+  EXPECT_NE(err.find("this config moves stages[1].max_axial_strain from 0.003 to 0.001, which the run has passed (0.00"),
+            std::string::npos) << err;
+  EXPECT_NE(err.find("where the stage ended)"), std::string::npos) << err;
+  EXPECT_EQ(slurp(newest_checkpoint(ext)), before);
+  EXPECT_EQ(slurp(ext + "/config.yaml"), config_before);
+  // stopped half way through the shear of the 0.6 % run (~0.3 %): 0.1 % is passed, 0.5 % is ahead and resumes
+  const std::string half = tmpdir("ext_half");
+  ASSERT_TRUE(run(c_long, half, whole.stages[0].steps + whole.stages[1].steps / 2).interrupted);
+  std::string passed = longer, ahead = longer;
+  passed.replace(passed.find("max_axial_strain: 0.006"), 23, "max_axial_strain: 0.001");
+  ahead.replace(ahead.find("max_axial_strain: 0.006"), 23, "max_axial_strain: 0.005");
+  err = error_of_resume(write_config("ext_passed", passed), half);
+  EXPECT_NE(err.find("from 0.006 to 0.001, which the run has passed (0.00"), std::string::npos) << err;
+  EXPECT_EQ(error_of_resume(write_config("ext_ahead", ahead), half), "");
   const RunResult r = run(c_long, ext, -1, true);
   ASSERT_FALSE(r.interrupted);
   ASSERT_EQ(r.stages.size(), 3u);
