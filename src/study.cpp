@@ -268,6 +268,12 @@ Study load_study_unchecked(const std::string& path) {
     auto v = numbers(ax ? ax[k] : YAML::Node(), path, key);
     if (ax && ax[k] && v.empty()) fail(path, key, "an empty list: give at least one value, or leave the axis out");
     check_axis_values(v, path, key);
+    // A value listed twice made one job, the grid smaller than it reads (likely a typo for another value).
+    for (size_t i = 0; i < v.size(); ++i)
+      for (size_t j = 0; j < i; ++j)
+        if (v[i] == v[j])
+          fail(path, key, fmt(v[i]) + " is listed twice (values " + std::to_string(j + 1) + " and " +
+                              std::to_string(i + 1) + "): an axis lists each value once");
     return v.empty() ? def : v;
   };
   if (ax)
@@ -321,6 +327,11 @@ Study load_study_unchecked(const std::string& path) {
       check(key, v.back());
     }
     if (v.empty()) fail(path, key, "an empty list: give at least one value, or leave the axis out");
+    for (size_t i = 0; i < v.size(); ++i)
+      for (size_t j = 0; j < i; ++j)
+        if (v[i] == v[j])
+          fail(path, key, "'" + v[i] + "' is listed twice (values " + std::to_string(j + 1) + " and " +
+                              std::to_string(i + 1) + "): an axis lists each value once");
     return v;
   };
   const auto check_drainage = [&](const std::string& key, const std::string& d) {

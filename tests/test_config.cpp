@@ -251,6 +251,11 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
       {"study_extra", "extra: [{seed: 1.5}]\n", "extra[0].seed: values must be whole numbers"},
       {"study_p0", "axes: {p0: [0, 100e3]}\n", "axes.p0: values must be > 0 (Pa)"},
       {"study_close", "axes: {mu_r: [0.1, 0.10000001]}\n", "axes: two values of mu_r, e0 or p0 agree to 6 significant"},
+      // a value listed twice made one job, silently (the grid smaller than it reads)
+      {"study_twice", "axes: {mu_r: [0.3, 0.1, 0.30]}\n", "axes.mu_r: 0.3 is listed twice (values 1 and 3): an axis lists "
+                                                          "each value once"},
+      {"study_twice_word", "axes: {drainage: [drained, drained]}\n", "axes.drainage: 'drained' is listed twice (values 1 "
+                                                                     "and 2)"},
       // Valid on the axis (>= 0), outside the run config's [0, 10]: found in the job's config.
       {"study_job", "axes: {mu_r: [50]}\n", "(job sample_mur50_ebase_pbase_s11_n5000): material.mu_r = 50 is outside"},
       // How the report takes its peaks (Study::peak_window, peak_max_ke).
