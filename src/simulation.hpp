@@ -73,8 +73,9 @@ struct RunPlan {
   double transit = 0;                 // the time a compression wave takes across the sample [s] (plan_run)
   bool placed = false;                // the sample was placed as the run will place it (plan_run's place)
 };
-// plan_run's place checks samples of up to this many spheres (choice: 2e5 place in 0.8-1.2 s on one core of the
-// 2-core VM, perf/startup.sh, 1e6 in ~10 s; a larger sample, whose box loses little to its walls, is placed at the run's start, before
+// plan_run's place checks samples of up to this many spheres (choice: 2e5 place in 0.5-0.8 s on one core of the
+// 2-core VM, perf/startup.sh placement, 1e6 in ~3.5 s, about half of `perf/startup.sh start`; a study validates
+// every sample job so; a larger sample, whose box loses little to its walls, is placed at the run's start, before
 // anything is written).
 constexpr long kPlaceCheckMax = 200000;
 // Throws (with the same messages as the run) when the sample cannot be drawn or read, does not fit in memory,
