@@ -132,7 +132,7 @@ Packing generate_packing(const PackingSpec& s, int slots_per_cell) {
   // reads 27 cells whose x-neighbours are adjacent in memory; with a heap block per cell, perf put two thirds of
   // the placement on the stalls of loading each cell's header and its first sphere. Whether a try overlaps does
   // not depend on the order a cell's spheres are read in, so the packing is the same bit for bit as any layout's
-  // (Packing.PlacedSpheresAreApartInsideTheBoxAndInCellOrder; and three specs' positions equal to session 42's).
+  // (Packing.PlacedSpheresAreApartInsideTheBoxAndInCellOrder; and five specs' positions equal to session 42's).
   // With the try's own cell read first and the cell order read off the cells (no sort): 2e5 spheres placed in
   // 0.52-0.77 s against 1.15-1.74 s for session 42's heap blocks, a 1e6-sphere run started in 7.0 s against 14.9
   // (perf/startup.sh placement / start, medians of 3-7 on the noisy 2-core VM, both builds in the same minutes).

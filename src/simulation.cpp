@@ -1758,8 +1758,9 @@ bool Laboratory::load_newest_checkpoint() {
       eng_->restore(s);
       lab_ = lab;
       extended_ = extends;
-      if (extends) refuse_passed_end(path, YAML::Load(then));
-      if (extends && lab_.stage == int(YAML::Load(then)["stages"].size()) && !lab_.results.empty()) {
+      const YAML::Node then_config = extends ? YAML::Load(then) : YAML::Node();
+      if (extends) refuse_passed_end(path, then_config);
+      if (extends && lab_.stage == int(then_config["stages"].size()) && !lab_.results.empty()) {
         // The run had finished: reopen its last stage if the moved end lies beyond where it stopped.
         const StageConfig& sc = cfg_.stages[lab_.stage - 1];
         const Measure m = measure(sc);
