@@ -125,7 +125,10 @@ Packing generate_packing(const PackingSpec& s, int slots_per_cell) {
   p.hi = {L, L, L};
   const Real rmax = p.r.front();
   const Real h = 2 * rmax;
-  const int nc = std::max(1, int(L / h));
+  // Cells of at least 2 r_max (a sphere's overlaps lie in its 27 cells), and at most ~4 N of them: a dilute sample
+  // (initial_solid_fraction 1e-6 is in range) would otherwise ask for cells by the hundred million (bad_alloc).
+  // Every sample of a shipped config or test has fewer (equal spheres at 0.2: 2.6 N), so their packings are as before.
+  const int nc = std::max(1, int(std::min<double>(L / h, std::cbrt(4.0 * double(s.count)))));
   const Real cell = L / nc;
   // Each cell keeps its spheres' centres and radii itself (x, y, z, r), in place: K slots a cell in one flat array, a
   // cell's spheres past K in its overflow list (a wide grading's small spheres crowding a cell of 2 r_max). A try

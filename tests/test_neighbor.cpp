@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -330,13 +331,15 @@ TEST(Neighbor, AffineBoxRemapsPositionsAndKeepsTheListComplete) {
 // in cell order (z, y, x). Placed again with one flat slot a cell (every further sphere in a cell's overflow list,
 // asserted), the packing is the same bit for bit: whether a try overlaps does not depend on the layout.
 TEST(Packing, PlacedSpheresAreApartInsideTheBoxAndInCellOrder) {
-  for (const Real ratio : {1.0, 3.0, 20.0}) {
+  // equal spheres jam earlier (cli_bad_placement); the dilute sample (fraction 1e-5) has its cells capped at ~4 N
+  const std::pair<Real, Real> cases[] = {{1.0, 0.2}, {3.0, 0.3}, {20.0, 0.3}, {3.0, 1e-5}};
+  for (const auto& [ratio, fraction] : cases) {
     PackingSpec spec;
     spec.count = 4000;
     spec.r_max = 0.6e-3;
     spec.r_min = spec.r_max / ratio;
     spec.seed = 11;
-    spec.solid_fraction = ratio == 1.0 ? 0.2 : 0.3;  // equal spheres jam earlier (cli_bad_placement)
+    spec.solid_fraction = fraction;
     const Packing pk = generate_packing(spec);
     const int n = int(pk.x.size());
     ASSERT_EQ(n, spec.count);
@@ -355,7 +358,8 @@ TEST(Packing, PlacedSpheresAreApartInsideTheBoxAndInCellOrder) {
     std::vector<Real> placed = pk.r;
     std::sort(placed.begin(), placed.end(), std::greater<Real>());
     EXPECT_EQ(placed, packing_radii(spec));
-    const int nc = std::max(1, int(L / (2 * placed.front())));  // cells of twice the largest radius drawn
+    // cells of twice the largest radius drawn, at most ~4 N of them
+    const int nc = std::max(1, int(std::min<double>(L / (2 * placed.front()), std::cbrt(4.0 * n))));
     auto cell_of = [&](const Vec3d& x) {
       long k = 0;
       for (int d = 2; d >= 0; --d) k = k * nc + std::min(nc - 1, std::max(0, int(x[d] / (L / nc))));
@@ -366,7 +370,7 @@ TEST(Packing, PlacedSpheresAreApartInsideTheBoxAndInCellOrder) {
     EXPECT_GT(one.overflowed, 0) << "ratio " << ratio;
     EXPECT_EQ(one.r, pk.r) << "ratio " << ratio;
     for (int i = 0; i < n; ++i) ASSERT_EQ(one.x[i], pk.x[i]) << "ratio " << ratio << " sphere " << i;
-    std::printf("r_max / r_min = %g: %d spheres apart, in cell order; %ld past their cell's slots (%ld with one slot, "
-                "the same packing)\n", ratio, n, pk.overflowed, one.overflowed);
+    std::printf("r_max / r_min = %g at %g: %d spheres apart, in %d^3 cells in order; %ld past their cell's slots (%ld "
+                "with one slot, the same packing)\n", ratio, fraction, n, nc, pk.overflowed, one.overflowed);
   }
 }
