@@ -2068,7 +2068,7 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
       // packing under p, <f> = 4 pi r̄^2 p / (Z phi) (p = tr of the contact sum (1/V) sum f (x) l, l = 2 r̄), it is
       // <delta> / r̄ = 4 pi p / (Z phi E), ~3.5 p / E at Z phi ~ 3.6 (Z ~ 6, phi ~ 0.6). Measured on the tests' smoke run
       // (300 spheres, 190 kPa, E = 100 MPa; 0.0066 estimated): the mean 0.0083 r̄, the largest 0.051 of the smaller
-      // radius, ~8x the estimate (the strong forces' tail, small spheres; tests/smoke_check.py checks both). Past a quarter of max_overlap the largest
+      // radius, ~8x the estimate (the strong forces' tail, small spheres; tests/contacts_check.py checks both). Past a quarter of max_overlap the largest
       // reach it twice over (the run stops) and the grains are no longer hard; E in MPa written as Pa (E: 100) is such
       // a mistake (the stage then never reaches its pressure). Below, the run's own check decides.
       const double overlap = 4 * M_PI * sc.pressure / (3.6 * ep.contact.E);

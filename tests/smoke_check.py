@@ -32,23 +32,3 @@ if len(sys.argv) > 2:
     assert "stage consolidate: the damping's drag" not in out, "an isotropic stage has no drag line"
     print(f"drag line ok: {m.group(0)}")
 print(f"smoke ok: {len(rows)} rows, p_end = {p_end:.1f} Pa, max |eps_v| = {ev:.2e}")
-
-# The overlap estimate behind plan_run's warning (src/simulation.cpp): the mean overlap of a packing under p is
-# <delta>/r-bar ~ 4 pi p / (Z phi E) with Z phi ~ 3.6, the largest (over the smaller radius) ~8x that. Measured here on
-# the consolidated sample (its snapshot at consolidate_end), from the geometry: the mean within a factor 1.6 of the
-# estimate (0.0083 against 0.0066 in session 43), the largest between 4x and 12x it (7.7x).
-import glob, math, os  # noqa: E402
-import h5py  # noqa: E402
-import yaml  # noqa: E402
-run = os.path.dirname(os.path.abspath(sys.argv[1]))
-E = float(yaml.safe_load(open(os.path.join(run, "config.yaml")))["material"]["E"])
-snap = [s for s in sorted(glob.glob(os.path.join(run, "snapshots", "snap_*.h5")))
-        if h5py.File(s, "r").attrs["tag"] in (b"consolidate_end", "consolidate_end")][0]
-with h5py.File(snap, "r") as f:
-    x, r, i, j = f["particles/x"][...], f["particles/r"][...], f["contacts/i"][...], f["contacts/j"][...]
-ov = r[i] + r[j] - ((x[i] - x[j]) ** 2).sum(1) ** 0.5
-mean, largest = (ov / ((r[i] + r[j]) / 2)).mean(), (ov / [min(a, b) for a, b in zip(r[i], r[j])]).max()
-est = 4 * math.pi * p_end / (3.6 * E)
-assert est / 1.6 < mean < 1.6 * est and 4 < largest / est < 12, (mean, largest, est)
-print(f"overlaps at {p_end / 1e3:.0f} kPa: mean {mean:.4f} r-bar against {est:.4f} estimated, largest {largest:.3f} of the "
-      f"smaller radius ({largest / est:.1f}x)")
