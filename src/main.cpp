@@ -49,6 +49,33 @@ bool whole_number(const char* option, const char* text, long lo, long hi, long& 
   value = v;
   return true;
 }
+// OMP_NUM_THREADS sets the threads where --threads does not. A value libgomp cannot read (0, "abc", "1.5", "-2",
+// empty) it reports with a line of its own and then starts one thread a core: a run would go on with a thread count
+// nobody asked for (on a shared node, every core). Refused instead, like a bad --threads: one line naming the
+// variable, what it holds and what it may hold, exit 2. libgomp's syntax: a whole number, blanks around it allowed,
+// optionally the first of a comma list (nested levels); the count is that first number.
+bool omp_threads_env_ok(int threads) {
+#if defined(KOKKOS_ENABLE_OPENMP)
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (threads > 0 || !env) return true;  // --threads given, or the variable unset: OpenMP's default
+  std::string first(env);
+  first = first.substr(0, first.find(','));
+  const size_t b = first.find_first_not_of(" \t\n"), e = first.find_last_not_of(" \t\n");
+  first = b == std::string::npos ? std::string() : first.substr(b, e - b + 1);
+  char* end = nullptr;
+  errno = 0;
+  const long v = first.empty() ? 0 : std::strtol(first.c_str(), &end, 10);
+  if (first.empty() || *end || errno == ERANGE || v < 1) {
+    std::fprintf(stderr, "grainlab: OMP_NUM_THREADS must be a whole number in [1, %d] (or unset), got '%s' (OpenMP "
+                 "would ignore it and start one thread a core): set it, unset it or give --threads N\n",
+                 grainlab::compat::kMaxHostThreads, one_line(env).c_str());
+    return false;
+  }
+#else
+  (void)threads;  // no OpenMP threads: the variable means nothing to this build
+#endif
+  return true;
+}
 // An option that takes a value, given last without one ("--out" at the end of the line).
 bool missing_value(const std::string& option, int a, int argc) {
   for (const char* o : {"--out", "--threads", "--jobs", "--stop-after-steps"})
@@ -105,7 +132,9 @@ int main(int argc, char** argv) {
         return usage(stderr);
       }
     }
-    // Its runs start with --threads, else OMP_NUM_THREADS: refused here, before any job starts, where too many.
+    // Its runs start with --threads, else OMP_NUM_THREADS: refused here, before any job starts, where unreadable or
+    // too many.
+    if (!omp_threads_env_ok(so.threads)) return 2;
     if (const int t = grainlab::compat::host_threads(so.threads); t > grainlab::compat::kMaxHostThreads) {
       std::fprintf(stderr, "grainlab: %d threads (OMP_NUM_THREADS): Kokkos's OpenMP backend runs at most %d: set fewer "
                    "with --threads N\n", t, grainlab::compat::kMaxHostThreads);
@@ -233,6 +262,7 @@ int main(int argc, char** argv) {
     for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s: %s\n", config.c_str(), w.c_str());
     return 0;
   }
+  if (!omp_threads_env_ok(threads)) return 2;
   try {
     grainlab::compat::initialize(threads);
   } catch (const std::exception& e) {  // more threads than Kokkos's OpenMP pool (compat::kMaxHostThreads)
