@@ -31,7 +31,8 @@ int usage(FILE* f) {
   if (f != stdout) return 2;  // after a bad command line, the usage alone
   std::fprintf(f,
                "exit codes: 0 done, 1 error (config, I/O, memory), 2 bad command line, 3 numerical blow-up,\n"
-               "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP: checkpoint written; continue with --resume)\n"
+               "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP, a closed output pipe: checkpoint written; continue with\n"
+               "                --resume)\n"
                "environment: OMP_NUM_THREADS (threads, unless --threads), GRAINLAB_MEMORY_LIMIT (bytes a run may\n"
                "             plan for), GRAINLAB_PYTHON (interpreter of plot, csl and the study report)\n");
   return 0;

@@ -34,26 +34,36 @@ namespace grainlab {
 namespace fs = std::filesystem;
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-extern "C" void on_stop_signal(int) { g_stop = 1; }
+volatile std::sig_atomic_t g_stop = 0, g_pipe_closed = 0;
+extern "C" void on_stop_signal(int sig) {
+  g_stop = 1;
+  if (sig == SIGPIPE) g_pipe_closed = 1;
+}
 
 // Handlers for the life of a run, the previous ones restored after: Ctrl-C, SIGTERM (a batch system's stop, a
-// study's) and SIGHUP (the terminal or SSH session closed) stop the run at the next step boundary with a
-// checkpoint. A SIGHUP the caller ignores (nohup) stays ignored.
+// study's), SIGHUP (the terminal or SSH session closed) and SIGPIPE (the reader of the console lines gone: `| tee`
+// killed, `| head`) stop the run at the next step boundary with a checkpoint; by default SIGPIPE killed the run at
+// its next progress line with nothing saved since the last checkpoint. A SIGHUP or SIGPIPE the caller ignores
+// (nohup) stays ignored. Once the pipe has closed, SIGPIPE stays ignored: any line still written after the run
+// (its buffered output, at exit) must not kill the process between the checkpoint and the exit code.
 struct SignalGuard {
   using Handler = void (*)(int);
-  Handler old_int, old_term, old_hup;
+  Handler old_int, old_term, old_hup, old_pipe;
   SignalGuard() {
     g_stop = 0;
+    g_pipe_closed = 0;
     old_int = std::signal(SIGINT, on_stop_signal);
     old_term = std::signal(SIGTERM, on_stop_signal);
     old_hup = std::signal(SIGHUP, on_stop_signal);
     if (old_hup == SIG_IGN) std::signal(SIGHUP, SIG_IGN);
+    old_pipe = std::signal(SIGPIPE, on_stop_signal);
+    if (old_pipe == SIG_IGN) std::signal(SIGPIPE, SIG_IGN);
   }
   ~SignalGuard() {
     std::signal(SIGINT, old_int);
     std::signal(SIGTERM, old_term);
     std::signal(SIGHUP, old_hup);
+    std::signal(SIGPIPE, g_pipe_closed ? SIG_IGN : old_pipe);
   }
   SignalGuard(const SignalGuard&) = delete;
   SignalGuard& operator=(const SignalGuard&) = delete;
@@ -1949,8 +1959,8 @@ RunResult Laboratory::run() {
       // Searching: the checkpoint holds the stage-start state; otherwise the current step boundary.
       result.checkpoint = write_checkpoint();
       // Even with --quiet (which silences progress, not news): a stopped run says where it can resume.
-      std::fprintf(stderr, "interrupted at step %ld: checkpoint %s; continue with --resume\n", eng_->step_count(),
-                   result.checkpoint.c_str());
+      std::fprintf(stderr, "interrupted at step %ld%s: checkpoint %s; continue with --resume\n", eng_->step_count(),
+                   g_pipe_closed ? " (the reader of its output closed the pipe)" : "", result.checkpoint.c_str());
       result.stages = lab_.results;
       return result;
     }

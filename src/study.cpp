@@ -650,14 +650,18 @@ struct Running {
   const StudyJob* job;
 };
 
-volatile std::sig_atomic_t g_study_stop = 0;
-extern "C" void on_study_stop(int) { g_study_stop = 1; }
+volatile std::sig_atomic_t g_study_stop = 0, g_study_pipe_closed = 0;
+extern "C" void on_study_stop(int sig) {
+  g_study_stop = 1;
+  if (sig == SIGPIPE) g_study_pipe_closed = 1;
+}
 extern "C" void on_child(int) {}  // only to end sigsuspend
 
-// Signal set-up of the study's job loop. Ctrl-C, SIGTERM or SIGHUP: no new job starts, the running ones get SIGTERM
-// and stop at a checkpoint like an interrupted run, and the study exits 130 once they have; a rerun resumes
-// them. (SIGKILL of the study: PR_SET_PDEATHSIG in each job.) SIGINT or SIGHUP ignored by the caller (`&` in a
-// script, nohup) stays ignored. SIGCHLD and the stop signals are blocked in the loop and taken only in sigsuspend, so
+// Signal set-up of the study's job loop. Ctrl-C, SIGTERM, SIGHUP or SIGPIPE (the reader of the study's lines gone,
+// as for a run: simulation.cpp): no new job starts, the running ones get SIGTERM and stop at a checkpoint like an
+// interrupted run, and the study exits 130 once they have; a rerun resumes them. (SIGKILL of the study:
+// PR_SET_PDEATHSIG in each job.) SIGINT, SIGHUP or SIGPIPE ignored by the caller (`&` in a script, nohup) stays
+// ignored; after a SIGPIPE it stays ignored, so the lines still buffered cannot kill the study before its exit code. SIGCHLD and the stop signals are blocked in the loop and taken only in sigsuspend, so
 // a signal cannot fall between a check of the flag and the wait.
 class StudySignals {
  public:
@@ -672,18 +676,24 @@ class StudySignals {
     sigaction(SIGHUP, nullptr, &old_hup_);
     hup_ignored_ = old_hup_.sa_handler == SIG_IGN;
     if (!hup_ignored_) sigaction(SIGHUP, &sa, nullptr);
+    g_study_pipe_closed = 0;
+    sigaction(SIGPIPE, nullptr, &old_pipe_);
+    pipe_ignored_ = old_pipe_.sa_handler == SIG_IGN;
+    if (!pipe_ignored_) sigaction(SIGPIPE, &sa, nullptr);
     sigaction(SIGTERM, &sa, &old_term_);
     sa.sa_handler = on_child;
     sigaction(SIGCHLD, &sa, &old_chld_);
     sigset_t block;
     sigemptyset(&block);
-    for (int sig : {SIGCHLD, SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
+    for (int sig : {SIGCHLD, SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaddset(&block, sig);
     sigprocmask(SIG_BLOCK, &block, &prev_);
   }
   ~StudySignals() {
     sigprocmask(SIG_SETMASK, &prev_, nullptr);
     sigaction(SIGINT, &old_int_, nullptr);
     sigaction(SIGHUP, &old_hup_, nullptr);
+    if (g_study_pipe_closed) signal(SIGPIPE, SIG_IGN);
+    else sigaction(SIGPIPE, &old_pipe_, nullptr);
     sigaction(SIGTERM, &old_term_, nullptr);
     sigaction(SIGCHLD, &old_chld_, nullptr);
   }
@@ -694,6 +704,7 @@ class StudySignals {
   void reset_in_child() const {
     signal(SIGINT, int_ignored_ ? SIG_IGN : SIG_DFL);
     signal(SIGHUP, hup_ignored_ ? SIG_IGN : SIG_DFL);
+    signal(SIGPIPE, pipe_ignored_ ? SIG_IGN : SIG_DFL);
     signal(SIGTERM, SIG_DFL);
     signal(SIGCHLD, SIG_DFL);
     sigprocmask(SIG_SETMASK, &prev_, nullptr);
@@ -701,9 +712,9 @@ class StudySignals {
   void wait_for_signal() const { sigsuspend(&prev_); }
 
  private:
-  struct sigaction old_int_ {}, old_hup_ {}, old_term_ {}, old_chld_ {};
+  struct sigaction old_int_ {}, old_hup_ {}, old_term_ {}, old_chld_ {}, old_pipe_ {};
   sigset_t prev_{};
-  bool int_ignored_ = false, hup_ignored_ = false;
+  bool int_ignored_ = false, hup_ignored_ = false, pipe_ignored_ = false;
 };
 
 // One study process per output directory: a second one would launch the same jobs, which their run locks
@@ -937,8 +948,9 @@ int run_study(const Study& s, const StudyOptions& o) {
   }
   signals.reset();
   if (stopping) {
-    std::fprintf(stderr, "grainlab study: interrupted (%d job(s) stopped at a checkpoint, %zu of %zu done); rerun the "
-                         "same command to resume\n", interrupted, finished, total);
+    std::fprintf(stderr, "grainlab study: interrupted%s (%d job(s) stopped at a checkpoint, %zu of %zu done); rerun the "
+                         "same command to resume\n", g_study_pipe_closed ? " by the reader of its output closing the pipe" : "",
+                 interrupted, finished, total);
     return 130;
   }
   if (failures) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Ctrl-C on a real process: SIGINT (and SIGHUP) writes a checkpoint and exits with 130; --resume completes the run,
-# and its series equals that of an uninterrupted run, byte for byte.
+# Ctrl-C on a real process: SIGINT (and SIGHUP, and SIGPIPE: the reader of its lines gone) writes a checkpoint and
+# exits with 130; --resume completes the run, and its series equals that of an uninterrupted run, byte for byte.
 set -u
 bin=$1; cfg=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"
@@ -20,4 +20,13 @@ for sig in INT HUP; do
   "$bin" run "$cfg" --out "$work/$sig" --resume --quiet || { echo "resume after SIG$sig failed"; exit 1; }
   cmp "$work/ref/series.csv" "$work/$sig/series.csv" || { echo "series resumed after SIG$sig differs"; exit 1; }
 done
-echo "sigint ok: INT and HUP interrupted, checkpointed, resumed, identical series"
+# `grainlab run ... | head -n 1`: head exits after the first line, and the run's next progress line meets a closed
+# pipe. By default SIGPIPE killed the run there (exit 141) with nothing saved since its step-0 checkpoint.
+"$bin" run "$cfg" --out "$work/PIPE" 2>"$work/pipe_err.txt" | head -n 1 >/dev/null
+rc=${PIPESTATUS[0]}
+[ "$rc" -eq 130 ] || { echo "expected exit 130 after SIGPIPE, got $rc"; cat "$work/pipe_err.txt"; exit 1; }
+grep -q "interrupted at step [1-9][0-9]* (the reader of its output closed the pipe)" "$work/pipe_err.txt" ||
+  { echo "no interruption line naming the closed pipe:"; cat "$work/pipe_err.txt"; exit 1; }
+"$bin" run "$cfg" --out "$work/PIPE" --resume --quiet || { echo "resume after SIGPIPE failed"; exit 1; }
+cmp "$work/ref/series.csv" "$work/PIPE/series.csv" || { echo "series resumed after SIGPIPE differs"; exit 1; }
+echo "sigint ok: INT, HUP and PIPE interrupted, checkpointed, resumed, identical series"

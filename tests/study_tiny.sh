@@ -9,6 +9,15 @@ bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 study_setup study_tiny tiny-study.yaml tiny-study-base.yaml
 printf '%s\n' "$plan" | grep -q "seeds: 2 (tests that differ only in their seed" || fail "validate does not count 2 seeds: $plan"
 out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
+# `grainlab study ... | head -n 1`: the reader leaves after the study's first line; the study's next line meets a
+# closed pipe. SIGPIPE stops it like Ctrl-C (its jobs stop at a checkpoint, exit 130, a closing line naming the
+# pipe); by default it killed the study (exit 141) and PR_SET_PDEATHSIG then stopped the jobs, unannounced.
+"$bin" study tiny-study.yaml --out st_pipe --jobs 2 2>st_pipe.err | head -n 1 >/dev/null
+rc=${PIPESTATUS[0]}
+[ "$rc" -eq 130 ] || fail "a study whose output pipe closed exited $rc, not 130: $(cat st_pipe.err)"
+grep -qE "^grainlab study: interrupted by the reader of its output closing the pipe \([0-9]+ job\(s\) stopped at a checkpoint, [0-9]+ of 11 done\); rerun the same command to resume$" st_pipe.err ||
+  fail "no closing line naming the closed pipe: $(cat st_pipe.err)"
+[ "$(ls st_pipe/jobs/*/done 2>/dev/null | wc -l)" -lt 11 ] || fail "the study with a closed pipe ran every job"
 printf '%s\n' "$out" | grep -q "3 samples, 8 shears; 11 to run" || fail "unexpected plan: $out"
 [ "$(ls st/jobs/*/done | wc -l)" -eq 11 ] || fail "expected 11 finished jobs: $(ls st/jobs)"
 grep -q "## Critical states" st/report.md || fail "report.md lacks its critical-state section"
