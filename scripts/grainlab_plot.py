@@ -2118,9 +2118,16 @@ def main():
         study(a.runs[0])
         return
     runs = []
+    seen = {}
     for r in a.runs:
         if not os.path.isfile(os.path.join(r, "series.csv")):
             sys.exit(f"grainlab {a.cmd}: {r}: no series.csv (not a run directory)")
+        # The same run twice (runs/a and runs/a/, a link, a shell glob that overlaps) would count its critical state
+        # twice in csl's fits and draw its curves twice.
+        real = os.path.realpath(r)
+        if real in seen:
+            sys.exit(f"grainlab {a.cmd}: {r}: the same run as {seen[real]}, given earlier")
+        seen[real] = r
         runs.append((r, load(r)))
     out = a.out or os.path.join(a.runs[0], "figures")
     os.makedirs(out, exist_ok=True)
