@@ -13,10 +13,12 @@ namespace grainlab {
 namespace math {
 // Math functions moved from Kokkos::Experimental to Kokkos:: in 3.7.
 #if KOKKOS_VERSION >= 30700
+using Kokkos::atan2;
 using Kokkos::fabs;
 using Kokkos::isfinite;
 using Kokkos::sqrt;
 #else
+using Kokkos::Experimental::atan2;
 using Kokkos::Experimental::fabs;
 using Kokkos::Experimental::isfinite;
 using Kokkos::Experimental::sqrt;

@@ -191,6 +191,27 @@ void BM_Analysis(benchmark::State& st) {
   st.counters["pairs"] = eng.pairs().npairs;
 }
 
+// The solids in the interior box (the wall box inset by two mean diameters: series e_inner, once an output row):
+// Engine::solid_volume_in, exact, with the octant sums for the spheres on the box's edges and corners.
+void BM_SolidInBox(benchmark::State& st) {
+  Scene sc = fcc_scene(int(st.range(0)), 1);
+  Engine eng(sc.setup, bench_params(true), make_box_walls(sc.lo, sc.hi), true);
+  double rsum = 0;
+  for (Real r : sc.setup.r) rsum += r;
+  const double inset = 4 * rsum / double(sc.setup.r.size());  // two mean diameters
+  Vec3d lo = sc.lo, hi = sc.hi;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] += inset;
+    hi[a] -= inset;
+  }
+  compat::fence("grainlab::bench::before");
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(eng.solid_volume_in(lo, hi));
+    compat::fence("grainlab::bench::kernel");
+  }
+  st.SetItemsProcessed(st.iterations() * eng.num_particles());
+}
+
 // The integration alone (gather of the pair outputs, walls, damping, leapfrog).
 void BM_Integrate(benchmark::State& st) {
   Scene sc = fcc_scene(int(st.range(0)), 1);
@@ -253,6 +274,7 @@ void BM_StepTraffic(benchmark::State& st) {
 
 BENCHMARK(BM_Copy)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepTraffic)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_SolidInBox)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Integrate)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_WallLoads)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Analysis)->Arg(4000)->Arg(32000)->Arg(256000)->Arg(1024000)->Unit(benchmark::kMicrosecond)->UseRealTime();

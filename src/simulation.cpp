@@ -809,7 +809,7 @@ Real Laboratory::q_drag_of(const Vec3d& moment, Real V) {
 // of a few thousand spheres (30 % of a 2 000-sphere box, 43 % of a 5 000-sphere one).
 constexpr Real kInnerMargin = 2;
 
-// The interior's void ratio, its solids by the caps the box's faces cut off (Engine::solid_volume_in). NaN where no
+// The interior's void ratio, its solids the exact parts of the spheres in it (Engine::solid_volume_in). NaN where no
 // interior is left or it holds no centre.
 Real Laboratory::inner_void_ratio() const {
   const Real m = kInnerMargin * d_mean_, inset[3] = {m, m, m};
