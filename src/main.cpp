@@ -65,8 +65,8 @@ bool omp_threads_env_ok(int threads) {
   first = b == std::string::npos ? std::string() : first.substr(b, e - b + 1);
   char* end = nullptr;
   errno = 0;
-  const long v = first.empty() ? 0 : std::strtol(first.c_str(), &end, 10);
-  if (first.empty() || *end || errno == ERANGE || v < 1) {
+  const long v = std::strtol(first.c_str(), &end, 10);
+  if (first.empty() || !end || *end || errno == ERANGE || v < 1) {
     std::fprintf(stderr, "grainlab: OMP_NUM_THREADS must be a whole number in [1, %d] (or unset), got '%s' (OpenMP "
                  "would ignore it and start one thread a core): set it, unset it or give --threads N\n",
                  grainlab::compat::kMaxHostThreads, one_line(env).c_str());
