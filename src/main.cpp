@@ -171,6 +171,8 @@ int main(int argc, char** argv) {
       opt.quiet = true;
     } else if (s == "--resume") {
       opt.resume = true;
+    } else if (s == "--check-resume") {  // internal: grainlab study's check of a job its edit extends (RunOptions)
+      opt.resume = opt.check_resume = opt.quiet = true;
     } else if (s == "--stop-after-steps" && a + 1 < argc) {  // testing aid: acts like Ctrl-C after N steps
       if (!whole_number("--stop-after-steps", argv[++a], 0, 1000000000000L, opt.stop_after_steps)) return 2;
     } else if (s == "--out" && a + 1 < argc) {

@@ -1914,6 +1914,14 @@ RunResult Laboratory::run() {
   planned_dt_ = plan.dt;
   transit_ = plan.transit;
   for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
+  if (opt_.check_resume) {  // nothing to resume is nothing to refuse; else the checkpoint's own refusals
+    if (holds_files(out_ + "/checkpoints")) {
+      build_engine();
+      if (!load_newest_checkpoint())
+        throw std::runtime_error(out_ + "/checkpoints: no readable checkpoint to resume from");
+    }
+    return RunResult{};
+  }
   if (!opt_.resume || !holds_run()) refuse_overwrites();
   build_engine();
   prepare_output_dir();

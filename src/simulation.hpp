@@ -15,6 +15,9 @@ struct RunOptions {
   bool quiet = false;
   bool resume = false;
   long stop_after_steps = -1;  // testing aid: behave as if interrupted after this many steps (-1: never)
+  // A study's check of a job its edit extends (`run --check-resume`): the refusals --resume of this config would
+  // make (a key that differs, another time step, an end moved before where the run is) as its error, nothing written.
+  bool check_resume = false;
 };
 
 struct StageResult {

@@ -717,6 +717,52 @@ class StudySignals {
   bool int_ignored_ = false, hup_ignored_ = false, pipe_ignored_ = false;
 };
 
+// Whether `grainlab run CFG --out DIR --resume` would refuse: the run's own check (`run --check-resume`, in a child
+// process like every job: the study does not start Kokkos), its error line where it would ("" where it would go on).
+// An edit that moves a job's end before where its run is (a max_axial_strain lowered below the strain a finished
+// shear reached) passes the study's comparison of configs, which cannot see where the run went.
+std::string resume_refusal(const std::string& self, const std::string& cfg, const std::string& dir) {
+  int fd[2];
+  if (pipe(fd) != 0) throw std::runtime_error(std::string("cannot create a pipe (") + std::strerror(errno) + ")");
+  std::fflush(nullptr);  // the child would flush the study's pending lines a second time
+  const pid_t pid = fork();
+  if (pid < 0) {
+    ::close(fd[0]);
+    ::close(fd[1]);
+    throw std::runtime_error(std::string("cannot start a process (") + std::strerror(errno) + ")");
+  }
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null < 0 || dup2(null, 1) < 0 || dup2(fd[1], 2) < 0) _exit(127);
+    ::close(fd[0]);
+    execl(self.c_str(), self.c_str(), "run", cfg.c_str(), "--out", dir.c_str(), "--check-resume", "--threads", "1",
+          (char*)nullptr);
+    _exit(127);
+  }
+  ::close(fd[1]);
+  std::string err;
+  char buf[4096];
+  for (;;) {
+    const ssize_t n = ::read(fd[0], buf, sizeof(buf));
+    if (n > 0) err.append(buf, size_t(n));
+    else if (n == 0 || errno != EINTR) break;
+  }
+  ::close(fd[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  // Its last line, less "grainlab: error: CFG: " (the study names the job itself).
+  while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+  std::string line = err.substr(err.rfind('\n') == std::string::npos ? 0 : err.rfind('\n') + 1);
+  for (const std::string& prefix : {std::string("grainlab: error: "), cfg + ": "})
+    if (line.compare(0, prefix.size(), prefix) == 0) line.erase(0, prefix.size());
+  if (line.empty())
+    line = "its check ended with " + (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
+                                                        : "signal " + std::to_string(WTERMSIG(status)));
+  return line;
+}
+
 // One study process per output directory: a second one would launch the same jobs, which their run locks
 // would then fail one by one. The lock is not inherited by the jobs (O_CLOEXEC), so it ends with the study.
 class StudyLock {
@@ -803,6 +849,29 @@ int run_study(const Study& s, const StudyOptions& o) {
                              s.path + " gives it now (" + std::to_string(changed.size()) +
                              " job(s) so); use another --out, or delete those jobs/ directories to run them again "
                              "(nothing was changed)");
+  // Each extended job as its run will see it: a refusal now, with nothing changed, rather than a failed job whose
+  // `done` is gone (the report would drop it) until the study is edited back. The new config goes to a temporary
+  // file beside job.yaml (its relative sample path resolves from there), removed after.
+  for (const StudyJob* j : extended) {
+    const fs::path dir = out / "jobs" / j->name, tmp = dir / ("job.yaml.check." + std::to_string(getpid()));
+    std::string why;
+    try {
+      write_file_atomic(tmp.string(), std::find_if(texts.begin(), texts.end(), [&](const auto& t) {
+                                         return t.first == j;
+                                       })->second);
+      why = resume_refusal(o.self_exe, tmp.string(), (dir / "run").string());
+    } catch (...) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw;
+    }
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    if (!why.empty())
+      throw std::runtime_error((dir / "job.yaml").string() + ": the edited " + s.path + " extends this job, but its run " +
+                               "refuses: " + why + " (nothing was changed; give the former end back, use another " +
+                               "--out, or delete that jobs/ directory to run the job again)");
+  }
   for (const StudyJob* j : extended) fs::remove(out / "jobs" / j->name / "done");  // to be resumed, further
   if (!extended.empty() && !o.quiet)
     std::printf("study %s: %zu %s extended by the edited study, resumed from their checkpoints\n", s.path.c_str(),

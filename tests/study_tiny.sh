@@ -82,6 +82,18 @@ out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "the extended
 printf '%s\n' "$out" | grep -q "1 shear(s) extended" && printf '%s\n' "$out" | grep -q "; 1 to run" ||
   fail "the extra job's raised end did not extend it alone: $out"
 [ "$(ls -d st/jobs/shear_undrained_* | wc -l)" -eq 1 ] || fail "a second job beside $un: $(ls st/jobs)"
+# Its end then lowered below the 3.5 % it reached: the study's comparison of configs sees an extension, but the run
+# would refuse (it has passed the new end). Refused up front by the run's own check, nothing changed: job.yaml as it
+# was, `done` kept (the job had failed in the study, its `done` removed, and the report dropped it).
+before=$(md5sum < "$un/job.yaml")
+sed -i 's/undrained, max_axial_strain: 0.035}/undrained, max_axial_strain: 0.01}/' tiny-study.yaml
+err=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1 >/dev/null); rc=$?
+[ "$rc" -eq 1 ] || fail "an end moved before a finished job's was not refused (exit $rc): $err"
+printf '%s\n' "$err" | grep -qE "^grainlab: error: $un/job.yaml: the edited tiny-study.yaml extends this job, but its run refuses: .*moves stages\[0\]\.max_axial_strain from 0\.035 to 0\.01, which the run has passed .*\(nothing was changed" ||
+  fail "not the run's refusal, naming the job: $err"
+[ "$(md5sum < "$un/job.yaml")" = "$before" ] && [ -f "$un/done" ] || fail "the refused edit changed $un"
+ls "$un"/job.yaml.check.* >/dev/null 2>&1 && fail "the check's temporary config was left: $(ls "$un")"
+sed -i 's/undrained, max_axial_strain: 0.01}/undrained, max_axial_strain: 0.035}/' tiny-study.yaml
 for s in st/jobs/shear_*; do
   [ -f "$s/done" ] || fail "$s did not finish"
   [ "$(head -1 "$s/run/series.csv" | cut -d, -f4)" = eps_a ] || fail "series.csv column 4 is not eps_a"
