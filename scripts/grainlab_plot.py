@@ -1254,8 +1254,9 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
         R, D = dilatancy.principal_ratio(s["q_p"][m]), 1 - a["d"]
         k0 = a["turn"]  # Rowe's fit starts there
         ax[1].plot(D[k0:], R[k0:], ".", ms=3, color=line.get_color())
-        xs = np.array([np.nanmin(D[k0:]), np.nanmax(D[k0:])])
-        ax[1].plot(xs, a["K"] * xs, "-", lw=1, color=line.get_color())
+        if np.isfinite(D[k0:]).any():  # a shear too short for a rate has no fit to draw (numpy warned here)
+            xs = np.array([np.nanmin(D[k0:]), np.nanmax(D[k0:])])
+            ax[1].plot(xs, a["K"] * xs, "-", lw=1, color=line.get_color())
     ax[0].axhline(0, color="0.5", lw=0.8)
     ax[0].set(xlabel="eps_a [%]", ylabel="-d eps_v / d eps_a (> 0 dilating)", title="dilatancy rate")
     ax[1].set(xlabel="1 - d eps_v / d eps_a", ylabel="sigma_1 / sigma_3 (contact stress)",
