@@ -321,10 +321,21 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
 
   YAML::Node st = top.raw("stages");
   if (!st || !st.IsSequence() || st.size() == 0) top.fail("stages", "must be a non-empty list of stages");
+  std::map<std::string, size_t> stage_names;
   for (size_t k = 0; k < st.size(); ++k) {
     Section g(st[k], "stages[" + std::to_string(k) + "]", &path);
     StageConfig sc;
     sc.name = g.string("name", "stage" + std::to_string(k));
+    // A stage's name names its sample file (sample_<name>.h5 in the run directory) and is a field of series.csv:
+    // a '/' made a path the run could not write at the stage's end (after its work), a ',' or a newline broke the
+    // CSV's columns, and two stages of one name wrote one sample file over the other.
+    if (sc.name.size() > 64 ||
+        sc.name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
+      g.fail(g.key_path("name"), "= '" + sc.name + "': a stage name is 1 to 64 letters, digits, '_', '-' or '.' (it "
+                                 "names the file sample_<name>.h5 and a column of series.csv)");
+    if (const auto [it, fresh] = stage_names.emplace(sc.name, k); !fresh)
+      g.fail(g.key_path("name"), "= '" + sc.name + "' is stages[" + std::to_string(it->second) +
+                                     "]'s name too: each stage needs its own (it names sample_<name>.h5)");
     const std::string type = g.choice("type", "isotropic", {"isotropic", "triaxial", "cyclic"});
     sc.type = type == "isotropic" ? StageType::Isotropic : type == "triaxial" ? StageType::Triaxial : StageType::Cyclic;
     sc.mu = g.real("mu", cp.mu, 0, 10);
