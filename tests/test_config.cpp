@@ -362,14 +362,16 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
               std::string::npos);
   }
   EXPECT_EQ(s.shears[0].strain_rate, 0.003) << "0.3 x 1e-5 / 1e-3, written without binary noise";
-  const std::string two = write_tmp("study_strain_two", head + loops + loops);
+  std::string loops2 = loops;  // a second such stage, under its own name (each stage has its own)
+  loops2.replace(loops2.find("name: loops"), 11, "name: loops2");
+  const std::string two = write_tmp("study_strain_two", head + loops + loops2);
   expect_study_errors({
       {"study_ea_none", "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\naxes: {strain_amplitude: [1e-4]}\n",
        "axes.strain_amplitude: sets the strain amplitude of the base's strain-controlled cyclic stage (one with "
        "strain_amplitude), and the base (" GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml) has none"},
       {"study_ea_two", "base: " + two + "\nextra: [{strain_amplitude: 1e-4}]\n",
        "extra[0].strain_amplitude: sets the strain amplitude of the base's strain-controlled cyclic stage (one with "
-       "strain_amplitude), and the base (" + two + ") has 2 (loops, loops): the axis would not say which"},
+       "strain_amplitude), and the base (" + two + ") has 2 (loops, loops2): the axis would not say which"},
       {"study_ea_zero", "base: " + base + "\naxes: {strain_amplitude: [0]}\n",
        "axes.strain_amplitude: values must be in (0, 0.9)"},
       {"study_ea_big", "base: " + base + "\naxes: {strain_amplitude: [0.06]}\n",
