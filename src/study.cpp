@@ -946,8 +946,9 @@ int run_study(const Study& s, const StudyOptions& o) {
     if (!done(j)) queue.push_back(&j);
   const size_t total = s.samples.size() + s.shears.size();
   if (!o.quiet)
-    std::printf("study %s: %zu samples, %zu shears; %zu to run, %d at a time x %d threads; output %s\n", s.path.c_str(),
-                s.samples.size(), s.shears.size(), queue.size(), o.jobs, per_job_threads, out.c_str());
+    std::printf("study %s: %zu samples, %zu shears; %zu to run, %d at a time x %d thread%s; output %s\n", s.path.c_str(),
+                s.samples.size(), s.shears.size(), queue.size(), o.jobs, per_job_threads, per_job_threads == 1 ? "" : "s",
+                out.c_str());
   std::vector<Running> running;
   int failures = 0, interrupted = 0;
   bool stopping = false, forwarded = false;
@@ -1028,9 +1029,20 @@ int run_study(const Study& s, const StudyOptions& o) {
   // Report: figures, tables and critical-state lines (scripts/grainlab_plot.py study).
   const char* env = std::getenv("GRAINLAB_PYTHON");
   const std::string py = env && *env ? env : (access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
-  const std::string cmd = py + " '" GRAINLAB_SOURCE_DIR "/scripts/grainlab_plot.py' study '" + out.string() + "'";
+  const std::string script = GRAINLAB_SOURCE_DIR "/scripts/grainlab_plot.py", dir = out.string();
+  const std::string cmd = py + " " + script + " study " + dir;  // for the message
   std::fflush(nullptr);  // the progress lines before the report's
-  const int rc = std::system(cmd.c_str());
+  // Started directly, not through a shell (std::system): a quote in the --out ("Bob's runs") broke the command.
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execlp(py.c_str(), py.c_str(), script.c_str(), "study", dir.c_str(), (char*)nullptr);
+    std::fprintf(stderr, "grainlab study: cannot run %s (%s)\n", py.c_str(), std::strerror(errno));
+    _exit(127);
+  }
+  int status = 0;
+  while (pid > 0 && waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  const int rc = pid < 0 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   if (rc != 0) {
     std::fprintf(stderr, "grainlab study: the report could not be written (%s)\n", cmd.c_str());
     return 1;

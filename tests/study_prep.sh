@@ -31,6 +31,11 @@ done
 [ "$(grep -cE '^\| sample_mur0_ebase_pbase_s[34]_n[35]00 \| 190 → 400 \| [0-9.]+ \| ' st/report.md)" -eq 4 ] ||
   fail "no compression row 190 → 400 kPa for each sample: $(sed -n '/## Isotropic/,$p' st/report.md)"
 "${GRAINLAB_PYTHON:-/usr/bin/python3}" "$here"/prep_check.py st || fail "the extended report's preparation section does not match the samples"
+# The study moved to a directory whose name has a quote and a space: the rerun runs nothing and rewrites the report
+# (started through a shell, a quote in the --out broke its command).
+mv st "Bob's st" && rm "Bob's st/report.md"
+out=$("$bin" study tiny-prep-study.yaml --out "Bob's st" --jobs 2 2>&1) || fail "the study in Bob's st failed: $out"
+printf '%s\n' "$out" | grep -q "; 0 to run" && [ -f "Bob's st/report.md" ] || fail "no report in Bob's st: $out"
 printf 'base: tiny-prep-base.yaml\naxes: {drainage: [drained, undrained]}\n' > bad.yaml
 "$here"/expect_error.sh "bad.yaml: axes.drainage: sets the drainage of the base's shear stages, and the base \(.*\) has none" \
   "$bin" validate bad.yaml || fail "a drainage axis on a preparation base is not refused"
