@@ -11,13 +11,23 @@ Several runs are overlaid with a legend (e.g. the mu_r study).
 """
 import argparse
 import csv
+import importlib.util
 import json
 import glob
 import math
 import os
 import sys
 
-import matplotlib
+# The modules plot, csl and the study report need, checked before any is imported: an interpreter without one (a
+# virtual environment, GRAINLAB_PYTHON set to another python) ended in an ImportError's traceback.
+_NEEDED = (("numpy", "numpy"), ("matplotlib", "matplotlib"), ("h5py", "h5py"), ("scipy", "scipy"), ("yaml", "pyyaml"))
+_missing = [pip for mod, pip in _NEEDED if importlib.util.find_spec(mod) is None]
+if _missing:
+    sys.exit(f"grainlab {sys.argv[1] if len(sys.argv) > 1 else ''}: {sys.executable} lacks {', '.join(_missing)}: "
+             f"install them (pip install {' '.join(_missing)}; scripts/setup-deps.sh installs them for /usr/bin/python3) "
+             "or set GRAINLAB_PYTHON to an interpreter that has them")
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -16,7 +16,7 @@ say() { printf '[setup] %s\n' "$*" >&2; }
 
 # ---- 1. Debian packages ----------------------------------------------------------------------
 PKGS=(cmake g++ make patch libeigen3-dev libhdf5-dev hdf5-tools libyaml-cpp-dev libgtest-dev libbenchmark-dev
-      dpkg-dev xz-utils python3 python3-numpy python3-matplotlib python3-h5py)
+      dpkg-dev xz-utils python3 python3-numpy python3-matplotlib python3-h5py python3-scipy python3-yaml)
 missing=()
 if command -v dpkg-query >/dev/null && command -v apt-get >/dev/null; then
   for p in "${PKGS[@]}"; do
