@@ -320,6 +320,36 @@ std::string as_this_build_writes(const std::string& text) {
 
 }  // namespace
 
+// `then` (a config as config_fingerprint writes it) with now's checkpoint cadence (output.checkpoint_every,
+// checkpoint_minutes, keep_checkpoints): when and how many checkpoints are written changes nothing a run computes or
+// records (a checkpoint's write leaves the state as it was: resumed runs equal uninterrupted ones bitwise), so a run
+// resumed with another cadence is the same run (a long run's checkpoints made rarer for a full disk, say). Text that
+// does not parse is returned as it is.
+std::string with_checkpoint_cadence(const std::string& then, const RunConfig& now) {
+  try {
+    YAML::Node n = YAML::Load(then);
+    n["output"]["dir"] = "-";
+    RunConfig c = parse_run_config(n, "");
+    c.checkpoint_every = now.checkpoint_every;
+    c.checkpoint_minutes = now.checkpoint_minutes;
+    c.keep_checkpoints = now.keep_checkpoints;
+    return config_fingerprint(c);
+  } catch (const std::exception&) {
+    return then;
+  }
+}
+
+bool differs_only_in_checkpoint_cadence(const std::string& a, const std::string& b) {
+  try {
+    YAML::Node n = YAML::Load(b);
+    n["output"]["dir"] = "-";
+    const RunConfig now = parse_run_config(n, "");
+    return with_checkpoint_cadence(a, now) == config_fingerprint(now);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 // Empty when the config `now` only extends `then` (both as config_fingerprint writes them) for a run whose newest
 // checkpoint lies in stage k (k = the number of stages: finished): every key outside `stages` the same, the
 // stages before k the same, stage k the same but for its end (max_axial_strain, max_steps, cycles), the stages after k
@@ -457,6 +487,7 @@ class Laboratory {
   Real planned_dt_ = 0;   // the time step this config gives (plan_run); an extended run must keep its own
   double transit_ = 0;    // a compression wave's time across the sample (plan_run): cyclic loading against it
   bool extended_ = false; // resumed from a checkpoint of a config that this one extends
+  bool recadenced_ = false; // resumed with another checkpoint cadence than the run's (with_checkpoint_cadence)
   void refuse_passed_end(const std::string& path, const YAML::Node& then) const;
   std::unique_ptr<Engine> eng_;
   Real Vs_ = 0, d_mean_ = 0, density_ = 0, scaling_ = 1;
@@ -1658,7 +1689,13 @@ bool Laboratory::load_newest_checkpoint() {
   for (const std::string& path : all) {
     try {
       H5Reader r(path);
-      const std::string then = as_this_build_writes(r.string("/lab/config"));
+      std::string then = as_this_build_writes(r.string("/lab/config"));
+      recadenced_ = false;
+      if (then != fingerprint_) {  // another checkpoint cadence alone: the same run (with_checkpoint_cadence)
+        const std::string paced = with_checkpoint_cadence(then, cfg_);
+        recadenced_ = paced != then;
+        then = paced;
+      }
       bool extends = false;
       if (then != fingerprint_) {
         // A config that only extends the run (stages appended, the end of the stage it stopped in moved) goes on
@@ -1944,6 +1981,12 @@ RunResult Laboratory::run() {
   if (!opt_.resume) {
     write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));
     write_checkpoint();  // step 0: from now on a kill at any moment leaves something to resume
+  }
+  if (recadenced_ && !extended_) {
+    write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));  // the run's config is now this one
+    if (!opt_.quiet)
+      std::printf("%s: checkpoints now every %ld steps and %g minutes (0: off), the newest %d kept; config.yaml records "
+                  "it\n", out_.c_str(), cfg_.checkpoint_every, double(cfg_.checkpoint_minutes), cfg_.keep_checkpoints);
   }
   if (extended_) {
     write_file_atomic(out_ + "/config.yaml", resolved_config_yaml(cfg_));  // the run's config is now this one

@@ -105,6 +105,11 @@ constexpr int kGradedMinCount = 5000;
 // config key. What --resume accepts: stages appended, the end (max_axial_strain, max_steps) of stage k moved, and
 // the stages after k (not started) changed.
 std::string extension_mismatch(const std::string& then, const std::string& now, int k);
+// `then` (a resolved config) with now's checkpoint cadence (output.checkpoint_every, checkpoint_minutes,
+// keep_checkpoints), which --resume may change: it changes nothing a run computes or records.
+std::string with_checkpoint_cadence(const std::string& then, const RunConfig& now);
+// Whether two resolved configs differ in their checkpoint cadence alone (a study's jobs: the same job).
+bool differs_only_in_checkpoint_cadence(const std::string& a, const std::string& b);
 // "4.4 MiB", "1.2 GiB".
 std::string memory_amount(double bytes);
 // The cores this process may run on: its CPU affinity (taskset, a container's cpuset), as OpenMP counts them for its

@@ -837,7 +837,7 @@ int run_study(const Study& s, const StudyOptions& o) {
     std::error_code ec;
     if (!fs::is_directory(run, ec) || fs::is_empty(run, ec)) continue;  // never started: nothing to go stale
     const std::string then = resolved(old, cfg_path(*j)), now = resolved(text, cfg_path(*j));
-    if (then == now) continue;
+    if (then == now || differs_only_in_checkpoint_cadence(then, now)) continue;  // its run takes a new cadence itself
     if ((!j->is_sample || s.shears.empty()) && then != "unreadable" &&
         extension_mismatch(then, now, int(YAML::Load(then)["stages"].size())).empty())
       extended.push_back(j);

@@ -27,6 +27,12 @@ rc=${PIPESTATUS[0]}
 [ "$rc" -eq 130 ] || { echo "expected exit 130 after SIGPIPE, got $rc"; cat "$work/pipe_err.txt"; exit 1; }
 grep -q "interrupted at step [1-9][0-9]* (the reader of its output closed the pipe)" "$work/pipe_err.txt" ||
   { echo "no interruption line naming the closed pipe:"; cat "$work/pipe_err.txt"; exit 1; }
-"$bin" run "$cfg" --out "$work/PIPE" --resume --quiet || { echo "resume after SIGPIPE failed"; exit 1; }
+# Resumed with another checkpoint cadence (checkpoints every 700 steps where the run had none by steps): the same
+# run, said once, recorded in config.yaml; the series as uninterrupted.
+sed 's/checkpoint_every: 0/checkpoint_every: 700/' "$cfg" > "$work/cadence.yaml"
+out=$("$bin" run "$work/cadence.yaml" --out "$work/PIPE" --resume) || { echo "resume after SIGPIPE failed: $out"; exit 1; }
+printf '%s\n' "$out" | grep -q "PIPE: checkpoints now every 700 steps and 0 minutes (0: off), the newest 2 kept; config.yaml records it" ||
+  { echo "the new checkpoint cadence was not said: $out"; exit 1; }
+grep -q "checkpoint_every: 700" "$work/PIPE/config.yaml" || { echo "config.yaml does not record the new cadence"; exit 1; }
 cmp "$work/ref/series.csv" "$work/PIPE/series.csv" || { echo "series resumed after SIGPIPE differs"; exit 1; }
 echo "sigint ok: INT, HUP and PIPE interrupted, checkpointed, resumed, identical series"

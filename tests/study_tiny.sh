@@ -98,6 +98,11 @@ printf '%s\n' "$err" | grep -qE "^grainlab: error: $un/job.yaml: the edited tiny
 [ "$(md5sum < "$un/job.yaml")" = "$before" ] && [ -f "$un/done" ] || fail "the refused edit changed $un"
 ls "$un"/job.yaml.check.* >/dev/null 2>&1 && fail "the check's temporary config was left: $(ls "$un")"
 sed -i 's/undrained, max_axial_strain: 0.01}/undrained, max_axial_strain: 0.035}/' tiny-study.yaml
+# The base's checkpoint cadence changed: no job is stale (a cadence changes nothing a run computes); nothing reruns.
+sed -i 's/checkpoint_every: 1000}/checkpoint_every: 5000, keep_checkpoints: 3}/' tiny-study-base.yaml
+out=$("$bin" study tiny-study.yaml --out st --jobs 2 2>&1) || fail "a new checkpoint cadence made the study fail: $out"
+printf '%s\n' "$out" | grep -q "; 0 to run" || fail "a new checkpoint cadence reran jobs: $out"
+grep -q "checkpoint_every: 5000" "$un/job.yaml" || fail "$un/job.yaml does not take the new cadence"
 for s in st/jobs/shear_*; do
   [ -f "$s/done" ] || fail "$s did not finish"
   [ "$(head -1 "$s/run/series.csv" | cut -d, -f4)" = eps_a ] || fail "series.csv column 4 is not eps_a"
