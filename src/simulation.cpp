@@ -339,14 +339,13 @@ std::string with_checkpoint_cadence(const std::string& then, const RunConfig& no
   }
 }
 
-bool differs_only_in_checkpoint_cadence(const std::string& a, const std::string& b) {
+std::string with_checkpoint_cadence_of(const std::string& config, const std::string& cadence_from) {
   try {
-    YAML::Node n = YAML::Load(b);
+    YAML::Node n = YAML::Load(cadence_from);
     n["output"]["dir"] = "-";
-    const RunConfig now = parse_run_config(n, "");
-    return with_checkpoint_cadence(a, now) == config_fingerprint(now);
+    return with_checkpoint_cadence(config, parse_run_config(n, ""));
   } catch (const std::exception&) {
-    return false;
+    return config;
   }
 }
 

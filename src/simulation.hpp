@@ -108,8 +108,9 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
 // `then` (a resolved config) with now's checkpoint cadence (output.checkpoint_every, checkpoint_minutes,
 // keep_checkpoints), which --resume may change: it changes nothing a run computes or records.
 std::string with_checkpoint_cadence(const std::string& then, const RunConfig& now);
-// Whether two resolved configs differ in their checkpoint cadence alone (a study's jobs: the same job).
-bool differs_only_in_checkpoint_cadence(const std::string& a, const std::string& b);
+// The same for two resolved configs (a study's job.yaml then and now): `config` with the cadence of `cadence_from`, as
+// config_fingerprint writes it (output.dir blanked); `config` as it is where either does not parse.
+std::string with_checkpoint_cadence_of(const std::string& config, const std::string& cadence_from);
 // "4.4 MiB", "1.2 GiB".
 std::string memory_amount(double bytes);
 // The cores this process may run on: its CPU affinity (taskset, a container's cpuset), as OpenMP counts them for its

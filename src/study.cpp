@@ -836,9 +836,13 @@ int run_study(const Study& s, const StudyOptions& o) {
     const fs::path run = out / "jobs" / j->name / "run";
     std::error_code ec;
     if (!fs::is_directory(run, ec) || fs::is_empty(run, ec)) continue;  // never started: nothing to go stale
-    const std::string then = resolved(old, cfg_path(*j)), now = resolved(text, cfg_path(*j));
-    if (then == now || differs_only_in_checkpoint_cadence(then, now)) continue;  // its run takes a new cadence itself
-    if ((!j->is_sample || s.shears.empty()) && then != "unreadable" &&
+    const std::string then_text = resolved(old, cfg_path(*j)), now_text = resolved(text, cfg_path(*j));
+    if (then_text == now_text) continue;
+    // Compared with the new checkpoint cadence on both sides: a cadence changes nothing a run computes, and its run
+    // takes the new one itself where it resumes (with_checkpoint_cadence).
+    const std::string then = with_checkpoint_cadence_of(then_text, now_text), now = with_checkpoint_cadence_of(now_text, now_text);
+    if (then == now) continue;
+    if ((!j->is_sample || s.shears.empty()) && then_text != "unreadable" &&
         extension_mismatch(then, now, int(YAML::Load(then)["stages"].size())).empty())
       extended.push_back(j);
     else
