@@ -77,6 +77,19 @@ bool omp_threads_env_ok(int threads) {
 #endif
   return true;
 }
+// The command's one file argument, wherever it stands among the options (`grainlab run --threads 2 cfg.yaml`; before,
+// "--threads" was read as the config): 1 where `arg` is it, 0 where `arg` is an option, -1 for a second file (said
+// here; the caller exits 2).
+int take_file(const std::string& arg, std::string& file) {
+  if (!arg.empty() && arg[0] == '-') return 0;
+  if (!file.empty()) {
+    std::fprintf(stderr, "grainlab: unexpected argument '%s' (the file is '%s'; one a command)\n", arg.c_str(),
+                 file.c_str());
+    return -1;
+  }
+  file = arg;
+  return 1;
+}
 // An option that takes a value, given last without one ("--out" at the end of the line).
 bool missing_value(const std::string& option, int a, int argc) {
   for (const char* o : {"--out", "--threads", "--jobs", "--stop-after-steps"})
@@ -111,18 +124,18 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (cmd == "study") {
-    if (argc < 3) {
-      std::fprintf(stderr, "grainlab study: which study? (a STUDY.yaml is missing)\n");
-      return usage(stderr);
-    }
     grainlab::StudyOptions so;
     char self[4096];
     const ssize_t len = readlink("/proc/self/exe", self, sizeof(self) - 1);
     so.self_exe = len > 0 ? std::string(self, size_t(len)) : std::string(argv[0]);
-    for (int a = 3; a < argc; ++a) {
+    std::string study;
+    for (int a = 2; a < argc; ++a) {
       const std::string s = argv[a];
+      if (s == "-h" || s == "--help") return usage(stdout);
       if (missing_value(s, a, argc)) return 2;
-      if (s == "--out" && a + 1 < argc) so.out_dir = argv[++a];
+      if (const int f = take_file(s, study); f != 0) {
+        if (f < 0) return 2;
+      } else if (s == "--out" && a + 1 < argc) so.out_dir = argv[++a];
       else if ((s == "--jobs" || s == "--threads") && a + 1 < argc) {
         long v = 0;
         if (!whole_number(s.c_str(), argv[++a], 1, s == "--jobs" ? 4096 : grainlab::compat::kMaxHostThreads, v)) return 2;
@@ -133,6 +146,10 @@ int main(int argc, char** argv) {
         return usage(stderr);
       }
     }
+    if (study.empty()) {
+      std::fprintf(stderr, "grainlab study: which study? (a STUDY.yaml is missing)\n");
+      return usage(stderr);
+    }
     // Its runs start with --threads, else OMP_NUM_THREADS: refused here, before any job starts, where unreadable or
     // too many.
     if (!omp_threads_env_ok(so.threads)) return 2;
@@ -141,13 +158,13 @@ int main(int argc, char** argv) {
                    "with --threads N\n", t, grainlab::compat::kMaxHostThreads);
       return 2;
     }
-    if (!grainlab::is_study_file(argv[2]) && grainlab::is_run_config_file(argv[2])) {
+    if (!grainlab::is_study_file(study) && grainlab::is_run_config_file(study)) {
       std::fprintf(stderr, "grainlab: error: %s: a run config, not a study (a study names its `base`): run it with "
-                   "`grainlab run %s`\n", argv[2], argv[2]);
+                   "`grainlab run %s`\n", study.c_str(), study.c_str());
       return 1;
     }
     try {
-      return grainlab::run_study(grainlab::load_study(argv[2]), so);
+      return grainlab::run_study(grainlab::load_study(study), so);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
       return 1;
@@ -157,17 +174,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "grainlab: unknown command '%s'\n", cmd.c_str());
     return usage(stderr);
   }
-  if (argc < 3) {
-    std::fprintf(stderr, "grainlab %s: which config? (a CONFIG.yaml is missing)\n", cmd.c_str());
-    return usage(stderr);
-  }
-  const std::string config = argv[2];
+  std::string config;
   grainlab::RunOptions opt;
   int threads = 0;
-  for (int a = 3; a < argc; ++a) {
+  for (int a = 2; a < argc; ++a) {
     const std::string s = argv[a];
+    if (s == "-h" || s == "--help") return usage(stdout);
     if (missing_value(s, a, argc)) return 2;
-    if (s == "--quiet") {
+    if (const int f = take_file(s, config); f != 0) {
+      if (f < 0) return 2;
+    } else if (s == "--quiet") {
       opt.quiet = true;
     } else if (s == "--resume") {
       opt.resume = true;
@@ -185,6 +201,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
       return usage(stderr);
     }
+  }
+  if (config.empty()) {
+    std::fprintf(stderr, "grainlab %s: which config? (a CONFIG.yaml is missing)\n", cmd.c_str());
+    return usage(stderr);
   }
   if (cmd == "validate" && grainlab::is_study_file(config)) {
     try {
