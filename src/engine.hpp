@@ -195,9 +195,10 @@ class Engine {
   Real wall_stress(int k) const { return loads_.force[k] / wall_area(k); }
   Real box_volume() const;
   // The solid volume inside the box [lo, hi]: each sphere's part in it, exact (sphere_volume_in_box: caps, and the
-  // octants of a ball for a sphere on an edge or a corner). The interior void ratio's solids (series e_inner) and the core's (Laboratory::grading). Centre counting,
-  // which it replaces, is unbiased but counts a cut sphere whole or not at all: in the central eighth of a
-  // 10 000-sphere sample that made e wrong by about 0.02, the size of the grading it is meant to show.
+  // octants of a ball for a sphere on an edge or a corner). The interior void ratio's solids (series e_inner) and the
+  // core's (Laboratory::grading). Centre counting, which it replaces, is unbiased but counts a cut sphere whole or not
+  // at all: in the central eighth of a 10 000-sphere sample that made e wrong by about 0.02, the size of the grading it
+  // is meant to show.
   Real solid_volume_in(const Vec3d& lo, const Vec3d& hi) const;
 
   Diagnostics diagnostics();

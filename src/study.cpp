@@ -661,8 +661,9 @@ extern "C" void on_child(int) {}  // only to end sigsuspend
 // as for a run: simulation.cpp): no new job starts, the running ones get SIGTERM and stop at a checkpoint like an
 // interrupted run, and the study exits 130 once they have; a rerun resumes them. (SIGKILL of the study:
 // PR_SET_PDEATHSIG in each job.) SIGINT, SIGHUP or SIGPIPE ignored by the caller (`&` in a script, nohup) stays
-// ignored; after a SIGPIPE it stays ignored, so the lines still buffered cannot kill the study before its exit code. SIGCHLD and the stop signals are blocked in the loop and taken only in sigsuspend, so
-// a signal cannot fall between a check of the flag and the wait.
+// ignored; after a SIGPIPE it stays ignored, so the lines still buffered cannot kill the study before its exit code.
+// SIGCHLD and the stop signals are blocked in the loop and taken only in sigsuspend, so a signal cannot fall between a
+// check of the flag and the wait.
 class StudySignals {
  public:
   StudySignals() {
@@ -840,7 +841,8 @@ int run_study(const Study& s, const StudyOptions& o) {
     if (then_text == now_text) continue;
     // Compared with the new checkpoint cadence on both sides: a cadence changes nothing a run computes, and its run
     // takes the new one itself where it resumes (with_checkpoint_cadence).
-    const std::string then = with_checkpoint_cadence_of(then_text, now_text), now = with_checkpoint_cadence_of(now_text, now_text);
+    const std::string then = with_checkpoint_cadence_of(then_text, now_text),
+                      now = with_checkpoint_cadence_of(now_text, now_text);
     if (then == now) continue;
     if ((!j->is_sample || s.shears.empty()) && then_text != "unreadable" &&
         extension_mismatch(then, now, int(YAML::Load(then)["stages"].size())).empty())
