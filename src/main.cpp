@@ -34,7 +34,7 @@ int usage(FILE* f) {
                "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP, a closed output pipe: checkpoint written; continue with\n"
                "                --resume)\n"
                "environment: OMP_NUM_THREADS (threads, unless --threads), GRAINLAB_MEMORY_LIMIT (bytes a run may\n"
-               "             plan for), GRAINLAB_PYTHON (interpreter of plot, csl and the study report)\n");
+               "             plan for; 16G, 512M), GRAINLAB_PYTHON (interpreter of plot, csl and the study report)\n");
   return 0;
 }
 // A whole-number option in [lo, hi]. Anything else (empty, "abc", "2.5", out of range) gets one line naming the

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -550,10 +551,23 @@ double memory_available(std::string& source) {
     if (cg >> v) lower(v, "the cgroup's memory.max");  // "max" (no limit) does not parse
   }
   if (const char* env = std::getenv("GRAINLAB_MEMORY_LIMIT")) {
+    // Bytes, or with a binary unit as a batch system writes it (16G, 512M, 1.5GiB; K M G T, 1024-based).
     char* end = nullptr;
-    const double v = std::strtod(env, &end);
-    if (end == env || *end || !(v > 0))
-      throw std::runtime_error(std::string("GRAINLAB_MEMORY_LIMIT = '") + env + "': must be a number of bytes > 0");
+    double v = std::strtod(env, &end);
+    if (end != env && *end) {
+      const std::string unit(end);
+      const std::string units = "KMGT";
+      const size_t k = unit.empty() ? std::string::npos : units.find(char(std::toupper(static_cast<unsigned char>(unit[0]))));
+      std::string rest = unit.empty() ? "" : unit.substr(1);
+      for (char& ch : rest) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+      if (k != std::string::npos && (rest.empty() || rest == "b" || rest == "ib")) {
+        v *= std::pow(1024.0, double(k + 1));
+        end += unit.size();
+      }
+    }
+    if (end == env || *end || !(v > 0) || !std::isfinite(v))
+      throw std::runtime_error(std::string("GRAINLAB_MEMORY_LIMIT = '") + env +
+                               "': must be a number of bytes > 0, or with a unit K, M, G or T (1024-based: 16G)");
     lower(v, "GRAINLAB_MEMORY_LIMIT");
   }
   return avail;

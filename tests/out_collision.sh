@@ -78,6 +78,9 @@ grep -q 'count: 100000000' "$work/huge.yaml" || fail "could not write the huge c
 expect 1 "huge.yaml: sample.count = 100000000 spheres needs about 143.1 GiB of memory \(1.5 kB a sphere\), but [0-9.]+ GiB is available" \
   env GRAINLAB_MEMORY_LIMIT=8e9 "$bin" run "$work/huge.yaml" --out "$work/huge" --quiet
 [ ! -e "$work/huge" ] || fail "the run refused for memory created its output directory"
-expect 1 "GRAINLAB_MEMORY_LIMIT = 'lots': must be a number of bytes > 0" \
+# A limit with a binary unit, as a batch system writes it: 100K = 102 400 bytes, 0.1 MiB, below the 0.4 MiB needed.
+expect 1 "needs about 0.4 MiB of memory \(1.5 kB a sphere\), but 0.1 MiB is available \(GRAINLAB_MEMORY_LIMIT\)" \
+  env GRAINLAB_MEMORY_LIMIT=100K "$bin" run "$cfg" --out "$work/units" --quiet
+expect 1 "GRAINLAB_MEMORY_LIMIT = 'lots': must be a number of bytes > 0, or with a unit K, M, G or T" \
   env GRAINLAB_MEMORY_LIMIT=lots "$bin" run "$cfg" --out "$work/lots" --quiet
 echo "out_collision ok"
