@@ -154,10 +154,10 @@ KOKKOS_INLINE_FUNCTION double ball_octant_volume_signed(double a, double b, doub
 // cut (one whole inside, or the common case in a box of many spheres): the sphere's volume times its share between
 // that axis's faces, the difference of two caps. One that faces of two or three axes cut (straddling an edge or a
 // corner): the inclusion-exclusion of the eight octants at the box's corners (ball_octant_volume_signed). (The
-// product of the three shares it replaced was off by ~1 % of a sphere on an edge, two faces at r/2: 0.712 of it
-// against 0.702; by 77 % for a box inside the sphere: e_core -0.27 for a sample of one sphere, and by 0.003 in
-// e_inner for the 300-sphere smoke sample.) Shares over adjacent boxes add up to the sphere, so the volumes of a box's
-// parts sum to the box's.
+// product of the three shares it replaced was off by up to 2.3e-2 of a sphere on the random boxes of test
+// Analysis.SphereVolumeInABoxExactAtEdgesAndCorners, and gave a small box about the sphere's centre 27 pi / 48 = 1.77
+// times its volume, each share being 3 w / (4 r) there; both printed by the test.) Shares over adjacent boxes add up
+// to the sphere, so the volumes of a box's parts sum to the box's.
 KOKKOS_INLINE_FUNCTION Real sphere_volume_in_box(const Vec3& c, Real r, const Vec3& lo, const Vec3& hi) {
   const Real v = Real(4 * M_PI / 3) * r * r * r;
   Real in = v;

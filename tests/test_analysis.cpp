@@ -554,6 +554,12 @@ TEST(Analysis, SphereVolumeInABoxExactAtEdgesAndCorners) {
     ASSERT_LT(b[3] * b[3] + b[4] * b[4] + b[5] * b[5], r * r) << "the farthest corner must be inside the sphere";
     EXPECT_NEAR(sphere_volume_in_box(c, r, lo, hi), V, tol) << "box inside the sphere, from " << b[0];
   }
+  {  // the per-axis product on a small box about the centre (shares 3 w / (4 r) each): 27 pi / 48 of its volume
+    const double w = 1e-3 * r;
+    const double share = (sphere_volume_below(w / 2, r) - sphere_volume_below(-w / 2, r)) / v;
+    std::printf("  a box of side 1e-3 r about the centre: the per-axis product %.4f times its volume (27 pi / 48 = %.4f)\n",
+                v * share * share * share / (w * w * w), 27 * M_PI / 48);
+  }
   // (2) Eight boxes about a point: their volumes add up to the sphere.
   const double points[4][3] = {{0.4, -0.3, 0.9}, {-1.1, 0.2, 0.5}, {1.4, 1.2, -1.3}, {1.5, 0, 0}};
   for (const auto& p : points) {
