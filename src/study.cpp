@@ -718,50 +718,57 @@ class StudySignals {
   bool int_ignored_ = false, hup_ignored_ = false, pipe_ignored_ = false;
 };
 
+// Runs args[0] with args (found on the PATH; no shell, so any character in a path is taken as it is) and waits for it:
+// its exit code, 128 + the signal that ended it, or -1 where it could not start. With `err`, its standard error is
+// collected there and its standard output discarded; else both are the study's.
+int run_and_wait(const std::vector<std::string>& args, std::string* err) {
+  int fd[2] = {-1, -1};
+  if (err && pipe(fd) != 0) return -1;
+  std::fflush(nullptr);  // the child would flush the study's pending lines a second time
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (err) {
+      const int null = ::open("/dev/null", O_WRONLY);
+      if (null < 0 || dup2(null, 1) < 0 || dup2(fd[1], 2) < 0) _exit(127);
+      ::close(fd[0]);
+    }
+    std::vector<char*> argv;
+    argv.reserve(args.size() + 1);
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execvp(argv[0], argv.data());
+    std::fprintf(stderr, "grainlab study: cannot run %s (%s)\n", argv[0], std::strerror(errno));
+    _exit(127);
+  }
+  if (err) {
+    ::close(fd[1]);
+    char buf[4096];
+    for (ssize_t n; pid > 0 && ((n = ::read(fd[0], buf, sizeof(buf))) > 0 || (n < 0 && errno == EINTR));)
+      if (n > 0) err->append(buf, size_t(n));
+    ::close(fd[0]);
+  }
+  if (pid < 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
 // Whether `grainlab run CFG --out DIR --resume` would refuse: the run's own check (`run --check-resume`, in a child
 // process like every job: the study does not start Kokkos), its error line where it would ("" where it would go on).
 // An edit that moves a job's end before where its run is (a max_axial_strain lowered below the strain a finished
 // shear reached) passes the study's comparison of configs, which cannot see where the run went.
 std::string resume_refusal(const std::string& self, const std::string& cfg, const std::string& dir) {
-  int fd[2];
-  if (pipe(fd) != 0) throw std::runtime_error(std::string("cannot create a pipe (") + std::strerror(errno) + ")");
-  std::fflush(nullptr);  // the child would flush the study's pending lines a second time
-  const pid_t pid = fork();
-  if (pid < 0) {
-    ::close(fd[0]);
-    ::close(fd[1]);
-    throw std::runtime_error(std::string("cannot start a process (") + std::strerror(errno) + ")");
-  }
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    if (null < 0 || dup2(null, 1) < 0 || dup2(fd[1], 2) < 0) _exit(127);
-    ::close(fd[0]);
-    execl(self.c_str(), self.c_str(), "run", cfg.c_str(), "--out", dir.c_str(), "--check-resume", "--threads", "1",
-          (char*)nullptr);
-    _exit(127);
-  }
-  ::close(fd[1]);
   std::string err;
-  char buf[4096];
-  for (;;) {
-    const ssize_t n = ::read(fd[0], buf, sizeof(buf));
-    if (n > 0) err.append(buf, size_t(n));
-    else if (n == 0 || errno != EINTR) break;
-  }
-  ::close(fd[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  const int rc = run_and_wait({self, "run", cfg, "--out", dir, "--check-resume", "--threads", "1"}, &err);
+  if (rc == 0) return "";
   // Its last line, less "grainlab: error: CFG: " (the study names the job itself).
   while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
   std::string line = err.substr(err.rfind('\n') == std::string::npos ? 0 : err.rfind('\n') + 1);
   for (const std::string& prefix : {std::string("grainlab: error: "), cfg + ": "})
     if (line.compare(0, prefix.size(), prefix) == 0) line.erase(0, prefix.size());
-  if (line.empty())
-    line = "its check ended with " + (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
-                                                        : "signal " + std::to_string(WTERMSIG(status)));
-  return line;
+  return line.empty() ? "its check ended with " + (rc < 0 ? std::string("no process") : "exit " + std::to_string(rc))
+                      : line;
 }
 
 // One study process per output directory: a second one would launch the same jobs, which their run locks
@@ -1037,18 +1044,8 @@ int run_study(const Study& s, const StudyOptions& o) {
   const std::string py = env && *env ? env : (access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3");
   const std::string script = GRAINLAB_SOURCE_DIR "/scripts/grainlab_plot.py", dir = out.string();
   const std::string cmd = py + " " + script + " study " + dir;  // for the message
-  std::fflush(nullptr);  // the progress lines before the report's
   // Started directly, not through a shell (std::system): a quote in the --out ("Bob's runs") broke the command.
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execlp(py.c_str(), py.c_str(), script.c_str(), "study", dir.c_str(), (char*)nullptr);
-    std::fprintf(stderr, "grainlab study: cannot run %s (%s)\n", py.c_str(), std::strerror(errno));
-    _exit(127);
-  }
-  int status = 0;
-  while (pid > 0 && waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  const int rc = pid < 0 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  const int rc = run_and_wait({py, script, "study", dir}, nullptr);
   if (rc != 0) {
     std::fprintf(stderr, "grainlab study: the report could not be written (%s)\n", cmd.c_str());
     return 1;
