@@ -2157,11 +2157,41 @@ def main():
         csl(runs, out, a.window)
 
 
+class _Console:
+    """The standard output, outliving its reader: `grainlab plot RUN | head -n 1` stopped at the first figure with
+    "error: : Broken pipe". The figures are the product and the lines only name them, so once the reader has gone the
+    lines go to /dev/null and the figures are all made."""
+
+    def __init__(self, f):
+        self.f = f
+
+    def _drop(self):
+        os.dup2(os.open(os.devnull, os.O_WRONLY), self.f.fileno())
+
+    def write(self, s):
+        try:
+            return self.f.write(s)
+        except BrokenPipeError:
+            self._drop()
+            return len(s)
+
+    def flush(self):
+        try:
+            self.f.flush()
+        except BrokenPipeError:
+            self._drop()
+
+    def __getattr__(self, name):
+        return getattr(self.f, name)
+
+
 if __name__ == "__main__":
+    sys.stdout = _Console(sys.stdout)
     # A file-system error (an --out that cannot be created, a full disk, no permission) is one line naming the
     # path, like the engine's errors; what was written before stays whole (scripts/atomic_write.py).
     try:
         main()
+        sys.stdout.flush()
     except OSError as e:
         where = e.filename if e.filename is not None else ""
         sys.exit(f"grainlab {sys.argv[1] if len(sys.argv) > 1 else ''}: error: {where}: {e.strerror or e}")
