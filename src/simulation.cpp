@@ -309,11 +309,16 @@ std::string config_fingerprint(const RunConfig& c) {
 // words (numbers at 17 digits; before bae18c0 a relative sample.file, relative to the working directory, which
 // the empty anchor path below keeps: a run resumed from where it started finds its sample). Text that no longer
 // parses is returned as it is, and so differs.
+// A config text read back as a RunConfig (a fingerprint, a resolved config.yaml); throws where it does not parse.
+RunConfig parse_config_text(const std::string& text) {
+  YAML::Node n = YAML::Load(text);
+  n["output"]["dir"] = "-";  // blanked in a fingerprint (config_fingerprint), which the parser refuses
+  return parse_run_config(n, "");
+}
+
 std::string as_this_build_writes(const std::string& text) {
   try {
-    YAML::Node n = YAML::Load(text);
-    n["output"]["dir"] = "-";  // blanked in a fingerprint (config_fingerprint), which the parser refuses
-    return config_fingerprint(parse_run_config(n, ""));
+    return config_fingerprint(parse_config_text(text));
   } catch (const std::exception&) {
     return text;
   }
@@ -328,9 +333,7 @@ std::string as_this_build_writes(const std::string& text) {
 // does not parse is returned as it is.
 std::string with_checkpoint_cadence(const std::string& then, const RunConfig& now) {
   try {
-    YAML::Node n = YAML::Load(then);
-    n["output"]["dir"] = "-";
-    RunConfig c = parse_run_config(n, "");
+    RunConfig c = parse_config_text(then);
     c.checkpoint_every = now.checkpoint_every;
     c.checkpoint_minutes = now.checkpoint_minutes;
     c.keep_checkpoints = now.keep_checkpoints;
@@ -342,9 +345,7 @@ std::string with_checkpoint_cadence(const std::string& then, const RunConfig& no
 
 std::string with_checkpoint_cadence_of(const std::string& config, const std::string& cadence_from) {
   try {
-    YAML::Node n = YAML::Load(cadence_from);
-    n["output"]["dir"] = "-";
-    return with_checkpoint_cadence(config, parse_run_config(n, ""));
+    return with_checkpoint_cadence(config, parse_config_text(cadence_from));
   } catch (const std::exception&) {
     return config;
   }
