@@ -175,29 +175,47 @@ namespace {
 
 // ------------------------------------------------------------------------------------------------
 // Series: numeric columns plus the stage of each row; the series (series_columns), or a cyclic stage's cycles
-// (cycle_columns).
+// (cycle_columns). Rows are appended (rows, stage); drop_last() is the one way to remove one.
 struct Series {
-  const std::vector<std::pair<std::string, std::string>>* columns = &series_columns();
+  explicit Series(const std::vector<std::pair<std::string, std::string>>* cols = &series_columns()) : columns(cols) {}
+  const std::vector<std::pair<std::string, std::string>>* columns;
   std::vector<std::vector<double>> rows;
   std::vector<int> stage;
+  // csv() is written out every flush (Laboratory::flush_outputs), the whole file each time (atomic rewrite): it
+  // formats each row once and keeps the text, so a run with N rows formats N rows, not N^2 / 40 of them (configs/quick.yaml
+  // at output.every 10, 8 170 rows, took 70 s against 16 s at every 1000, most of it in printf; perf/output_every.sh).
   std::string csv(const std::vector<StageConfig>& stages) const {
+    if (text_rows_ > rows.size() || text_.empty()) {
+      std::ostringstream os;
+      os << "stage";
+      for (auto& c : *columns) os << ',' << c.first;
+      os << '\n';
+      text_ = os.str();
+      text_rows_ = 0;
+    }
+    std::vector<bool> whole;  // integer columns, printed without a decimal point
+    for (auto& c : *columns)
+      whole.push_back(c.first == "step" ||
+                      (columns == &cycle_columns() && (c.first == "cycle" || c.first == "complete")));
     std::ostringstream os;
-    const auto& cols = *columns;
-    os << "stage";
-    for (auto& c : cols) os << ',' << c.first;
-    os << '\n' << std::setprecision(12);
-    for (size_t r = 0; r < rows.size(); ++r) {
+    os << std::setprecision(12);
+    for (size_t r = text_rows_; r < rows.size(); ++r) {
       os << stages[stage[r]].name;
-      for (size_t c = 0; c < cols.size(); ++c) {
+      for (size_t c = 0; c < whole.size(); ++c) {
         os << ',';
-        const bool whole = cols[c].first == "step" ||
-                           (columns == &cycle_columns() && (cols[c].first == "cycle" || cols[c].first == "complete"));
-        if (whole) os << long(rows[r][c]);
+        if (whole[c]) os << long(rows[r][c]);
         else os << rows[r][c];
       }
       os << '\n';
     }
-    return os.str();
+    text_ += os.str();
+    text_rows_ = rows.size();
+    return text_;
+  }
+  void drop_last() {
+    rows.pop_back();
+    stage.pop_back();
+    text_.clear();  // its text is in the cache: csv() formats the rows afresh
   }
   std::vector<double> column(size_t c) const {
     std::vector<double> v;
@@ -209,6 +227,11 @@ struct Series {
     for (auto& r : rows) v.insert(v.end(), r.begin(), r.end());
     return v;
   }
+
+ private:
+  // the text of the first text_rows_ rows, empty before the first csv() and after drop_last()
+  mutable std::string text_;
+  mutable size_t text_rows_ = 0;
 };
 
 // The driver's own state: everything besides the engine that a resumed run needs.
@@ -228,7 +251,7 @@ struct Lab {
   // stage's start before the first), and the cycle number N at which each criterion was first met (-1: not yet)
   Real eps_turn = 0, n_ru = -1, n_da = -1;
   CycleLoop loop;  // cyclic stage: the cycle under way (Laboratory::watch_cycle)
-  Series cycles{&cycle_columns(), {}, {}};
+  Series cycles{&cycle_columns()};
   Series series;
   std::vector<StageResult> results;
   std::vector<std::string> snapshot_files;
@@ -495,6 +518,10 @@ class Laboratory {
   Lab lab_;
   long total_steps_ = 0;  // steps taken by this process (for stop_after_steps)
   std::chrono::steady_clock::time_point last_ckpt_ = std::chrono::steady_clock::now();
+  // flush_outputs' pacing (flush_due): when the files were last written and what that took, in seconds
+  std::chrono::steady_clock::time_point last_flush_ = std::chrono::steady_clock::now();
+  double flush_cost_ = 0;
+  bool flush_due(int rows_since) const;
   std::chrono::steady_clock::time_point stage_t0_ = std::chrono::steady_clock::now();
   long stage_step0_ = 0;
   bool tty_ = ::isatty(STDOUT_FILENO);
@@ -1289,7 +1316,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         }
         line << " | " << std::setprecision(3) << rate << " steps/s";
         progress(line.str());
-        if (++rows_since_flush >= 20) {
+        if (flush_due(++rows_since_flush)) {
           flush_outputs();
           rows_since_flush = 0;
         }
@@ -1836,8 +1863,7 @@ bool Laboratory::load_newest_checkpoint() {
           // the part of a cycle the stage ended in goes on: its row (complete 0) is written again when it ends
           while (!lab_.cycles.rows.empty() && lab_.cycles.stage.back() == lab_.stage &&
                  lab_.cycles.rows.back()[kCycleComplete] == 0) {
-            lab_.cycles.rows.pop_back();
-            lab_.cycles.stage.pop_back();
+            lab_.cycles.drop_last();
           }
         }
       }
@@ -1931,7 +1957,24 @@ void Laboratory::write_summary() const {
   write_file_atomic(out_ + "/summary.json", js.str());
 }
 
+}  // namespace
+
+// The minute is for a slow run: a 1e6-sphere run at 5 steps/s with output.every 1000 has a row every 200 s, and 20
+// rows would be an hour with nothing to plot. The floor of ten times the last write is for a long series written
+// often: at output.every 10 a 3 000-sphere run writes 6.5 MB of series.csv and 3.8 MB of run.h5 by its end. Outputs
+// only: the dynamics, and the files at each stage's end (written there in any case), are the same whatever the pace.
+bool output_flush_due(int rows_since, double seconds_since, double last_cost) {
+  return rows_since > 0 && (rows_since >= 20 || seconds_since >= 60) && seconds_since >= 10 * last_cost;
+}
+
+namespace {
+bool Laboratory::flush_due(int rows_since) const {
+  return output_flush_due(rows_since, std::chrono::duration<double>(std::chrono::steady_clock::now() - last_flush_).count(),
+                          flush_cost_);
+}
+
 void Laboratory::flush_outputs() {
+  const auto t0 = std::chrono::steady_clock::now();
   write_file_atomic(out_ + "/series.csv", lab_.series.csv(cfg_.stages));
   if (!lab_.cycles.rows.empty()) write_file_atomic(out_ + "/cycles.csv", lab_.cycles.csv(cfg_.stages));
   write_h5_atomic(out_ + "/run.h5", [&](H5Writer& w) {
@@ -1954,6 +1997,8 @@ void Laboratory::flush_outputs() {
     w.write("/snapshots/time", lab_.snapshot_time);
     w.write("/snapshots/eps_a", lab_.snapshot_eps);
   });
+  last_flush_ = std::chrono::steady_clock::now();
+  flush_cost_ = std::chrono::duration<double>(last_flush_ - t0).count();
 }
 
 RunResult Laboratory::run() {

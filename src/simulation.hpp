@@ -120,6 +120,11 @@ int usable_cores();
 // The cores of a cgroup v2 cpu.max text, "QUOTA PERIOD" (microseconds each), rounded up; 0 for "max PERIOD" (no
 // limit) or an unreadable text.
 int cores_of_cpu_max(const std::string& text);
+// Whether a stage writes its outputs again (series.csv, cycles.csv, run.h5: whole-file atomic rewrites that grow with
+// the series) at a series row, rows_since rows and seconds_since seconds after the last write, which took last_cost
+// seconds: after 20 rows, or a minute for a slow run, never sooner than 10 last_cost (the writes' share of the run
+// stays about a tenth or less however long its series grows).
+bool output_flush_due(int rows_since, double seconds_since, double last_cost);
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt);
 

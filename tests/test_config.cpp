@@ -748,3 +748,17 @@ TEST(Config, CpuQuotaCountsCores) {
   EXPECT_EQ(cores_of_cpu_max("100000 0"), 0);
   EXPECT_GE(usable_cores(), 1);
 }
+
+// The pace of a stage's output writes (series.csv, cycles.csv, run.h5 rewritten whole): every 20 rows, a minute for a
+// slow run, never sooner than ten times the last write took.
+TEST(Config, OutputWritesArePaced) {
+  EXPECT_FALSE(output_flush_due(19, 1, 0.001));
+  EXPECT_TRUE(output_flush_due(20, 1, 0.001));
+  EXPECT_FALSE(output_flush_due(20, 0.05, 0.01)) << "a write of 10 ms waits 100 ms";
+  EXPECT_TRUE(output_flush_due(40, 0.1, 0.01));
+  EXPECT_FALSE(output_flush_due(1, 59, 0.001));
+  EXPECT_TRUE(output_flush_due(1, 60, 0.001)) << "a slow run's row is written within a minute";
+  EXPECT_FALSE(output_flush_due(0, 1e4, 0.001)) << "nothing new: nothing to write";
+  EXPECT_FALSE(output_flush_due(1, 61, 10)) << "a write of 10 s waits 100 s";
+  EXPECT_TRUE(output_flush_due(1, 100, 10));
+}
