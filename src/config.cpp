@@ -229,6 +229,17 @@ YAML::Node load_yaml_screened(const std::string& path) {
       std::string what = e.what();
       for (char& ch : what)
         if (ch == '\n') ch = ' ';
+      // yaml-cpp's words for a tab in the indentation ("illegal map value", "end of map not found") do not name it
+      if (e.mark.line >= 0) {
+        std::istringstream lines(text);
+        std::string line;
+        for (int k = 0; k <= e.mark.line && std::getline(lines, line); ++k) {
+        }
+        const size_t lead = line.find_first_not_of(" \t");
+        if (line.substr(0, lead).find('\t') != std::string::npos)
+          what += " (a tab in the indentation of line " + std::to_string(e.mark.line + 1) +
+                  ": YAML indents with spaces only)";
+      }
       throw ConfigError(path + ": not valid YAML: " + what);
     } catch (const std::exception& e) {
       throw ConfigError(path + ": cannot parse: " + e.what());

@@ -270,7 +270,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), one_line(e.what()).c_str());
       return 1;
     }
-    std::printf("%s: ok (%zu stages, %ld particles%s)\n", config.c_str(), cfg.stages.size(), plan.particles,
+    std::printf("%s: ok (%zu stage%s, %ld particle%s%s)\n", config.c_str(), cfg.stages.size(),
+                cfg.stages.size() == 1 ? "" : "s", plan.particles, plan.particles == 1 ? "" : "s",
                 !cfg.sample_file.empty() ? ", read from sample.file"
                 : plan.placed           ? ", placed as the run places them"
                                         : "; their placement is checked at the run's start");

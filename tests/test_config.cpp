@@ -128,6 +128,9 @@ TEST(Config, RejectsBadInputClearly) {
       {"nostages", "material: {E: 1e8}\n", "stages: must be a non-empty list"},
       {"empty", "", "the file is empty"},
       {"yaml", "stages: [\n", "not valid YAML"},
+      // yaml-cpp's own words for a tab in the indentation do not name it
+      {"tab_indent", "sample:\n\tcount: 300\nstages: [{type: isotropic}]\n",
+       "(a tab in the indentation of line 2: YAML indents with spaces only)"},
       {"notmap", "- 1\n- 2\n", "must be a mapping"},
       // a key twice in one mapping: yaml-cpp would take the first silently; the lines say where (one flow line, or two)
       {"dup_flow", std::string("sample: {count: 100, seed: 3, count: 200}\n") + kMinimal,
