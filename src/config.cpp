@@ -39,9 +39,13 @@ class Section {
     throw ConfigError(*file_ + ": " + key + (states_value ? " " : ": ") + msg);
   }
   std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+  // A key written with no value (`count:` or `count: ~`) is an error, not its default: a value left out by mistake
+  // would otherwise silently mean the default, as a misspelt key would (finish). A section may be blank (sub).
   bool has(const std::string& k) {
     seen_.insert(k);
-    return bool(n_[k]) && !n_[k].IsNull();
+    if (n_[k] && n_[k].IsNull())
+      fail(key_path(k), "has no value: give one, or leave the key out for its default");
+    return bool(n_[k]);
   }
 
   // Real in [lo, hi] (lower bound open when lo_open), finite.

@@ -126,6 +126,11 @@ TEST(Config, RejectsBadInputClearly) {
       {"stage_default_twice", "stages:\n  - {type: isotropic}\n  - {name: stage0, type: isotropic}\n",
        "stages[1].name = 'stage0' is stages[0]'s name too"},
       {"nostages", "material: {E: 1e8}\n", "stages: must be a non-empty list"},
+      // a value left out is not the default (a blank section is: `material:` alone)
+      {"no_value", "material:\nsample:\n  count:\n  seed: 3\nstages: [{type: isotropic}]\n",
+       "sample.count: has no value: give one, or leave the key out for its default"},
+      {"no_value_stage", "stages:\n  - {type: isotropic, pressure: ~}\n",
+       "stages[0].pressure: has no value: give one, or leave the key out for its default"},
       {"empty", "", "the file is empty"},
       {"yaml", "stages: [\n", "not valid YAML"},
       // yaml-cpp's own words for a tab in the indentation do not name it
