@@ -174,7 +174,9 @@ Study load_study_unchecked(const std::string& path) {
     if (!known.count(it.first.as<std::string>()))
       fail(path, it.first.as<std::string>(), "unknown key (known: base, axes, extra, critical_state, peak)");
   if (!root["base"]) fail(path, "base", "is required (a run config whose stages prepare and shear a sample)");
-  s.base = root["base"].as<std::string>();
+  if (!root["base"].IsScalar() || root["base"].Scalar().empty())
+    fail(path, "base", "must be the path of a run config (relative to this file), whose stages prepare and shear a sample");
+  s.base = root["base"].Scalar();
   if (s.base[0] != '/') s.base = (fs::path(path).parent_path() / s.base).string();
   RunConfig base_cfg;
   YAML::Node base;

@@ -290,6 +290,11 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
     EXPECT_NE(e.find(c.expect), std::string::npos) << c.name << ": got '" << e << "'";
     EXPECT_EQ(e.find('\n'), std::string::npos) << c.name << ": error must be one line";
   }
+  // a base with no value read as the file "null"; a list, as a conversion error
+  for (const char* base : {"", "~", "[a, b]"}) {
+    const std::string e = error("study_base", std::string("base: ") + base + "\naxes: {mu_r: [0]}\n");
+    EXPECT_NE(e.find("base: must be the path of a run config"), std::string::npos) << base << ": got '" << e << "'";
+  }
 }
 
 // How the report takes its peaks: single rows and every row unless the study's `peak` block says otherwise. A study
