@@ -7,6 +7,9 @@
 #include <cstring>
 #include <filesystem>
 #include <algorithm>
+#include <cstdlib>
+#include <pwd.h>
+#include <unistd.h>
 #include <charconv>
 #include <fstream>
 #include <iterator>
@@ -271,6 +274,25 @@ bool is_run_config_file(const std::string& path) { return has_top_key(path, "sta
 
 RunConfig load_run_config(const std::string& path) { return parse_run_config(load_yaml_screened(path), path); }
 
+std::string expand_home(const std::string& path, const std::string& where) {
+  if (path.empty() || path[0] != '~') return path;
+  const size_t slash = path.find('/');
+  const std::string user = path.substr(1, slash == std::string::npos ? std::string::npos : slash - 1);
+  const std::string rest = slash == std::string::npos ? "" : path.substr(slash);
+  std::string home;
+  if (user.empty()) {
+    const char* h = std::getenv("HOME");
+    if (h && *h) home = h;
+    else if (const passwd* pw = ::getpwuid(::getuid())) home = pw->pw_dir ? pw->pw_dir : "";
+    if (home.empty()) throw ConfigError(where + " = '" + path + "': ~ is the home directory, and HOME is not set");
+  } else {
+    const passwd* pw = ::getpwnam(user.c_str());
+    if (!pw || !pw->pw_dir) throw ConfigError(where + " = '" + path + "': no user '" + user + "' whose home ~" + user + " is");
+    home = pw->pw_dir;
+  }
+  return home + rest;
+}
+
 RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   RunConfig c;
   c.path = path;
@@ -278,7 +300,7 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   Section top(root, "", &path);
 
   Section s = top.sub("sample");
-  c.sample_file = s.string("file", "");
+  c.sample_file = expand_home(s.string("file", ""), path + ": sample.file");
   if (!c.sample_file.empty()) {
     // A saved sample brings its particles, box and densities: generation keys would be ignored, so
     // they are refused rather than silently dropped.
@@ -425,10 +447,10 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   }
 
   Section o = top.sub("output");
-  c.out_dir = o.string("dir", "runs/" + [&] {
+  c.out_dir = expand_home(o.string("dir", "runs/" + [&] {
     std::string b = path.substr(path.find_last_of('/') + 1);
     return b.substr(0, b.find_last_of('.'));
-  }());
+  }()), path + ": output.dir");
   c.output_every = o.integer("every", 1000, 1, 1000000000000L);
   c.snapshot_strain = o.real("snapshot_strain", 0.01, 0, 1);
   c.checkpoint_every = o.integer("checkpoint_every", 100000, 0, 1000000000000L);

@@ -3,9 +3,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <pwd.h>
 #include <sys/stat.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -94,6 +96,36 @@ TEST(Config, DefaultsAreSpecReferenceValues) {
   EXPECT_EQ(c.engine.dt_factor, 0.2);
   EXPECT_EQ(c.engine.inner_skin, EngineParams{}.inner_skin);
   EXPECT_EQ(c.stages.at(0).pressure, 190e3);
+}
+
+// A leading ~ in a path of a config (output.dir, sample.file) or study (base) is the home directory, as in a shell:
+// `dir: ~/runs/a` made a directory named "~" in the working directory.
+TEST(Config, TildeInAPathIsTheHomeDirectory) {
+  const char* was = std::getenv("HOME");
+  const std::string saved = was ? was : "";
+  const std::string home = test::scratch("tilde_home").string();
+  ::setenv("HOME", home.c_str(), 1);
+  const RunConfig c = load_run_config(write_tmp("tilde", std::string("output: {dir: ~/runs/a}\n") + kMinimal));
+  EXPECT_EQ(c.out_dir, home + "/runs/a");
+  const RunConfig s = load_run_config(write_tmp("tilde_sample", "sample: {file: ~/s.h5}\n" + std::string(kMinimal)));
+  EXPECT_EQ(s.sample_file, home + "/s.h5");
+  EXPECT_EQ(expand_home("~", "f: k"), home);
+  EXPECT_EQ(expand_home("a/~/b", "f: k"), "a/~/b") << "only a leading ~";
+  EXPECT_EQ(expand_home("~root/x", "f: k"), std::string(::getpwnam("root")->pw_dir) + "/x");
+  std::string e;
+  try {
+    expand_home("~no_such_user_x1/runs", "f.yaml: output.dir");
+  } catch (const ConfigError& x) {
+    e = x.what();
+  }
+  EXPECT_EQ(e, "f.yaml: output.dir = '~no_such_user_x1/runs': no user 'no_such_user_x1' whose home ~no_such_user_x1 is");
+  // the study's base: a home-relative path is not read beside the study file
+  fs::create_directories(home);
+  fs::copy_file(GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml", home + "/base.yaml",
+                fs::copy_options::overwrite_existing);
+  EXPECT_EQ(load_study(write_tmp("tilde_study", "base: ~/base.yaml\naxes: {mu_r: [0]}\n")).base, home + "/base.yaml");
+  if (was) ::setenv("HOME", saved.c_str(), 1);
+  else ::unsetenv("HOME");
 }
 
 TEST(Config, OutOfRangeNamesFileKeyAndRange) {
