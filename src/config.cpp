@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -274,7 +275,32 @@ bool is_run_config_file(const std::string& path) { return has_top_key(path, "sta
 
 RunConfig load_run_config(const std::string& path) { return parse_run_config(load_yaml_screened(path), path); }
 
-std::string expand_home(const std::string& path, const std::string& where) {
+namespace {
+// $NAME and ${NAME} in a path replaced by the environment's values; an unset (or empty) variable is an error.
+std::string expand_variables(const std::string& path, const std::string& where) {
+  std::string out;
+  for (size_t i = 0; i < path.size();) {
+    if (path[i] != '$') {
+      out += path[i++];
+      continue;
+    }
+    const bool braced = i + 1 < path.size() && path[i + 1] == '{';
+    size_t j = i + (braced ? 2 : 1), end = j;
+    while (end < path.size() && (std::isalnum(static_cast<unsigned char>(path[end])) || path[end] == '_')) ++end;
+    const std::string name = path.substr(j, end - j);
+    if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0])) || (braced && (end >= path.size() || path[end] != '}')))
+      throw ConfigError(where + " = '" + path + "': a $ must start an environment variable, $NAME or ${NAME}");
+    const char* v = std::getenv(name.c_str());
+    if (!v || !*v) throw ConfigError(where + " = '" + path + "': the environment variable " + name + " is not set");
+    out += v;
+    i = end + (braced ? 1 : 0);
+  }
+  return out;
+}
+}  // namespace
+
+std::string expand_path(const std::string& raw, const std::string& where) {
+  const std::string path = expand_variables(raw, where);
   if (path.empty() || path[0] != '~') return path;
   const size_t slash = path.find('/');
   const std::string user = path.substr(1, slash == std::string::npos ? std::string::npos : slash - 1);
@@ -284,10 +310,10 @@ std::string expand_home(const std::string& path, const std::string& where) {
     const char* h = std::getenv("HOME");
     if (h && *h) home = h;
     else if (const passwd* pw = ::getpwuid(::getuid())) home = pw->pw_dir ? pw->pw_dir : "";
-    if (home.empty()) throw ConfigError(where + " = '" + path + "': ~ is the home directory, and HOME is not set");
+    if (home.empty()) throw ConfigError(where + " = '" + raw + "': ~ is the home directory, and HOME is not set");
   } else {
     const passwd* pw = ::getpwnam(user.c_str());
-    if (!pw || !pw->pw_dir) throw ConfigError(where + " = '" + path + "': no user '" + user + "' whose home ~" + user + " is");
+    if (!pw || !pw->pw_dir) throw ConfigError(where + " = '" + raw + "': no user '" + user + "' whose home ~" + user + " is");
     home = pw->pw_dir;
   }
   return home + rest;
@@ -300,7 +326,7 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   Section top(root, "", &path);
 
   Section s = top.sub("sample");
-  c.sample_file = expand_home(s.string("file", ""), path + ": sample.file");
+  c.sample_file = expand_path(s.string("file", ""), path + ": sample.file");
   if (!c.sample_file.empty()) {
     // A saved sample brings its particles, box and densities: generation keys would be ignored, so
     // they are refused rather than silently dropped.
@@ -447,7 +473,7 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   }
 
   Section o = top.sub("output");
-  c.out_dir = expand_home(o.string("dir", "runs/" + [&] {
+  c.out_dir = expand_path(o.string("dir", "runs/" + [&] {
     std::string b = path.substr(path.find_last_of('/') + 1);
     return b.substr(0, b.find_last_of('.'));
   }()), path + ": output.dir");

@@ -109,11 +109,11 @@ RunConfig load_run_config(const std::string& path);
 RunConfig parse_run_config(const YAML::Node& root, const std::string& path);
 // Reads a YAML file after screening it (size, NUL bytes, nesting depth); errors name the file.
 YAML::Node load_yaml_screened(const std::string& path);
-// A path from a config or study file with a leading ~ or ~user expanded to that home directory, as a shell would: no
-// shell reads the file, and `dir: ~/runs/a` made a directory named "~" in the working directory (which `rm -rf ~`
-// would then mistake for home). Other paths as they are. `where` ("file: key") names it in the error where the home
-// cannot be found.
-std::string expand_home(const std::string& path, const std::string& where);
+// A path from a config or study file expanded as a shell would: $NAME and ${NAME} (a cluster's $SCRATCH), then a
+// leading ~ or ~user (that home directory). No shell reads the file: `dir: ~/runs/a` made a directory named "~" in the
+// working directory (which `rm -rf ~` would then mistake for home), `dir: $SCRATCH/a` one named "$SCRATCH". `where`
+// ("file: key") names the path in the error where a variable is not set or the home cannot be found.
+std::string expand_path(const std::string& path, const std::string& where);
 // A study file (top-level `base:`) rather than a run config.
 bool is_study_file(const std::string& path);
 // A YAML mapping with `stages` (what `grainlab study` of a run config is told).

@@ -176,7 +176,7 @@ Study load_study_unchecked(const std::string& path) {
   if (!root["base"]) fail(path, "base", "is required (a run config whose stages prepare and shear a sample)");
   if (!root["base"].IsScalar() || root["base"].Scalar().empty())
     fail(path, "base", "must be the path of a run config (relative to this file), whose stages prepare and shear a sample");
-  s.base = expand_home(root["base"].Scalar(), path + ": base");
+  s.base = expand_path(root["base"].Scalar(), path + ": base");
   if (s.base[0] != '/') s.base = (fs::path(path).parent_path() / s.base).string();
   RunConfig base_cfg;
   YAML::Node base;

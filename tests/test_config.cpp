@@ -98,9 +98,10 @@ TEST(Config, DefaultsAreSpecReferenceValues) {
   EXPECT_EQ(c.stages.at(0).pressure, 190e3);
 }
 
-// A leading ~ in a path of a config (output.dir, sample.file) or study (base) is the home directory, as in a shell:
-// `dir: ~/runs/a` made a directory named "~" in the working directory.
-TEST(Config, TildeInAPathIsTheHomeDirectory) {
+// A path of a config (output.dir, sample.file) or study (base) is expanded as a shell would: a leading ~ is the home
+// directory, $NAME and ${NAME} environment variables. `dir: ~/runs/a` made a directory named "~" in the working
+// directory, `dir: $SCRATCH/a` one named "$SCRATCH".
+TEST(Config, APathExpandsHomeAndVariablesLikeAShell) {
   const char* was = std::getenv("HOME");
   const std::string saved = was ? was : "";
   const std::string home = test::scratch("tilde_home").string();
@@ -109,16 +110,34 @@ TEST(Config, TildeInAPathIsTheHomeDirectory) {
   EXPECT_EQ(c.out_dir, home + "/runs/a");
   const RunConfig s = load_run_config(write_tmp("tilde_sample", "sample: {file: ~/s.h5}\n" + std::string(kMinimal)));
   EXPECT_EQ(s.sample_file, home + "/s.h5");
-  EXPECT_EQ(expand_home("~", "f: k"), home);
-  EXPECT_EQ(expand_home("a/~/b", "f: k"), "a/~/b") << "only a leading ~";
-  EXPECT_EQ(expand_home("~root/x", "f: k"), std::string(::getpwnam("root")->pw_dir) + "/x");
+  EXPECT_EQ(expand_path("~", "f: k"), home);
+  EXPECT_EQ(expand_path("a/~/b", "f: k"), "a/~/b") << "only a leading ~";
+  EXPECT_EQ(expand_path("~root/x", "f: k"), std::string(::getpwnam("root")->pw_dir) + "/x");
   std::string e;
   try {
-    expand_home("~no_such_user_x1/runs", "f.yaml: output.dir");
+    expand_path("~no_such_user_x1/runs", "f.yaml: output.dir");
   } catch (const ConfigError& x) {
     e = x.what();
   }
   EXPECT_EQ(e, "f.yaml: output.dir = '~no_such_user_x1/runs': no user 'no_such_user_x1' whose home ~no_such_user_x1 is");
+  ::setenv("GRAINLAB_TEST_SCRATCH", "/scratch/u", 1);
+  EXPECT_EQ(expand_path("$GRAINLAB_TEST_SCRATCH/runs/${GRAINLAB_TEST_SCRATCH}x", "f: k"), "/scratch/u/runs//scratch/ux");
+  EXPECT_EQ(load_run_config(write_tmp("dollar", std::string("output: {dir: $HOME/r}\n") + kMinimal)).out_dir,
+            home + "/r");
+  ::unsetenv("GRAINLAB_TEST_SCRATCH");
+  for (const auto& [path, says] : std::vector<std::pair<std::string, std::string>>{
+           {"$GRAINLAB_TEST_SCRATCH/a", "the environment variable GRAINLAB_TEST_SCRATCH is not set"},
+           {"${GRAINLAB_TEST_SCRATCH", "a $ must start an environment variable, $NAME or ${NAME}"},
+           {"a/$/b", "a $ must start an environment variable, $NAME or ${NAME}"},
+           {"a/$1", "a $ must start an environment variable, $NAME or ${NAME}"}}) {
+    std::string got;
+    try {
+      expand_path(path, "f.yaml: output.dir");
+    } catch (const ConfigError& x) {
+      got = x.what();
+    }
+    EXPECT_EQ(got, "f.yaml: output.dir = '" + path + "': " + says);
+  }
   // the study's base: a home-relative path is not read beside the study file
   fs::create_directories(home);
   fs::copy_file(GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml", home + "/base.yaml",
