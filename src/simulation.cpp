@@ -627,6 +627,17 @@ double require_memory(long n, const std::string& what, std::string& source) {
 // sample_<stage>.h5, snapshots/). So `--out .` in a folder that holds the user's own config.yaml stops with one
 // line instead of overwriting it. The check only reads, and runs before anything is created.
 void Laboratory::refuse_overwrites() const {
+  // A study's directory, or its jobs/ folder: the run's files would sit among the study's (a run's own directory
+  // inside a study, jobs/NAME/run, is where the study runs its jobs)
+  if (holds_study(out_))
+    throw std::runtime_error(out_ + ": holds a study (grainlab study --out); a run's --out is a directory of its own "
+                                    "(nothing was changed)");
+  fs::path dir = fs::path(out_).lexically_normal();
+  if (dir.filename().empty()) dir = dir.parent_path();  // "st/jobs/"
+  const fs::path up = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
+  if (dir.filename() == "jobs" && holds_study(up.string()))
+    throw std::runtime_error(out_ + ": the jobs folder of a study; a run's --out is a directory of its own (nothing "
+                                      "was changed)");
   for (const char* f : {"series.csv", "run.h5"})
     if (fs::exists(out_ + "/" + f))
       throw std::runtime_error(out_ + ": already holds a run (" + f +
@@ -652,7 +663,7 @@ void Laboratory::refuse_overwrites() const {
 }
 
 bool Laboratory::holds_run() const {
-  return fs::exists(out_ + "/series.csv") || fs::exists(out_ + "/run.h5") || holds_files(out_ + "/checkpoints");
+  return grainlab::holds_run(out_);
 }
 
 void Laboratory::prepare_output_dir() {
@@ -1965,6 +1976,14 @@ void Laboratory::write_summary() const {
 // only: the dynamics, and the files at each stage's end (written there in any case), are the same whatever the pace.
 bool output_flush_due(int rows_since, double seconds_since, double last_cost) {
   return rows_since > 0 && (rows_since >= 20 || seconds_since >= 60) && seconds_since >= 10 * last_cost;
+}
+
+bool holds_study(const std::string& dir) {
+  std::error_code ec;
+  return fs::exists(dir + "/study.json", ec) || (fs::exists(dir + "/.lock", ec) && fs::is_directory(dir + "/jobs", ec));
+}
+bool holds_run(const std::string& dir) {
+  return fs::exists(dir + "/series.csv") || fs::exists(dir + "/run.h5") || holds_files(dir + "/checkpoints");
 }
 
 namespace {

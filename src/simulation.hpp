@@ -127,6 +127,10 @@ int cores_of_cpu_max(const std::string& text);
 bool output_flush_due(int rows_since, double seconds_since, double last_cost);
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt);
+// Whether a directory holds a study (`grainlab study --out`: its study.json, or its lock beside jobs/ before the first
+// study.json), or a run (series.csv, run.h5 or checkpoints): neither kind of run goes where the other is.
+bool holds_study(const std::string& dir);
+bool holds_run(const std::string& dir);
 
 // Series columns (name, unit), in order; documented in configs/README.md.
 const std::vector<std::pair<std::string, std::string>>& series_columns();

@@ -797,6 +797,10 @@ class StudyLock {
 
 int run_study(const Study& s, const StudyOptions& o) {
   const fs::path out = o.out_dir.empty() ? fs::path("runs") / fs::path(s.path).stem() : fs::path(o.out_dir);
+  // A run's directory: the study's jobs/, figures/ and report would sit among the run's files
+  if (holds_run(out.string()))
+    throw std::runtime_error(out.string() + ": holds a run (grainlab run --out); a study's --out is a directory of its "
+                                            "own (nothing was changed)");
   fs::create_directories(out / "jobs");
   const StudyLock lock(out);
   // The cores of this process's affinity, not the machine's: a container's cpuset of 2 on a 64-core host must not

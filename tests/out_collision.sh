@@ -6,6 +6,8 @@
 #  3. a folder holding particles.xdmf, or a sample file of one of the config's stages: refused the same way;
 #  4. a run killed before its first checkpoint (its own config.yaml, .lock, empty checkpoints/) starts again,
 #     with and without --resume: its config.yaml is the same text, so replacing it loses nothing.
+#  5. a study's directory (its study.json) and its jobs folder are not a run's, nor a run's directory a study's: each
+#     refused with one line, nothing created there.
 # Bad counts on the command line (--threads, --jobs, --stop-after-steps) get one line with the range, exit 2.
 # A sample too large for the memory is refused before anything is written.
 set -u
@@ -54,6 +56,21 @@ killed_early
 killed_early
 "$bin" run "$cfg" --out "$work/killed" --quiet --resume --stop-after-steps 0 2>/dev/null
 [ $? -eq 130 ] || fail "a run killed before its first checkpoint could not start again with --resume"
+
+# 5: a study's directory and a run's are each the other's no place.
+mkdir -p "$work/st/jobs"
+echo '{}' > "$work/st/study.json"
+expect 1 "st: holds a study \(grainlab study --out\); a run's --out is a directory of its own \(nothing was changed\)" \
+  "$bin" run "$cfg" --out "$work/st" --quiet
+expect 1 "st/jobs/: the jobs folder of a study; a run's --out is a directory of its own" \
+  "$bin" run "$cfg" --out "$work/st/jobs/" --quiet
+[ "$(ls -A "$work/st" | tr '\n' ' ')" = "jobs study.json " ] && [ -z "$(ls -A "$work/st/jobs")" ] ||
+  fail "a refused run wrote into the study: $(ls -AR "$work/st")"
+printf 'base: %s\naxes: {mu_r: [0]}\n' "$cfg" > "$work/study.yaml"
+before=$(ls -A "$work/killed")
+expect 1 "killed: holds a run \(grainlab run --out\); a study's --out is a directory of its own \(nothing was changed\)" \
+  "$bin" study "$work/study.yaml" --out "$work/killed" --quiet
+[ "$(ls -A "$work/killed")" = "$before" ] || fail "a refused study wrote into the run: $(ls -A "$work/killed")"
 
 # Counts on the command line.
 expect 2 "^grainlab: --threads must be an integer in \[1, 512\], got 'abc'$" \
