@@ -2132,6 +2132,11 @@ def main():
     seen = {}
     for r in a.runs:
         if not os.path.isfile(os.path.join(r, "series.csv")):
+            if os.path.isfile(os.path.join(r, "study.json")):
+                # a study's own: its report has the figures of all its tests; its runs are each job's run/
+                sys.exit(f"grainlab {a.cmd}: {r}: a study's directory, not a run's: its figures are in "
+                         f"{os.path.join(r, 'figures')} (grainlab study remakes them), its runs are "
+                         f"{os.path.join(r, 'jobs', '*', 'run')}")
             sys.exit(f"grainlab {a.cmd}: {r}: no series.csv (not a run directory)")
         # The same run twice (runs/a and runs/a/, a link, a shell glob that overlaps) would count its critical state
         # twice in csl's fits and draw its curves twice.

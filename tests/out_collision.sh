@@ -7,7 +7,7 @@
 #  4. a run killed before its first checkpoint (its own config.yaml, .lock, empty checkpoints/) starts again,
 #     with and without --resume: its config.yaml is the same text, so replacing it loses nothing.
 #  5. a study's directory (its study.json) and its jobs folder are not a run's, nor a run's directory a study's: each
-#     refused with one line, nothing created there.
+#     refused with one line, nothing created there; `plot` of a study's directory says where its figures and runs are.
 # Bad counts on the command line (--threads, --jobs, --stop-after-steps) get one line with the range, exit 2.
 # A sample too large for the memory is refused before anything is written.
 set -u
@@ -66,6 +66,10 @@ expect 1 "st/jobs/: the jobs folder of a study; a run's --out is a directory of 
   "$bin" run "$cfg" --out "$work/st/jobs/" --quiet
 [ "$(ls -A "$work/st" | tr '\n' ' ')" = "jobs study.json " ] && [ -z "$(ls -A "$work/st/jobs")" ] ||
   fail "a refused run wrote into the study: $(ls -AR "$work/st")"
+# plot and csl name a study's directory as such (its figures, its runs) rather than "not a run directory"
+expect 1 "st: a study's directory, not a run's: its figures are in .*/st/figures \(grainlab study remakes them\), its runs are .*/st/jobs/\*/run$" \
+  "$bin" plot "$work/st" --out "$work/st_figures"
+[ ! -e "$work/st_figures" ] || fail "a refused plot made its --out"
 printf 'base: %s\naxes: {mu_r: [0]}\n' "$cfg" > "$work/study.yaml"
 before=$(ls -A "$work/killed")
 expect 1 "killed: holds a run \(grainlab run --out\); a study's --out is a directory of its own \(nothing was changed\)" \
