@@ -27,7 +27,7 @@ int usage(FILE* f) {
                "       grainlab plot RUN_DIR [RUN_DIR...] [--out DIR]     figures (PNG + PDF)\n"
                "       grainlab csl RUN_DIR [RUN_DIR...] [--out DIR]      critical-state lines per mu_r\n"
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
-               "       grainlab version\n");
+               "       grainlab version                                   build: version, source commit, Kokkos, backend\n");
   if (f != stdout) return 2;  // after a bad command line, the usage alone
   std::fprintf(f,
                "exit codes: 0 done, 1 error (config, I/O, memory), 2 bad command line, 3 numerical blow-up,\n"
@@ -105,8 +105,8 @@ int main(int argc, char** argv) {
   if (argc < 2) return usage(stderr);
   const std::string cmd = argv[1];
   if (cmd == "-h" || cmd == "--help" || cmd == "help") return usage(stdout);
-  if (cmd == "version") {
-    std::printf("grainlab %s (Kokkos %d)\n", GRAINLAB_VERSION, KOKKOS_VERSION);
+  if (cmd == "version" || cmd == "--version") {
+    std::printf("%s\n", grainlab::version_line().c_str());
     return 0;
   }
   if (cmd == "plot" || cmd == "csl") {

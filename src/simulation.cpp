@@ -305,11 +305,14 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
-std::string build_info() {
+// The build string: version and source commit, Kokkos, backend (x its threads, once Kokkos is started), compiler,
+// precision.
+std::string build_string(bool threads) {
   std::ostringstream os;
-  os << "grainlab " << GRAINLAB_VERSION << "; Kokkos " << KOKKOS_VERSION / 10000 << '.' << (KOKKOS_VERSION / 100) % 100
-     << '.' << KOKKOS_VERSION % 100 << "; backend " << ExecSpace::name() << " x " << ExecSpace().concurrency()
-     << "; compiler " <<
+  os << "grainlab " << GRAINLAB_VERSION << " (source " << source_commit() << "); Kokkos " << KOKKOS_VERSION / 10000
+     << '.' << (KOKKOS_VERSION / 100) % 100 << '.' << KOKKOS_VERSION % 100 << "; backend " << ExecSpace::name();
+  if (threads) os << " x " << ExecSpace().concurrency();
+  os << "; compiler " <<
 #if defined(__clang__)
       "clang " << __clang_version__
 #elif defined(__GNUC__)
@@ -320,6 +323,7 @@ std::string build_info() {
      << "; precision " << (sizeof(Real) == 8 ? "double" : "float");
   return os.str();
 }
+std::string build_info() { return build_string(true); }
 
 // The resolved config with output.dir blanked: two runs may differ only in where they write.
 std::string config_fingerprint(const RunConfig& c) {
@@ -1977,6 +1981,8 @@ void Laboratory::write_summary() const {
 bool output_flush_due(int rows_since, double seconds_since, double last_cost) {
   return rows_since > 0 && (rows_since >= 20 || seconds_since >= 60) && seconds_since >= 10 * last_cost;
 }
+
+std::string version_line() { return build_string(false); }
 
 bool holds_study(const std::string& dir) {
   std::error_code ec;

@@ -127,6 +127,11 @@ int cores_of_cpu_max(const std::string& text);
 bool output_flush_due(int rows_since, double seconds_since, double last_cost);
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt);
+// The source commit of this build (git describe --always --dirty: "954da91d2c4e", "954da91d2c4e-dirty"; "unknown"
+// outside a git checkout), in every run's build string (run.h5, checkpoints, summary.json, its first line).
+const char* source_commit();
+// `grainlab version`: the build string without the thread count (Kokkos is not started for it).
+std::string version_line();
 // Whether a directory holds a study (`grainlab study --out`: its study.json, or its lock beside jobs/ before the first
 // study.json), or a run (series.csv, run.h5 or checkpoints): neither kind of run goes where the other is.
 bool holds_study(const std::string& dir);

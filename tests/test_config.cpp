@@ -826,3 +826,22 @@ TEST(Config, OutputWritesArePaced) {
   EXPECT_FALSE(output_flush_due(1, 61, 10)) << "a write of 10 s waits 100 s";
   EXPECT_TRUE(output_flush_due(1, 100, 10));
 }
+
+// Every run's build string names the source commit it was built from (scripts/source_commit.cmake, at every build):
+// git's own describe of the source tree, less a -dirty mark that an edit since the build may have changed.
+TEST(Build, NamesItsSourceCommit) {
+  const std::string commit = source_commit(), line = version_line();
+  EXPECT_NE(line.find("(source " + commit + "); Kokkos "), std::string::npos) << line;
+  std::string git;
+  if (FILE* p = ::popen("git -C '" GRAINLAB_SOURCE_DIR "' describe --always --abbrev=12 2>/dev/null", "r")) {
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, p)) git += buf;
+    if (::pclose(p) != 0) git.clear();
+  }
+  while (!git.empty() && git.back() == '\n') git.pop_back();
+  if (git.empty()) {
+    EXPECT_EQ(commit, "unknown") << "no git, or not a checkout";
+  } else {
+    EXPECT_EQ(commit.substr(0, commit.find("-dirty")), git);
+  }
+}
