@@ -2146,6 +2146,8 @@ def main():
         seen[real] = r
         runs.append((r, load(r)))
     out = a.out or os.path.join(a.runs[0], "figures")
+    if os.path.exists(out) and not os.path.isdir(out):  # makedirs would say "File exists"
+        sys.exit(f"grainlab {a.cmd}: error: {out}: a file, not a directory (--out names the folder of the figures)")
     os.makedirs(out, exist_ok=True)
     if a.cmd == "plot":
         fig_stress(runs, out)

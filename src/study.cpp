@@ -801,7 +801,8 @@ int run_study(const Study& s, const StudyOptions& o) {
   if (holds_run(out.string()))
     throw std::runtime_error(out.string() + ": holds a run (grainlab run --out); a study's --out is a directory of its "
                                             "own (nothing was changed)");
-  fs::create_directories(out / "jobs");
+  if (std::error_code ec; !fs::create_directories(out / "jobs", ec) && ec)
+    throw std::runtime_error(out.string() + ": cannot create the study's directory (" + ec.message() + ")");
   const StudyLock lock(out);
   // The cores of this process's affinity, not the machine's: a container's cpuset of 2 on a 64-core host must not
   // start 32 threads a job (OpenMP threads beyond the cores wait on each other at every barrier, main.cpp).

@@ -75,6 +75,13 @@ before=$(ls -A "$work/killed")
 expect 1 "killed: holds a run \(grainlab run --out\); a study's --out is a directory of its own \(nothing was changed\)" \
   "$bin" study "$work/study.yaml" --out "$work/killed" --quiet
 [ "$(ls -A "$work/killed")" = "$before" ] || fail "a refused study wrote into the run: $(ls -A "$work/killed")"
+# --out naming a file: one line each (the study's was std::filesystem's own text, plot's "File exists")
+echo 'a file' > "$work/afile"
+expect 1 "^grainlab: error: .*/afile: cannot create the study's directory \(Not a directory\)$" \
+  "$bin" study "$work/study.yaml" --out "$work/afile" --quiet
+expect 1 "^grainlab plot: error: .*/afile: a file, not a directory \(--out names the folder of the figures\)$" \
+  "$bin" plot "$work/killed" --out "$work/afile"
+[ "$(cat "$work/afile")" = "a file" ] || fail "the file named by --out changed"
 
 # Counts on the command line.
 expect 2 "^grainlab: --threads must be an integer in \[1, 512\], got 'abc'$" \
