@@ -20,6 +20,7 @@
 #include <iomanip>
 #include <iterator>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
@@ -704,6 +705,18 @@ struct SampleFile {
   Real density, density_scaling;
 };
 SampleFile read_sample_file(const std::string& path) {
+  if (std::error_code ec; fs::is_directory(path, ec)) {
+    // a run's directory, most likely: name the samples it holds
+    std::set<std::string> samples;  // sorted
+    for (auto& f : fs::directory_iterator(path, ec)) {
+      const std::string n = f.path().filename().string();
+      if (n.rfind("sample_", 0) == 0 && f.path().extension() == ".h5") samples.insert(n);
+    }
+    std::string held;
+    for (const std::string& n : samples) held += (held.empty() ? "; it holds " : ", ") + n;
+    throw H5Error(path + ": a directory, not a sample file" +
+                  (held.empty() ? std::string(": a run starts from a sample_<stage>.h5 of the run that prepared it") : held));
+  }
   const H5Reader r(path);
   EngineState s = read_state(r);
   if (!r.has("density") || !r.has("density_scaling"))
