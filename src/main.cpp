@@ -120,7 +120,10 @@ int main(int argc, char** argv) {
     for (int a = 1; a < argc; ++a) args.push_back(argv[a]);
     args.push_back(nullptr);
     execvp(py.c_str(), args.data());
-    std::fprintf(stderr, "grainlab: cannot run %s %s\n", py.c_str(), script.c_str());
+    const int err = errno;
+    std::fprintf(stderr, "grainlab: cannot run %s%s: %s (the figures need a Python 3 with numpy, matplotlib, h5py, "
+                 "scipy, pyyaml: scripts/setup-deps.sh installs them)\n",
+                 py.c_str(), env && *env ? " (GRAINLAB_PYTHON)" : "", std::strerror(err));
     return 1;
   }
   if (cmd == "study") {
