@@ -12,7 +12,7 @@ printf '%s\n' "$plan" | grep -q "cyclic tests reversing at q: 2, at most 1000000
   fail "validate does not give the cyclic tests' cap as one: $plan"
 printf '%s\n' "$plan" | grep -q "shear tests:" && fail "validate counts the cyclic tests' cap as their length: $plan"
 out=$("$bin" study tiny-cyclic-study.yaml --out sc --jobs 2 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "1 samples, 2 shears; 3 to run" || fail "unexpected plan: $out"
+printf '%s\n' "$out" | grep -q "1 sample, 2 shears; 3 to run" || fail "unexpected plan: $out"
 [ "$(ls sc/jobs/*/done | wc -l)" -eq 3 ] || fail "expected 3 finished jobs: $(ls sc/jobs)"
 lo=sc/jobs/shear_undrained_mur0_ebase_pbase_s3_n300_csr0.1 hi=sc/jobs/shear_undrained_mur0_ebase_pbase_s3_n300_csr0.3
 grep -q "q_amplitude: 38000" $lo/job.yaml || fail "$lo/job.yaml: q_amplitude is not 2 x 0.1 x 190 kPa"
