@@ -213,7 +213,8 @@ int main(int argc, char** argv) {
     try {
       const grainlab::Study st = grainlab::load_study(config);
       const grainlab::StudyPlan sp = grainlab::plan_study(st);
-      std::printf("%s: ok (study: %zu samples, %zu shear tests%s)\n", config.c_str(), st.samples.size(), st.shears.size(),
+      std::printf("%s: ok (study: %zu sample%s, %zu shear test%s%s)\n", config.c_str(), st.samples.size(),
+                  st.samples.size() == 1 ? "" : "s", st.shears.size(), st.shears.size() == 1 ? "" : "s",
                   st.shears.empty() ? "; a preparation study: its base has no shear stage" : "");
       std::printf("  preparation: at most %ld steps a stage (a target_e0 search: all its trials; a stage ends at "
                   "equilibrium, usually far sooner)\n",
@@ -234,7 +235,10 @@ int main(int argc, char** argv) {
       // so a study with one seed gives one draw per test; the report measures the spread where there are several.
       std::set<long> seeds;
       for (const grainlab::StudyJob& j : st.shears.empty() ? st.samples : st.shears) seeds.insert(j.seed);
-      if (seeds.size() == 1)
+      if (!st.base_sample.empty())
+        std::printf("  sample: the base's sample.file %s, consolidated again by each sample job (one sample: no seed "
+                    "to sweep)\n", st.base_sample.c_str());
+      else if (seeds.size() == 1)
         std::printf("  seeds: 1 (each result is one sample's draw: a seed axis gives the report's sample-to-sample "
                     "scatter, configs/seed-study.yaml)\n");
       else if (seeds.size() > 1)

@@ -56,12 +56,18 @@ std::string fmt(double v) {
   return os.str();
 }
 
-// The base config with the study's values applied (YAML node surgery, then validated by the loader).
-YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only, const std::string& sample_file) {
+// The base config with the study's values applied (YAML node surgery, then validated by the loader). base_sample: the
+// base's own sample.file, absolute (a base that starts from a saved sample: its sample jobs consolidate that sample
+// again at their p0 and mu_r; it has no seed or count to set).
+YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only, const std::string& sample_file,
+                      const std::string& base_sample = "") {
   YAML::Node c = YAML::Clone(base);
   if (shear_only) {
     c["sample"] = YAML::Node(YAML::NodeType::Map);
     c["sample"]["file"] = sample_file;
+  } else if (!base_sample.empty()) {
+    c["sample"] = YAML::Node(YAML::NodeType::Map);
+    c["sample"]["file"] = base_sample;  // absolute: the job's config lives in jobs/NAME/
   } else {
     // Always written: the study's value, or the base's where the axis is not swept (a seed of 0 is a seed).
     c["sample"]["seed"] = j.seed;
@@ -186,6 +192,22 @@ Study load_study_unchecked(const std::string& path) {
   } catch (const std::exception& e) {
     fail(path, "base", e.what());
   }
+  // A base that starts from a saved sample (sample.file): its spheres are the file's, so the count that names the jobs
+  // is the file's, and there is no seed or count to sweep.
+  s.base_sample = base_cfg.sample_file;
+  const std::string& base_sample = s.base_sample;
+  if (!base_sample.empty()) {
+    try {
+      base_cfg.packing.count = int(plan_run(base_cfg).particles);
+    } catch (const std::exception& e) {
+      fail(path, "base", e.what());
+    }
+  }
+  const auto need_generated = [&](const std::string& key) {
+    if (!base_sample.empty())
+      fail(path, key, "the base starts from sample.file (" + base_sample + "), whose spheres are the file's: no seed or "
+                      "count to set");
+  };
   bool has_iso = false, has_tri = false;
   std::string base_drainage;  // the base's first shear's, the default of the drainage axis and of extra jobs
   std::string base_direction;  // the base's first triaxial stage's (none: a cyclic base), likewise for direction
@@ -294,6 +316,8 @@ Study load_study_unchecked(const std::string& path) {
                           ") has no cyclic stage with q_amplitude");
   };
   if (ax && ax["csr"]) need_q_cyclic("axes.csr");
+  if (ax && ax["seed"]) need_generated("axes.seed");
+  if (ax && ax["count"]) need_generated("axes.count");
   // p0 sets the pressure of every isotropic stage (job_config): of a base that consolidates in stages to one pressure
   // (configs/paper/study-base.yaml), as meant; of one whose stages follow a loading path (configs/compression-base.yaml)
   // it would silently flatten the path.
@@ -459,8 +483,13 @@ Study load_study_unchecked(const std::string& path) {
           need_one_pressure(field);
           pt.p0 = v;
         }
-        else if (f == "seed") pt.seed = long(v);
-        else if (f == "count") pt.count = long(v);
+        else if (f == "seed") {
+          need_generated(field);
+          pt.seed = long(v);
+        } else if (f == "count") {
+          need_generated(field);
+          pt.count = long(v);
+        }
         else if (f == "csr") {
           need_q_cyclic(field);
           pt.csr = v;
@@ -511,7 +540,7 @@ Study load_study_unchecked(const std::string& path) {
       j.p0 = pt.p0;
       j.seed = pt.seed;
       j.count = pt.count;
-      j.config_yaml = YAML::Dump(job_config(base, j, false, ""));
+      j.config_yaml = YAML::Dump(job_config(base, j, false, "", base_sample));
       sample_index[j.name] = s.samples.size();
       s.samples.push_back(j);
     } else {
@@ -617,7 +646,7 @@ StudyPlan plan_study(const Study& s) {
     // consolidation moves spheres, it does not resize them), with that job's density and scaling.
     RunConfig c = parse_run_config(job_config(base, j, true, "sample.h5"), where(j));
     const RunConfig& sc = sample_cfg.at(j.sample_name);
-    c.sample_file.clear();
+    c.sample_file = sc.sample_file;  // a sample job that starts from a saved sample: its spheres (else none: drawn)
     c.packing = sc.packing;
     c.density = sc.density;
     c.density_scaling = sc.density_scaling;

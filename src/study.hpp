@@ -45,6 +45,7 @@ struct StudyJob {
 
 struct Study {
   std::string path, base;
+  std::string base_sample;  // the base's sample.file (absolute) where it starts from a saved sample, else empty
   std::string strain_stage;  // the base's strain-controlled cyclic stage (the strain_amplitude axis sets it), if any
   std::vector<StudyJob> samples, shears;
   double window = 0.05, qp_tol = 0.05, p_tol = 0.05, e_tol = 0.005;  // critical-state detection
