@@ -253,7 +253,10 @@ Study load_study_unchecked(const std::string& path) {
   // Preparation sections.
   if (!has_iso)
     fail(path, "base", "its stages must include an isotropic stage (and a triaxial or cyclic one to shear the sample; "
-                       "without one the study prepares samples only)");
+                       "without one the study prepares samples only)" +
+                           std::string(base_sample.empty() ? "" : "; a base from sample.file too: its isotropic stage "
+                                                                  "consolidates the saved sample again (quickly where "
+                                                                  "it is at that pressure already)"));
   if (const YAML::Node cs = root["critical_state"]) {
     for (auto it : cs) {
       const std::string k = it.first.as<std::string>();

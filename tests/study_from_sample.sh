@@ -38,4 +38,9 @@ for axis in "seed: [1, 2]" "count: [300]"; do
   "$here"/expect_error.sh "bad.yaml: axes.${axis%%:*}: the base starts from sample.file \(.*/smoke/sample_consolidate.h5\), whose spheres are the file's: no seed or count to set$" \
     "$bin" validate bad.yaml || fail "axis $axis"
 done
+# a base from a file still needs its isotropic stage (the sample job's): the error says so
+sed '/name: again/d' base.yaml > noiso.yaml
+printf 'base: noiso.yaml\naxes: {drainage: [drained]}\n' > bad.yaml
+"$here"/expect_error.sh "bad.yaml: base: its stages must include an isotropic stage .*; a base from sample.file too: its isotropic stage consolidates the saved sample again" \
+  "$bin" validate bad.yaml || fail "a file base without an isotropic stage"
 echo "study_from_sample: ok"
