@@ -25,7 +25,9 @@ int usage(FILE* f) {
                "usage: grainlab run CONFIG.yaml [--out DIR] [--threads N] [--resume] [--quiet]\n"
                "       grainlab validate CONFIG.yaml\n"
                "       grainlab plot RUN_DIR [RUN_DIR...] [--out DIR]     figures (PNG + PDF)\n"
-               "       grainlab csl RUN_DIR [RUN_DIR...] [--out DIR]      critical-state lines per mu_r\n"
+               "       grainlab csl RUN_DIR [RUN_DIR...] [--out DIR] [--window W]\n"
+               "                                                          critical-state lines per mu_r (W: the axial-strain\n"
+               "                                                          span a critical state holds steady, 0.05)\n"
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab version                                   build: version, source commit, Kokkos, backend\n");
   if (f != stdout) return 2;  // after a bad command line, the usage alone
