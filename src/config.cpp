@@ -276,6 +276,9 @@ bool is_run_config_file(const std::string& path) { return has_top_key(path, "sta
 RunConfig load_run_config(const std::string& path) { return parse_run_config(load_yaml_screened(path), path); }
 
 namespace {
+[[noreturn]] void path_error(const std::string& where, const std::string& path, const std::string& why) {
+  throw ConfigError(where + " = '" + path + "': " + why);
+}
 // $NAME and ${NAME} in a path replaced by the environment's values; an unset (or empty) variable is an error.
 std::string expand_variables(const std::string& path, const std::string& where) {
   std::string out;
@@ -289,9 +292,9 @@ std::string expand_variables(const std::string& path, const std::string& where) 
     while (end < path.size() && (std::isalnum(static_cast<unsigned char>(path[end])) || path[end] == '_')) ++end;
     const std::string name = path.substr(j, end - j);
     if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0])) || (braced && (end >= path.size() || path[end] != '}')))
-      throw ConfigError(where + " = '" + path + "': a $ must start an environment variable, $NAME or ${NAME}");
+      path_error(where, path, "a $ must start an environment variable, $NAME or ${NAME}");
     const char* v = std::getenv(name.c_str());
-    if (!v || !*v) throw ConfigError(where + " = '" + path + "': the environment variable " + name + " is not set");
+    if (!v || !*v) path_error(where, path, "the environment variable " + name + " is not set");
     out += v;
     i = end + (braced ? 1 : 0);
   }
@@ -300,7 +303,7 @@ std::string expand_variables(const std::string& path, const std::string& where) 
 }  // namespace
 
 std::string expand_path(const std::string& raw, const std::string& where) {
-  const std::string path = expand_variables(raw, where);
+  std::string path = expand_variables(raw, where);
   if (path.empty() || path[0] != '~') return path;
   const size_t slash = path.find('/');
   const std::string user = path.substr(1, slash == std::string::npos ? std::string::npos : slash - 1);
@@ -310,10 +313,10 @@ std::string expand_path(const std::string& raw, const std::string& where) {
     const char* h = std::getenv("HOME");
     if (h && *h) home = h;
     else if (const passwd* pw = ::getpwuid(::getuid())) home = pw->pw_dir ? pw->pw_dir : "";
-    if (home.empty()) throw ConfigError(where + " = '" + raw + "': ~ is the home directory, and HOME is not set");
+    if (home.empty()) path_error(where, raw, "~ is the home directory, and HOME is not set");
   } else {
     const passwd* pw = ::getpwnam(user.c_str());
-    if (!pw || !pw->pw_dir) throw ConfigError(where + " = '" + raw + "': no user '" + user + "' whose home ~" + user + " is");
+    if (!pw || !pw->pw_dir) path_error(where, raw, "no user '" + user + "' whose home ~" + user + " is");
     home = pw->pw_dir;
   }
   return home + rest;
