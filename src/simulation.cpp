@@ -1082,7 +1082,7 @@ void Laboratory::warn_dynamic_loops(const StageConfig& sc) const {
 // row, it warns once a stage: a slow squeeze of contacts too soft for the load takes thousands of steps from there
 // (a 2 000-sphere gas, E = 15 MPa, mu_r 0.3, ramped to 190 kPa over 20 000 steps: overlap_max 0.116 at step 3 000 and
 // 27 kPa, the stop at step 15 799), which plan_run's estimate from the final pressure (0.044 of a radius on average
-// there, under its threshold) cannot see: a loose gas carries the load on a few chains first.
+// there, under its threshold) cannot see: a loose gas carries the load on a few chains first (tests/data/soft_ramp.yaml).
 void Laboratory::watch_overlap(const StageConfig& sc, const Measure& m) {
   const double deepest = lab_.series.rows.back()[series_column("overlap_max")];
   if (overlap_warned_ || !(deepest > 0.5 * cfg_.health.max_overlap)) return;
