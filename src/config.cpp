@@ -291,7 +291,8 @@ std::string expand_variables(const std::string& path, const std::string& where) 
     size_t j = i + (braced ? 2 : 1), end = j;
     while (end < path.size() && (std::isalnum(static_cast<unsigned char>(path[end])) || path[end] == '_')) ++end;
     const std::string name = path.substr(j, end - j);
-    if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0])) || (braced && (end >= path.size() || path[end] != '}')))
+    const bool unclosed = braced && (end >= path.size() || path[end] != '}');
+    if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0])) || unclosed)
       path_error(where, path, "a $ must start an environment variable, $NAME or ${NAME}");
     const char* v = std::getenv(name.c_str());
     if (!v || !*v) path_error(where, path, "the environment variable " + name + " is not set");

@@ -216,7 +216,7 @@ int main(int argc, char** argv) {
       const grainlab::Study st = grainlab::load_study(config);
       const grainlab::StudyPlan sp = grainlab::plan_study(st);
       std::printf("%s: ok (study: %zu sample%s, %zu shear test%s%s)\n", config.c_str(), st.samples.size(),
-                  st.samples.size() == 1 ? "" : "s", st.shears.size(), st.shears.size() == 1 ? "" : "s",
+                  grainlab::plural(long(st.samples.size())), st.shears.size(), grainlab::plural(long(st.shears.size())),
                   st.shears.empty() ? "; a preparation study: its base has no shear stage" : "");
       std::printf("  preparation: at most %ld steps a stage (a target_e0 search: all its trials; a stage ends at "
                   "equilibrium, usually far sooner)\n",
@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::printf("%s: ok (%zu stage%s, %ld particle%s%s)\n", config.c_str(), cfg.stages.size(),
-                cfg.stages.size() == 1 ? "" : "s", plan.particles, plan.particles == 1 ? "" : "s",
+                grainlab::plural(long(cfg.stages.size())), plan.particles, grainlab::plural(long(plan.particles)),
                 !cfg.sample_file.empty() ? ", read from sample.file"
                 : plan.placed           ? ", placed as the run places them"
                                         : "; their placement is checked at the run's start");
@@ -310,7 +310,7 @@ int main(int argc, char** argv) {
                  "grainlab: warning: %d threads on %d core%s (this process's CPU affinity and quota): OpenMP threads beyond the "
                  "cores wait on each other at every step's barriers (a 300-sphere run: 12x slower at 3 threads on 2 "
                  "cores than at 2); --threads %d\n",
-                 t, cores, cores == 1 ? "" : "s", cores);
+                 t, cores, grainlab::plural(long(cores)), cores);
   int rc = 0;
   try {
     const grainlab::RunResult r = grainlab::run_simulation(cfg, opt);

@@ -717,7 +717,8 @@ SampleFile read_sample_file(const std::string& path) {
     std::string held;
     for (const std::string& n : samples) held += (held.empty() ? "; it holds " : ", ") + n;
     throw H5Error(path + ": a directory, not a sample file" +
-                  (held.empty() ? std::string(": a run starts from a sample_<stage>.h5 of the run that prepared it") : held));
+                  (held.empty() ? std::string(": a run starts from a sample_<stage>.h5 of the run that prepared it")
+                                : held));
   }
   const H5Reader r(path);
   EngineState s = read_state(r);

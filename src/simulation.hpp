@@ -111,6 +111,8 @@ std::string with_checkpoint_cadence(const std::string& then, const RunConfig& no
 // The same for two resolved configs (a study's job.yaml then and now): `config` with the cadence of `cadence_from`, as
 // config_fingerprint writes it (output.dir blanked); `config` as it is where either does not parse.
 std::string with_checkpoint_cadence_of(const std::string& config, const std::string& cadence_from);
+// The plural ending of a count's noun: "1 stage", "2 stages" (printf("%ld stage%s", n, plural(n))).
+inline const char* plural(long n) { return n == 1 ? "" : "s"; }
 // "4.4 MiB", "1.2 GiB".
 std::string memory_amount(double bytes);
 // The cores this process may run on: its CPU affinity (taskset, a container's cpuset), as OpenMP counts them for its

@@ -999,8 +999,8 @@ int run_study(const Study& s, const StudyOptions& o) {
   const size_t total = s.samples.size() + s.shears.size();
   if (!o.quiet)
     std::printf("study %s: %zu sample%s, %zu shear%s; %zu to run, %d at a time x %d thread%s; output %s\n",
-                s.path.c_str(), s.samples.size(), s.samples.size() == 1 ? "" : "s", s.shears.size(),
-                s.shears.size() == 1 ? "" : "s", queue.size(), o.jobs, per_job_threads, per_job_threads == 1 ? "" : "s",
+                s.path.c_str(), s.samples.size(), plural(long(s.samples.size())), s.shears.size(),
+                plural(long(s.shears.size())), queue.size(), o.jobs, per_job_threads, plural(long(per_job_threads)),
                 out.c_str());
   std::vector<Running> running;
   int failures = 0, interrupted = 0;
