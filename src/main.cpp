@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <set>
 #include <string>
 #include <vector>
@@ -267,6 +268,15 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
     return 1;
+  }
+  // A run's own config.yaml (RUN/config.yaml, RUN holding the run) runs in RUN unless --out says otherwise: what
+  // `grainlab run RUN/config.yaml --resume` means from any working directory, wherever RUN has been moved.
+  if (cmd == "run" && opt.out_dir.empty()) {
+    const std::filesystem::path p(config);
+    if (p.filename() == "config.yaml") {
+      const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+      if (grainlab::holds_run(dir)) opt.out_dir = dir;
+    }
   }
   if (cmd == "validate") {
     // The same checks a run makes before it writes anything (the sample's stable time step against the

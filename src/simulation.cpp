@@ -2345,7 +2345,11 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
 }
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt) {
-  Laboratory lab(cfg, opt);
+  // The run's config.yaml records the directory it runs in: --out's where given (it recorded output.dir, another
+  // run's directory or none, which `grainlab run RUN/config.yaml --resume` then went to)
+  RunConfig c = cfg;
+  if (!opt.out_dir.empty()) c.out_dir = opt.out_dir;
+  Laboratory lab(c, opt);
   return lab.run();
 }
 

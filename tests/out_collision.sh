@@ -8,6 +8,7 @@
 #     with and without --resume: its config.yaml is the same text, so replacing it loses nothing.
 #  5. a study's directory (its study.json) and its jobs folder are not a run's, nor a run's directory a study's: each
 #     refused with one line, nothing created there; `plot` of a study's directory says where its figures and runs are.
+#  6. a run's own config.yaml records its directory and runs there: `grainlab run RUN/config.yaml --resume` resumes RUN.
 # Bad counts on the command line (--threads, --jobs, --stop-after-steps) get one line with the range, exit 2.
 # A sample too large for the memory is refused before anything is written.
 set -u
@@ -82,6 +83,16 @@ expect 1 "^grainlab: error: .*/afile: cannot create the study's directory \(Not 
 expect 1 "^grainlab plot: error: .*/afile: a file, not a directory \(--out names the folder of the figures\)$" \
   "$bin" plot "$work/killed" --out "$work/afile"
 [ "$(cat "$work/afile")" = "a file" ] || fail "the file named by --out changed"
+
+# 6: a run's own config.yaml runs in its directory (from any working directory) and records it: it recorded the
+# config's output.dir (here none, so runs/smoke), where `grainlab run RUN/config.yaml --resume` then went.
+grep -q "^  dir: $work/killed\$" "$work/killed/config.yaml" || fail "config.yaml does not record --out: $(grep dir: "$work/killed/config.yaml")"
+out=$(cd / && "$bin" run "$work/killed/config.yaml" --resume --stop-after-steps 0 2>/dev/null); rc=$?
+[ "$rc" -eq 130 ] || fail "resuming from the run's own config.yaml: exit $rc: $out"
+printf '%s\n' "$out" | head -1 | grep -q "^resuming from $work/killed/checkpoints/ckpt_" ||
+  fail "the run's own config.yaml did not resume its run: $out"
+expect 1 "killed: already holds a run \(series.csv\); continue it with --resume" \
+  "$bin" run "$work/killed/config.yaml" --quiet
 
 # Counts on the command line.
 expect 2 "^grainlab: --threads must be an integer in \[1, 512\], got 'abc'$" \
