@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # What a dense series costs a run: configs/quick.yaml (3 000 spheres, consolidation and a 5 % shear, ~82 000 steps)
-# at output.every = each EVERY given, wall seconds as medians of REPS runs at 2 threads, and the rows written. A row
+# at output.every = each EVERY given, wall seconds as medians of REPS runs at 2 threads, and the rows and bytes written
+# (series.csv, run.h5). A row
 # measures the micromechanics (SPEC §7) once; the run rewrites series.csv and run.h5 whole (atomically) as it goes
 # (src/simulation.cpp, output_flush_due). Session 45 on the 2-core VM, medians of 3: every 1000 / 100 / 10 =
 # 82 / 818 / 8 170 rows: see perf/NOTES.md (before the text of each row was kept and the writes paced, every 10
@@ -25,8 +26,9 @@ for every in $everies; do
         e=$(date +%s.%N)
         echo "$e - $s" | bc
         rows=$(($(wc -l < "$work/r$k/series.csv") - 1))
-        echo "$rows" > "$work/rows"
+        echo "$rows rows, series.csv $(stat -c %s "$work/r$k/series.csv") B, run.h5 $(stat -c %s "$work/r$k/run.h5") B" \
+          > "$work/rows"
         rm -rf "$work/r$k"
       done | median)
-  echo "output.every $every: $(cat "$work/rows") rows, $t s (median of $reps)"
+  echo "output.every $every: $(cat "$work/rows"), $t s (median of $reps)"
 done
