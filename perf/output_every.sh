@@ -1,11 +1,10 @@
 #!/usr/bin/env bash
 # What a dense series costs a run: configs/quick.yaml (3 000 spheres, consolidation and a 5 % shear, ~82 000 steps)
 # at output.every = each EVERY given, wall seconds as medians of REPS runs at 2 threads, and the rows and bytes written
-# (series.csv, run.h5). A row
-# measures the micromechanics (SPEC §7) once; the run rewrites series.csv and run.h5 whole (atomically) as it goes
-# (src/simulation.cpp, output_flush_due). Session 45 on the 2-core VM, medians of 3: every 1000 / 100 / 10 =
-# 82 / 818 / 8 170 rows: see perf/NOTES.md (before the text of each row was kept and the writes paced, every 10
-# took 74 s: each write formatted every row again).
+# (series.csv, run.h5). A row measures the micromechanics (SPEC §7) once; the run rewrites series.csv and run.h5 whole
+# (atomically) as it goes (src/simulation.cpp, output_flush_due). Session 45 on the 2-core VM: every 1000 / 100 / 10 =
+# 84 / 819 / 8 170 rows, times in perf/NOTES.md (before the text of each row was kept and the writes paced, every 10
+# took 70.3 s against 16.1 s at every 1000, GRAINLAB_BIN of 954da91: each write formatted every row again).
 # Usage: [GRAINLAB_BIN=other/grainlab] perf/output_every.sh [REPS] [EVERY...]   (build/ first; default: 3 1000 100 10)
 set -eu
 reps=${1:-3}
