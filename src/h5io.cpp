@@ -222,6 +222,21 @@ void commit_atomic(const std::string& tmp, const std::string& path) {
   }
 }
 
+namespace {
+// The walls of a state as /state/walls stores them: 14 values a wall.
+std::vector<double> walls_record(const EngineState& s) {
+  std::vector<double> walls;
+  for (int k = 0; k < kMaxWalls; ++k) {
+    const Wall& wl = s.walls.w[k];
+    const WallControl& c = s.control[k];
+    walls.insert(walls.end(), {wl.n.x, wl.n.y, wl.n.z, wl.offset, double(int(c.mode)), c.velocity, c.target_stress,
+                               c.gain, c.area, s.loads.force[k], s.loads.stiffness[k], double(s.loads.touching[k]),
+                               c.integral, c.drift});
+  }
+  return walls;
+}
+}  // namespace
+
 void write_state(H5Writer& w, const EngineState& s) {
   w.group("/state");
   w.write("/state/scalars", std::vector<double>{double(s.step), s.time, s.dt, s.mu, s.mu_r, s.damping,
@@ -237,15 +252,37 @@ void write_state(H5Writer& w, const EngineState& s) {
   w.write("/state/ft", s.ft);
   w.write("/state/mr", s.mr);
   w.write("/state/flags", s.flags);
-  std::vector<double> walls;
-  for (int k = 0; k < kMaxWalls; ++k) {
-    const Wall& wl = s.walls.w[k];
-    const WallControl& c = s.control[k];
-    walls.insert(walls.end(), {wl.n.x, wl.n.y, wl.n.z, wl.offset, double(int(c.mode)), c.velocity, c.target_stress,
-                               c.gain, c.area, s.loads.force[k], s.loads.stiffness[k], double(s.loads.touching[k]),
-                               c.integral, c.drift});
+  w.write("/state/walls", walls_record(s));
+}
+
+std::string state_digest(const EngineState& s) {
+  // FNV-1a, 64 bits (Fowler, Noll, Vo), over every value write_state stores but the clock (step, time, dt: a
+  // sample's are reset when a run starts from it): enough to tell two samples apart, which is all it is for.
+  std::uint64_t h = 14695981039346656037ull;
+  auto value = [&](auto v) {  // its bytes, least significant first
+    std::uint64_t bits = 0;
+    static_assert(sizeof v <= sizeof bits);
+    std::memcpy(&bits, &v, sizeof v);
+    for (size_t b = 0; b < sizeof v; ++b) h = (h ^ ((bits >> (8 * b)) & 0xffu)) * 1099511628211ull;
+  };
+  auto all = [&](const auto& v) {
+    value(std::uint64_t(v.size()));  // the lengths too: [a][bc] and [ab][c] differ
+    for (const auto& e : v) value(e);
+  };
+  for (const double d : {s.mu, s.mu_r, s.damping, double(s.walls_are_box), double(s.walls.count)}) value(d);
+  for (const auto* v : {&s.x, &s.v, &s.w, &s.f, &s.t, &s.ft, &s.mr}) {
+    value(std::uint64_t(v->size()));
+    for (const Vec3d& e : *v)
+      for (const Real c : e) value(c);
   }
-  w.write("/state/walls", walls);
+  all(s.r);
+  all(s.pair_i);
+  all(s.pair_j);
+  all(s.flags);
+  all(walls_record(s));
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
 }
 
 EngineState read_state(const H5Reader& r) {

@@ -81,5 +81,8 @@ void write_h5_atomic(const std::string& path, F&& fill) {
 // Engine state <-> HDF5 group `/state` (checkpoints and reusable samples).
 void write_state(H5Writer& w, const EngineState& s);
 EngineState read_state(const H5Reader& r);
+// 16 hex digits that tell one saved state from another (its particles, contact history and walls; not its clock):
+// a run records its sample.file's, so that a resume or a study rerun notices a sample file replaced under it.
+std::string state_digest(const EngineState& s);
 
 }  // namespace grainlab

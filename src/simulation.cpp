@@ -515,6 +515,7 @@ class Laboratory {
   const RunConfig& cfg_;
   RunOptions opt_;
   std::string out_, fingerprint_;
+  std::string sample_digest_;  // sample.file's state_digest (else empty): checkpoints and run.h5 record it
   Real planned_dt_ = 0;   // the time step this config gives (plan_run); an extended run must keep its own
   double transit_ = 0;    // a compression wave's time across the sample (plan_run): cyclic loading against it
   bool extended_ = false; // resumed from a checkpoint of a config that this one extends
@@ -705,6 +706,7 @@ namespace {
 struct SampleFile {
   EngineState state;
   Real density, density_scaling;
+  std::string digest;  // state_digest of state
 };
 SampleFile read_sample_file(const std::string& path) {
   if (std::error_code ec; fs::is_directory(path, ec)) {
@@ -725,7 +727,8 @@ SampleFile read_sample_file(const std::string& path) {
   if (!r.has("density") || !r.has("density_scaling"))
     throw H5Error(path + ": a checkpoint, not a sample: a checkpoint continues its own run (grainlab run CONFIG "
                          "--out <its run directory> --resume); a run starts from a sample_<stage>.h5 of the run that prepared it");
-  return {std::move(s), r.attr_double("density"), r.attr_double("density_scaling")};
+  std::string digest = state_digest(s);
+  return {std::move(s), r.attr_double("density"), r.attr_double("density_scaling"), std::move(digest)};
 }
 }  // namespace
 
@@ -738,6 +741,7 @@ void Laboratory::build_engine() {
   std::unique_ptr<EngineState> sample;
   if (!cfg_.sample_file.empty()) {
     SampleFile f = read_sample_file(cfg_.sample_file);
+    sample_digest_ = f.digest;
     sample = std::make_unique<EngineState>(std::move(f.state));
     setup.x = sample->x;
     setup.r = sample->r;
@@ -1761,6 +1765,7 @@ std::string Laboratory::write_checkpoint() {
     w.write("/lab/snapshot_eps", lab_.snapshot_eps);
     w.write_string("/lab/config", fingerprint_);
     w.attr("build", build_info());
+    if (!sample_digest_.empty()) w.attr("sample_digest", sample_digest_);
   });
   last_ckpt_ = std::chrono::steady_clock::now();
   // Keep the newest keep_checkpoints files; older ones go only after the new one is safely in place.
@@ -1804,6 +1809,14 @@ bool Laboratory::load_newest_checkpoint() {
         }
         extends = true;
       }
+      // The checkpoint holds the run's whole state, but the run was built on sample.file (its radii, its record):
+      // another sample under that name is another run, said here rather than as radii that differ or, for a
+      // sample of the same radii, not at all. (A checkpoint from before the digest has none: not checked.)
+      if (!sample_digest_.empty() && r.has("sample_digest") && r.attr_string("sample_digest") != sample_digest_)
+        throw std::runtime_error(cfg_.sample_file + " (sample.file): not the sample this run started from (its " +
+                                 "checkpoints record sample " + r.attr_string("sample_digest") + ", the file holds " +
+                                 sample_digest_ + "): put that sample back to resume the run, or start a new run " +
+                                 "from this one with another --out");
       EngineState s = read_state(r);
       Lab lab;
       lab.set_scalars(r.doubles("/lab/scalars"));
@@ -2028,6 +2041,25 @@ bool holds_run(const std::string& dir) {
   return fs::exists(dir + "/series.csv") || fs::exists(dir + "/run.h5") || holds_files(dir + "/checkpoints");
 }
 
+std::string sample_file_digest(const std::string& path) { return read_sample_file(path).digest; }
+
+std::string run_sample_digest(const std::string& dir) {
+  std::vector<std::string> files;  // every checkpoint records it (the newest first), and run.h5 once written
+  std::error_code ec;
+  for (auto& f : fs::directory_iterator(dir + "/checkpoints", ec))
+    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") files.push_back(f.path());
+  std::sort(files.rbegin(), files.rend());
+  files.push_back(dir + "/run.h5");
+  for (const std::string& path : files) {
+    try {
+      const H5Reader r(path);
+      return r.has("sample_digest") ? r.attr_string("sample_digest") : std::string();
+    } catch (const H5Error&) {  // unreadable, or gone (the run pruning it): the next one
+    }
+  }
+  return "";
+}
+
 namespace {
 bool Laboratory::flush_due(int rows_since) const {
   return output_flush_due(rows_since, std::chrono::duration<double>(std::chrono::steady_clock::now() - last_flush_).count(),
@@ -2042,6 +2074,7 @@ void Laboratory::flush_outputs() {
     w.attr("config", resolved_config_yaml(cfg_));
     w.attr("build", build_info());
     w.attr("density_scaling", scaling_);
+    if (!sample_digest_.empty()) w.attr("sample_digest", sample_digest_);
     w.group("/series");
     const auto& cols = series_columns();
     for (size_t c = 0; c < cols.size(); ++c) w.write("/series/" + cols[c].first, lab_.series.column(c));

@@ -138,6 +138,10 @@ std::string version_line();
 // study.json), or a run (series.csv, run.h5 or checkpoints): neither kind of run goes where the other is.
 bool holds_study(const std::string& dir);
 bool holds_run(const std::string& dir);
+// A sample file's state_digest (h5io.hpp), and the one a run directory's checkpoints record of the sample.file it
+// started from ("" if none: not started, no sample.file, or a run of a build before the digest).
+std::string sample_file_digest(const std::string& path);
+std::string run_sample_digest(const std::string& dir);
 
 // Series columns (name, unit), in order; documented in configs/README.md.
 const std::vector<std::pair<std::string, std::string>>& series_columns();

@@ -901,6 +901,40 @@ int run_study(const Study& s, const StudyOptions& o) {
                              s.path + " gives it now (" + std::to_string(changed.size()) +
                              " job(s) so); use another --out, or delete those jobs/ directories to run them again "
                              "(nothing was changed)");
+  // The same config on another sample is another job too: a base's sample.file prepared again, or a sample job
+  // deleted and run again (on another thread count: other bits), under jobs that already ran on the former one.
+  // Each started job's checkpoints record the sample it started from (run_sample_digest); the file its config
+  // names now is compared with it where the file is there (a sample job yet to run is checked after it has).
+  struct Resampled {
+    std::string job, file, then, now;
+  };
+  const auto resampled = [&]() {
+    std::vector<Resampled> found;
+    std::map<std::string, std::string> digest_now;  // sample file -> its digest (each file read once)
+    for (const auto& [j, text] : texts) {
+      const std::string then = run_sample_digest((out / "jobs" / j->name / "run").string());
+      if (then.empty()) continue;  // not started, or a build before the digest
+      std::string file;
+      try {
+        file = parse_run_config(YAML::Load(text), cfg_path(*j).string()).sample_file;
+      } catch (const std::exception&) {
+        continue;  // validated, and named, where the job configs are written
+      }
+      if (std::error_code ec; file.empty() || !fs::exists(file, ec)) continue;
+      auto it = digest_now.find(file);
+      if (it == digest_now.end()) it = digest_now.emplace(file, sample_file_digest(file)).first;
+      if (it->second != then) found.push_back({j->name, file, then, it->second});
+    }
+    return found;
+  };
+  const auto on_another_sample = [&](const std::vector<Resampled>& r) {
+    return "this job ran on another sample than " + r[0].file + " holds now (sample " + r[0].then + " then, " +
+           r[0].now + " now; " + std::to_string(r.size()) + " job(s) so)";
+  };
+  if (const auto r = resampled(); !r.empty())
+    throw std::runtime_error((out / "jobs" / r[0].job / "job.yaml").string() + ": " + on_another_sample(r) +
+                             ": put that sample back, use another --out, or delete those jobs/ directories to run them "
+                             "on this one (nothing was changed)");
   // Each extended job as its run will see it: a refusal now, with nothing changed, rather than a failed job whose
   // `done` is gone (the report would drop it) until the study is edited back. The new config goes to a temporary
   // file beside job.yaml (its relative sample path resolves from there), removed after.
@@ -1078,6 +1112,13 @@ int run_study(const Study& s, const StudyOptions& o) {
   }
   if (failures) {
     std::fprintf(stderr, "grainlab study: %d job(s) failed or were skipped; the report covers the finished ones\n", failures);
+  }
+  // Every sample is there now: a job that ran on a former one (its sample job run again since) must not sit in the
+  // report beside the jobs of the new one.
+  if (const auto r = resampled(); !r.empty()) {
+    std::fprintf(stderr, "grainlab study: %s: %s: delete those jobs/ directories and rerun the study to run them on it; "
+                         "the report was not rewritten\n", (out / "jobs" / r[0].job).c_str(), on_another_sample(r).c_str());
+    return 1;
   }
   // Report: figures, tables and critical-state lines (scripts/grainlab_plot.py study).
   const char* env = std::getenv("GRAINLAB_PYTHON");

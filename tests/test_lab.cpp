@@ -11,6 +11,7 @@
 #include <functional>
 #include <iomanip>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "src/cycle_loop.hpp"
@@ -163,6 +164,56 @@ TEST(Lab, PlanIsWhatTheRunDoes) {
 
 // --resume of a finished run has nothing to do: it reports the stages and rewrites nothing (it used to rewrite the
 // series, run.h5 and a checkpoint, the same bytes, under new files).
+// The digest a run keeps of its sample.file (a resume or a study rerun refuses another sample under that name): any
+// one value of the particles, the contact history or the walls changes it, the clock (reset when a run starts from a
+// sample) does not, and neither does reading it again.
+TEST(Lab, SampleDigestTellsStatesApartButNotTheirClock) {
+  EngineState s;
+  s.x = {{0, 0, 0}, {1e-3, 0, 0}};
+  s.v = s.w = s.f = s.t = {{0, 0, 0}, {0, 0, 0}};
+  s.r = {5e-4, 5e-4};
+  s.walls = make_box_walls({-1e-3, -1e-3, -1e-3}, {2e-3, 1e-3, 1e-3});
+  s.walls_are_box = true;
+  const std::string d = state_digest(s);
+  ASSERT_EQ(d.size(), 16u);
+  EXPECT_EQ(d.find_first_not_of("0123456789abcdef"), std::string::npos) << d;
+  EngineState later = s;
+  later.step = 123;
+  later.time = 0.5;
+  later.dt = 1e-6;
+  EXPECT_EQ(state_digest(later), d) << "the clock is not the sample";
+  std::vector<std::function<void(EngineState&)>> edits = {
+      [](EngineState& e) { e.x[1][0] = std::nextafter(e.x[1][0], 1.0); },  // one bit of one coordinate
+      [](EngineState& e) { e.v[0][2] = 1e-300; },
+      [](EngineState& e) { e.r[1] = std::nextafter(e.r[1], 1.0); },
+      [](EngineState& e) {  // a contact's history
+        e.pair_i = {0};
+        e.pair_j = {1};
+        e.ft = {{1e-9, 0, 0}};
+        e.mr = {{0, 0, 0}};
+        e.flags = {1};
+      },
+      [](EngineState& e) { e.walls.w[5].offset += 1e-12; },
+      [](EngineState& e) { e.mu = 0.3; },
+      // the same values split differently between two arrays: the lengths are hashed too
+      [](EngineState& e) {
+        e.x.push_back(e.v.front());
+        e.v.erase(e.v.begin());
+      }};
+  std::set<std::string> seen{d};
+  for (size_t k = 0; k < edits.size(); ++k) {
+    EngineState e = s;
+    edits[k](e);
+    EXPECT_TRUE(seen.insert(state_digest(e)).second) << "edit " << k << " left the digest " << state_digest(e);
+  }
+  // As a run reads it: written and read back, the same digest.
+  const std::string dir = tmpdir("digest");
+  fs::create_directories(dir);
+  write_h5_atomic(dir + "/s.h5", [&](H5Writer& w) { write_state(w, s); });
+  const H5Reader r(dir + "/s.h5");
+  EXPECT_EQ(state_digest(read_state(r)), d);
+}
+
 TEST(Lab, ResumingAFinishedRunWritesNothing) {
   const Reference& ref = reference();
   const std::string out = tmpdir("finished");
