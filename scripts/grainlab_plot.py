@@ -55,12 +55,15 @@ LINEAR_I = 1e-2
 QUASI_STATIC_TRANSITS = 4
 
 
-def load(run):
+def load(run, prog="grainlab plot"):
     path = os.path.join(run, "series.csv")
     with open(path) as f:
         rows = list(csv.DictReader(f))
     if not rows:
-        sys.exit(f"grainlab plot: {path}: no rows")
+        # A run writes its series every 20 rows or a minute and at its checkpoints (output_flush_due): one stopped
+        # (or looked at) before that has the header alone.
+        sys.exit(f"{prog}: {path}: no rows yet: the run stopped, or is running, before writing its first rows "
+                 f"(resume a stopped run: grainlab run {os.path.join(run, 'config.yaml')} --resume)")
     cols = {k: np.array([float(r[k]) for r in rows]) for k in rows[0] if k != "stage"}
     cols["stage"] = np.array([r["stage"] for r in rows])
     # 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained, 5 triaxial
@@ -2144,7 +2147,7 @@ def main():
         if real in seen:
             sys.exit(f"grainlab {a.cmd}: {r}: the same run as {seen[real]}, given earlier")
         seen[real] = r
-        runs.append((r, load(r)))
+        runs.append((r, load(r, f"grainlab {a.cmd}")))
     out = a.out or os.path.join(a.runs[0], "figures")
     if os.path.exists(out) and not os.path.isdir(out):  # makedirs would say "File exists"
         sys.exit(f"grainlab {a.cmd}: error: {out}: a file, not a directory (--out names the folder of the figures)")
