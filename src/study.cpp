@@ -533,7 +533,12 @@ Study load_study_unchecked(const std::string& path) {
                               "stress_path with drainage)");
     std::ostringstream sn;
     sn << "sample_mur" << fmt(pt.mu_r) << "_e" << (pt.e0 > 0 ? fmt(pt.e0) : "base") << "_p"
-       << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base") << "_s" << pt.seed << "_n" << pt.count;
+       << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base");
+    // A base's saved sample has no seed of its own here (the file's spheres were drawn by the run that made it):
+    // "_file", where "_s1" named the config's default seed as if the sample were drawn with it.
+    if (base_sample.empty()) sn << "_s" << pt.seed;
+    else sn << "_file";
+    sn << "_n" << pt.count;
     if (!sample_index.count(sn.str())) {
       StudyJob j;
       j.name = sn.str();

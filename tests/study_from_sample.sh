@@ -3,7 +3,7 @@
 # its sample job consolidates that sample again (at the base's pressure and mu_r) and its shears run on the result.
 # The study wrote the base's seed and count into the sample job beside sample.file, which the job's config refused
 # ("sample.count: cannot be combined with sample.file"). Now: validate names the file and counts its spheres (the job
-# names carry n300), the sample job's config keeps sample.file as an absolute path and nothing else under sample, both
+# names carry n300, and _file where a drawn sample names its seed), the sample job's config keeps sample.file as an absolute path and nothing else under sample, both
 # shears finish, and a seed or count axis on such a base is an error naming the file.
 # The sample each job started from is recorded (its checkpoints' sample_digest): a base sample file replaced by another
 # stops the rerun before anything is written, `grainlab run --resume` of the job refuses it too, and shears that ran on
@@ -31,7 +31,7 @@ printf '%s\n' "$plan" | grep -q "study: 1 sample, 2 shear tests" || fail "valida
 printf '%s\n' "$plan" | grep -q "sample: the base's sample.file .*/smoke/sample_consolidate.h5, consolidated again" ||
   fail "validate does not name the sample file: $plan"
 out=$("$bin" study study.yaml --out st --jobs 2 --threads 2 2>&1) || fail "the study failed: $out"
-job=st/jobs/sample_mur0_ebase_pbase_s1_n300
+job=st/jobs/sample_mur0_ebase_pbase_file_n300
 [ -f "$job/done" ] || fail "no finished sample job named for the file's 300 spheres: $(ls st/jobs)"
 sample=$(/usr/bin/python3 -c "import sys, yaml; print(yaml.safe_load(open(sys.argv[1]))['sample'])" "$job/job.yaml")
 [ "$sample" = "{'file': '$PWD/smoke/sample_consolidate.h5'}" ] || fail "the sample job's sample block: $sample"
@@ -50,7 +50,7 @@ printf 'base: noiso.yaml\naxes: {drainage: [drained]}\n' > bad.yaml
 # Another sample under the base's file name: the study's sample job made another 300-sphere sample from it.
 cp "$job/run/sample_again.h5" other.h5 && cp other.h5 smoke/sample_consolidate.h5 || exit 1
 cp st/report.md report_before.md
-"$here"/expect_error.sh "st/jobs/sample_mur0_ebase_pbase_s1_n300/job.yaml: this job ran on another sample than $PWD/smoke/sample_consolidate.h5 holds now \(sample [0-9a-f]{16} then, [0-9a-f]{16} now; 1 job\(s\) so\): put that sample back" \
+"$here"/expect_error.sh "st/jobs/sample_mur0_ebase_pbase_file_n300/job.yaml: this job ran on another sample than $PWD/smoke/sample_consolidate.h5 holds now \(sample [0-9a-f]{16} then, [0-9a-f]{16} now; 1 job\(s\) so\): put that sample back" \
   "$bin" study study.yaml --out st --jobs 2 --threads 2 || fail "a replaced base sample was not noticed"
 "$here"/expect_error.sh "$PWD/smoke/sample_consolidate.h5 \(sample.file\): not the sample this run started from \(its checkpoints record sample [0-9a-f]{16}, the file holds [0-9a-f]{16}\)" \
   "$bin" run "$job/run/config.yaml" --resume || fail "the job's own resume did not notice the replaced sample"
@@ -58,7 +58,7 @@ cp st/report.md report_before.md
 rm -rf "$job"
 err=$("$bin" study study.yaml --out st --jobs 2 --threads 2 2>&1 >/dev/null); rc=$?
 [ "$rc" -eq 1 ] || fail "expected exit 1 with shears of a former sample, got $rc: $err"
-printf '%s\n' "$err" | grep -q "st/jobs/shear_drained_mur0_ebase_pbase_s1_n300: this job ran on another sample than $PWD/st/jobs/sample_mur0_ebase_pbase_s1_n300/run/sample_again.h5 holds now (sample [0-9a-f]* then, [0-9a-f]* now; 2 job(s) so): .*the report was not rewritten" ||
+printf '%s\n' "$err" | grep -q "st/jobs/shear_drained_mur0_ebase_pbase_file_n300: this job ran on another sample than $PWD/st/jobs/sample_mur0_ebase_pbase_file_n300/run/sample_again.h5 holds now (sample [0-9a-f]* then, [0-9a-f]* now; 2 job(s) so): .*the report was not rewritten" ||
   fail "shears of a former sample not named: $err"
 cmp -s st/report.md report_before.md || fail "the report was rewritten with the shears of a former sample"
 echo "study_from_sample: ok"
