@@ -20,6 +20,7 @@
 #include <iomanip>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -441,6 +442,38 @@ LateralTargets lateral_targets(const StageConfig& sc, Real p0, Real sz) {
   return {s3 + sc.b * (sz - s3), s3};
 }
 
+// The sample a run starts from (sample.file): its state and the density it was prepared with. A checkpoint has the
+// state but not the density (it continues its own run, whose config holds it): named, not "missing attribute density".
+struct SampleFile {
+  EngineState state;
+  Real density, density_scaling;
+  std::string digest;  // state_digest of state
+};
+SampleFile read_sample_file(const std::string& path) {
+  if (std::error_code ec; fs::is_directory(path, ec)) {
+    // a run's directory, most likely: name the samples it holds
+    std::set<std::string> samples;  // sorted
+    for (auto& f : fs::directory_iterator(path, ec)) {
+      const std::string n = f.path().filename().string();
+      if (n.rfind("sample_", 0) == 0 && f.path().extension() == ".h5") samples.insert(n);
+    }
+    std::string held;
+    for (const std::string& n : samples) held += (held.empty() ? "; it holds " : ", ") + n;
+    throw H5Error(path + ": a directory, not a sample file" +
+                  (held.empty() ? std::string(": a run starts from a sample_<stage>.h5 of the run that prepared it")
+                                : held));
+  }
+  const H5Reader r(path);
+  EngineState s = read_state(r);
+  if (!r.has("density") || !r.has("density_scaling"))
+    throw H5Error(path + ": a checkpoint, not a sample: a checkpoint continues its own run (grainlab run CONFIG "
+                         "--out <its run directory> --resume); a run starts from a sample_<stage>.h5 of the run that prepared it");
+  std::string digest = state_digest(s);
+  return {std::move(s), r.attr_double("density"), r.attr_double("density_scaling"), std::move(digest)};
+}
+// The run's plan (plan_run) for a sample already read (sample: sample.file's, or what stands in for it on a resume).
+RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const SampleFile* sample);
+
 // ------------------------------------------------------------------------------------------------
 class Laboratory {
  public:
@@ -457,6 +490,8 @@ class Laboratory {
   bool holds_run() const;
   void prepare_output_dir();
   void refuse_overwrites() const;
+  void load_sample();
+  std::optional<SampleFile> sample_from_checkpoints() const;
   void build_engine();
   void start_stage(const StageConfig& sc);
   Measure measure(const StageConfig& sc) const;
@@ -516,6 +551,7 @@ class Laboratory {
   RunOptions opt_;
   std::string out_, fingerprint_;
   std::string sample_digest_;  // sample.file's state_digest (else empty): checkpoints and run.h5 record it
+  std::optional<SampleFile> sample_;  // sample.file's content (load_sample), until build_engine takes it
   Real planned_dt_ = 0;   // the time step this config gives (plan_run); an extended run must keep its own
   double transit_ = 0;    // a compression wave's time across the sample (plan_run): cyclic loading against it
   bool extended_ = false; // resumed from a checkpoint of a config that this one extends
@@ -702,37 +738,41 @@ void Laboratory::prepare_output_dir() {
   fs::remove(out_ + "/.write_probe", ec);
 }
 
-namespace {
-// The sample a run starts from (sample.file): its state and the density it was prepared with. A checkpoint has the
-// state but not the density (it continues its own run, whose config holds it): named, not "missing attribute density".
-struct SampleFile {
-  EngineState state;
-  Real density, density_scaling;
-  std::string digest;  // state_digest of state
-};
-SampleFile read_sample_file(const std::string& path) {
-  if (std::error_code ec; fs::is_directory(path, ec)) {
-    // a run's directory, most likely: name the samples it holds
-    std::set<std::string> samples;  // sorted
-    for (auto& f : fs::directory_iterator(path, ec)) {
-      const std::string n = f.path().filename().string();
-      if (n.rfind("sample_", 0) == 0 && f.path().extension() == ".h5") samples.insert(n);
+// sample.file is read once, for the plan and the engine. A run from it holds its whole state in its checkpoints, and
+// needs the file only to start: resumed with the file gone (a preparation run cleaned up or moved since), it goes on
+// from them. They record the sample's density, density scaling and digest for that, and the radii are the sample's
+// (a run never changes them).
+void Laboratory::load_sample() {
+  if (cfg_.sample_file.empty()) return;
+  if (std::error_code ec; opt_.resume && !fs::exists(cfg_.sample_file, ec) && holds_run()) {
+    if (std::optional<SampleFile> s = sample_from_checkpoints()) {
+      sample_ = std::move(s);
+      if (!opt_.quiet)
+        std::printf("%s (sample.file) is not there: the run goes on from its checkpoints, which hold its whole state\n",
+                    cfg_.sample_file.c_str());
+      return;
     }
-    std::string held;
-    for (const std::string& n : samples) held += (held.empty() ? "; it holds " : ", ") + n;
-    throw H5Error(path + ": a directory, not a sample file" +
-                  (held.empty() ? std::string(": a run starts from a sample_<stage>.h5 of the run that prepared it")
-                                : held));
   }
-  const H5Reader r(path);
-  EngineState s = read_state(r);
-  if (!r.has("density") || !r.has("density_scaling"))
-    throw H5Error(path + ": a checkpoint, not a sample: a checkpoint continues its own run (grainlab run CONFIG "
-                         "--out <its run directory> --resume); a run starts from a sample_<stage>.h5 of the run that prepared it");
-  std::string digest = state_digest(s);
-  return {std::move(s), r.attr_double("density"), r.attr_double("density_scaling"), std::move(digest)};
+  sample_ = read_sample_file(cfg_.sample_file);
 }
-}  // namespace
+
+std::optional<SampleFile> Laboratory::sample_from_checkpoints() const {
+  std::vector<std::string> all;
+  std::error_code ec;
+  for (auto& f : fs::directory_iterator(out_ + "/checkpoints", ec))
+    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") all.push_back(f.path());
+  std::sort(all.rbegin(), all.rend());
+  for (const std::string& path : all) {
+    try {
+      const H5Reader r(path);
+      if (!r.has("sample_digest") || !r.has("sample_density") || !r.has("sample_density_scaling")) continue;
+      return SampleFile{read_state(r), r.attr_double("sample_density"), r.attr_double("sample_density_scaling"),
+                        r.attr_string("sample_digest")};
+    } catch (const H5Error&) {  // load_newest_checkpoint names the unreadable ones
+    }
+  }
+  return std::nullopt;
+}
 
 void Laboratory::build_engine() {
   ParticleSetup setup;
@@ -742,7 +782,9 @@ void Laboratory::build_engine() {
   for (const StageConfig& sc : cfg_.stages) ep.contact.mu_r = std::max(ep.contact.mu_r, sc.mu_r);
   std::unique_ptr<EngineState> sample;
   if (!cfg_.sample_file.empty()) {
-    SampleFile f = read_sample_file(cfg_.sample_file);
+    if (!sample_) load_sample();
+    SampleFile f = std::move(*sample_);
+    sample_.reset();
     sample_digest_ = f.digest;
     sample = std::make_unique<EngineState>(std::move(f.state));
     setup.x = sample->x;
@@ -1774,7 +1816,11 @@ std::string Laboratory::write_checkpoint() {
     w.write("/lab/snapshot_eps", lab_.snapshot_eps);
     w.write_string("/lab/config", fingerprint_);
     w.attr("build", build_info());
-    if (!sample_digest_.empty()) w.attr("sample_digest", sample_digest_);
+    if (!sample_digest_.empty()) {  // what a resume needs of sample.file should the file be gone (load_sample)
+      w.attr("sample_digest", sample_digest_);
+      w.attr("sample_density", density_);
+      w.attr("sample_density_scaling", scaling_);
+    }
   });
   last_ckpt_ = std::chrono::steady_clock::now();
   // Keep the newest keep_checkpoints files; older ones go only after the new one is safely in place.
@@ -2109,7 +2155,8 @@ RunResult Laboratory::run() {
   // Nothing is created before every check that can fail has passed: the plan (memory, the sample's stable time
   // step against the config's dt), the files already in the output directory (a fresh start, and --resume
   // with no run there is one, must not replace any), and the sample itself (a placement that fails).
-  const RunPlan plan = plan_run(cfg_);
+  load_sample();
+  const RunPlan plan = plan_run_with(cfg_, 0, false, sample_ ? &*sample_ : nullptr);
   planned_dt_ = plan.dt;
   transit_ = plan.transit;
   for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
@@ -2218,7 +2265,10 @@ std::string memory_amount(double b) {
   return t;
 }
 
-RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
+RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) { return plan_run_with(cfg, p_start, place, nullptr); }
+
+namespace {
+RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const SampleFile* sample) {
   RunPlan plan;
   EngineParams ep = cfg.engine;
   // The time step is chosen once for the whole run, for its stiffest stage (rolling on in any stage).
@@ -2226,7 +2276,8 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
   std::vector<Real> r;
   Real density = cfg.density, scaling = cfg.density_scaling;
   if (!cfg.sample_file.empty()) {
-    const SampleFile f = read_sample_file(cfg.sample_file);
+    std::optional<SampleFile> read;  // (a conditional of *sample and a temporary would copy *sample)
+    const SampleFile& f = sample ? *sample : read.emplace(read_sample_file(cfg.sample_file));
     r = f.state.r;
     plan.memory_available = require_memory(long(r.size()), "sample.file " + cfg.sample_file, plan.memory_source);
     density = f.density;
@@ -2387,6 +2438,7 @@ RunPlan plan_run(const RunConfig& cfg, Real p_start, bool place) {
   }
   return plan;
 }
+}  // namespace
 
 RunResult run_simulation(const RunConfig& cfg, const RunOptions& opt) {
   // The run's config.yaml records the directory it runs in: --out's where given (it recorded output.dir, another

@@ -332,6 +332,52 @@ TEST(Lab, ResumeIsBitwiseIdentical) {
   EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
 }
 
+// A run from sample.file needs the file only to start: its checkpoints hold the whole state, and record the sample's
+// density, density scaling and digest. Resumed with the file gone (the preparation run cleaned up, or moved), it
+// goes on from them, interrupted once in its reconsolidation and once in its shear, to the uninterrupted run's
+// series and state, bit for bit, and its run.h5 still names the sample it started from (was: "no such file", the
+// run lost). A fresh start still needs the file.
+TEST(Lab, AResumeDoesNotNeedItsSampleFile) {
+  const Reference& ref = reference();
+  const std::string dir = tmpdir("gone_sample");
+  fs::create_directories(dir);
+  const std::string sample = dir + "/sample.h5", away = dir + "/sample.away";
+  fs::copy_file(ref.out + "/sample_consolidate.h5", sample);
+  const std::string cfg = write_config("gone_sample",
+                                       "sample: {file: " + sample + "}\nmaterial: {mu_r: 0.2}\nstages:\n"
+                                       "  - {name: again, type: isotropic, pressure: 300e3, mu: 0.3, max_steps: 60000, "
+                                       "ufr_tolerance: 0.02}\n"
+                                       "  - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 1.0, "
+                                       "max_axial_strain: 0.004, damping: 0.2}\n"
+                                       "output: {every: 100, checkpoint_every: 0, checkpoint_minutes: 0}\n");
+  const std::string whole = dir + "/whole", parts = dir + "/parts";
+  ASSERT_FALSE(run(cfg, whole).interrupted);
+  const std::string digest = H5Reader(whole + "/run.h5").attr_string("sample_digest");
+  EXPECT_EQ(digest, sample_file_digest(sample));
+  const auto stage = csv_column(slurp(whole + "/series.csv"), "stage");
+  const long again_rows = std::count(stage.begin(), stage.end(), std::string("again"));
+  ASSERT_GT(again_rows, 4) << "the reconsolidation must be long enough to interrupt";
+  ASSERT_TRUE(run(cfg, parts, 100 * (again_rows / 2)).interrupted);
+  fs::rename(sample, away);
+  ASSERT_TRUE(run(cfg, parts, 100 * again_rows, true).interrupted);  // into the shear
+  ASSERT_FALSE(run(cfg, parts, -1, true).interrupted);
+  EXPECT_EQ(slurp(parts + "/series.csv"), slurp(whole + "/series.csv"));
+  H5Reader a(newest_checkpoint(whole)), b(newest_checkpoint(parts));
+  for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
+    const auto va = a.vec3(d), vb = b.vec3(d);
+    ASSERT_EQ(va.size(), vb.size()) << d;
+    EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
+  }
+  EXPECT_EQ(H5Reader(parts + "/run.h5").attr_string("sample_digest"), digest);
+  std::string e;
+  try {
+    run(cfg, dir + "/fresh");
+  } catch (const std::exception& ex) {
+    e = ex.what();
+  }
+  EXPECT_NE(e.find(sample + ": no such file"), std::string::npos) << e;
+}
+
 // A finished run extended by --resume with a config that moves its shear's end (0.3 % -> 0.6 %) and then
 // appends a stage ends in the state of the uninterrupted run of the extended config, to the bit. A config that
 // changes anything the run already used (here the shear's friction) is refused, naming the key, and changes
