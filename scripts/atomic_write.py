@@ -4,7 +4,11 @@ write_atomically(path, write) calls write(tmp) to fill a temporary file beside p
 renames it over path in one step. An interrupted run (Ctrl-C, a full disk, a crash inside write) leaves the
 previous file whole, or none, never a half-written one that looks valid; the temporary file is removed.
 """
+import errno
 import os
+
+# A write that fails for want of space (a full disk, a quota, a file-size limit): said so, as the engine says it.
+NO_SPACE = (errno.ENOSPC, errno.EFBIG, errno.EDQUOT)
 
 
 def write_atomically(path, write):
@@ -14,6 +18,13 @@ def write_atomically(path, write):
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
+    except OSError as e:
+        # Named for the file being written, not its temporary name, nor none: a figure's writer (matplotlib's PNG
+        # encoder) raises errors without a file name ("error: : File too large").
+        why = e.strerror or str(e)
+        if e.errno in NO_SPACE:
+            why += "; disk full? The previous file is untouched"
+        raise OSError(e.errno, why, path) from e
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)

@@ -2203,5 +2203,5 @@ if __name__ == "__main__":
         main()
         sys.stdout.flush()
     except OSError as e:
-        where = e.filename if e.filename is not None else ""
-        sys.exit(f"grainlab {sys.argv[1] if len(sys.argv) > 1 else ''}: error: {where}: {e.strerror or e}")
+        where = f"{e.filename}: " if e.filename else ""
+        sys.exit(f"grainlab {sys.argv[1] if len(sys.argv) > 1 else ''}: error: {where}{e.strerror or e}")
