@@ -252,6 +252,8 @@ struct Lab {
   // cyclic stage, the liquefaction criteria (Laboratory::watch_cycle): eps_a at the last load reversal (the
   // stage's start before the first), and the cycle number N at which each criterion was first met (-1: not yet)
   Real eps_turn = 0, n_ru = -1, n_da = -1;
+  // A shear's q at its start where it starts from an anisotropic stress (Laboratory::start_stage), else 0
+  Real q0 = 0;
   CycleLoop loop;  // cyclic stage: the cycle under way (Laboratory::watch_cycle)
   Series cycles{&cycle_columns()};
   Series series;
@@ -261,12 +263,14 @@ struct Lab {
 
   std::vector<double> scalars() const {
     return {double(stage), double(stage_step), double(started), H0, V0, p0, aspect, mu, last_eps, last_time,
-            double(snapshots), next_snap_eps, double(searching), double(half_cycles), cycle, eps_turn, n_ru, n_da};
+            double(snapshots), next_snap_eps, double(searching), double(half_cycles), cycle, eps_turn, n_ru, n_da,
+            q0};
   }
   void set_scalars(const std::vector<double>& s) {
     // 13: a checkpoint from before cyclic stages (none of its stages is cyclic); 15: from before the liquefaction
-    // criteria (a cyclic stage resumed from one records them from the resumed step on)
-    if (s.size() != 13 && s.size() != 15 && s.size() != 18)
+    // criteria (a cyclic stage resumed from one records them from the resumed step on); 18: from before q0 (its
+    // stages all started as SPEC §6.3's, from q0 = 0)
+    if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19)
       throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");
     stage = int(s[0]);
     stage_step = long(s[1]);
@@ -286,6 +290,7 @@ struct Lab {
     eps_turn = s.size() > 17 ? s[15] : 0;
     n_ru = s.size() > 17 ? s[16] : -1;
     n_da = s.size() > 17 ? s[17] : -1;
+    q0 = s.size() > 18 ? s[18] : 0;
   }
 };
 
@@ -432,13 +437,13 @@ bool lateral_servo(const StageConfig& sc) { return sc.type != StageType::Isotrop
 bool moving_lateral_targets(const StageConfig& sc) { return sc.b > 0 || sc.constant_p; }
 // The lateral walls' servo targets of a drained shear, given the step's sigma_z. sigma_y = sigma_3 and sigma_x =
 // sigma_3 + b (sigma_z - sigma_3) (true triaxial, StageConfig::b; sigma_x = sigma_y at b = 0), with sigma_3 = p'_0
-// (SPEC §6.3), or on the constant-p' path (StageConfig::constant_p) the sigma_3 that makes (sigma_x + sigma_y +
+// (SPEC §6.3; p'_0 - q_0/3, the lateral stress at the start, where a shear starts from an anisotropic stress), or on the constant-p' path (StageConfig::constant_p) the sigma_3 that makes (sigma_x + sigma_y +
 // sigma_z) / 3 = p'_0: sigma_3 (2 - b) + sigma_z (1 + b) = 3 p'_0. Both hold in extension too (b = 0 there).
 struct LateralTargets {
   Real sx, sy;
 };
-LateralTargets lateral_targets(const StageConfig& sc, Real p0, Real sz) {
-  const Real s3 = sc.constant_p ? (3 * p0 - (1 + sc.b) * sz) / (2 - sc.b) : p0;
+LateralTargets lateral_targets(const StageConfig& sc, Real p0, Real q0, Real sz) {
+  const Real s3 = sc.constant_p ? (3 * p0 - (1 + sc.b) * sz) / (2 - sc.b) : p0 - q0 / 3;
   return {s3 + sc.b * (sz - s3), s3};
 }
 
@@ -500,8 +505,10 @@ class Laboratory {
   bool shear_end(const StageConfig& sc, const Measure& m) const;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
   // A cyclic stage's controlled level x and its amplitude A: q (stress reversal) or eps_a (strain reversal).
-  static std::pair<Real, Real> cyclic_level(const StageConfig& sc, const Measure& m) {
-    return sc.q_amplitude > 0 ? std::pair<Real, Real>{m.q, sc.q_amplitude} : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
+  // Stress reversal about the stage's q_0 (0 but after a K0 consolidation or a drained loading: Lab::q0).
+  std::pair<Real, Real> cyclic_level(const StageConfig& sc, const Measure& m) const {
+    return sc.q_amplitude > 0 ? std::pair<Real, Real>{m.q - lab_.q0, sc.q_amplitude}
+                              : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
   }
   Real cycle_number(const StageConfig& sc, const Measure& m) const;
   // A triaxial stage's axial strain along its loading: eps_a in compression, -eps_a in extension (what
@@ -842,7 +849,7 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
   m.gamma = m.eps_a - m.eps_r;
   m.u = 0;
   if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
-    m.u = (lab_.p0 + m.q / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + q/3
+    m.u = (lab_.p0 + (m.q - lab_.q0) / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + (q - q_0)/3
   return m;
 }
 
@@ -1154,6 +1161,16 @@ void Laboratory::start_stage(const StageConfig& sc) {
   lab_.H0 = e.wall_position(5) - e.wall_position(4);
   lab_.V0 = e.box_volume();
   lab_.p0 = sc.type == StageType::Isotropic ? sc.pressure : std::max<Real>(m0.p, 1e-30);
+  // A shear after a shear stage (a K0 consolidation by an oedometric stage, a drained loading, a cycle) starts from
+  // the anisotropic stress that stage left, as a triaxial cell's test of a K0-consolidated sample does: its cell
+  // pressure is the lateral stress there, sigma_3 = p'_0 - q_0/3 (drained), the total stress then rises as the
+  // axial load does, dp = dq/3, so u = p'_0 + (q - q_0)/3 - p' is 0 at the start (undrained), and a stress reversal
+  // cycles about q_0. SPEC §6.3 starts from an isotropic stress, q_0 = 0: there (after an isotropic stage, or from a
+  // sample file, which an isotropic stage wrote) exactly SPEC's formulas, and the bits of earlier runs.
+  lab_.q0 = sc.type != StageType::Isotropic && lab_.stage > 0 &&
+                    cfg_.stages[size_t(lab_.stage - 1)].type != StageType::Isotropic
+                ? m0.q
+                : 0;
   lab_.aspect = (e.wall_position(1) - e.wall_position(0)) / (e.wall_position(3) - e.wall_position(2));
   lab_.last_eps = 0;
   lab_.last_time = e.time();
@@ -1180,7 +1197,7 @@ void Laboratory::start_stage(const StageConfig& sc) {
       c.velocity = (sc.extension ? -0.5 : 0.5) * sc.axial_strain_rate * lab_.H0;
     } else if (sc.drainage == Drainage::Drained) {
       c.mode = WallMode::Servo;
-      c.target_stress = lab_.p0;  // sigma_3 = p'_0 (SPEC §6.3)
+      c.target_stress = lab_.p0 - lab_.q0 / 3;  // sigma_3 = p'_0 (SPEC §6.3), or the lateral stress at an anisotropic start
     } else {
       c.mode = WallMode::Fixed;  // undrained: placed analytically every step; oedometric: held where they are
     }
@@ -1361,7 +1378,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     if (lateral_servo(sc) && moving_lateral_targets(sc)) {
       // True triaxial (StageConfig::b), the constant-p' path (StageConfig::constant_p): the lateral walls' targets
       // as this step finds sigma_z, from what a checkpoint restores, so a resumed run sets the same targets.
-      const LateralTargets t = lateral_targets(sc, lab_.p0, m0.sz);
+      const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m0.sz);
       // On the constant-p' path sigma_3 falls as sigma_z rises; at sigma_z = 3 p'_0 / (1 + b) it would reach 0
       // (q/p' = 3 at b = 0: beyond any frictional packing's strength, so a packing there is no longer a soil sample).
       if (t.sy < 0.01 * lab_.p0) {
@@ -1693,7 +1710,7 @@ void Laboratory::assert_healthy() {
 // (undrained: placed).
 Real Laboratory::servo_error(const StageConfig& sc, const Measure& m) const {
   if (!lateral_servo(sc)) return 0;
-  const LateralTargets t = lateral_targets(sc, lab_.p0, m.sz);
+  const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m.sz);
   const Real tx = std::max<Real>(t.sx, 1e-30), ty = std::max<Real>(t.sy, 1e-30);
   return std::max(std::abs(m.sy - ty) / ty, std::abs(m.sx - tx) / tx);
 }
@@ -1746,11 +1763,13 @@ Real Laboratory::stage_ocr(size_t k) const {
 void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
   const Real se = servo_error(sc, m);
   if (!(se > sc.max_servo_error)) return;
-  const LateralTargets t = lateral_targets(sc, lab_.p0, m.sz);
+  const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m.sz);
   std::ostringstream os;
   os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
      << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
-     << " kPa against " << (sc.constant_p ? "sigma_3 on the constant-p' path = " : "p'_0 = ") << t.sy / 1e3
+     << " kPa against "
+     << (sc.constant_p ? "sigma_3 on the constant-p' path = " : lab_.q0 != 0 ? "sigma_3 at the shear's start = " : "p'_0 = ")
+     << t.sy / 1e3
      << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
      << (sc.constant_p ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")
                        : (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = "))

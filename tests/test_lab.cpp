@@ -553,8 +553,50 @@ void drop_series_columns(const std::string& ckpt, size_t drop) {
 // The series.csv of a run resumed from a checkpoint without the trailing columns `unmeasured` (ke_fluct_ratio ...
 // q_drag: the last ones) against the uninterrupted run's: every other column the same to the bit; each of those not
 // a number in the rows the checkpoint restored (never measured) and the same in the rows after.
-void expect_series_but(const std::string& resumed, const std::string& direct, const std::vector<std::string>& unmeasured) {
-  const std::string a = slurp(resumed + "/series.csv"), b = slurp(direct + "/series.csv");
+// A run of a build before q0 (Lab::q0: a shear after a shear starts from the stress it finds) resumed in such a
+// shear keeps its start, q0 = 0: its u in the rows after the resume is this build's + q0/3, one constant over them (to
+// round-off of p'), and the same bits elsewhere (the rows the checkpoint restored are this build's). The two series with u blanked, for the comparison of the rest.
+std::pair<std::string, std::string> without_u_of_a_start_before_q0(const std::string& a, const std::string& b,
+                                                                    const std::string& stage) {
+  const auto ua = csv_column(a, "u"), ub = csv_column(b, "u"), st = csv_column(a, "stage"), p = csv_column(a, "p");
+  EXPECT_EQ(ua.size(), ub.size());
+  double offset = std::nan("");
+  for (size_t k = 0; k < std::min(ua.size(), ub.size()); ++k) {
+    if (st[k] != stage) {
+      EXPECT_EQ(ua[k], ub[k]) << "row " << k;
+      continue;
+    }
+    const double d = std::stod(ua[k]) - std::stod(ub[k]);
+    if (std::isnan(offset) && d == 0) continue;  // restored
+    if (std::isnan(offset)) offset = d;
+    EXPECT_NEAR(d, offset, 1e-9 * std::stod(p[k])) << "row " << k;
+  }
+  EXPECT_GT(offset, 0) << "q0/3 of a shear after a compression";
+  const auto blank = [](const std::string& csv) {
+    std::istringstream in(csv);
+    std::string line, out, header;
+    std::getline(in, header);
+    size_t col = 0;  // the index of u
+    for (size_t at = 0, next; (next = header.find(',', at)) != std::string::npos || at < header.size(); at = next + 1, ++col) {
+      if (header.substr(at, next == std::string::npos ? std::string::npos : next - at) == "u") break;
+      if (next == std::string::npos) break;
+    }
+    out = header + "\n";
+    while (std::getline(in, line)) {
+      size_t at = 0;
+      for (size_t k = 0; k < col; ++k) at = line.find(',', at) + 1;
+      const size_t end = line.find(',', at);
+      out += line.substr(0, at) + "-" + (end == std::string::npos ? "" : line.substr(end)) + "\n";
+    }
+    return out;
+  };
+  return {blank(a), blank(b)};
+}
+
+void expect_series_but(const std::string& resumed, const std::string& direct, const std::vector<std::string>& unmeasured,
+                       const std::string& started_before_q0 = "") {
+  std::string a = slurp(resumed + "/series.csv"), b = slurp(direct + "/series.csv");
+  if (!started_before_q0.empty()) std::tie(a, b) = without_u_of_a_start_before_q0(a, b, started_before_q0);
   const auto without_last = [&](const std::string& csv) {
     std::istringstream in(csv);
     std::string line, out;
@@ -587,7 +629,7 @@ void as_before_cyclic_stages(const std::string& ckpt) {
     scalars = r.doubles("/lab/scalars");
     results = r.doubles("/lab/results");
   }
-  ASSERT_EQ(scalars.size(), 18u);
+  ASSERT_EQ(scalars.size(), 19u);
   ASSERT_EQ(results.size(), 13u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
                                     "quarter_transits, e_inner, e_core";
   results.resize(6);
@@ -620,8 +662,12 @@ void as_before_cyclic_stages(const std::string& ckpt) {
 // which the restored rows never measured: NaN there). So does one of the build just before ke_fluct_ratio (10 values
 // a stage result, without quarter_transits), one of the build just before the stage results' e_inner and e_core (11
 // values a stage result, no series q_contacts_walls ... q_drag), and one of the build just before p_drag and q_drag
-// (the padding is by the count of columns missing: 1 to 8 all take the same path). Checked to fail when
-// load_newest_checkpoint compares the stored text as it is.
+// (the padding is by the count of columns missing: 1 to 8 all take the same path), which also had no q0 (18 lab
+// scalars: its shears all started as SPEC's from q0 = 0, as a shear after an isotropic stage still does). Checked to
+// fail when load_newest_checkpoint compares the stored text as it is. This build starts a shear after a shear (here
+// the second) from the stress it finds (q0 = its q at the start: u = 0 there), a run of an older build from q0 = 0,
+// and such a run resumed keeps its start: the series differ in u (u = p'_0 + (q - q0)/3 - p': by q0/3 in the
+// second stage's rows), which nothing else reads (undrained walls are placed by the volume), and in nothing else.
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
   const std::string sample = ref.out + "/sample_consolidate.h5";
@@ -651,22 +697,31 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   };
   const std::string last = tmpdir("older_last");
   fs::copy(out, last, fs::copy_options::recursive);
+  const auto no_q0 = [](const std::string& path) {  // 18 lab scalars
+    std::vector<double> scalars = H5Reader(path).doubles("/lab/scalars");
+    ASSERT_EQ(scalars.size(), 19u);
+    scalars.resize(18);
+    rewrite_dataset(path, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
+  };
   drop_series_columns(newest_checkpoint(last), 2);
+  no_q0(newest_checkpoint(last));
   ASSERT_FALSE(run(cfg, last, -1, true).interrupted);
-  expect_series_but(last, direct, {"p_drag", "q_drag"});
+  expect_series_but(last, direct, {"p_drag", "q_drag"}, "shear");
   EXPECT_EQ(slurp(last + "/summary.json"), slurp(direct + "/summary.json"));
   const std::string previous = tmpdir("older_previous");
   fs::copy(out, previous, fs::copy_options::recursive);
   drop_series_columns(newest_checkpoint(previous), 5);
   eleven_values_a_stage(newest_checkpoint(previous));
+  no_q0(newest_checkpoint(previous));
   ASSERT_FALSE(run(cfg, previous, -1, true).interrupted);
-  expect_series_but(previous, direct, {"q_contacts_walls", "p_inner", "q_inner", "p_drag", "q_drag"});
+  expect_series_but(previous, direct, {"q_contacts_walls", "p_inner", "q_inner", "p_drag", "q_drag"}, "shear");
   EXPECT_EQ(slurp(previous + "/summary.json"), slurp(direct + "/summary.json"));
   // The build of just before ke_fluct_ratio (its checkpoints otherwise as now, but for the stage results'
   // quarter_transits, which came after): resumes to the same series.
   const std::string recent = tmpdir("older_recent");
   fs::copy(out, recent, fs::copy_options::recursive);
   drop_series_columns(newest_checkpoint(recent), 7);
+  no_q0(newest_checkpoint(recent));
   {
     std::vector<double> results = H5Reader(newest_checkpoint(recent)).doubles("/lab/results");
     ASSERT_EQ(results.size(), 13u);
@@ -676,7 +731,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   ASSERT_FALSE(run(cfg, recent, -1, true).interrupted);
   const std::vector<std::string> since_fluct = {"ke_fluct_ratio", "e_inner", "q_contacts_walls", "p_inner",
                                                 "q_inner",        "p_drag",  "q_drag"};
-  expect_series_but(recent, direct, since_fluct);
+  expect_series_but(recent, direct, since_fluct, "shear");
   EXPECT_EQ(slurp(recent + "/summary.json"), slurp(direct + "/summary.json"));
   const std::string now = H5Reader(ckpt).string("/lab/config");
   const std::string older = in_older_words(now, fs::relative(sample, fs::current_path()).string());
@@ -687,7 +742,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   as_before_cyclic_stages(ckpt);
   ASSERT_EQ(H5Reader(ckpt).doubles("/lab/scalars").size(), 13u);
   ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
-  expect_series_but(out, direct, since_fluct);
+  expect_series_but(out, direct, since_fluct, "shear");
   EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
 }
 
@@ -869,6 +924,74 @@ std::string on_reference(const std::string& name, const std::string& stages, int
                             ", checkpoint_every: 0, checkpoint_minutes: 0}\n");
 }
 }  // namespace
+
+// A shear after a K0 consolidation (an oedometric stage: q0 ~ 0.3 of sigma_z) starts from the anisotropic stress it
+// finds, as a triaxial cell's test of a K0-consolidated sample (CK0U, CK0D) does: undrained, u = p'_0 + (q - q0)/3 -
+// p' is 0 at the start (it was q0/3, ~27 kPa on the smoke sample, before the shear had begun); drained, the lateral
+// servo holds the cell pressure the K0 stage left, sigma_3 = (sigma_x + sigma_y)/2 there (it drove the walls towards
+// p'_0, q0/3 above it); a stress reversal cycles about q0 (it turned at +A about 0). Each against the K0 stage's last
+// row, the instant the shear starts from.
+TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
+  const std::string k0 = "  - {name: k0, type: triaxial, drainage: oedometric, axial_strain_rate: 1.0, "
+                         "max_axial_strain: 0.004, damping: 0.2}\n";
+  struct Start {
+    double q0, s3, p0;
+  };
+  const auto start_of = [](const std::string& csv) {
+    const auto st = csv_column(csv, "stage"), q = csv_column(csv, "q"), sx = csv_column(csv, "sigma_x"),
+               sy = csv_column(csv, "sigma_y"), p = csv_column(csv, "p");
+    size_t last = 0;
+    for (size_t k = 0; k < st.size(); ++k)
+      if (st[k] == "k0") last = k;
+    return Start{std::stod(q[last]), 0.5 * (std::stod(sx[last]) + std::stod(sy[last])), std::stod(p[last])};
+  };
+  // Undrained: u on the shear's first step.
+  {
+    const std::string out = tmpdir("k0_undrained");
+    ASSERT_FALSE(run(on_reference("k0_undrained", k0 + "  - {name: shear, type: triaxial, drainage: undrained, "
+                                  "axial_strain_rate: 1.0, max_axial_strain: 0.001, damping: 0.2}\n", 1), out).interrupted);
+    const std::string csv = slurp(out + "/series.csv");
+    const Start s = start_of(csv);
+    ASSERT_GT(s.q0, 0.15 * s.p0) << "a K0 loading leaves q0 ~ 0.3 sigma_z";
+    const auto st = csv_column(csv, "stage"), u = csv_column(csv, "u");
+    const size_t first = size_t(std::find(st.begin(), st.end(), "shear") - st.begin());
+    ASSERT_LT(first, st.size());
+    // One step of undrained loading: du ~ dq ~ E eps_dot dt, 1.2e-3 of q0/3 measured here (it was q0/3 itself).
+    EXPECT_LT(std::abs(std::stod(u[first])), 5e-3 * s.q0 / 3) << "q0 = " << s.q0;
+  }
+  // Drained: sigma_3 held at the start's lateral stress, within the servo's 1 % once past its first tenth.
+  {
+    const std::string out = tmpdir("k0_drained");
+    ASSERT_FALSE(run(on_reference("k0_drained", k0 + "  - {name: shear, type: triaxial, drainage: drained, "
+                                  "axial_strain_rate: 1.0, max_axial_strain: 0.002, damping: 0.2}\n", 10), out).interrupted);
+    const std::string csv = slurp(out + "/series.csv");
+    const Start s = start_of(csv);
+    const auto st = csv_column(csv, "stage"), sy = csv_column(csv, "sigma_y"), sx = csv_column(csv, "sigma_x"),
+               ea = csv_column(csv, "eps_a");
+    int rows = 0;
+    for (size_t k = 0; k < st.size(); ++k) {
+      if (st[k] != "shear" || std::stod(ea[k]) < 0.0002) continue;
+      ++rows;
+      EXPECT_NEAR(std::stod(sy[k]), s.s3, 0.01 * s.s3) << "row " << k << "; p'_0 = " << s.p0;
+      EXPECT_NEAR(std::stod(sx[k]), s.s3, 0.01 * s.s3) << "row " << k << "; p'_0 = " << s.p0;
+    }
+    EXPECT_GT(rows, 10);
+  }
+  // Stress reversal about q0: the cycle's q extremes at q0 + A and q0 - A (within the overshoot of a turn).
+  {
+    const std::string out = tmpdir("k0_cyclic");
+    const double A = 20e3;
+    ASSERT_FALSE(run(on_reference("k0_cyclic", k0 + "  - {name: shake, type: cyclic, drainage: undrained, "
+                                  "q_amplitude: 20e3, cycles: 1, axial_strain_rate: 0.5, max_axial_strain: 0.05, "
+                                  "damping: 0.2}\n", 10), out).interrupted);
+    const Start s = start_of(slurp(out + "/series.csv"));
+    const std::string cycles = slurp(out + "/cycles.csv");
+    const auto qmax = csv_column(cycles, "q_max"), qmin = csv_column(cycles, "q_min");
+    ASSERT_EQ(qmax.size(), 1u);
+    EXPECT_NEAR(std::stod(qmax[0]), s.q0 + A, 0.1 * A);
+    EXPECT_NEAR(std::stod(qmin[0]), s.q0 - A, 0.1 * A);
+  }
+}
 
 // Triaxial extension (`direction: extension`): the axial walls move apart at the rate, so eps_a falls to
 // -max_axial_strain, where the stage ends within a step's strain after exactly the steps the plan counts, with
