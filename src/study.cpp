@@ -56,6 +56,22 @@ std::string fmt(double v) {
   return os.str();
 }
 
+// A base's K0 consolidations: its oedometric stages before a shear stage of another drainage (a CK0U or CK0D test:
+// isotropic, oedometric, then the shear). They prepare the anisotropic stress the shear starts from (Laboratory::
+// start_stage), so the study's shear values (drainage, direction, b, stress_path, rate, end strain) leave them as the
+// base gives them; they set the shear's. (They set every stage of an oedometer base, whose stages are all oedometric.)
+std::vector<bool> k0_consolidations(const YAML::Node& stages) {
+  std::vector<bool> k0(stages.size(), false);
+  bool shear_after = false;  // a later shear stage that is not oedometric
+  for (size_t k = stages.size(); k-- > 0;) {
+    const YAML::Node st = stages[k];
+    if ((st["type"] ? st["type"].as<std::string>() : "isotropic") == "isotropic") continue;
+    if ((st["drainage"] ? st["drainage"].as<std::string>() : "undrained") == "oedometric") k0[k] = shear_after;
+    else shear_after = true;
+  }
+  return k0;
+}
+
 // The base config with the study's values applied (YAML node surgery, then validated by the loader). base_sample: the
 // base's own sample.file, absolute (a base that starts from a saved sample: its sample jobs consolidate that sample
 // again at their p0 and mu_r; it has no seed or count to set).
@@ -76,8 +92,9 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
   c["material"]["mu_r"] = yaml_number(j.mu_r);
   YAML::Node stages(YAML::NodeType::Sequence);
   bool first_iso = true;
-  for (auto st : base["stages"]) {
-    YAML::Node s = YAML::Clone(st);
+  const std::vector<bool> k0 = k0_consolidations(base["stages"]);
+  for (size_t k = 0; k < base["stages"].size(); ++k) {
+    YAML::Node s = YAML::Clone(base["stages"][k]);
     const std::string type = s["type"] ? s["type"].as<std::string>() : "isotropic";
     s["mu_r"] = yaml_number(j.mu_r);
     if (type == "isotropic") {
@@ -86,8 +103,11 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
       if (first_iso && j.e0 > 0) s["target_e0"] = yaml_number(j.e0);
       first_iso = false;
       s["save_sample"] = true;
+    } else if (!shear_only) {
+      continue;
+    } else if (k0[k]) {
+      // a K0 consolidation: as the base has it (its mu_r the material's, above)
     } else {
-      if (!shear_only) continue;
       s["drainage"] = j.drainage;
       if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
       if (type == "triaxial" && j.set_b) s["b"] = yaml_number(j.b);
@@ -225,7 +245,9 @@ Study load_study_unchecked(const std::string& path) {
   // test, configs/modulus_damping.yaml) the axis would not say which it sets.
   std::vector<std::string> strain_stages;
   Real base_strain_amp = 0, base_strain_rate = 0;
-  for (auto& st : base_cfg.stages) {
+  const std::vector<bool> k0 = k0_consolidations(base["stages"]);  // not the shear the axes' defaults are taken from
+  for (size_t k = 0; k < base_cfg.stages.size(); ++k) {
+    const StageConfig& st = base_cfg.stages[k];
     (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
     if (st.type == StageType::Isotropic) {
       base_p0 = st.pressure;
@@ -240,6 +262,7 @@ Study load_study_unchecked(const std::string& path) {
         base_strain_rate = st.axial_strain_rate;
       }
     }
+    if (k0[k]) continue;
     if (st.type != StageType::Isotropic && base_drainage.empty())
       base_drainage = drainage_name(st.drainage);
     if (st.type == StageType::Triaxial && base_direction.empty()) {
