@@ -437,8 +437,9 @@ bool lateral_servo(const StageConfig& sc) { return sc.type != StageType::Isotrop
 bool moving_lateral_targets(const StageConfig& sc) { return sc.b > 0 || sc.constant_p; }
 // The lateral walls' servo targets of a drained shear, given the step's sigma_z. sigma_y = sigma_3 and sigma_x =
 // sigma_3 + b (sigma_z - sigma_3) (true triaxial, StageConfig::b; sigma_x = sigma_y at b = 0), with sigma_3 = p'_0
-// (SPEC §6.3; p'_0 - q_0/3, the lateral stress at the start, where a shear starts from an anisotropic stress), or on the constant-p' path (StageConfig::constant_p) the sigma_3 that makes (sigma_x + sigma_y +
-// sigma_z) / 3 = p'_0: sigma_3 (2 - b) + sigma_z (1 + b) = 3 p'_0. Both hold in extension too (b = 0 there).
+// (SPEC §6.3; p'_0 - q_0/3, the lateral stress at the start, where a shear starts from an anisotropic stress), or on
+// the constant-p' path (StageConfig::constant_p) the sigma_3 that makes (sigma_x + sigma_y + sigma_z) / 3 = p'_0:
+// sigma_3 (2 - b) + sigma_z (1 + b) = 3 p'_0. Both hold in extension too (b = 0 there).
 struct LateralTargets {
   Real sx, sy;
 };
@@ -1197,7 +1198,8 @@ void Laboratory::start_stage(const StageConfig& sc) {
       c.velocity = (sc.extension ? -0.5 : 0.5) * sc.axial_strain_rate * lab_.H0;
     } else if (sc.drainage == Drainage::Drained) {
       c.mode = WallMode::Servo;
-      c.target_stress = lab_.p0 - lab_.q0 / 3;  // sigma_3 = p'_0 (SPEC §6.3), or the lateral stress at an anisotropic start
+      // sigma_3 = p'_0 (SPEC §6.3), or the lateral stress of an anisotropic start
+      c.target_stress = lab_.p0 - lab_.q0 / 3;
     } else {
       c.mode = WallMode::Fixed;  // undrained: placed analytically every step; oedometric: held where they are
     }
@@ -1768,7 +1770,9 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
   os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
      << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
      << " kPa against "
-     << (sc.constant_p ? "sigma_3 on the constant-p' path = " : lab_.q0 != 0 ? "sigma_3 at the shear's start = " : "p'_0 = ")
+     << (sc.constant_p   ? "sigma_3 on the constant-p' path = "
+         : lab_.q0 != 0 ? "sigma_3 at the shear's start = "
+                        : "p'_0 = ")
      << t.sy / 1e3
      << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
      << (sc.constant_p ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")

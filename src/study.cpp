@@ -1144,8 +1144,10 @@ int run_study(const Study& s, const StudyOptions& o) {
   // Every sample is there now: a job that ran on a former one (its sample job run again since) must not sit in the
   // report beside the jobs of the new one.
   if (const auto r = resampled(); !r.empty()) {
-    std::fprintf(stderr, "grainlab study: %s: %s: delete those jobs/ directories and rerun the study to run them on it; "
-                         "the report was not rewritten\n", (out / "jobs" / r[0].job).c_str(), on_another_sample(r).c_str());
+    std::fprintf(stderr,
+                 "grainlab study: %s: %s: delete those jobs/ directories and rerun the study to run them on it; the "
+                 "report was not rewritten\n",
+                 (out / "jobs" / r[0].job).c_str(), on_another_sample(r).c_str());
     return 1;
   }
   // Report: figures, tables and critical-state lines (scripts/grainlab_plot.py study).

@@ -555,7 +555,8 @@ void drop_series_columns(const std::string& ckpt, size_t drop) {
 // a number in the rows the checkpoint restored (never measured) and the same in the rows after.
 // A run of a build before q0 (Lab::q0: a shear after a shear starts from the stress it finds) resumed in such a
 // shear keeps its start, q0 = 0: its u in the rows after the resume is this build's + q0/3, one constant over them (to
-// round-off of p'), and the same bits elsewhere (the rows the checkpoint restored are this build's). The two series with u blanked, for the comparison of the rest.
+// round-off of p'), and the same bits elsewhere (the rows the checkpoint restored are this build's). The two series
+// with u blanked, for the comparison of the rest.
 std::pair<std::string, std::string> without_u_of_a_start_before_q0(const std::string& a, const std::string& b,
                                                                     const std::string& stage) {
   const auto ua = csv_column(a, "u"), ub = csv_column(b, "u"), st = csv_column(a, "stage"), p = csv_column(a, "p");
@@ -574,27 +575,25 @@ std::pair<std::string, std::string> without_u_of_a_start_before_q0(const std::st
   EXPECT_GT(offset, 0) << "q0/3 of a shear after a compression";
   const auto blank = [](const std::string& csv) {
     std::istringstream in(csv);
-    std::string line, out, header;
-    std::getline(in, header);
-    size_t col = 0;  // the index of u
-    for (size_t at = 0, next; (next = header.find(',', at)) != std::string::npos || at < header.size(); at = next + 1, ++col) {
-      if (header.substr(at, next == std::string::npos ? std::string::npos : next - at) == "u") break;
-      if (next == std::string::npos) break;
-    }
-    out = header + "\n";
+    std::string line, out;
+    std::getline(in, line);
+    size_t col = 0;  // u's
+    std::istringstream header(line);
+    for (std::string name; std::getline(header, name, ',') && name != "u";) ++col;
+    out = line + "\n";
     while (std::getline(in, line)) {
-      size_t at = 0;
-      for (size_t k = 0; k < col; ++k) at = line.find(',', at) + 1;
-      const size_t end = line.find(',', at);
-      out += line.substr(0, at) + "-" + (end == std::string::npos ? "" : line.substr(end)) + "\n";
+      std::istringstream fields(line);
+      std::string field, row;
+      for (size_t k = 0; std::getline(fields, field, ','); ++k) row += (k ? "," : "") + (k == col ? "-" : field);
+      out += row + "\n";
     }
     return out;
   };
   return {blank(a), blank(b)};
 }
 
-void expect_series_but(const std::string& resumed, const std::string& direct, const std::vector<std::string>& unmeasured,
-                       const std::string& started_before_q0 = "") {
+void expect_series_but(const std::string& resumed, const std::string& direct,
+                       const std::vector<std::string>& unmeasured, const std::string& started_before_q0 = "") {
   std::string a = slurp(resumed + "/series.csv"), b = slurp(direct + "/series.csv");
   if (!started_before_q0.empty()) std::tie(a, b) = without_u_of_a_start_before_q0(a, b, started_before_q0);
   const auto without_last = [&](const std::string& csv) {
@@ -949,7 +948,8 @@ TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
   {
     const std::string out = tmpdir("k0_undrained");
     ASSERT_FALSE(run(on_reference("k0_undrained", k0 + "  - {name: shear, type: triaxial, drainage: undrained, "
-                                  "axial_strain_rate: 1.0, max_axial_strain: 0.001, damping: 0.2}\n", 1), out).interrupted);
+                                  "axial_strain_rate: 1.0, max_axial_strain: 0.001, damping: 0.2}\n", 1), out)
+                     .interrupted);
     const std::string csv = slurp(out + "/series.csv");
     const Start s = start_of(csv);
     ASSERT_GT(s.q0, 0.15 * s.p0) << "a K0 loading leaves q0 ~ 0.3 sigma_z";
@@ -963,7 +963,8 @@ TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
   {
     const std::string out = tmpdir("k0_drained");
     ASSERT_FALSE(run(on_reference("k0_drained", k0 + "  - {name: shear, type: triaxial, drainage: drained, "
-                                  "axial_strain_rate: 1.0, max_axial_strain: 0.002, damping: 0.2}\n", 10), out).interrupted);
+                                  "axial_strain_rate: 1.0, max_axial_strain: 0.002, damping: 0.2}\n", 10), out)
+                     .interrupted);
     const std::string csv = slurp(out + "/series.csv");
     const Start s = start_of(csv);
     const auto st = csv_column(csv, "stage"), sy = csv_column(csv, "sigma_y"), sx = csv_column(csv, "sigma_x"),
