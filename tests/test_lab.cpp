@@ -105,6 +105,18 @@ const Reference& reference() {
   return ref;
 }
 
+// The newest checkpoints of two runs hold the same state, bit for bit: positions, velocities, spins, the contacts'
+// tangential springs and rolling history, the walls.
+void expect_same_state(const std::string& run_a, const std::string& run_b) {
+  const H5Reader a(newest_checkpoint(run_a)), b(newest_checkpoint(run_b));
+  for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
+    const auto va = a.vec3(d), vb = b.vec3(d);
+    ASSERT_EQ(va.size(), vb.size()) << d;
+    EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
+  }
+  EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
+}
+
 }  // namespace
 
 // SPEC §6.2 / issue 3: consolidation ends at p'_0 within 1 % and in equilibrium; undrained keeps the box
@@ -323,13 +335,7 @@ TEST(Lab, ResumeIsBitwiseIdentical) {
   r = run(ref.cfg, out, -1, true);
   ASSERT_FALSE(r.interrupted);
   EXPECT_EQ(slurp(out + "/series.csv"), slurp(ref.out + "/series.csv"));
-  H5Reader a(newest_checkpoint(ref.out)), b(newest_checkpoint(out));
-  for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
-    const auto va = a.vec3(d), vb = b.vec3(d);
-    ASSERT_EQ(va.size(), vb.size()) << d;
-    EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
-  }
-  EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
+  expect_same_state(ref.out, out);
 }
 
 // A run from sample.file needs the file only to start: its checkpoints hold the whole state, and record the sample's
@@ -362,12 +368,7 @@ TEST(Lab, AResumeDoesNotNeedItsSampleFile) {
   ASSERT_TRUE(run(cfg, parts, 100 * again_rows, true).interrupted);  // into the shear
   ASSERT_FALSE(run(cfg, parts, -1, true).interrupted);
   EXPECT_EQ(slurp(parts + "/series.csv"), slurp(whole + "/series.csv"));
-  H5Reader a(newest_checkpoint(whole)), b(newest_checkpoint(parts));
-  for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
-    const auto va = a.vec3(d), vb = b.vec3(d);
-    ASSERT_EQ(va.size(), vb.size()) << d;
-    EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
-  }
+  expect_same_state(whole, parts);
   EXPECT_EQ(H5Reader(parts + "/run.h5").attr_string("sample_digest"), digest);
   std::string e;
   try {
@@ -437,14 +438,9 @@ TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
   ASSERT_FALSE(r.interrupted);
   ASSERT_EQ(r.stages.size(), 3u);
   EXPECT_EQ(r.stages[1].steps, whole.stages[1].steps);
-  H5Reader a(newest_checkpoint(direct)), b(newest_checkpoint(ext));
-  EXPECT_EQ(a.doubles("/state/scalars"), b.doubles("/state/scalars"));
-  for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
-    const auto va = a.vec3(d), vb = b.vec3(d);
-    ASSERT_EQ(va.size(), vb.size()) << d;
-    EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
-  }
-  EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
+  EXPECT_EQ(H5Reader(newest_checkpoint(direct)).doubles("/state/scalars"),
+            H5Reader(newest_checkpoint(ext)).doubles("/state/scalars"));
+  expect_same_state(direct, ext);
   // the same config but for the directory each ran in (config.yaml records it)
   const auto without_dir = [](const std::string& dir) {
     std::string t = slurp(dir + "/config.yaml");
@@ -1729,13 +1725,7 @@ TEST(Lab, CyclicStressReversalResumesAndExtendsBitwise) {
     // The liquefaction criteria are met on the same steps (they read the turn's measure), and the summary is the same
     EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
     EXPECT_EQ(slurp(out + "/cycles.csv"), slurp(direct + "/cycles.csv"));
-    H5Reader a(newest_checkpoint(direct)), b(newest_checkpoint(out));
-    for (const char* d : {"/state/x", "/state/v", "/state/w", "/state/ft", "/state/mr"}) {
-      const auto va = a.vec3(d), vb = b.vec3(d);
-      ASSERT_EQ(va.size(), vb.size()) << d;
-      EXPECT_EQ(0, std::memcmp(va.data(), vb.data(), va.size() * sizeof(Vec3d))) << d << " differs";
-    }
-    EXPECT_EQ(a.doubles("/state/walls"), b.doubles("/state/walls"));
+    expect_same_state(direct, out);
   }
 }
 
