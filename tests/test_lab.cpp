@@ -940,13 +940,17 @@ TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
       if (st[k] == "k0") last = k;
     return Start{std::stod(q[last]), 0.5 * (std::stod(sx[last]) + std::stod(sy[last])), std::stod(p[last])};
   };
+  // The K0 stage, then `stage`: the run's directory.
+  const auto after_k0 = [&](const std::string& name, const std::string& stage, int every) {
+    const std::string out = tmpdir(name);
+    EXPECT_FALSE(run(on_reference(name, k0 + "  - " + stage + "\n", every), out).interrupted);
+    return out;
+  };
   // Undrained: u on the shear's first step.
   {
-    const std::string out = tmpdir("k0_undrained");
-    ASSERT_FALSE(run(on_reference("k0_undrained", k0 + "  - {name: shear, type: triaxial, drainage: undrained, "
-                                  "axial_strain_rate: 1.0, max_axial_strain: 0.001, damping: 0.2}\n", 1), out)
-                     .interrupted);
-    const std::string csv = slurp(out + "/series.csv");
+    const std::string csv = slurp(after_k0("k0_undrained", "{name: shear, type: triaxial, drainage: undrained, "
+                                           "axial_strain_rate: 1.0, max_axial_strain: 0.001, damping: 0.2}", 1) +
+                                  "/series.csv");
     const Start s = start_of(csv);
     ASSERT_GT(s.q0, 0.15 * s.p0) << "a K0 loading leaves q0 ~ 0.3 sigma_z";
     const auto st = csv_column(csv, "stage"), u = csv_column(csv, "u");
@@ -957,11 +961,9 @@ TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
   }
   // Drained: sigma_3 held at the start's lateral stress, within the servo's 1 % once past its first tenth.
   {
-    const std::string out = tmpdir("k0_drained");
-    ASSERT_FALSE(run(on_reference("k0_drained", k0 + "  - {name: shear, type: triaxial, drainage: drained, "
-                                  "axial_strain_rate: 1.0, max_axial_strain: 0.002, damping: 0.2}\n", 10), out)
-                     .interrupted);
-    const std::string csv = slurp(out + "/series.csv");
+    const std::string csv = slurp(after_k0("k0_drained", "{name: shear, type: triaxial, drainage: drained, "
+                                           "axial_strain_rate: 1.0, max_axial_strain: 0.002, damping: 0.2}", 10) +
+                                  "/series.csv");
     const Start s = start_of(csv);
     const auto st = csv_column(csv, "stage"), sy = csv_column(csv, "sigma_y"), sx = csv_column(csv, "sigma_x"),
                ea = csv_column(csv, "eps_a");
@@ -976,11 +978,9 @@ TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
   }
   // Stress reversal about q0: the cycle's q extremes at q0 + A and q0 - A (within the overshoot of a turn).
   {
-    const std::string out = tmpdir("k0_cyclic");
     const double A = 20e3;
-    ASSERT_FALSE(run(on_reference("k0_cyclic", k0 + "  - {name: shake, type: cyclic, drainage: undrained, "
-                                  "q_amplitude: 20e3, cycles: 1, axial_strain_rate: 0.5, max_axial_strain: 0.05, "
-                                  "damping: 0.2}\n", 10), out).interrupted);
+    const std::string out = after_k0("k0_cyclic", "{name: shake, type: cyclic, drainage: undrained, q_amplitude: 20e3, "
+                                     "cycles: 1, axial_strain_rate: 0.5, max_axial_strain: 0.05, damping: 0.2}", 10);
     const Start s = start_of(slurp(out + "/series.csv"));
     const std::string cycles = slurp(out + "/cycles.csv");
     const auto qmax = csv_column(cycles, "q_max"), qmin = csv_column(cycles, "q_min");
