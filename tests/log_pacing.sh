@@ -10,7 +10,7 @@ t0=$(date +%s.%N)
 "$bin" run "$work/dense.yaml" --out "$work/run" > "$work/log.txt" || { echo "the run failed"; exit 1; }
 t1=$(date +%s.%N)
 rows=$(($(wc -l < "$work/run/series.csv") - 1))
-lines=$(grep -c "steps/s" "$work/log.txt")
+lines=$(grep -cE "^[A-Za-z0-9_.-]+ \| step [0-9]+ \|" "$work/log.txt")
 stages=$(grep -c "^stage .*: done" "$work/log.txt")
 # At most: each stage's first, plus one for every whole second the run took, plus one.
 limit=$(awk -v a="$t0" -v b="$t1" -v s="$stages" 'BEGIN { printf "%d", s + (b - a) + 1 }')
