@@ -760,6 +760,9 @@ void Laboratory::load_sample() {
                     cfg_.sample_file.c_str());
       return;
     }
+    throw std::runtime_error(cfg_.sample_file + " (sample.file): no such file, and no readable checkpoint of this run "
+                                                "records the sample (a build before they did) to stand in for it: put "
+                                                "the file back to resume the run");
   }
   sample_ = read_sample_file(cfg_.sample_file);
 }

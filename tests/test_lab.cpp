@@ -342,7 +342,7 @@ TEST(Lab, ResumeIsBitwiseIdentical) {
 // density, density scaling and digest. Resumed with the file gone (the preparation run cleaned up, or moved), it
 // goes on from them, interrupted once in its reconsolidation and once in its shear, to the uninterrupted run's
 // series and state, bit for bit, and its run.h5 still names the sample it started from (was: "no such file", the
-// run lost). A fresh start still needs the file.
+// run lost). A fresh start still needs the file, and so does a run whose checkpoints do not record the sample.
 TEST(Lab, AResumeDoesNotNeedItsSampleFile) {
   const Reference& ref = reference();
   const std::string dir = tmpdir("gone_sample");
@@ -377,6 +377,26 @@ TEST(Lab, AResumeDoesNotNeedItsSampleFile) {
     e = ex.what();
   }
   EXPECT_NE(e.find(sample + ": no such file"), std::string::npos) << e;
+  // A run of a build before the checkpoints recorded the sample: the file is needed, and said so.
+  const std::string older = dir + "/older";
+  fs::rename(away, sample);
+  ASSERT_TRUE(run(cfg, older, 300).interrupted);
+  for (auto& f : fs::directory_iterator(older + "/checkpoints")) {
+    const hid_t h = H5Fopen(f.path().c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(h, 0);
+    for (const char* a : {"sample_digest", "sample_density", "sample_density_scaling"}) EXPECT_GE(H5Adelete(h, a), 0) << a;
+    H5Fclose(h);
+  }
+  fs::rename(sample, away);
+  e.clear();
+  try {
+    run(cfg, older, -1, true);
+  } catch (const std::exception& ex) {
+    e = ex.what();
+  }
+  EXPECT_NE(e.find(sample + " (sample.file): no such file, and no readable checkpoint of this run records the sample"),
+            std::string::npos)
+      << e;
 }
 
 // A finished run extended by --resume with a config that moves its shear's end (0.3 % -> 0.6 %) and then
