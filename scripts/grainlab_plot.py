@@ -55,6 +55,21 @@ LINEAR_I = 1e-2
 QUASI_STATIC_TRANSITS = 4
 
 
+def strain_across_stages(eps_a, stage, shear):
+    """The axial strain of consecutive shear stages from the first one's start. Each stage's eps_a counts from its
+    own start (its H0), so a staged test (a K0 consolidation then a shear, a loading then an unloading) drew its
+    stages over one another in a run's strain figures, joined by lines back across them. Heights compose exactly:
+    1 - eps = (1 - eps_before)(1 - eps_stage); an isotropic stage between shears starts the count again."""
+    run = eps_a.copy()
+    before = 0.0
+    for k in range(len(eps_a)):
+        if k and stage[k] != stage[k - 1]:
+            before = run[k - 1] if shear[k - 1] and shear[k] else 0.0
+        if shear[k] and before != 0.0:
+            run[k] = 1 - (1 - before) * (1 - eps_a[k])
+    return run
+
+
 def load(run, prog="grainlab plot"):
     path = os.path.join(run, "series.csv")
     with open(path) as f:
@@ -72,6 +87,7 @@ def load(run, prog="grainlab plot"):
     cols["monotonic"] = (cols["stage_type"] > 0) & (cols["stage_type"] < 3)  # critical states come from these
     cols["cyclic"] = (cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)
     cols["oedometric"] = cols["stage_type"] == 5  # K0 tests: no peak, no critical state
+    cols["eps_a_run"] = strain_across_stages(cols["eps_a"], cols["stage"], cols["shear"])
     # the walls' p and q less the local damping's drag (series p_drag, q_drag, Laboratory::drag_stress: both linear in
     # the wall stresses, so the difference is the walls' stress without the drag): STRESS_MEASURES_TEXT
     if "p_drag" in cols and "q_drag" in cols:
@@ -131,9 +147,9 @@ def fig_stress(runs, out):
     for run, s in runs:
         m = s["shear"]
         lab = label(run, s)
-        ax[0, 0].plot(100 * s["eps_a"][m], s["q"][m] / 1e3, label=lab)
+        ax[0, 0].plot(100 * s["eps_a_run"][m], s["q"][m] / 1e3, label=lab)
         ax[0, 1].plot(s["p"][m] / 1e3, s["q"][m] / 1e3, label=lab)
-        ax[1, 0].plot(100 * s["eps_a"][m], s["u"][m] / 1e3, label=lab)
+        ax[1, 0].plot(100 * s["eps_a_run"][m], s["u"][m] / 1e3, label=lab)
         ax[1, 1].plot(s["p"] / 1e3, s["e"], label=lab)
     ax[0, 0].set(xlabel="axial strain eps_a [%]", ylabel="q [kPa]", title="deviator stress")
     ax[0, 1].set(xlabel="p' [kPa]", ylabel="q [kPa]", title="stress path")
@@ -147,7 +163,7 @@ def fig_anisotropy(runs, out):
     for k, key in enumerate(["a_c", "a_d", "a_n", "a_t"]):
         for run, s in runs:
             m = s["shear"]
-            e = 100 * s["eps_a"][m]
+            e = 100 * s["eps_a_run"][m]
             (ln,) = ax[k].plot(e, s[key][m], label=label(run, s) + " total")
             ax[k].plot(e, s[key + "_strong"][m], "--", color=ln.get_color(), label="strong")
             ax[k].plot(e, s[key + "_weak"][m], ":", color=ln.get_color(), label="weak")
@@ -161,7 +177,7 @@ def fig_sff(runs, out):
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for run, s in runs:
         m = s["shear"]
-        e = 100 * s["eps_a"][m]
+        e = 100 * s["eps_a_run"][m]
         (ln,) = ax[0].plot(e, s["q_p"][m], label=label(run, s) + ": q/p' (contacts)")
         ax[0].plot(e, s["sff"][m], "--", color=ln.get_color(), label="2/5 (a_c + a_d + a_n + 3/2 a_t)")
         # The same ratio of the walls' stress and of the interior's (STRESS_MEASURES_TEXT), where the series has them
@@ -183,7 +199,7 @@ def fig_sff(runs, out):
     total = s["sff"][m]
     keep = np.abs(total) >= kMeaningful * np.max(np.abs(total)) if len(total) else np.zeros(0, bool)
     shares = [s["sff_share_" + k][m][keep] for k in "cdnt"]
-    ax[1].stackplot(100 * s["eps_a"][m][keep], *shares, labels=["a_c", "a_d", "a_n", "3/2 a_t"], alpha=0.8)
+    ax[1].stackplot(100 * s["eps_a_run"][m][keep], *shares, labels=["a_c", "a_d", "a_n", "3/2 a_t"], alpha=0.8)
     ax[1].set(xlabel="eps_a [%]", ylabel="share of the sum",
               title=f"term shares where |sum| >= {kMeaningful:g} max: {label(run, s)}")
     legend(ax[1], fontsize=8, loc="upper right")
@@ -196,7 +212,7 @@ def fig_fractions(runs, out):
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for run, s in runs:
         m = s["shear"]
-        e = 100 * s["eps_a"][m]
+        e = 100 * s["eps_a_run"][m]
         (ln,) = ax[0].plot(e, s["weak_frac"][m], label=label(run, s))
         ax[1].plot(e, s["sliding_frac"][m], color=ln.get_color(), label=label(run, s) + " sliding")
         ax[1].plot(e, s["sliding_weak_frac"][m], "--", color=ln.get_color(), label="sliding within weak")

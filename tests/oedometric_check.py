@@ -137,6 +137,16 @@ for job, seed, want_label in ((job1, False, "mu_r=0 oedometric"), (job1, True, "
                               (dict(job1, direction="extension"), False, "mu_r=0 oedometric extension")):
     if grainlab_plot.job_label(job, s, seed) != want_label:
         fails.append(f"job_label: {grainlab_plot.job_label(job, s, seed)!r}, wanted {want_label!r}")
+# The run's strain figures draw the two stages on one axis of axial strain from the loading's start: the unloading's
+# eps_a (from its own start, its H0) composed with the loading's, 1 - (1 - 0.02)(1 + 0.005) = 1.51 % at the end; the
+# loading's rows as they are (they drew the unloading back over them from 0, joined by a line back across)
+ea, run_ea, st = s["eps_a"], s["eps_a_run"], s["stage"]
+load_rows, unload_rows = st == "load", st == "unload"
+if not (load_rows.any() and unload_rows.any()) or list(run_ea[load_rows]) != list(ea[load_rows]):
+    fails.append(f"eps_a_run of the loading: {run_ea[load_rows]}")
+elif abs(run_ea[unload_rows][-1] - (1 - 0.98 * 1.005)) > 1e-12 or abs(run_ea[unload_rows][0] - 0.02) > 1e-12:
+    fails.append(f"eps_a_run of the unloading: {run_ea[unload_rows][0]} .. {run_ea[unload_rows][-1]}, wanted 0.02 .. "
+                 f"{1 - 0.98 * 1.005}")
 grainlab_plot.fig_oedometric([(run, s)], figs)
 if not os.path.isfile(os.path.join(figs, "oedometric.png")):
     fails.append("fig_oedometric drew nothing")
