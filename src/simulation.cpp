@@ -477,6 +477,17 @@ SampleFile read_sample_file(const std::string& path) {
   std::string digest = state_digest(s);
   return {std::move(s), r.attr_double("density"), r.attr_double("density_scaling"), std::move(digest)};
 }
+// A run directory's checkpoints (checkpoints/ckpt_<12-digit step>.h5: by name is by step), the newest first; none if
+// there is no such folder.
+std::vector<std::string> checkpoints_newest_first(const std::string& run_dir) {
+  std::vector<std::string> all;
+  std::error_code ec;
+  for (auto& f : fs::directory_iterator(run_dir + "/checkpoints", ec))
+    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") all.push_back(f.path());
+  std::sort(all.rbegin(), all.rend());
+  return all;
+}
+
 // The run's plan (plan_run) for a sample already read (sample: sample.file's, or what stands in for it on a resume).
 RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const SampleFile* sample);
 
@@ -768,12 +779,7 @@ void Laboratory::load_sample() {
 }
 
 std::optional<SampleFile> Laboratory::sample_from_checkpoints() const {
-  std::vector<std::string> all;
-  std::error_code ec;
-  for (auto& f : fs::directory_iterator(out_ + "/checkpoints", ec))
-    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") all.push_back(f.path());
-  std::sort(all.rbegin(), all.rend());
-  for (const std::string& path : all) {
+  for (const std::string& path : checkpoints_newest_first(out_)) {
     try {
       const H5Reader r(path);
       if (!r.has("sample_digest") || !r.has("sample_density") || !r.has("sample_density_scaling")) continue;
@@ -1853,21 +1859,14 @@ std::string Laboratory::write_checkpoint() {
   });
   last_ckpt_ = std::chrono::steady_clock::now();
   // Keep the newest keep_checkpoints files; older ones go only after the new one is safely in place.
-  std::vector<std::string> all;
-  for (auto& f : fs::directory_iterator(out_ + "/checkpoints"))
-    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") all.push_back(f.path());
-  std::sort(all.begin(), all.end());
-  for (size_t k = 0; k + cfg_.keep_checkpoints < all.size(); ++k) fs::remove(all[k]);
+  const std::vector<std::string> all = checkpoints_newest_first(out_);
+  for (size_t k = size_t(cfg_.keep_checkpoints); k < all.size(); ++k) fs::remove(all[k]);
   flush_outputs();
   return path;
 }
 
 bool Laboratory::load_newest_checkpoint() {
-  std::vector<std::string> all;
-  for (auto& f : fs::directory_iterator(out_ + "/checkpoints"))
-    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") all.push_back(f.path());
-  std::sort(all.rbegin(), all.rend());
-  for (const std::string& path : all) {
+  for (const std::string& path : checkpoints_newest_first(out_)) {
     try {
       H5Reader r(path);
       std::string then = as_this_build_writes(r.string("/lab/config"));
@@ -2128,11 +2127,7 @@ bool holds_run(const std::string& dir) {
 std::string sample_file_digest(const std::string& path) { return read_sample_file(path).digest; }
 
 std::string run_sample_digest(const std::string& dir) {
-  std::vector<std::string> files;  // every checkpoint records it (the newest first), and run.h5 once written
-  std::error_code ec;
-  for (auto& f : fs::directory_iterator(dir + "/checkpoints", ec))
-    if (f.path().filename().string().rfind("ckpt_", 0) == 0 && f.path().extension() == ".h5") files.push_back(f.path());
-  std::sort(files.rbegin(), files.rend());
+  std::vector<std::string> files = checkpoints_newest_first(dir);  // every checkpoint records it, and run.h5 once written
   files.push_back(dir + "/run.h5");
   for (const std::string& path : files) {
     try {
