@@ -33,7 +33,7 @@ printf '%s\n' "$plan" | grep -q "sample: the base's sample.file .*/smoke/sample_
 out=$("$bin" study study.yaml --out st --jobs 2 --threads 2 2>&1) || fail "the study failed: $out"
 job=st/jobs/sample_mur0_ebase_pbase_file_n300
 [ -f "$job/done" ] || fail "no finished sample job named for the file's 300 spheres: $(ls st/jobs)"
-sample=$(/usr/bin/python3 -c "import sys, yaml; print(yaml.safe_load(open(sys.argv[1]))['sample'])" "$job/job.yaml")
+sample=$("${GRAINLAB_PYTHON:-/usr/bin/python3}" -c "import sys, yaml; print(yaml.safe_load(open(sys.argv[1]))['sample'])" "$job/job.yaml")
 [ "$sample" = "{'file': '$PWD/smoke/sample_consolidate.h5'}" ] || fail "the sample job's sample block: $sample"
 [ "$(ls st/jobs/shear_*/done | wc -l)" -eq 2 ] || fail "expected 2 finished shears: $(ls st/jobs)"
 [ -f st/report.md ] || fail "no report"

@@ -17,7 +17,7 @@ output: {every: 100}
 YAML
 printf 'base: base.yaml\naxes: {drainage: [drained, undrained]}\nextra:\n  - {direction: extension, max_axial_strain: 0.004, axial_strain_rate: 2}\n' > study.yaml
 out=$("$bin" study study.yaml --out st --jobs 2 --threads 2 2>&1) || fail "the study failed: $out"
-stages() { /usr/bin/python3 -c "import sys, yaml
+stages() { "${GRAINLAB_PYTHON:-/usr/bin/python3}" -c "import sys, yaml
 for s in yaml.safe_load(open(sys.argv[1]))['stages']:
     print(s['name'], s.get('drainage'), s.get('direction', '-'), s.get('max_axial_strain'), s.get('axial_strain_rate'))" "$1"; }
 n=0

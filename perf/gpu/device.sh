@@ -36,10 +36,12 @@ done
 echo "python: ${GRAINLAB_PYTHON:-none with numpy, h5py and matplotlib}"
 # The CTest files name the paths of the machine that built them.
 old_root=$(sed -n 's/^# Source directory: //p' build-gpu/CTestTestfile.cmake)
-# So do the configs CMake writes for the tests (bad_configs/, cyclic.yaml).
+# So do the configs CMake writes for the tests (bad_configs/, cyclic.yaml). Only a quoted argument that is a
+# python3's path is replaced: cli_plot_no_python's "GRAINLAB_PYTHON=/nonexistent/python3" became the python itself,
+# which then ran grainlab as a script (session 47).
 for f in $(find build-gpu -path build-gpu/CMakeFiles -prune -o \( -name CTestTestfile.cmake -o -name "*.yaml" \) -type f -print); do
   sed -i -e "s#$old_root#$ROOT#g" -e "s#\"/usr/bin/cmake\"#\"$(command -v cmake)\"#g" \
-         -e "s#\"[^\"]*/python3\"#\"${GRAINLAB_PYTHON:-python3}\"#g" "$f"
+         -e "s#\"/[^\"]*/python3\"#\"${GRAINLAB_PYTHON:-python3}\"#g" "$f"
 done
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv | tee "$OUT/device.txt"
 echo "carried libraries used: $(ls /tmp/gpucarry-lib | tr '\n' ' ')" | tee -a "$OUT/device.txt"
