@@ -70,6 +70,18 @@ def strain_across_stages(eps_a, stage, shear):
     return run
 
 
+def ru_reference(p, undrained):
+    """r_u's reference p'_c per row: the effective mean stress at the first row of the undrained stages in a row that
+    it belongs to (NaN elsewhere). An undrained stage right after an undrained one goes on with the pore pressure that
+    stage left (Laboratory::start_stage: the drainage stays closed), so a post-cyclic shear's or a staged cyclic
+    test's r_u = u/p'_c counts from where the undrained loading began, as the run's own criterion does."""
+    ref = np.full(len(p), np.nan)
+    for k in range(len(p)):
+        if undrained[k]:
+            ref[k] = ref[k - 1] if k and undrained[k - 1] else p[k]
+    return ref
+
+
 def load(run, prog="grainlab plot"):
     path = os.path.join(run, "series.csv")
     with open(path) as f:
@@ -88,6 +100,7 @@ def load(run, prog="grainlab plot"):
     cols["cyclic"] = (cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)
     cols["oedometric"] = cols["stage_type"] == 5  # K0 tests: no peak, no critical state
     cols["eps_a_run"] = strain_across_stages(cols["eps_a"], cols["stage"], cols["shear"])
+    cols["p_c"] = ru_reference(cols["p"], (cols["stage_type"] == 1) | (cols["stage_type"] == 3))
     # the walls' p and q less the local damping's drag (series p_drag, q_drag, Laboratory::drag_stress: both linear in
     # the wall stresses, so the difference is the walls' stress without the drag): STRESS_MEASURES_TEXT
     if "p_drag" in cols and "q_drag" in cols:
@@ -473,7 +486,8 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
 
 def fig_cyclic(runs, out):
     """Cyclic stages against the cycle number N: p'/p'_0 (p'_0 at the stage's first row), the excess pore pressure
-    ratio r_u = u/p'_0 of undrained tests (liquefaction as r_u -> 1), and the axial strain."""
+    ratio r_u = u/p'_c of undrained tests (liquefaction as r_u -> 1; p'_c where the undrained loading began,
+    ru_reference), and the axial strain."""
     runs = [(run, s) for run, s in runs if s["cyclic"].any()]
     if not runs:
         return
@@ -486,7 +500,7 @@ def fig_cyclic(runs, out):
         with np.errstate(divide="ignore", invalid="ignore"):  # p'_0 = 0 (a sample without contacts) draws nothing
             ax[0].plot(n, p / p[0], label=lab)
             if und.any():
-                ax[1].plot(s["cycle"][und], s["u"][und] / s["p"][und][0], label=lab)
+                ax[1].plot(s["cycle"][und], s["u"][und] / s["p_c"][und], label=lab)
         ax[2].plot(n, 100 * s["eps_a"][m], label=lab)
     ax[0].set(xlabel="cycle N", ylabel="p' / p'_0", title="mean effective stress")
     ax[1].set(xlabel="cycle N", ylabel="r_u = u / p'_0", title="excess pore pressure ratio (undrained)")

@@ -254,6 +254,10 @@ struct Lab {
   Real eps_turn = 0, n_ru = -1, n_da = -1;
   // A shear's q at its start where it starts from an anisotropic stress (Laboratory::start_stage), else 0
   Real q0 = 0;
+  // An undrained stage right after an undrained one (a post-cyclic shear, the next amplitude of a staged cyclic
+  // test): the excess pore pressure it starts with, that stage's u at its end (no drainage in between; else 0), and
+  // the effective mean stress the undrained loading began from, p'_c, r_u's reference (else p'_0)
+  Real u0 = 0, pc = 0;
   CycleLoop loop;  // cyclic stage: the cycle under way (Laboratory::watch_cycle)
   Series cycles{&cycle_columns()};
   Series series;
@@ -264,13 +268,14 @@ struct Lab {
   std::vector<double> scalars() const {
     return {double(stage), double(stage_step), double(started), H0, V0, p0, aspect, mu, last_eps, last_time,
             double(snapshots), next_snap_eps, double(searching), double(half_cycles), cycle, eps_turn, n_ru, n_da,
-            q0};
+            q0, u0, pc};
   }
   void set_scalars(const std::vector<double>& s) {
     // 13: a checkpoint from before cyclic stages (none of its stages is cyclic); 15: from before the liquefaction
     // criteria (a cyclic stage resumed from one records them from the resumed step on); 18: from before q0 (its
-    // stages all started as SPEC §6.3's, from q0 = 0)
-    if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19)
+    // stages all started as SPEC §6.3's, from q0 = 0); 19: from before u0 and p'_c (its undrained stages each
+    // counted u and r_u from their own start: u0 = 0, p'_c = p'_0)
+    if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19 && s.size() != 21)
       throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");
     stage = int(s[0]);
     stage_step = long(s[1]);
@@ -291,6 +296,8 @@ struct Lab {
     n_ru = s.size() > 17 ? s[16] : -1;
     n_da = s.size() > 17 ? s[17] : -1;
     q0 = s.size() > 18 ? s[18] : 0;
+    u0 = s.size() > 20 ? s[19] : 0;
+    pc = s.size() > 20 ? s[20] : p0;
   }
 };
 
@@ -859,7 +866,8 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
   m.gamma = m.eps_a - m.eps_r;
   m.u = 0;
   if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
-    m.u = (lab_.p0 + (m.q - lab_.q0) / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + (q - q_0)/3
+    m.u = (lab_.p0 + lab_.u0 + (m.q - lab_.q0) / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + u_0 +
+                                                            // (q - q_0)/3
   return m;
 }
 
@@ -1116,14 +1124,14 @@ void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn,
     if (std::floor(N) > std::floor(L.n)) {
       // the step: the measure's (the loop's last instant), which the step after it has already counted
       lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count() - 1), L.q_max, L.q_min, L.e_max, L.e_min,
-                                  L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.p0, L.g_max, L.g_min,
+                                  L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.pc, L.g_max, L.g_min,
                                   L.shear_modulus(), 1.0, L.modulus_less_drag(), L.damping_less_drag()});
       lab_.cycles.stage.push_back(lab_.stage);
       L.start(m.q, m.eps_a, m.gamma, m.u, q_drag);
     }
   }
   L.n = N;
-  if (lab_.n_ru < 0 && sc.drainage == Drainage::Undrained && m.u >= sc.liquefaction_ru * lab_.p0) lab_.n_ru = N;
+  if (lab_.n_ru < 0 && sc.drainage == Drainage::Undrained && m.u >= sc.liquefaction_ru * lab_.pc) lab_.n_ru = N;
   if (lab_.n_da < 0 && std::abs(m.eps_a - lab_.eps_turn) >= sc.liquefaction_da_strain) lab_.n_da = N;
   if (turn) lab_.eps_turn = m.eps_a;
 }
@@ -1170,7 +1178,19 @@ void Laboratory::start_stage(const StageConfig& sc) {
   const Measure m0 = measure(sc);
   lab_.H0 = e.wall_position(5) - e.wall_position(4);
   lab_.V0 = e.box_volume();
+  // An undrained stage after an undrained one goes on with the pore pressure that stage left, as a triaxial cell
+  // whose drainage stays closed does: u0 is that stage's u at this instant (m0.u: measured with its p'_0, u_0, q_0,
+  // which are still the lab's), and r_u stays relative to the p'_c its undrained loading began from. A post-cyclic
+  // shear then starts at the r_u the cycles built up, not at 0, and a staged cyclic test's liquefaction criterion
+  // counts every stage's cycles towards one r_u. After any other stage (drained, oedometric, isotropic) u starts
+  // at 0 from the stress there, SPEC §6.3's.
+  const auto undrained = [](const StageConfig& s) {
+    return s.type != StageType::Isotropic && s.drainage == Drainage::Undrained;
+  };
+  const bool closed = undrained(sc) && lab_.stage > 0 && undrained(cfg_.stages[size_t(lab_.stage - 1)]);
+  lab_.u0 = closed ? m0.u : 0;
   lab_.p0 = sc.type == StageType::Isotropic ? sc.pressure : std::max<Real>(m0.p, 1e-30);
+  if (!closed) lab_.pc = lab_.p0;
   // A shear after a shear stage (a K0 consolidation by an oedometric stage, a drained loading, a cycle) starts from
   // the anisotropic stress that stage left, as a triaxial cell's test of a K0-consolidated sample does: its cell
   // pressure is the lateral stress there, sigma_3 = p'_0 - q_0/3 (drained), the total stress then rises as the
@@ -1525,7 +1545,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const CycleLoop& L = lab_.loop;
     if (L.open && (L.e_max > L.e_min || L.q_max > L.q_min)) {
       lab_.cycles.rows.push_back({std::floor(L.n) + 1, double(final_step), L.q_max, L.q_min, L.e_max, L.e_min,
-                                  L.modulus(), std::nan(""), m.p, m.eps_v, L.u_max / lab_.p0, L.g_max, L.g_min,
+                                  L.modulus(), std::nan(""), m.p, m.eps_v, L.u_max / lab_.pc, L.g_max, L.g_min,
                                   L.shear_modulus(), 0.0, L.modulus_less_drag(), std::nan("")});
       lab_.cycles.stage.push_back(lab_.stage);
     }
@@ -1545,7 +1565,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     if (sc.type == StageType::Cyclic)
       std::printf("stage %s: cycle %.4g of %ld%s, eps_a = %.4g, p'/p'_0 = %.4g\n", sc.name.c_str(), lab_.cycle, sc.cycles,
                   std::abs(m.eps_a) >= sc.max_axial_strain ? " (stopped at |eps_a| = max_axial_strain)" : "", m.eps_a,
-                  m.p / lab_.p0);
+                  m.p / lab_.pc);
     if (sc.type == StageType::Cyclic) {
       auto at = [](Real n) {
         char b[48];

@@ -569,26 +569,33 @@ void drop_series_columns(const std::string& ckpt, size_t drop) {
 // The series.csv of a run resumed from a checkpoint without the trailing columns `unmeasured` (ke_fluct_ratio ...
 // q_drag: the last ones) against the uninterrupted run's: every other column the same to the bit; each of those not
 // a number in the rows the checkpoint restored (never measured) and the same in the rows after.
-// A run of a build before q0 (Lab::q0: a shear after a shear starts from the stress it finds) resumed in such a
-// shear keeps its start, q0 = 0: its u in the rows after the resume is this build's + q0/3, one constant over them (to
-// round-off of p'), and the same bits elsewhere (the rows the checkpoint restored are this build's). The two series
-// with u blanked, for the comparison of the rest.
-std::pair<std::string, std::string> without_u_of_a_start_before_q0(const std::string& a, const std::string& b,
-                                                                    const std::string& stage) {
-  const auto ua = csv_column(a, "u"), ub = csv_column(b, "u"), st = csv_column(a, "stage"), p = csv_column(a, "p");
+// A run of a build before q0 (Lab::q0: a shear after a shear starts from the stress it finds) or before u0 (an
+// undrained stage after an undrained one goes on with its pore pressure) resumed in such a stage (`stage`, undrained
+// after an undrained one) keeps its start, q0 = 0 and u0 = 0: its u in the rows after the resume is this build's +
+// q0/3 - u0 (before q0) or - u0 (before u0 alone), one constant over them (to round-off of p'), and the same bits
+// elsewhere (the rows the checkpoint restored are this build's). q0 and u0 are the stage before's q and u where the
+// stage starts, which its last row gives to within the p' the start moves (the new stage's friction and damping:
+// 0.02-0.2 Pa here, 1e-6 of p'), hence 1e-5 p' against offsets of 1e4 Pa. The two series with u blanked, for the
+// comparison of the rest.
+std::pair<std::string, std::string> without_u_of_an_older_start(const std::string& a, const std::string& b,
+                                                                 const std::string& stage, bool before_q0) {
+  const auto ua = csv_column(a, "u"), ub = csv_column(b, "u"), st = csv_column(a, "stage"), p = csv_column(a, "p"),
+             qb = csv_column(b, "q");
   EXPECT_EQ(ua.size(), ub.size());
-  double offset = std::nan("");
+  double offset = std::nan(""), expected = std::nan("");
   for (size_t k = 0; k < std::min(ua.size(), ub.size()); ++k) {
     if (st[k] != stage) {
       EXPECT_EQ(ua[k], ub[k]) << "row " << k;
       continue;
     }
+    if (std::isnan(expected) && k > 0) expected = (before_q0 ? std::stod(qb[k - 1]) / 3 : 0) - std::stod(ub[k - 1]);
     const double d = std::stod(ua[k]) - std::stod(ub[k]);
     if (std::isnan(offset) && d == 0) continue;  // restored
     if (std::isnan(offset)) offset = d;
     EXPECT_NEAR(d, offset, 1e-9 * std::stod(p[k])) << "row " << k;
   }
-  EXPECT_GT(offset, 0) << "q0/3 of a shear after a compression";
+  EXPECT_NEAR(offset, expected, 1e-5 * std::stod(p.back())) << (before_q0 ? "q0/3 - u0" : "-u0");
+  EXPECT_GT(std::abs(offset), 1e-6 * std::stod(p.back())) << "the two starts told apart";
   const auto blank = [](const std::string& csv) {
     std::istringstream in(csv);
     std::string line, out;
@@ -609,9 +616,10 @@ std::pair<std::string, std::string> without_u_of_a_start_before_q0(const std::st
 }
 
 void expect_series_but(const std::string& resumed, const std::string& direct,
-                       const std::vector<std::string>& unmeasured, const std::string& started_before_q0 = "") {
+                       const std::vector<std::string>& unmeasured, const std::string& older_start = "",
+                       bool before_q0 = true) {
   std::string a = slurp(resumed + "/series.csv"), b = slurp(direct + "/series.csv");
-  if (!started_before_q0.empty()) std::tie(a, b) = without_u_of_a_start_before_q0(a, b, started_before_q0);
+  if (!older_start.empty()) std::tie(a, b) = without_u_of_an_older_start(a, b, older_start, before_q0);
   const auto without_last = [&](const std::string& csv) {
     std::istringstream in(csv);
     std::string line, out;
@@ -644,7 +652,7 @@ void as_before_cyclic_stages(const std::string& ckpt) {
     scalars = r.doubles("/lab/scalars");
     results = r.doubles("/lab/results");
   }
-  ASSERT_EQ(scalars.size(), 19u);
+  ASSERT_EQ(scalars.size(), 21u);
   ASSERT_EQ(results.size(), 13u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
                                     "quarter_transits, e_inner, e_core";
   results.resize(6);
@@ -680,9 +688,11 @@ void as_before_cyclic_stages(const std::string& ckpt) {
 // (the padding is by the count of columns missing: 1 to 8 all take the same path), which also had no q0 (18 lab
 // scalars: its shears all started as SPEC's from q0 = 0, as a shear after an isotropic stage still does). Checked to
 // fail when load_newest_checkpoint compares the stored text as it is. This build starts a shear after a shear (here
-// the second) from the stress it finds (q0 = its q at the start: u = 0 there), a run of an older build from q0 = 0,
-// and such a run resumed keeps its start: the series differ in u (u = p'_0 + (q - q0)/3 - p': by q0/3 in the
-// second stage's rows), which nothing else reads (undrained walls are placed by the volume), and in nothing else.
+// the second) from the stress it finds (q0 = its q at the start) and, both being undrained, with the pore pressure the
+// first left (u0), a run of an older build from q0 = 0 and u0 = 0 (or u0 = 0 alone: the build just before u0, 19 lab
+// scalars), and such a run resumed keeps its start: the series differ in u (u = p'_0 + u0 + (q - q0)/3 - p': by
+// q0/3 - u0, or -u0, in the second stage's rows), which nothing else reads (undrained walls are placed by the
+// volume), and in nothing else.
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
   const std::string sample = ref.out + "/sample_consolidate.h5";
@@ -712,12 +722,20 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   };
   const std::string last = tmpdir("older_last");
   fs::copy(out, last, fs::copy_options::recursive);
-  const auto no_q0 = [](const std::string& path) {  // 18 lab scalars
+  const auto lab_scalars = [](const std::string& path, size_t n) {  // 18: before q0, 19: before u0 and p'_c
     std::vector<double> scalars = H5Reader(path).doubles("/lab/scalars");
-    ASSERT_EQ(scalars.size(), 19u);
-    scalars.resize(18);
+    ASSERT_EQ(scalars.size(), 21u);
+    scalars.resize(n);
     rewrite_dataset(path, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
   };
+  const auto no_q0 = [&](const std::string& path) { lab_scalars(path, 18); };
+  // The build just before u0 (session 46): its checkpoints as now but for the last two lab scalars.
+  const std::string before_u0 = tmpdir("older_before_u0");
+  fs::copy(out, before_u0, fs::copy_options::recursive);
+  lab_scalars(newest_checkpoint(before_u0), 19);
+  ASSERT_FALSE(run(cfg, before_u0, -1, true).interrupted);
+  expect_series_but(before_u0, direct, {}, "shear", false);
+  EXPECT_EQ(slurp(before_u0 + "/summary.json"), slurp(direct + "/summary.json"));
   drop_series_columns(newest_checkpoint(last), 2);
   no_q0(newest_checkpoint(last));
   ASSERT_FALSE(run(cfg, last, -1, true).interrupted);
@@ -1008,6 +1026,63 @@ TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
     EXPECT_NEAR(std::stod(qmax[0]), s.q0 + A, 0.1 * A);
     EXPECT_NEAR(std::stod(qmin[0]), s.q0 - A, 0.1 * A);
   }
+}
+
+// An undrained stage right after an undrained one goes on with the pore pressure that stage left (the drainage stays
+// closed), as a post-cyclic shear or the next amplitude of a staged cyclic test in a triaxial cell does (u was
+// counted from 0 again at each stage's start, dropping the r_u the cycles had built up), and r_u = u/p'_c stays
+// relative to where the undrained loading began. Two cycles then a monotonic shear, rows every step: at each boundary
+// the total mean stress p' + u - q/3 carries on, u_first = u_last + (q_first - q_last)/3 - (p'_first - p'_last) to
+// round-off (whatever the two rows' instants: the total stress moves by dq/3 in both stages); the second cycle's
+// r_u_max in cycles.csv is its largest u over p'_c, the first cycle's starting p'; and a run stopped in the second
+// cycle resumes to the same series. Seen failing with u0 = 0 and p'_c = p'_0 (the boundaries by 3.9 and 2.9 kPa,
+// r_u_max by 2 %).
+TEST(Lab, AnUndrainedStageAfterAnUndrainedOneKeepsItsPorePressure) {
+  const std::string stages =
+      "  - {name: cyc1, type: cyclic, drainage: undrained, q_amplitude: 60e3, cycles: 1, axial_strain_rate: 1.0, "
+      "max_axial_strain: 0.05, damping: 0.2}\n"
+      "  - {name: cyc2, type: cyclic, drainage: undrained, q_amplitude: 60e3, cycles: 1, axial_strain_rate: 1.0, "
+      "max_axial_strain: 0.05, damping: 0.2}\n"
+      "  - {name: post, type: triaxial, drainage: undrained, axial_strain_rate: 1.0, max_axial_strain: 0.001, "
+      "damping: 0.2}\n";
+  const std::string cfg = on_reference("closed", stages, 1), out = tmpdir("closed");
+  const RunResult whole = run(cfg, out);
+  ASSERT_FALSE(whole.interrupted);
+  ASSERT_EQ(whole.stages.size(), 3u);
+  const std::string csv = slurp(out + "/series.csv");
+  const auto st = csv_column(csv, "stage"), u = csv_column(csv, "u"), p = csv_column(csv, "p"), q = csv_column(csv, "q");
+  const auto at = [](const std::vector<std::string>& c, size_t k) { return std::stod(c[k]); };
+  const double pc = at(p, 0);  // the first cycle's first row: the stage's start
+  double u_built = 0;
+  for (size_t k = 1; k < st.size(); ++k) {
+    if (st[k] == st[k - 1]) continue;
+    SCOPED_TRACE(st[k - 1] + " -> " + st[k]);
+    const double expected = at(u, k - 1) + (at(q, k) - at(q, k - 1)) / 3 - (at(p, k) - at(p, k - 1));
+    EXPECT_NEAR(at(u, k), expected, 1e-9 * pc) << "u at the stage's end " << at(u, k - 1);
+    if (st[k] == "cyc2") u_built = at(u, k - 1);
+  }
+  // The test's reach: a first cycle that built up a pore pressure a restart at 0 would be told from (measured
+  // ~0.1 of p'_c on the reference sample; one row's change, which the identity above also covers, is ~1e-3 of it).
+  ASSERT_GT(u_built, 0.02 * pc);
+  const std::string cycles = slurp(out + "/cycles.csv");
+  const auto cst = csv_column(cycles, "stage"), ru = csv_column(cycles, "r_u_max"), cstep = csv_column(cycles, "step");
+  const auto step = csv_column(csv, "step");
+  size_t row = cst.size();
+  for (size_t k = 0; k < cst.size(); ++k)
+    if (cst[k] == "cyc2") row = k;
+  ASSERT_LT(row, cst.size());
+  double u_max = -1e300;
+  for (size_t k = 0; k < st.size(); ++k)
+    if (st[k] == "cyc2" && at(step, k) <= at(cstep, row)) u_max = std::max(u_max, at(u, k));
+  // pc is the first row's p', one step after the start that r_u is relative to (p' moves ~1e-5 of itself a step);
+  // p'_0 of the second cycle's start instead (counting from there) is 2.4 % lower on this sample.
+  EXPECT_NEAR(at(ru, row) * pc, u_max, 1e-4 * u_max) << "p'_c " << pc;
+  // Stopped in the second cycle: the checkpoint keeps u_0 and p'_c.
+  const std::string resumed = tmpdir("closed_resumed");
+  ASSERT_TRUE(run(cfg, resumed, whole.stages[0].steps + whole.stages[1].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, resumed, -1, true).interrupted);
+  EXPECT_EQ(slurp(resumed + "/series.csv"), csv);
+  EXPECT_EQ(slurp(resumed + "/cycles.csv"), cycles);
 }
 
 // Triaxial extension (`direction: extension`): the axial walls move apart at the rate, so eps_a falls to
