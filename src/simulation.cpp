@@ -943,7 +943,9 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
                                                 : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0) +
                                                       (sc.type == StageType::Cyclic ? 2.0 : 0.0),
           std::max(Real(0), e.deepest_overlap().ratio),
-          sc.type == StageType::Cyclic ? (lab_.cycle = std::max(lab_.cycle, cycle_number(sc, m))) : 0.0,
+          // N never below the steps' before it (watch_cycle_number): a row-only maximum missed a stress peak between
+          // rows, so a sample that flowed before its first reversal ended "at N = 0.060" with r_u met at N = 0.078
+          sc.type == StageType::Cyclic ? (lab_.cycle = watch_cycle_number(sc, m)) : 0.0,
           d.potential > 0 ? d.kinetic_fluct / d.potential : 0,
           inner_void_ratio(),
           D.q_walls,

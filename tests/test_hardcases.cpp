@@ -133,6 +133,39 @@ output: {every: 200, checkpoint_every: 0, checkpoint_minutes: 0}
   EXPECT_EQ(r.result.stages[1].n_da, -1.0) << "+-2 % spans 4 % double amplitude, below the default 5 %";
 }
 
+// Flow liquefaction under stress control: a loose sample (prepared with mu = 0.8) loaded undrained towards q = 30 kPa
+// collapses before q gets there (its peak is ~0.2 of that), so the first reversal never comes: the stage ends at
+// max_axial_strain (3 %) with p' below 1 % of p'_0, every row finite. The cycle number N is where the load got to,
+// q/(4A) before the first reversal: the stage's N reached (summary.json's `cycle`, the last row's) is the largest N of
+// its steps, never below the N at which r_u met the criterion, and the series' N never decreases. The series' N was a
+// maximum over its rows alone, which missed the stress peak between two rows: N 0.060 reached, r_u met at N 0.078.
+TEST(HardCases, StressControlledLoadingFlowsBeforeItsFirstReversal) {
+  const LabRun r = run_yaml("flow", R"(
+sample: {count: 500, seed: 3, initial_solid_fraction: 0.40, density_scaling: 1000}
+stages:
+  - {name: consolidate, type: isotropic, pressure: 100e3, mu: 0.8, max_steps: 40000}
+  - {name: load, type: cyclic, drainage: undrained, q_amplitude: 30e3, cycles: 20, max_axial_strain: 0.03, mu: 0.5, axial_strain_rate: 0.5, damping: 0.2}
+output: {every: 200, checkpoint_every: 0, checkpoint_minutes: 0}
+)");
+  expect_all_finite(r);
+  ASSERT_EQ(r.result.stages.size(), 2u);
+  const StageResult& s = r.result.stages[1];
+  double p0 = 0, n_before = 0;
+  for (size_t k = 0; k < r.rows.size(); ++k) {
+    if (r.stage[k] != "load") continue;
+    if (p0 == 0) p0 = r.col(k, "p");
+    EXPECT_GE(r.col(k, "cycle"), n_before) << "row " << k;
+    n_before = r.col(k, "cycle");
+  }
+  const size_t last = r.rows.size() - 1;
+  EXPECT_NEAR(r.col(last, "eps_a"), 0.03, 1e-4) << "the stage ends at max_axial_strain";
+  EXPECT_LT(r.col(last, "p"), 0.01 * p0);
+  EXPECT_LT(s.cycle, 0.25) << "no reversal: q never reached A";
+  EXPECT_NEAR(r.col(last, "cycle"), s.cycle, 1e-11) << "series.csv's 12 digits";
+  ASSERT_GT(s.n_ru, 0) << "r_u = 0.95 not met";
+  EXPECT_LE(s.n_ru, s.cycle);
+}
+
 // Servo to a very low pressure (1 kPa): a sample consolidated at 190 kPa is unloaded to 1 kPa and reaches
 // it within 1 % in equilibrium. Unloading uses a gentle servo gain (0.05): at the default 0.5 the walls
 // retract faster than the sample can expand, it springs apart and then creeps back under only 1 kPa for
