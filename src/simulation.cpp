@@ -1800,6 +1800,9 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
   const Real se = servo_error(sc, m);
   if (!(se > sc.max_servo_error)) return;
   const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m.sz);
+  // sigma_3's name: SPEC's p'_0, unless a constant-p' path or an anisotropic start (q0) sets it otherwise (sigma_x's
+  // target was then still named p'_0, which it was not)
+  const bool named_s3 = sc.constant_p || lab_.q0 != 0;
   std::ostringstream os;
   os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
      << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
@@ -1809,8 +1812,8 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
                         : "p'_0 = ")
      << t.sy / 1e3
      << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
-     << (sc.constant_p ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")
-                       : (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = "))
+     << (named_s3 ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")
+                  : (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = "))
      << t.sx / 1e3 << " kPa: the worst "
      << 100 * se << " % off (max_servo_error " << sc.max_servo_error
      << "). A servo lags its target by a share that grows with the speed its walls must keep (true triaxial at "
