@@ -70,6 +70,21 @@ def strain_across_stages(eps_a, stage, shear):
     return run
 
 
+def cycles_across_stages(cycle, stage, cyclic):
+    """The cycle number N counted over a run's cyclic stages: each stage's N counts from 0 at its start (its cycles and
+    liquefaction criteria are its own), so a staged cyclic test (amplitudes in turn, stages of `cycles` each) drew its
+    stages over one another against N, joined by lines back across the figure. Each cyclic stage goes on from the N
+    the ones before it reached."""
+    run = np.array(cycle, dtype=float)
+    before = 0.0
+    for k in range(1, len(run)):
+        if stage[k] != stage[k - 1] and cyclic[k - 1]:
+            before += cycle[k - 1]  # the stage's last row: the N it reached
+        if cyclic[k]:
+            run[k] = before + cycle[k]
+    return run
+
+
 def ru_reference(p, undrained):
     """r_u's reference p'_c per row: the effective mean stress at the first row of the undrained stages in a row that
     it belongs to (NaN elsewhere). An undrained stage right after an undrained one goes on with the pore pressure that
@@ -100,6 +115,7 @@ def load(run, prog="grainlab plot"):
     cols["cyclic"] = (cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)
     cols["oedometric"] = cols["stage_type"] == 5  # K0 tests: no peak, no critical state
     cols["eps_a_run"] = strain_across_stages(cols["eps_a"], cols["stage"], cols["shear"])
+    cols["cycle_run"] = cycles_across_stages(cols["cycle"], cols["stage"], cols["cyclic"])
     cols["p_c"] = ru_reference(cols["p"], (cols["stage_type"] == 1) | (cols["stage_type"] == 3))
     # the walls' p and q less the local damping's drag (series p_drag, q_drag, Laboratory::drag_stress: both linear in
     # the wall stresses, so the difference is the walls' stress without the drag): STRESS_MEASURES_TEXT
@@ -494,14 +510,14 @@ def fig_cyclic(runs, out):
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
     for run, s in runs:
         m = s["cyclic"]
-        n, p = s["cycle"][m], s["p"][m]
+        n, p = s["cycle_run"][m], s["p"][m]
         lab = label(run, s)
         und = m & (s["stage_type"] == 3)
         with np.errstate(divide="ignore", invalid="ignore"):  # p'_0 = 0 (a sample without contacts) draws nothing
             ax[0].plot(n, p / p[0], label=lab)
             if und.any():
-                ax[1].plot(s["cycle"][und], s["u"][und] / s["p_c"][und], label=lab)
-        ax[2].plot(n, 100 * s["eps_a"][m], label=lab)
+                ax[1].plot(s["cycle_run"][und], s["u"][und] / s["p_c"][und], label=lab)
+        ax[2].plot(n, 100 * s["eps_a_run"][m], label=lab)
     ax[0].set(xlabel="cycle N", ylabel="p' / p'_0", title="mean effective stress")
     ax[1].set(xlabel="cycle N", ylabel="r_u = u / p'_0", title="excess pore pressure ratio (undrained)")
     ax[2].set(xlabel="cycle N", ylabel="eps_a [%]", title="axial strain")
