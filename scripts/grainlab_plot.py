@@ -115,7 +115,8 @@ def load(run, prog="grainlab plot"):
     cols["cyclic"] = (cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)
     cols["oedometric"] = cols["stage_type"] == 5  # K0 tests: no peak, no critical state
     cols["eps_a_run"] = strain_across_stages(cols["eps_a"], cols["stage"], cols["shear"])
-    cols["cycle_run"] = cycles_across_stages(cols["cycle"], cols["stage"], cols["cyclic"])
+    if "cycle" in cols:  # a series of a build before cyclic stages, or a synthetic one, has none (nor cyclic rows)
+        cols["cycle_run"] = cycles_across_stages(cols["cycle"], cols["stage"], cols["cyclic"])
     cols["p_c"] = ru_reference(cols["p"], (cols["stage_type"] == 1) | (cols["stage_type"] == 3))
     # the walls' p and q less the local damping's drag (series p_drag, q_drag, Laboratory::drag_stress: both linear in
     # the wall stresses, so the difference is the walls' stress without the drag): STRESS_MEASURES_TEXT
