@@ -1922,7 +1922,8 @@ def cyclic_section(cyc, figs, colors):
             st = [x for x in json.load(open(os.path.join(d, "summary.json")))["stages"] if x["type"] == "cyclic"]
             st = st[-1] if st else None
         und = j["drainage"] == "undrained"
-        ru = f"{np.max(s['u'][m]) / p[0]:.3f}" if und else "–"
+        # r_u from where the undrained loading began (p_c: the cyclic stage's start, or an undrained stage's before it)
+        ru = f"{np.nanmax(s['u'][m] / s['p_c'][m]):.3f}" if und else "–"
         # the first cycle's quarter in wave transits (summary.json; a build before it, or no complete cycle: "–")
         tq = st.get("quarter_cycle_transits") if st is not None else None
         quarter = "–" if tq is None else f"{tq:.3g}" + (" (dynamic)" if tq < QUASI_STATIC_TRANSITS else "")
