@@ -236,6 +236,8 @@ Study load_study_unchecked(const std::string& path) {
   // A cyclic stage's stress amplitude is what the csr axis sets, from the p'_0 of each job (the pressure of the
   // base's last isotropic stage, or the p0 axis): CSR = q_amplitude / (2 p'_0), the cyclic liquefaction test's measure.
   bool has_q_cyclic = false;
+  // Their amplitudes, by stage: a staged test loads at rising amplitudes in turn, which one csr would flatten
+  std::vector<std::pair<std::string, Real>> q_stages;
   long base_cycles = 0;
   Real base_p0 = 0;
   std::set<Real> iso_pressures;  // of the base's isotropic stages: several make a loading path, which p0 would flatten
@@ -255,6 +257,7 @@ Study load_study_unchecked(const std::string& path) {
     }
     if (st.type == StageType::Cyclic) {
       has_q_cyclic = has_q_cyclic || st.q_amplitude > 0;
+      if (st.q_amplitude > 0) q_stages.emplace_back(st.name, st.q_amplitude);
       base_cycles = st.cycles;
       if (st.strain_amplitude > 0) {
         strain_stages.push_back(st.name);
@@ -340,6 +343,17 @@ Study load_study_unchecked(const std::string& path) {
     if (!has_q_cyclic)
       fail(path, key, "sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0), and the base (" + s.base +
                           ") has no cyclic stage with q_amplitude");
+    // It sets every stress-controlled cyclic stage (job_config): of a staged test, whose stages load at amplitudes of
+    // their own in turn, it would make one test of one amplitude, silently (as p0 would flatten a loading path).
+    for (const auto& [name, amp] : q_stages)
+      if (amp != q_stages.front().second) {
+        std::ostringstream os;
+        os << "sets the stress amplitude of every cyclic stage with q_amplitude, and the base's (" << s.base
+           << ") load at amplitudes of their own (" << q_stages.front().first << " " << q_stages.front().second / 1e3
+           << " kPa, " << name << " " << amp / 1e3 << " kPa) that it would make one: give the base one amplitude, or "
+           << "leave csr out and set each stage's q_amplitude in a base of its own";
+        fail(path, key, os.str());
+      }
   };
   if (ax && ax["csr"]) need_q_cyclic("axes.csr");
   if (ax && ax["seed"]) need_generated("axes.seed");

@@ -6,6 +6,7 @@
 #include <pwd.h>
 #include <sys/stat.h>
 
+#include <array>
 #include <cerrno>
 #include <cstdlib>
 #include <cmath>
@@ -395,6 +396,30 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
   EXPECT_NE(e.find("axes.csr: sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0), and the base ("),
             std::string::npos)
       << e;
+  // A staged test (amplitudes in turn) is refused, in the axes and in an extra job; two stages of one amplitude (a
+  // test that goes on in a second stage) take the csr both.
+  const std::string staged = write_tmp("study_staged_base", "sample: {count: 300}\nstages:\n"
+                                       "  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
+                                       "  - {name: low, type: cyclic, q_amplitude: 2e4, cycles: 5}\n"
+                                       "  - {name: high, type: cyclic, q_amplitude: 4e4, cycles: 5}\n");
+  const std::string flattened = "sets the stress amplitude of every cyclic stage with q_amplitude, and the base's (" +
+                                staged + ") load at amplitudes of their own (low 20 kPa, high 40 kPa) that it would make one";
+  for (const auto& [tag, study, key] : std::vector<std::array<std::string, 3>>{
+           {"study_csr_staged", "base: " + staged + "\naxes: {csr: [0.1]}\n", "axes.csr"},
+           {"study_csr_staged_extra", "base: " + staged + "\nextra: [{csr: 0.1}]\n", "extra[0].csr"}}) {
+    const std::string got = error(tag, study);
+    EXPECT_NE(got.find(key + ": " + flattened), std::string::npos) << got;
+  }
+  const std::string twice = write_tmp("study_twice_base", "sample: {count: 300}\nstages:\n"
+                                      "  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
+                                      "  - {name: first, type: cyclic, q_amplitude: 2e4, cycles: 5}\n"
+                                      "  - {name: more, type: cyclic, q_amplitude: 2e4, cycles: 5}\n");
+  const Study t = load_study(write_tmp("study_twice", "base: " + twice + "\naxes: {csr: [0.2]}\n"));
+  ASSERT_EQ(t.shears.size(), 1u);
+  const RunConfig c = parse_run_config(YAML::Load(shear_config(t, t.shears[0], "sample.h5")), t.shears[0].name);
+  ASSERT_EQ(c.stages.size(), 2u);
+  EXPECT_EQ(c.stages[0].q_amplitude, 8e4);
+  EXPECT_EQ(c.stages[1].q_amplitude, 8e4);
 }
 
 // Modulus-reduction studies: the strain_amplitude axis sets the amplitude of the base's one strain-controlled cyclic
