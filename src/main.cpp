@@ -286,7 +286,18 @@ int main(int argc, char** argv) {
     try {
       plan = grainlab::plan_run(cfg, 0, true);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "grainlab: error: %s: %s\n", config.c_str(), one_line(e.what()).c_str());
+      // A run's own config whose sample file has gone (its preparation run cleaned up or moved): a fresh run needs
+      // it, but the run itself resumes without it (its checkpoints record the sample), which "no such file" alone
+      // did not say.
+      std::string hint;
+      const std::filesystem::path dir = std::filesystem::path(config).parent_path();
+      const std::string d = dir.empty() ? "." : dir.string();
+      std::error_code ec;
+      if (!cfg.sample_file.empty() && !std::filesystem::exists(cfg.sample_file, ec) && grainlab::holds_run(d) &&
+          !grainlab::run_sample_digest(d).empty())
+        hint = "; the run in " + d + " recorded that sample in its checkpoints, so `grainlab run " + config +
+               " --resume` goes on without it (a fresh run needs the file)";
+      std::fprintf(stderr, "grainlab: error: %s: %s%s\n", config.c_str(), one_line(e.what()).c_str(), hint.c_str());
       return 1;
     }
     std::printf("%s: ok (%zu stage%s, %ld particle%s%s)\n", config.c_str(), cfg.stages.size(),
