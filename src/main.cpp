@@ -21,6 +21,13 @@ std::string one_line(std::string s) {
     if (c == '\n' || c == '\r') c = ' ';
   return s;
 }
+// The run directory a config is the own config.yaml of (RUN/config.yaml, RUN holding a run), else "".
+std::string own_run_dir(const std::string& config) {
+  const std::filesystem::path p(config);
+  if (p.filename() != "config.yaml") return "";
+  const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
+  return grainlab::holds_run(dir) ? dir : "";
+}
 int usage(FILE* f) {
   std::fprintf(f,
                "usage: grainlab run CONFIG.yaml [--out DIR] [--threads N] [--resume] [--quiet]\n"
@@ -271,13 +278,7 @@ int main(int argc, char** argv) {
   }
   // A run's own config.yaml (RUN/config.yaml, RUN holding the run) runs in RUN unless --out says otherwise: what
   // `grainlab run RUN/config.yaml --resume` means from any working directory, wherever RUN has been moved.
-  if (cmd == "run" && opt.out_dir.empty()) {
-    const std::filesystem::path p(config);
-    if (p.filename() == "config.yaml") {
-      const std::string dir = p.parent_path().empty() ? "." : p.parent_path().string();
-      if (grainlab::holds_run(dir)) opt.out_dir = dir;
-    }
-  }
+  if (cmd == "run" && opt.out_dir.empty()) opt.out_dir = own_run_dir(config);
   if (cmd == "validate") {
     // The same checks a run makes before it writes anything (the sample's stable time step against the
     // config's dt, memory, the spheres' placement), and what the run will do: a config that validates does not stop
@@ -290,10 +291,9 @@ int main(int argc, char** argv) {
       // it, but the run itself resumes without it (its checkpoints record the sample), which "no such file" alone
       // did not say.
       std::string hint;
-      const std::filesystem::path dir = std::filesystem::path(config).parent_path();
-      const std::string d = dir.empty() ? "." : dir.string();
+      const std::string d = own_run_dir(config);
       std::error_code ec;
-      if (!cfg.sample_file.empty() && !std::filesystem::exists(cfg.sample_file, ec) && grainlab::holds_run(d) &&
+      if (!d.empty() && !cfg.sample_file.empty() && !std::filesystem::exists(cfg.sample_file, ec) &&
           !grainlab::run_sample_digest(d).empty())
         hint = "; the run in " + d + " recorded that sample in its checkpoints, so `grainlab run " + config +
                " --resume` goes on without it (a fresh run needs the file)";
