@@ -1828,14 +1828,8 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
 // Stops the run on `what` (a blow-up, a servo that lost its target): the series up to here and blowup.txt are
 // written, the newest checkpoint (written before the event: never a broken state) is named, exit 3.
 void Laboratory::stop_run(const std::string& what) {
-  std::string last = "none";
-  if (fs::is_directory(out_ + "/checkpoints")) {
-    std::vector<std::string> all;
-    for (auto& f : fs::directory_iterator(out_ + "/checkpoints"))
-      if (f.path().extension() == ".h5") all.push_back(f.path());
-    std::sort(all.begin(), all.end());
-    if (!all.empty()) last = all.back();
-  }
+  const std::vector<std::string> ckpts = checkpoints_newest_first(out_);
+  const std::string last = ckpts.empty() ? "none" : ckpts.front();
   const std::string msg = what + "; the last good checkpoint is " + last;
   try {
     write_file_atomic(out_ + "/blowup.txt", msg + "\n");
