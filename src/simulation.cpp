@@ -1553,6 +1553,13 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     }
   }
   res.servo_error = stage_servo_error(sc);
+  if (sc.type != StageType::Isotropic) {  // the lab's start values are still this stage's (start_stage)
+    res.p0 = lab_.p0;
+    res.q0 = lab_.q0;
+    res.u0 = lab_.u0;
+    res.pc = lab_.pc;
+    res.u = m.u;
+  }
   if (sc.type == StageType::Isotropic) {
     res.e_inner = inner_void_ratio();
     res.e_core = core_void_ratio();
@@ -1860,7 +1867,7 @@ std::string Laboratory::write_checkpoint() {
     std::vector<std::string> names;
     for (auto& r : lab_.results) {
       res.insert(res.end(), {double(r.converged), double(r.steps), r.p, r.q, r.e, r.mu, r.cycle, r.n_ru, r.n_da,
-                             r.servo_error, r.quarter_transits, r.e_inner, r.e_core});
+                             r.servo_error, r.quarter_transits, r.e_inner, r.e_core, r.p0, r.q0, r.u0, r.pc, r.u});
       names.push_back(r.name);
     }
     w.write("/lab/results", res);
@@ -1969,10 +1976,11 @@ bool Laboratory::load_newest_checkpoint() {
       }
       const auto res = r.doubles("/lab/results");
       const auto names = split(r.string("/lab/result_names"), '\n');
-      // 13 values a stage; 11 in a checkpoint from before e_inner and e_core, 10 from before quarter_transits, 9 from
-      // before servo_error, 6 from before the liquefaction criteria (it has no N to give)
-      size_t nv = 13;
-      for (const size_t n : {size_t(13), size_t(11), size_t(10), size_t(9), size_t(6)})
+      // 18 values a stage; 13 in a checkpoint from before a shear's start stress and end u, 11 from before e_inner
+      // and e_core, 10 from before quarter_transits, 9 from before servo_error, 6 from before the liquefaction
+      // criteria (it has no N to give)
+      size_t nv = 18;
+      for (const size_t n : {size_t(18), size_t(13), size_t(11), size_t(10), size_t(9), size_t(6)})
         if (!names.empty() && res.size() == n * names.size()) {
           nv = n;
           break;
@@ -1996,6 +2004,7 @@ bool Laboratory::load_newest_checkpoint() {
         if (nv >= 10) sr.servo_error = v[9];
         if (nv >= 11) sr.quarter_transits = v[10];
         if (nv >= 13) sr.e_inner = v[11], sr.e_core = v[12];
+        if (nv >= 18) sr.p0 = v[13], sr.q0 = v[14], sr.u0 = v[15], sr.pc = v[16], sr.u = v[17];
         lab.results.push_back(sr);
       }
       lab.snapshot_files = split(r.string("/lab/snapshot_files"), '\n');
@@ -2106,6 +2115,12 @@ void Laboratory::write_summary() const {
       js << ", \"stress_path\": \"" << (sc.constant_p ? "constant_p" : "constant_sigma3") << "\"";
     js << ", \"done\": " << (r.converged ? "true" : "false") << ", \"steps\": " << r.steps << ", \"mu\": " << num(r.mu)
        << ", \"p\": " << num(r.p) << ", \"q\": " << num(r.q) << ", \"e\": " << num(r.e);
+    // A shear's start (the stress it found: p'_0, q_0) and, undrained, its pore pressures: u_0 it started with, p'_c
+    // r_u is relative to, u and r_u at its end (the stage's last series row)
+    if (sc.type != StageType::Isotropic) js << ", \"p_0\": " << num(r.p0) << ", \"q_0\": " << num(r.q0);
+    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
+      js << ", \"u_0\": " << num(r.u0) << ", \"p_c\": " << num(r.pc) << ", \"u\": " << num(r.u)
+         << ", \"r_u\": " << num(r.u / r.pc);
     if (sc.type == StageType::Cyclic) {
       auto met = [&](Real n) { return n < 0 ? std::string("null") : num(n); };
       js << ",\n     \"cycles\": " << sc.cycles << ", \"cycle\": " << num(r.cycle) << ", \"liquefaction_ru\": "

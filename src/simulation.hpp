@@ -39,6 +39,11 @@ struct StageResult {
   // (half of each side), at the stage's end: how homogeneous the consolidated sample is (kGradedCore; NaN: a stage
   // finished by a build before them)
   Real e_inner = std::numeric_limits<Real>::quiet_NaN(), e_core = std::numeric_limits<Real>::quiet_NaN();
+  // shear stages: the stress it started from, p'_0 and q_0; undrained ones also the pore pressure it started with,
+  // u_0, r_u's reference p'_c and u at its end (Laboratory::start_stage; NaN: a stage finished by a build before them)
+  Real p0 = std::numeric_limits<Real>::quiet_NaN(), q0 = std::numeric_limits<Real>::quiet_NaN();
+  Real u0 = std::numeric_limits<Real>::quiet_NaN(), pc = std::numeric_limits<Real>::quiet_NaN();
+  Real u = std::numeric_limits<Real>::quiet_NaN();
 };
 
 // A numerical blow-up stopped the run: the message names step, particles, quantity and a suggested dt;

@@ -642,6 +642,47 @@ void expect_series_but(const std::string& resumed, const std::string& direct,
     for (size_t k = restored; k < ka.size(); ++k) EXPECT_EQ(ka[k], kb[k]) << "row " << k;
   }
 }
+// summary.json of a run resumed in its second stage, `shear` (undrained after an undrained one), from the checkpoint
+// of an older build (its stage results without a shear's start stress and end u; its lab scalars without q0 where
+// `before_q0`, and without u0 and p'_c) against the uninterrupted run's: the same but for those. The first stage,
+// finished by the older build, has none of them (null); the second keeps the older start, q_0 = 0 (before q0), u_0 =
+// 0 and p'_c = its own p'_0, and its u and r_u are its own series' (its last row's u, the older start's) where the
+// uninterrupted run's differ.
+void expect_summary_of_older(const std::string& resumed, const std::string& direct, bool before_q0) {
+  const YAML::Node a = YAML::LoadFile(resumed + "/summary.json"), b = YAML::LoadFile(direct + "/summary.json");
+  EXPECT_EQ(a["build"].Scalar(), b["build"].Scalar());
+  ASSERT_EQ(a["stages"].size(), 2u);
+  ASSERT_EQ(b["stages"].size(), 2u);
+  const std::set<std::string> started = {"p_0", "q_0", "u_0", "p_c", "u", "r_u"};
+  const auto num = [](const YAML::Node& n) { return std::stod(n.Scalar()); };
+  const double u_row = H5Reader(resumed + "/run.h5").doubles("/series/u").back();  // series.csv has 12 digits
+  for (size_t k = 0; k < 2; ++k) {
+    const YAML::Node sa = a["stages"][k], sb = b["stages"][k];
+    EXPECT_EQ(sa.size(), sb.size()) << "stage " << k;
+    for (const auto& kv : sb) {
+      const std::string key = kv.first.as<std::string>();
+      SCOPED_TRACE("stage " + std::to_string(k) + " " + key);
+      const YAML::Node va = sa[key];
+      ASSERT_TRUE(va.IsDefined());
+      ASSERT_FALSE(kv.second.IsNull());
+      if (!started.count(key) || (key == "p_0" && k == 1) || (key == "q_0" && k == 1 && !before_q0))
+        EXPECT_EQ(va.Scalar(), kv.second.Scalar());
+      else if (k == 0)
+        EXPECT_TRUE(va.IsNull()) << "a stage the older build finished: " << va.Scalar();
+      else if (key == "q_0" || key == "u_0")
+        EXPECT_EQ(num(va), 0.0);
+      else if (key == "p_c")
+        EXPECT_EQ(num(va), num(sa["p_0"]));
+      else if (key == "u") {
+        EXPECT_EQ(num(va), u_row) << "the stage's last row's";
+        EXPECT_NE(num(va), num(kv.second)) << "the older start's";
+      } else {
+        EXPECT_EQ(num(va), num(sa["u"]) / num(sa["p_c"])) << "r_u";
+      }
+    }
+  }
+}
+
 // Before cyclic stages a checkpoint held 13 lab scalars (no reversal count, no cycle number), 6 values of each
 // finished stage's result (nor servo_error, which came later) and series rows without the last eight columns,
 // `cycle`, `ke_fluct_ratio`, `e_inner` and the five stress columns after them.
@@ -653,8 +694,8 @@ void as_before_cyclic_stages(const std::string& ckpt) {
     results = r.doubles("/lab/results");
   }
   ASSERT_EQ(scalars.size(), 21u);
-  ASSERT_EQ(results.size(), 13u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
-                                    "quarter_transits, e_inner, e_core";
+  ASSERT_EQ(results.size(), 18u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
+                                    "quarter_transits, e_inner, e_core, p0, q0, u0, pc, u";
   results.resize(6);
   scalars.resize(13);
   drop_series_columns(ckpt, 8);
@@ -692,7 +733,8 @@ void as_before_cyclic_stages(const std::string& ckpt) {
 // first left (u0), a run of an older build from q0 = 0 and u0 = 0 (or u0 = 0 alone: the build just before u0, 19 lab
 // scalars), and such a run resumed keeps its start: the series differ in u (u = p'_0 + u0 + (q - q0)/3 - p': by
 // q0/3 - u0, or -u0, in the second stage's rows), which nothing else reads (undrained walls are placed by the
-// volume), and in nothing else.
+// volume), and in nothing else; their summary.json in that start and u (expect_summary_of_older), and in the first
+// stage's start, which their stage results did not keep (13 values a stage before it, not 18).
 TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const Reference& ref = reference();
   const std::string sample = ref.out + "/sample_consolidate.h5";
@@ -714,10 +756,12 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
     if (f.path() != ckpt) fs::remove(f.path());
   // The build just before the series' p_drag and q_drag, and the one just before a stage result's e_inner and e_core
   // (11 values a stage, and no series q_contacts_walls ... q_drag, which came later still).
-  const auto eleven_values_a_stage = [](const std::string& path) {
+  // Stage results of n values (13 before a shear's start stress and end u, 11 before e_inner and e_core, 10 before
+  // quarter_transits).
+  const auto values_a_stage = [](const std::string& path, size_t n) {
     std::vector<double> results = H5Reader(path).doubles("/lab/results");
-    ASSERT_EQ(results.size(), 13u);
-    results.resize(11);
+    ASSERT_EQ(results.size(), 18u);
+    results.resize(n);
     rewrite_dataset(path, "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
   };
   const std::string last = tmpdir("older_last");
@@ -733,39 +777,36 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   const std::string before_u0 = tmpdir("older_before_u0");
   fs::copy(out, before_u0, fs::copy_options::recursive);
   lab_scalars(newest_checkpoint(before_u0), 19);
+  values_a_stage(newest_checkpoint(before_u0), 13);
   ASSERT_FALSE(run(cfg, before_u0, -1, true).interrupted);
   expect_series_but(before_u0, direct, {}, "shear", false);
-  EXPECT_EQ(slurp(before_u0 + "/summary.json"), slurp(direct + "/summary.json"));
+  expect_summary_of_older(before_u0, direct, false);
   drop_series_columns(newest_checkpoint(last), 2);
   no_q0(newest_checkpoint(last));
+  values_a_stage(newest_checkpoint(last), 13);
   ASSERT_FALSE(run(cfg, last, -1, true).interrupted);
   expect_series_but(last, direct, {"p_drag", "q_drag"}, "shear");
-  EXPECT_EQ(slurp(last + "/summary.json"), slurp(direct + "/summary.json"));
+  expect_summary_of_older(last, direct, true);
   const std::string previous = tmpdir("older_previous");
   fs::copy(out, previous, fs::copy_options::recursive);
   drop_series_columns(newest_checkpoint(previous), 5);
-  eleven_values_a_stage(newest_checkpoint(previous));
+  values_a_stage(newest_checkpoint(previous), 11);
   no_q0(newest_checkpoint(previous));
   ASSERT_FALSE(run(cfg, previous, -1, true).interrupted);
   expect_series_but(previous, direct, {"q_contacts_walls", "p_inner", "q_inner", "p_drag", "q_drag"}, "shear");
-  EXPECT_EQ(slurp(previous + "/summary.json"), slurp(direct + "/summary.json"));
+  expect_summary_of_older(previous, direct, true);
   // The build of just before ke_fluct_ratio (its checkpoints otherwise as now, but for the stage results'
   // quarter_transits, which came after): resumes to the same series.
   const std::string recent = tmpdir("older_recent");
   fs::copy(out, recent, fs::copy_options::recursive);
   drop_series_columns(newest_checkpoint(recent), 7);
   no_q0(newest_checkpoint(recent));
-  {
-    std::vector<double> results = H5Reader(newest_checkpoint(recent)).doubles("/lab/results");
-    ASSERT_EQ(results.size(), 13u);
-    results.resize(10);
-    rewrite_dataset(newest_checkpoint(recent), "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
-  }
+  values_a_stage(newest_checkpoint(recent), 10);
   ASSERT_FALSE(run(cfg, recent, -1, true).interrupted);
   const std::vector<std::string> since_fluct = {"ke_fluct_ratio", "e_inner", "q_contacts_walls", "p_inner",
                                                 "q_inner",        "p_drag",  "q_drag"};
   expect_series_but(recent, direct, since_fluct, "shear");
-  EXPECT_EQ(slurp(recent + "/summary.json"), slurp(direct + "/summary.json"));
+  expect_summary_of_older(recent, direct, true);
   const std::string now = H5Reader(ckpt).string("/lab/config");
   const std::string older = in_older_words(now, fs::relative(sample, fs::current_path()).string());
   ASSERT_NE(older.find("mu_r: 0.29999999999999999"), std::string::npos) << older;
@@ -776,7 +817,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   ASSERT_EQ(H5Reader(ckpt).doubles("/lab/scalars").size(), 13u);
   ASSERT_FALSE(run(cfg, out, -1, true).interrupted);
   expect_series_but(out, direct, since_fluct, "shear");
-  EXPECT_EQ(slurp(out + "/summary.json"), slurp(direct + "/summary.json"));
+  expect_summary_of_older(out, direct, true);
 }
 
 // A saved sample is sheared again, drained and undrained, with another mu_r, without re-preparing it.
@@ -1077,12 +1118,44 @@ TEST(Lab, AnUndrainedStageAfterAnUndrainedOneKeepsItsPorePressure) {
   // pc is the first row's p', one step after the start that r_u is relative to (p' moves ~1e-5 of itself a step);
   // p'_0 of the second cycle's start instead (counting from there) is 2.4 % lower on this sample.
   EXPECT_NEAR(at(ru, row) * pc, u_max, 1e-4 * u_max) << "p'_c " << pc;
-  // Stopped in the second cycle: the checkpoint keeps u_0 and p'_c.
+  // summary.json gives each stage's start, p'_0, q_0, u_0, p'_c, and its end u and r_u: the first cycle from the
+  // sample's isotropic stress (q_0 = 0, u_0 = 0, p'_c = p'_0), the others with the first's p'_c and u_0 carried over
+  // at the total mean stress the stage before ended at (the boundary identity above, 1e-9 of p'_c); each stage's
+  // first row's u is the formula of its start values (u = p'_0 + u_0 + (q - q_0)/3 - p': the values it used, to
+  // round-off), its end u its last row's and r_u = u/p'_c, exactly.
+  const YAML::Node sum = YAML::LoadFile(out + "/summary.json")["stages"];
+  ASSERT_EQ(sum.size(), 3u);
+  const std::vector<double> u_exact = H5Reader(out + "/run.h5").doubles("/series/u");  // series.csv has 12 digits
+  ASSERT_EQ(u_exact.size(), st.size());
+  const auto val = [&](size_t s, const char* key) { return std::stod(sum[s][key].Scalar()); };
+  EXPECT_EQ(val(0, "q_0"), 0.0);
+  EXPECT_EQ(val(0, "u_0"), 0.0);
+  EXPECT_EQ(val(0, "p_c"), val(0, "p_0"));
+  EXPECT_NEAR(val(0, "p_c"), pc, 1e-4 * pc) << "the first row is a step after the start";
+  for (size_t s = 0; s < 3; ++s) {
+    const std::string name = sum[s]["name"].Scalar();
+    SCOPED_TRACE(name);
+    size_t first = st.size(), last = 0;
+    for (size_t k = 0; k < st.size(); ++k)
+      if (st[k] == name) first = std::min(first, k), last = k;
+    ASSERT_LT(first, st.size());
+    const double p0 = val(s, "p_0"), q0 = val(s, "q_0"), u0 = val(s, "u_0");
+    EXPECT_NEAR(at(u, first), p0 + u0 + (at(q, first) - q0) / 3 - at(p, first), 1e-9 * pc);
+    EXPECT_EQ(val(s, "u"), u_exact[last]);
+    EXPECT_EQ(val(s, "r_u"), val(s, "u") / val(s, "p_c"));
+    if (s == 0) continue;
+    EXPECT_EQ(val(s, "p_c"), val(0, "p_c"));
+    EXPECT_NEAR(p0 + u0 - q0 / 3, val(s - 1, "p") + val(s - 1, "u") - val(s - 1, "q") / 3, 1e-9 * pc)
+        << "the total mean stress less q/3, carried over";
+    EXPECT_GT(u0, 0.02 * pc);
+  }
+  // Stopped in the second cycle: the checkpoint keeps u_0 and p'_c, and the first cycle's start.
   const std::string resumed = tmpdir("closed_resumed");
   ASSERT_TRUE(run(cfg, resumed, whole.stages[0].steps + whole.stages[1].steps / 2).interrupted);
   ASSERT_FALSE(run(cfg, resumed, -1, true).interrupted);
   EXPECT_EQ(slurp(resumed + "/series.csv"), csv);
   EXPECT_EQ(slurp(resumed + "/cycles.csv"), cycles);
+  EXPECT_EQ(slurp(resumed + "/summary.json"), slurp(out + "/summary.json"));
 }
 
 // Triaxial extension (`direction: extension`): the axial walls move apart at the rate, so eps_a falls to
