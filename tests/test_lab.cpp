@@ -1786,12 +1786,15 @@ TEST(Lab, PlanWarnsOfDynamicLoopsAndTheyAre) {
 // run warns at its first load reversal when that quarter lasted under 4 wave transits (q = +-38 kPa at 1/s on the
 // reference sample: 3.4), naming the rate that would give 4 if the sample strained as far. Loaded that much slower it
 // strains less (3.9 transits: the warning again), which is why the warning says to go below that rate; at half of it
-// there is none. summary.json gives the first cycle's quarter in transits.
+// there is none. summary.json gives the first cycle's quarter in transits. The unloading and reloading are stiffer,
+// so the first cycle's mean quarter is shorter than its first (2.9 at 1/s, 3.5 at that advised 0.84/s): the run warns
+// again at the first cycle's end, with that quarter and a rate from it (0.73/s: 4.2 transits, no warning).
 TEST(Lab, AStressControlledCycleWarnsWhenItsLoopsAreDynamic) {
   struct Loaded {
     std::string err, out;
     double first = -1, advice = -1;  // the warning's first quarter in transits and its rate (-1: no warning)
     double quarter = -1;             // summary.json's quarter_cycle_transits
+    double cycle = -1, cycle_advice = -1;  // the first cycle's warning: its quarter in transits and its rate
   };
   const auto load_at = [](const std::string& rate, const std::string& name) {
     Loaded l;
@@ -1810,6 +1813,16 @@ TEST(Lab, AStressControlledCycleWarnsWhenItsLoopsAreDynamic) {
       if (only != std::string::npos && adv != std::string::npos) {
         l.first = std::stod(l.err.substr(only + 7));
         l.advice = std::stod(l.err.substr(adv + 26));
+      }
+    }
+    const size_t cyc = l.err.find("grainlab: warning: stage cyc: the first cycle (q_amplitude 38 kPa) took ");
+    if (cyc != std::string::npos) {
+      const size_t only = l.err.find(", its quarter only ", cyc), adv = l.err.find("below axial_strain_rate = ", cyc);
+      EXPECT_NE(only, std::string::npos) << l.err;
+      EXPECT_NE(adv, std::string::npos) << l.err;
+      if (only != std::string::npos && adv != std::string::npos) {
+        l.cycle = std::stod(l.err.substr(only + 19));
+        l.cycle_advice = std::stod(l.err.substr(adv + 26));
       }
     }
     const std::string s = slurp(l.out + "/summary.json");
@@ -1831,13 +1844,27 @@ TEST(Lab, AStressControlledCycleWarnsWhenItsLoopsAreDynamic) {
   EXPECT_LT(fast.quarter, kQuasiStaticTransits);
   const Loaded advised = load_at(rate_text(fast.advice), "qloop_advised");
   const Loaded slow = load_at(rate_text(0.5 * fast.advice), "qloop_slow");
+  ASSERT_GT(advised.cycle_advice, 0) << "no first-cycle warning at the first warning's advice: " << advised.err;
+  const Loaded cycle_advised = load_at(rate_text(advised.cycle_advice), "qloop_cycle_advised");
   std::printf("  q = +-38 kPa: first quarter %.3g transits at 1/s, %.3g at the advised %.3g/s; first cycle's quarter "
-              "%.3g, %.3g and %.3g at half the advice\n",
-              fast.first, advised.first, fast.advice, fast.quarter, advised.quarter, slow.quarter);
+              "%.3g, %.3g and %.3g at half the advice; %.3g at the first cycle's advice %.3g/s\n",
+              fast.first, advised.first, fast.advice, fast.quarter, advised.quarter, slow.quarter,
+              cycle_advised.quarter, advised.cycle_advice);
   EXPECT_GT(advised.first, fast.first);
   EXPECT_LT(advised.first, kQuasiStaticTransits) << "the sample strained as far: 'go below' would be needless";
   EXPECT_EQ(slow.err.find("the first quarter cycle"), std::string::npos) << slow.err;
   EXPECT_GE(slow.quarter, kQuasiStaticTransits);
+  // The first cycle's warning (warn_dynamic_cycle) gives summary.json's quarter (to its 3 digits): at 1/s, and at the
+  // first warning's advice, where only it tells the loops are dynamic; not at half that advice.
+  for (const Loaded* l : {&fast, &advised}) {
+    EXPECT_NEAR(l->cycle, l->quarter, 5e-3 * l->quarter) << l->err;
+    EXPECT_NEAR(l->cycle_advice, l->quarter / kQuasiStaticTransits * (l == &fast ? 1.0 : fast.advice),
+                5e-3 * l->cycle_advice);
+  }
+  EXPECT_EQ(slow.cycle, -1) << slow.err;
+  EXPECT_GT(cycle_advised.quarter, advised.quarter);
+  EXPECT_GE(cycle_advised.quarter, kQuasiStaticTransits) << "measured 4.17";
+  EXPECT_EQ(cycle_advised.cycle, -1) << cycle_advised.err;
 }
 
 // Stress reversal at q = +-0.2 p'_0, undrained, 2 cycles: interrupted twice and resumed gives the uninterrupted
