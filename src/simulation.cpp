@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <sched.h>
 #include <sys/file.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -602,6 +603,13 @@ class Laboratory {
   std::chrono::steady_clock::time_point stage_t0_ = std::chrono::steady_clock::now();
   // When the last progress line went to a log (not a terminal); none yet in this stage: the epoch.
   std::chrono::steady_clock::time_point last_log_line_{};
+  // watch_core_share's window: its start and the process's CPU time there; windows in a row short of the cores
+  std::chrono::steady_clock::time_point share_t0_{};
+  double share_cpu0_ = 0;
+  int share_short_ = 0;
+  bool share_warned_ = false;
+  void start_core_share();
+  void watch_core_share();
   long stage_step0_ = 0;
   bool tty_ = ::isatty(STDOUT_FILENO);
   int lock_fd_ = -1;
@@ -1410,6 +1418,53 @@ void Laboratory::progress(const std::string& line, bool final) {
   }
 }
 
+// The process's CPU time, user and system, in seconds.
+double process_cpu_seconds() {
+  rusage u{};
+  if (getrusage(RUSAGE_SELF, &u) != 0) return std::nan("");
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Threads that share their cores with other processes: OpenMP threads wait for each other at the end of every kernel
+// (several a step), so a thread the scheduler has set aside stalls the rest, each stall up to a time slice. A run of
+// several threads then slows far past its share of the cores: on the 2-core VM two 2-thread runs of 400 spheres at
+// once took 37 s each against 0.3 s alone (120x; one busy-looping process beside one: 10x), two 10 000-sphere
+// benchmarks each ran at 2.2e6 particle-steps/s against ~8e6 alone (README, running several at once). `--threads`
+// cannot see other processes; the run can: its CPU time over a window of stepping is the cores it got (a spinning
+// thread counts too, so this is an upper bound of the useful share). Two windows in a row under kShareWarn of the
+// threads say so once a run; the kernels' pool idles only in serial work (I/O, the stage ends: start_core_share
+// leaves those out), seconds of it in a window at most.
+constexpr double kShareWindow = 5;  // s
+constexpr double kShareWarn = 0.75;  // of the threads: one hog beside a 2-thread run on 2 cores gives it 2/3
+void Laboratory::start_core_share() {
+  share_t0_ = std::chrono::steady_clock::now();
+  share_cpu0_ = process_cpu_seconds();
+  share_short_ = 0;
+}
+
+void Laboratory::watch_core_share() {
+  const int threads = ExecSpace().concurrency();
+  if (share_warned_ || threads < 2 || !Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double wall = std::chrono::duration<double>(now - share_t0_).count();
+  if (wall < kShareWindow) return;
+  const double cpu = process_cpu_seconds(), cores = (cpu - share_cpu0_) / wall;
+  share_t0_ = now;
+  share_cpu0_ = cpu;
+  if (!(cores < kShareWarn * threads)) {
+    share_short_ = 0;
+    return;
+  }
+  if (++share_short_ < 2) return;
+  share_warned_ = true;
+  std::fprintf(stderr,
+               "grainlab: warning: over the last %.3g s this run's %d threads had %.3g cores' worth of CPU time: other "
+               "processes are using its cores, and OpenMP threads wait on each other at every kernel's end, so it runs "
+               "far slower than its share (two 2-thread runs of 400 spheres on 2 cores at once: 120x each); give each "
+               "run --threads so that together they fit the cores (a study does so for its jobs), or stop the others\n",
+               wall, threads, cores);
+}
+
 bool Laboratory::run_stage(const StageConfig& sc) {
   Engine& e = *eng_;
   e.set_affine_box(sc.type == StageType::Isotropic && sc.affine);  // here, not in start_stage: a resumed stage too
@@ -1418,6 +1473,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   last_log_line_ = {};  // each stage's first row is logged
   stage_step0_ = lab_.stage_step;
   overlap_warned_ = false;
+  start_core_share();  // not the stage ends' serial writes (samples, snapshots), where the pool's threads sleep
   int rows_since_flush = 0;
   bool done = false;
   Measure final_m{};
@@ -1500,6 +1556,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         }
         if (timed) line << " | " << std::setprecision(3) << rate << " steps/s";
         progress(line.str());
+        watch_core_share();
         if (flush_due(++rows_since_flush)) {
           flush_outputs();
           rows_since_flush = 0;

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# core_share.sh GRAINLAB TASKSET DIR: a 2-thread run that shares its two cores with a busy process is told so
+# (Laboratory::watch_core_share: two 5 s windows in a row under 0.75 of its threads' CPU time), and the same run alone
+# is not. Both are pinned to CPUs 0 and 1 (the run's --threads 2 fills them; the busy loop takes CPU 0 from it), so a
+# machine of more cores cannot move the busy loop elsewhere. Each run is stopped (SIGINT: a checkpoint, exit 130) at
+# the warning or after `seconds`; the run alone goes 12 s, past the two windows the warning needs.
+set -u
+g=$1 taskset=$2 dir=$3
+rm -rf "$dir" && mkdir -p "$dir" || exit 1
+# A slow shear (6.5e6 steps, about 4 min alone) after a consolidation (1 s): as many steps as the time allows.
+cat > "$dir/c.yaml" <<'EOF'
+sample: {count: 300, seed: 5, density_scaling: 1000}
+stages:
+  - {name: consolidate, type: isotropic, pressure: 100e3, mu: 0.3}
+  - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 0.01, max_axial_strain: 0.5, max_steps: 1000000000}
+output: {every: 200, checkpoint_every: 0, checkpoint_minutes: 0}
+EOF
+warning="grainlab: warning: over the last [0-9.]+ s this run's 2 threads had [0-9.]+ cores' worth of CPU time: other processes are using its cores"
+run_for() {  # run_for OUT SECONDS: the run until the warning or SECONDS
+  "$taskset" -c 0,1 "$g" run "$dir/c.yaml" --out "$dir/$1" --threads 2 --quiet 2> "$dir/$1.err" &
+  local pid=$! start=$SECONDS
+  while kill -0 "$pid" 2> /dev/null && [ $((SECONDS - start)) -lt "$2" ]; do
+    grep -qE "$warning" "$dir/$1.err" && break
+    sleep 0.2
+  done
+  kill -INT "$pid" 2> /dev/null
+  wait "$pid"
+  echo "$1: $((SECONDS - start)) s, exit $?"
+}
+run_for alone 12
+if grep -qE "$warning" "$dir/alone.err"; then
+  echo "FAIL: the run alone was warned of sharing its cores:"; cat "$dir/alone.err"; exit 1
+fi
+"$taskset" -c 0 sh -c 'while :; do :; done' &
+busy=$!
+trap 'kill $busy 2> /dev/null' EXIT
+run_for shared 60
+if ! grep -qE "$warning" "$dir/shared.err"; then
+  echo "FAIL: no warning in 60 s beside a busy loop on one of its two cores:"; cat "$dir/shared.err"; exit 1
+fi
+grep -E "$warning" "$dir/shared.err"
+echo ok
