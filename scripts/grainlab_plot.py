@@ -1904,40 +1904,62 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
             *pk_rows, "", *cs_rows, ""]
 
 
+def cyclic_stages(s, d):
+    """A run's cyclic stages in order: (name, its rows' mask, its summary.json entry or None). A staged test (cycles,
+    a reconsolidation, cycles again: re-liquefaction; or amplitudes in turn) has several, each with its own N, criteria
+    and quarter cycle. A run of a build before summary.json: its cyclic rows as one stage, without an entry."""
+    import json
+
+    entries = {}
+    if os.path.isfile(os.path.join(d, "summary.json")):
+        entries = {x["name"]: x for x in json.load(open(os.path.join(d, "summary.json")))["stages"]
+                   if x["type"] == "cyclic"}
+    if not entries:
+        return [(None, s["cyclic"], None)]
+    names = list(dict.fromkeys(s["stage"][s["cyclic"]]))  # in the order the rows give them
+    return [(n, s["cyclic"] & (s["stage"] == n), entries.get(n)) for n in names]
+
+
 def cyclic_section(cyc, figs, colors):
     """Cyclic tests of a study: the cycle number N each reached, N at each liquefaction criterion (from the run's
     summary.json: r_u = u/p'_0 reaching the stage's liquefaction_ru, the double-amplitude axial strain reaching its
-    liquefaction_da_strain; both caught on the step), and the liquefaction-resistance curve CSR - N per mu_r
-    (figures/liquefaction.png; filled: N at a criterion, hollow: still standing after N cycles)."""
-    import json
-
+    liquefaction_da_strain; both caught on the step), a row for each cyclic stage of a staged test, and the
+    liquefaction-resistance curve CSR - N per mu_r of each test's first cyclic stage (figures/liquefaction.png; filled:
+    N at a criterion, hollow: still standing after N cycles)."""
     rows = []
     fig, ax = plt.subplots(figsize=(7, 4.5))
     crits = set()
+    staged = False
     for j, d, s in sorted(cyc, key=lambda r: (r[0]["mu_r"], r[0]["csr"])):
-        m = s["cyclic"]
-        n_end, p = s["cycle"][m][-1], s["p"][m]
-        st = None
-        if os.path.isfile(os.path.join(d, "summary.json")):
-            st = [x for x in json.load(open(os.path.join(d, "summary.json")))["stages"] if x["type"] == "cyclic"]
-            st = st[-1] if st else None
-        und = j["drainage"] == "undrained"
-        # r_u from where the undrained loading began (p_c: the cyclic stage's start, or an undrained stage's before it)
-        ru = f"{np.nanmax(s['u'][m] / s['p_c'][m]):.3f}" if und else "–"
-        # the first cycle's quarter in wave transits (summary.json; a build before it, or no complete cycle: "–")
-        tq = st.get("quarter_cycle_transits") if st is not None else None
-        quarter = "–" if tq is None else f"{tq:.3g}" + (" (dynamic)" if tq < QUASI_STATIC_TRANSITS else "")
-        if st is None:  # a run of a build before summary.json: no criteria to read
-            n_ru = n_da = "– (no summary.json)"
-        else:
-            crits.add((st["liquefaction_ru"], st["liquefaction_da_strain"]))
-            n_ru = ("not met" if st["n_ru"] is None else f"{st['n_ru']:.3g}") if und else "– (drained)"
-            n_da = "not met" if st["n_da"] is None else f"{st['n_da']:.3g}"
-        end = (f"\\|eps_a\\| = {100 * abs(s['eps_a'][m][-1]):.2f} %" if n_end < j["cycles"]
-               else f"{j['cycles']} cycles done")
-        csr = j["csr"] if j["csr"] > 0 else float("nan")
-        rows.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {csr:g} | {n_end:.3g} | {end} | {n_ru} | {n_da} | "
-                    f"{np.min(p) / p[0]:.3f} | {ru} | {quarter} |")
+        stages = cyclic_stages(s, d)
+        staged = staged or len(stages) > 1
+        for k, (name, m, st) in enumerate(stages):
+            drainage = st["drainage"] if st is not None else j["drainage"]  # a staged test may mix them
+            und = drainage == "undrained"
+            n_end, p = s["cycle"][m][-1], s["p"][m]
+            # r_u and p' from where the undrained loading began (p_c: the cyclic stage's start, or an undrained
+            # stage's before it); drained, from the stage's first row
+            ref = s["p_c"][m] if und else p[0]
+            ru = f"{np.nanmax(s['u'][m] / s['p_c'][m]):.3f}" if und else "–"
+            # the first cycle's quarter in wave transits (summary.json; a build before it, or no complete cycle: "–")
+            tq = st.get("quarter_cycle_transits") if st is not None else None
+            quarter = "–" if tq is None else f"{tq:.3g}" + (" (dynamic)" if tq < QUASI_STATIC_TRANSITS else "")
+            if st is None:  # a run of a build before summary.json: no criteria to read
+                n_ru = n_da = "– (no summary.json)"
+            else:
+                crits.add((st["liquefaction_ru"], st["liquefaction_da_strain"]))
+                n_ru = ("not met" if st["n_ru"] is None else f"{st['n_ru']:.3g}") if und else "– (drained)"
+                n_da = "not met" if st["n_da"] is None else f"{st['n_da']:.3g}"
+            cycles = st["cycles"] if st is not None else j["cycles"]
+            end = (f"\\|eps_a\\| = {100 * abs(s['eps_a'][m][-1]):.2f} %" if n_end < cycles
+                   else f"{cycles} cycles done")
+            csr = j["csr"] if j["csr"] > 0 else float("nan")
+            test = j["name"] + (f" ({name})" if len(stages) > 1 else "")
+            rows.append(f"| {test} | {j['mu_r']:g} | {drainage} | {csr:g} | {n_end:.3g} | {end} | {n_ru} | "
+                        f"{n_da} | {np.nanmin(p / ref):.3f} | {ru} | {quarter} |")
+            if k == 0:
+                first = (n_end, st)
+        n_end, st = first
         if j["csr"] <= 0:
             continue
         c = colors[j["mu_r"]]
@@ -1967,8 +1989,11 @@ def cyclic_section(cyc, figs, colors):
             "are done or |eps_a| reaches the stage's max_axial_strain. Liquefaction is the first N at which r_u = "
             "u/p'_0 reached the stage's liquefaction_ru (initial liquefaction; undrained tests), or the double-amplitude "
             "axial strain (peak-to-peak eps_a of a half cycle) reached its liquefaction_da_strain (ASTM D5311), "
-            "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ". The "
-            "quarter cycle is the first cycle's duration over 4 in transits of a compression wave across the sample "
+            "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ". " +
+            ("A staged test has a row for each cyclic stage (test (stage)), each counting its N, criteria and quarter "
+             "cycle from its own start, its p' and r_u from p'_c, where the undrained loading began; the figure is of "
+             "each test's first cyclic stage (the later ones load a sample the first has sheared). " if staged else "") +
+            "The quarter cycle is the first cycle's duration over 4 in transits of a compression wave across the sample "
             f"(summary.json); below {QUASI_STATIC_TRANSITS} the loops carry the sample's inertia (dynamic): load slower "
             "for the material's response.", "",
             "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u "

@@ -9,8 +9,13 @@ synthetic series.csv:
   100 kPa, the p' where the undrained loading began: the run keeps their pore pressure, Laboratory::start_stage);
   NaN in the isotropic and the drained stage. Against each stage's own first row (cyc2's 92 kPa) r_u of cyc2's last
   row would read 30/92, not 30/100.
-- fig_cyclic draws the run (figures/cyclic.png)."""
+- fig_cyclic draws the run (figures/cyclic.png).
+- the study report's cyclic section (cyclic_section) has a row for each cyclic stage, each with its own summary.json
+  entry (N, criteria, cycles, drainage) and its own p' and r_u from p_c: cyc2's min p'/p'_0 is 70/100 and max r_u
+  30/100, not 70/92 nor cyc1's; cyc3 drained, from its first row. One row for the run (the last stage's criteria and
+  N, every cyclic row's p' and r_u) was the report before: it lost the first stage's N, a virgin sample's."""
 import csv
+import json
 import math
 import os
 import shutil
@@ -49,6 +54,33 @@ os.makedirs(figs)
 grainlab_plot.fig_cyclic([(run, s)], figs)
 if not os.path.isfile(os.path.join(figs, "cyclic.png")):
     fails.append("fig_cyclic drew nothing")
+
+
+# The study report's cyclic section: the run's summary.json as the run writes it (only what the section reads)
+def entry(name, drainage, cycles, cycle, n_ru, n_da, quarter):
+    return {"name": name, "type": "cyclic", "drainage": drainage, "cycles": cycles, "cycle": cycle,
+            "liquefaction_ru": 0.95, "n_ru": n_ru, "liquefaction_da_strain": 0.05, "n_da": n_da,
+            "quarter_cycle_transits": quarter}
+
+
+with open(os.path.join(run, "summary.json"), "w") as f:
+    json.dump({"stages": [{"name": "consolidate", "type": "isotropic"},
+                          entry("cyc1", "undrained", 2, 2.0, None, 0.75, 5.5),
+                          entry("cyc2", "undrained", 3, 1.5, 1.25, 1.125, None),
+                          {"name": "post", "type": "triaxial"},
+                          entry("cyc3", "drained", 1, 1.0, None, None, 6.0)]}, f)
+job = {"name": "staged", "mu_r": 0.0, "csr": 0.1, "drainage": "undrained", "cycles": 1}
+lines = grainlab_plot.cyclic_section([(job, run, s)], figs, {0.0: "C0"})
+want_rows = ["| staged (cyc1) | 0 | undrained | 0.1 | 2 | 2 cycles done | not met | 0.75 | 0.900 | 0.100 | 5.5 |",
+             "| staged (cyc2) | 0 | undrained | 0.1 | 1.5 | \\|eps_a\\| = 0.08 % | 1.25 | 1.12 | 0.700 | 0.300 | – |",
+             "| staged (cyc3) | 0 | drained | 0.1 | 1 | 1 cycles done | – (drained) | not met | 1.000 | – | 6 |"]
+got_rows = [x for x in lines if x.startswith("| staged")]
+if got_rows != want_rows:
+    fails.append("cyclic_section rows\n" + "\n".join(got_rows) + "\nwanted\n" + "\n".join(want_rows))
+if not any("A staged test has a row for each cyclic stage" in x for x in lines):
+    fails.append("cyclic_section does not say a staged test has a row a stage")
+if not os.path.isfile(os.path.join(figs, "liquefaction.png")):
+    fails.append("cyclic_section drew no liquefaction.png")
 if fails:
     sys.exit("staged_cycles_check: " + "; ".join(fails))
 print("staged_cycles_check: ok")
