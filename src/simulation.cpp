@@ -1163,11 +1163,12 @@ void Laboratory::warn_dynamic_loops(const StageConfig& sc) const {
   const double quarter = double(lab_.stage_step) * eng_->dt();
   if (!(quarter < kQuasiStaticTransits * transit_)) return;
   std::fprintf(stderr,
-               "grainlab: warning: stage %s: the first quarter cycle (q = 0 -> %.4g kPa) took %.3g ms, only %.3g times "
+               "grainlab: warning: stage %s: the first quarter cycle (q = %.4g -> %.4g kPa) took %.3g ms, only %.3g times "
                "the ~%.3g ms a compression wave takes across the sample: the loops (cycles.csv) will measure its "
                "inertia as well as the material, E_eq and D too high; below axial_strain_rate = %.3g/s (%g transits if "
                "the sample strained as far; loaded slower it strains less)\n",
-               sc.name.c_str(), sc.q_amplitude / 1e3, quarter * 1e3, quarter / transit_, transit_ * 1e3,
+               sc.name.c_str(), lab_.q0 / 1e3, (lab_.q0 + sc.q_amplitude) / 1e3, quarter * 1e3, quarter / transit_,
+               transit_ * 1e3,
                sc.axial_strain_rate * quarter / (kQuasiStaticTransits * transit_), kQuasiStaticTransits);
 }
 
