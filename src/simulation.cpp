@@ -1460,7 +1460,7 @@ void Laboratory::watch_core_share() {
   share_warned_ = true;
   std::fprintf(stderr,
                "grainlab: warning: over the last %.3g s this run's %d threads had %.3g cores' worth of CPU time: other "
-               "processes are using its cores, and OpenMP threads wait on each other at every kernel's end, so it runs "
+               "processes (or, on a virtual machine, other guests) are using its cores, and OpenMP threads wait on each other at every kernel's end, so it runs "
                "far slower than its share (two 2-thread runs of 400 spheres on 2 cores at once: 120x each); give each "
                "run --threads so that together they fit the cores (a study does so for its jobs), or stop the others\n",
                wall, threads, cores);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # core_share.sh GRAINLAB TASKSET DIR: a 2-thread run that shares its two cores with a busy process is told so
 # (Laboratory::watch_core_share: two 5 s windows in a row under 0.75 of its threads' CPU time), and the same run alone
-# is not. Both are pinned to CPUs 0 and 1 (the run's --threads 2 fills them; the busy loop takes CPU 0 from it), so a
+# is not (where the machine gave it 1.6 cores or more; measured 1.92 alone, 1.12 beside the busy loop). Both are pinned to CPUs 0 and 1 (the run's --threads 2 fills them; the busy loop takes CPU 0 from it), so a
 # machine of more cores cannot move the busy loop elsewhere. Each run is stopped (SIGINT: a checkpoint, exit 130) at
 # the warning or after `seconds`; the run alone goes 12 s, past the two windows the warning needs.
 set -u
@@ -16,20 +16,29 @@ stages:
 output: {every: 200, checkpoint_every: 0, checkpoint_minutes: 0}
 EOF
 warning="grainlab: warning: over the last [0-9.]+ s this run's 2 threads had [0-9.]+ cores' worth of CPU time: other processes are using its cores"
+cores=  # the cores' worth of CPU time the last run_for's process had (/proc/PID/stat utime + stime over its wall time)
 run_for() {  # run_for OUT SECONDS: the run until the warning or SECONDS
   "$taskset" -c 0,1 "$g" run "$dir/c.yaml" --out "$dir/$1" --threads 2 --quiet 2> "$dir/$1.err" &
-  local pid=$! start=$SECONDS
-  while kill -0 "$pid" 2> /dev/null && [ $((SECONDS - start)) -lt "$2" ]; do
+  local pid=$! t0 ticks rc
+  t0=$(date +%s.%N)
+  while kill -0 "$pid" 2> /dev/null && awk -v a="$t0" -v b="$(date +%s.%N)" -v s="$2" 'BEGIN { exit !(b - a < s) }'; do
     grep -qE "$warning" "$dir/$1.err" && break
     sleep 0.2
   done
+  ticks=$(awk '{ print $14 + $15 }' "/proc/$pid/stat" 2> /dev/null)
+  cores=$(awk -v t="${ticks:-0}" -v hz="$(getconf CLK_TCK)" -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", t / hz / (b - a) }')
   kill -INT "$pid" 2> /dev/null
   wait "$pid"
-  echo "$1: $((SECONDS - start)) s, exit $?"
+  rc=$?
+  echo "$1: exit $rc, $cores cores' worth of CPU time"
 }
 run_for alone 12
-if grep -qE "$warning" "$dir/alone.err"; then
-  echo "FAIL: the run alone was warned of sharing its cores:"; cat "$dir/alone.err"; exit 1
+# The machine's own load (another guest on a virtual machine's cores) could take the cores from the run alone as the
+# busy loop does: then it is no control, and says so.
+if awk -v c="$cores" 'BEGIN { exit !(c < 1.6) }'; then
+  echo "the run alone had only $cores cores of 2 (the machine is busy): no control of the warning's absence"
+elif grep -qE "$warning" "$dir/alone.err"; then
+  echo "FAIL: the run alone ($cores cores) was warned of sharing its cores:"; cat "$dir/alone.err"; exit 1
 fi
 "$taskset" -c 0 sh -c 'while :; do :; done' &
 busy=$!
