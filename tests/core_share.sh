@@ -15,7 +15,7 @@ stages:
   - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 0.01, max_axial_strain: 0.5, max_steps: 1000000000}
 output: {every: 200, checkpoint_every: 0, checkpoint_minutes: 0}
 EOF
-warning="grainlab: warning: over the last [0-9.]+ s this run's 2 threads had [0-9.]+ cores' worth of CPU time: other processes are using its cores"
+warning="grainlab: warning: over the last [0-9.]+ s this run's 2 threads had [0-9.]+ cores' worth of CPU time: other processes .*are using its cores"
 cores=  # the cores' worth of CPU time the last run_for's process had (/proc/PID/stat utime + stime over its wall time)
 run_for() {  # run_for OUT SECONDS: the run until the warning or SECONDS
   "$taskset" -c 0,1 "$g" run "$dir/c.yaml" --out "$dir/$1" --threads 2 --quiet 2> "$dir/$1.err" &
