@@ -53,6 +53,9 @@ LINEAR_I = 1e-2
 # A cyclic loop measures the material when its quarter cycle lasts at least this many transits of a compression wave
 # across the sample (kQuasiStaticTransits, src/simulation.hpp; measured in configs/README.md).
 QUASI_STATIC_TRANSITS = 4
+# The cycles a liquefaction-resistance curve is read at: the equivalent uniform cycles of a magnitude 7.5 earthquake
+# (Seed et al. 1975; Idriss & Boulanger 2008, CRR_M7.5), the CRR that the field's charts and correlations give.
+CRR_CYCLES = 15
 
 
 def strain_across_stages(eps_a, stage, shear):
@@ -1920,6 +1923,25 @@ def cyclic_stages(s, d):
     return [(n, s["cyclic"] & (s["stage"] == n), entries.get(n)) for n in names]
 
 
+def liquefaction_fit(points):
+    """The liquefaction-resistance curve CSR = a N^-b through a group's (N, CSR) points, N the cycles to a criterion,
+    by least squares on log CSR = log a - b log N (the power law of laboratory CSR - N curves: Idriss & Boulanger
+    2008, b = 0.34 for clean sand), and CRR = a CRR_CYCLES^-b, the CSR that meets the criterion in 15 cycles. Returns
+    a dict (a, b, crr, tests, n_min, n_max, rms: the root mean square of the residuals of log CSR), or None with fewer
+    than two distinct N, or where the CSR does not fall as N rises (b <= 0: no resistance curve)."""
+    n = np.array([x[0] for x in points], float)
+    c = np.array([x[1] for x in points], float)
+    if len(set(n.tolist())) < 2:
+        return None
+    slope, intercept = np.polyfit(np.log(n), np.log(c), 1)
+    if not -slope > 0:
+        return None
+    resid = np.log(c) - (intercept + slope * np.log(n))
+    a, b = math.exp(intercept), -slope
+    return {"a": a, "b": b, "crr": a * CRR_CYCLES ** -b, "tests": len(n), "n_min": float(n.min()),
+            "n_max": float(n.max()), "rms": float(np.sqrt(np.mean(resid ** 2)))}
+
+
 def cyclic_section(cyc, figs, colors):
     """Cyclic tests of a study: the cycle number N each reached, N at each liquefaction criterion (from the run's
     summary.json: r_u = u/p'_0 reaching the stage's liquefaction_ru, the double-amplitude axial strain reaching its
@@ -1930,6 +1952,7 @@ def cyclic_section(cyc, figs, colors):
     fig, ax = plt.subplots(figsize=(7, 4.5))
     crits = set()
     staged = False
+    met_at = {}  # (mu_r, criterion key): the (N, CSR) of each test's first cyclic stage that met it
     for j, d, s in sorted(cyc, key=lambda r: (r[0]["mu_r"], r[0]["csr"])):
         stages = cyclic_stages(s, d)
         staged = staged or len(stages) > 1
@@ -1968,14 +1991,33 @@ def cyclic_section(cyc, figs, colors):
             if st is not None and st[key] is not None:
                 ax.plot([max(st[key], 1e-2)], [csr], marker, color=c, label=f"mu_r = {j['mu_r']:g}")
                 met = True
+                if st[key] > 0:
+                    met_at.setdefault((j["mu_r"], key), []).append((st[key], csr))
         if not met:
             ax.plot([max(n_end, 1e-2)], [csr], ">", color=c, markerfacecolor="none", label=f"mu_r = {j['mu_r']:g}")
     crit = next(iter(crits)) if len(crits) == 1 else None  # the tests' thresholds, where they share them
+    fit_rows, unfitted, fitted = [], [], set()
+    for (mu_r, key), pts in sorted(met_at.items()):
+        what = (f"{100 * crit[1]:g} % DA strain" if crit else "DA strain") if key == "n_da" else \
+            (f"r_u = {crit[0]:g}" if crit else "r_u")
+        f = liquefaction_fit(pts)
+        if f is None:
+            unfitted.append(f"mu_r {mu_r:g}, {what} ({len(pts)} test{'s' if len(pts) != 1 else ''})")
+            continue
+        out = "" if f["n_min"] <= CRR_CYCLES <= f["n_max"] else " (extrapolated)"
+        fit_rows.append(f"| {mu_r:g} | {what} | {f['tests']} | {f['a']:.4g} | {f['b']:.4g} | {f['crr']:.4g}{out} | "
+                        f"{f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
+        fitted.add((mu_r, key))
+        nn = np.geomspace(f["n_min"], f["n_max"], 50)
+        ax.plot(nn, f["a"] * nn ** -f["b"], "--" if key == "n_da" else ":", color=colors[mu_r], lw=1)
     # the markers' meaning as legend entries (grey), after one entry per mu_r
     for marker, text, face in (("o", f"{100 * crit[1]:g} % double amplitude" if crit else "DA strain criterion", "grey"),
                                ("s", f"r_u = {crit[0]:g}" if crit else "r_u criterion", "grey"),
                                (">", "standing at N reached", "none")):
         ax.plot([], [], marker, color="grey", markerfacecolor=face, linestyle="none", label=text)
+    for style, key, text in (("--", "n_da", "a N^-b, DA strain"), (":", "n_ru", "a N^-b, r_u")):
+        if any(k == key for (_, k) in fitted):
+            ax.plot([], [], style, color="grey", lw=1, label=text)
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
     if uniq:
@@ -1987,7 +2029,7 @@ def cyclic_section(cyc, figs, colors):
     return ["## Cyclic tests", "",
             "N is the cycle number, continuous: the k-th load reversal at N = (2k - 1)/4. A test ends when its cycles "
             "are done or |eps_a| reaches the stage's max_axial_strain. Liquefaction is the first N at which r_u = "
-            "u/p'_0 reached the stage's liquefaction_ru (initial liquefaction; undrained tests), or the double-amplitude "
+            "u/p'_0 (u/p'_c after an undrained stage) reached the stage's liquefaction_ru (initial liquefaction; undrained tests), or the double-amplitude "
             "axial strain (peak-to-peak eps_a of a half cycle) reached its liquefaction_da_strain (ASTM D5311), "
             "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ". " +
             ("A staged test has a row for each cyclic stage (test (stage)), each counting its N, criteria and quarter "
@@ -1998,7 +2040,25 @@ def cyclic_section(cyc, figs, colors):
             "for the material's response.", "",
             "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u "
             "| quarter cycle [transits] |",
-            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, "", *fit_section(fit_rows, unfitted)]
+
+
+def fit_section(fit_rows, unfitted):
+    """The liquefaction-resistance curves of cyclic_section (liquefaction_fit): a table, and the groups left unfitted."""
+    if not fit_rows and not unfitted:
+        return []
+    lines = [f"Liquefaction-resistance curves CSR = a N^-b per mu_r and criterion (least squares in log-log over the "
+             f"tests that met it; the figure's dashed (DA strain) and dotted (r_u) lines), and CRR, the CSR that meets "
+             f"it in {CRR_CYCLES} cycles (a magnitude 7.5 earthquake's equivalent cycles, Seed et al. 1975; "
+             f"extrapolated where the tests' N do not span {CRR_CYCLES}). Clean sands give b near 0.34 (Idriss & "
+             f"Boulanger 2008).", ""]
+    if fit_rows:
+        lines += [f"| mu_r | criterion | tests | a | b | CRR (N = {CRR_CYCLES}) | N of the tests | rms of log CSR |",
+                  "|---|---|---|---|---|---|---|---|", *fit_rows, ""]
+    if unfitted:
+        lines += ["Not fitted (fewer than two tests meeting the criterion at different N, or a CSR that does not fall as "
+                  "N rises): " + "; ".join(unfitted) + ".", ""]
+    return lines
 
 
 def hyperbolic_fit(eps, E):

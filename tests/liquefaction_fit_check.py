@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's liquefaction-resistance curves (grainlab_plot.py liquefaction_fit,
+cyclic_section) on synthetic cyclic tests:
+- mu_r 0: four tests at CSR 0.1, 0.15, 0.2, 0.3 whose N at 5 % DA strain lie exactly on CSR = 0.3 N^-0.34 (N = (CSR /
+  0.3)^(-1/0.34): 25.3 ... 1), and whose N at r_u = 0.95 lie on CSR = 0.25 N^-0.2 for the three that met it (the
+  fourth stood: not met). The fit gives a and b to 1e-12 and CRR = a 15^-b (0.1195 and 0.1455): within the DA tests'
+  N (1 to 25.3), beyond the r_u tests' (0.40 to 12.9: marked extrapolated); the report's table gives them to 4
+  digits; the rms misfit of exact points is round-off.
+- mu_r 0.3: one test met the criterion: not fitted, and the report says so.
+- liquefaction_fit refuses points whose CSR rises with N (no resistance curve) and points at one N."""
+import csv
+import json
+import os
+import shutil
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+import grainlab_plot  # noqa: E402
+
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/liquefaction_fit_check"
+shutil.rmtree(work, ignore_errors=True)
+figs = os.path.join(work, "figs")
+os.makedirs(figs)
+fails = []
+
+
+def da_law(csr):
+    return (csr / 0.3) ** (-1 / 0.34)
+
+
+def ru_law(csr):
+    return (csr / 0.25) ** (-1 / 0.2)
+
+
+def cyclic_run(name, csr, n_da, n_ru, mu_r):
+    """A run dir with a consolidation and one undrained cyclic stage (series rows and summary.json as the run writes
+    them, only what the section reads) and its job."""
+    run = os.path.join(work, name)
+    os.makedirs(run)
+    n_end = max(x for x in (n_da, n_ru, 1.0) if x is not None)
+    rows = [("consolidate", 0, 0, 100, 0), ("shake", 3, 0, 100, 0), ("shake", 3, n_end / 2, 80, 20),
+            ("shake", 3, n_end, 60, 40)]
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage", "time", "step", "eps_a", "p", "q", "u", "e", "mu_r", "stage_type", "cycle"])
+        for k, (st, ty, n, p, u) in enumerate(rows):
+            w.writerow([st, k * 1e-3, k, 1e-4 * k if ty else 0, p * 1e3, 0, u * 1e3, 0.7, mu_r, ty, n])
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "consolidate", "type": "isotropic"},
+                              {"name": "shake", "type": "cyclic", "drainage": "undrained", "cycles": 30,
+                               "cycle": n_end, "liquefaction_ru": 0.95, "n_ru": n_ru, "liquefaction_da_strain": 0.05,
+                               "n_da": n_da, "quarter_cycle_transits": 8.0}]}, f)
+    job = {"name": name, "mu_r": mu_r, "csr": csr, "drainage": "undrained", "cycles": 30}
+    return job, run, grainlab_plot.load(run)
+
+
+cyc = []
+for csr in (0.1, 0.15, 0.2, 0.3):
+    cyc.append(cyclic_run(f"t{csr:g}", csr, da_law(csr), ru_law(csr) if csr > 0.1 else None, 0.0))
+cyc.append(cyclic_run("r0.2", 0.2, 3.0, None, 0.3))
+cyc.append(cyclic_run("r0.3", 0.3, None, None, 0.3))
+
+# the fit itself, exactly
+f = grainlab_plot.liquefaction_fit([(da_law(c), c) for c in (0.1, 0.15, 0.2, 0.3)])
+want = {"a": 0.3, "b": 0.34, "crr": 0.3 * 15 ** -0.34}
+for k, v in want.items():
+    if f is None or abs(f[k] - v) > 1e-12 * v:
+        fails.append(f"DA fit {k} = {None if f is None else f[k]}, wanted {v}")
+if f is not None and not (f["tests"] == 4 and f["rms"] < 1e-12 and abs(f["n_min"] - 1) < 1e-12):
+    fails.append(f"DA fit {f}")
+if grainlab_plot.liquefaction_fit([(1.0, 0.1), (10.0, 0.2)]) is not None:
+    fails.append("a CSR rising with N was fitted")
+if grainlab_plot.liquefaction_fit([(2.0, 0.1), (2.0, 0.2)]) is not None:
+    fails.append("points at one N were fitted")
+
+lines = grainlab_plot.cyclic_section(cyc, figs, {0.0: "C0", 0.3: "C1"})
+text = "\n".join(lines)
+crr_da, crr_ru = 0.3 * 15 ** -0.34, 0.25 * 15 ** -0.2
+want_rows = [f"| 0 | 5 % DA strain | 4 | 0.3 | 0.34 | {crr_da:.4g} | 1–{da_law(0.1):.3g} | ",
+             f"| 0 | r_u = 0.95 | 3 | 0.25 | 0.2 | {crr_ru:.4g} (extrapolated) | {ru_law(0.3):.3g}–{ru_law(0.15):.3g} | "]
+for w in want_rows:
+    if not any(x.startswith(w) for x in lines):
+        fails.append(f"no report row starting {w!r}")
+if "mu_r 0.3, 5 % DA strain (1 test)" not in text:
+    fails.append("the report does not say mu_r 0.3's one test is not fitted")
+if text.count("(extrapolated)") != 1:
+    fails.append("not the r_u curve's CRR alone marked extrapolated")
+if not os.path.isfile(os.path.join(figs, "liquefaction.png")):
+    fails.append("no liquefaction.png")
+print(text)
+print(f"CRR at 15 cycles: DA {crr_da:.4f}, r_u {crr_ru:.4f}; N at DA {[round(da_law(c), 3) for c in (0.1, 0.15, 0.2, 0.3)]}")
+if fails:
+    sys.exit("liquefaction_fit_check: " + "; ".join(fails))
+print("liquefaction_fit_check: ok")
