@@ -1436,7 +1436,7 @@ double process_cpu_seconds() {
 // threads say so once a run; the kernels' pool idles only in serial work (I/O, the stage ends: start_core_share
 // leaves those out), seconds of it in a window at most.
 constexpr double kShareWindow = 5;  // s
-constexpr double kShareWarn = 0.75;  // of the threads: one hog beside a 2-thread run on 2 cores gives it 2/3
+constexpr double kShareWarn = 0.75;  // of the threads: a busy loop beside a 2-thread run on 2 cores left it 0.55-0.6
 void Laboratory::start_core_share() {
   share_t0_ = std::chrono::steady_clock::now();
   share_cpu0_ = process_cpu_seconds();
@@ -1460,9 +1460,10 @@ void Laboratory::watch_core_share() {
   share_warned_ = true;
   std::fprintf(stderr,
                "grainlab: warning: over the last %.3g s this run's %d threads had %.3g cores' worth of CPU time: other "
-               "processes (or, on a virtual machine, other guests) are using its cores, and OpenMP threads wait on each other at every kernel's end, so it runs "
-               "far slower than its share (two 2-thread runs of 400 spheres on 2 cores at once: 120x each); give each "
-               "run --threads so that together they fit the cores (a study does so for its jobs), or stop the others\n",
+               "processes (or, on a virtual machine, other guests) are using its cores, and OpenMP threads wait on each "
+               "other at every kernel's end, so it runs far slower than its share (two 2-thread runs of 400 spheres on "
+               "2 cores at once: 120x each); give each run --threads so that together they fit the cores (a study does "
+               "so for its jobs), or stop the others\n",
                wall, threads, cores);
 }
 
