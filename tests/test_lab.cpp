@@ -1805,26 +1805,18 @@ TEST(Lab, AStressControlledCycleWarnsWhenItsLoopsAreDynamic) {
     testing::internal::CaptureStderr();
     run(cfg, l.out);
     l.err = testing::internal::GetCapturedStderr();
-    const size_t at = l.err.find("grainlab: warning: stage cyc: the first quarter cycle (q = 0 -> 38 kPa) took ");
-    if (at != std::string::npos) {
-      const size_t only = l.err.find(", only ", at), adv = l.err.find("below axial_strain_rate = ", at);
-      EXPECT_NE(only, std::string::npos) << l.err;
-      EXPECT_NE(adv, std::string::npos) << l.err;
-      if (only != std::string::npos && adv != std::string::npos) {
-        l.first = std::stod(l.err.substr(only + 7));
-        l.advice = std::stod(l.err.substr(adv + 26));
-      }
-    }
-    const size_t cyc = l.err.find("grainlab: warning: stage cyc: the first cycle (q_amplitude 38 kPa) took ");
-    if (cyc != std::string::npos) {
-      const size_t only = l.err.find(", its quarter only ", cyc), adv = l.err.find("below axial_strain_rate = ", cyc);
-      EXPECT_NE(only, std::string::npos) << l.err;
-      EXPECT_NE(adv, std::string::npos) << l.err;
-      if (only != std::string::npos && adv != std::string::npos) {
-        l.cycle = std::stod(l.err.substr(only + 19));
-        l.cycle_advice = std::stod(l.err.substr(adv + 26));
-      }
-    }
+    // A warning's quarter in transits (the number after `transits`) and its rate, where it was given
+    const auto warned = [&](const std::string& head, const std::string& transits, double& quarter, double& advice) {
+      const size_t at = l.err.find("grainlab: warning: stage cyc: " + head);
+      if (at == std::string::npos) return;
+      const size_t only = l.err.find(transits, at), adv = l.err.find("below axial_strain_rate = ", at);
+      ASSERT_NE(only, std::string::npos) << l.err;
+      ASSERT_NE(adv, std::string::npos) << l.err;
+      quarter = std::stod(l.err.substr(only + transits.size()));
+      advice = std::stod(l.err.substr(adv + 26));
+    };
+    warned("the first quarter cycle (q = 0 -> 38 kPa) took ", ", only ", l.first, l.advice);
+    warned("the first cycle (q_amplitude 38 kPa) took ", ", its quarter only ", l.cycle, l.cycle_advice);
     const std::string s = slurp(l.out + "/summary.json");
     const size_t q = s.find("\"quarter_cycle_transits\": ");
     if (q != std::string::npos) l.quarter = std::stod(s.substr(q + 26));
