@@ -1908,19 +1908,21 @@ def seed_section(mono, window, tol, figs, peak=(0.0, None)):
 
 
 def cyclic_stages(s, d):
-    """A run's cyclic stages in order: (name, its rows' mask, its summary.json entry or None). A staged test (cycles,
-    a reconsolidation, cycles again: re-liquefaction; or amplitudes in turn) has several, each with its own N, criteria
-    and quarter cycle. A run of a build before summary.json: its cyclic rows as one stage, without an entry."""
+    """A run's cyclic stages in order: (name, its rows' mask, its summary.json entry or None, the entry of an
+    isotropic stage right after it or None). A staged test (cycles, a reconsolidation, cycles again: re-liquefaction;
+    or amplitudes in turn) has several, each with its own N, criteria and quarter cycle. A run of a build before
+    summary.json: its cyclic rows as one stage, without an entry."""
     import json
 
-    entries = {}
+    stages = []
     if os.path.isfile(os.path.join(d, "summary.json")):
-        entries = {x["name"]: x for x in json.load(open(os.path.join(d, "summary.json")))["stages"]
-                   if x["type"] == "cyclic"}
+        stages = json.load(open(os.path.join(d, "summary.json")))["stages"]
+    entries = {x["name"]: x for x in stages if x["type"] == "cyclic"}
+    after = {a["name"]: b for a, b in zip(stages, stages[1:]) if a["type"] == "cyclic" and b["type"] == "isotropic"}
     if not entries:
-        return [(None, s["cyclic"], None)]
+        return [(None, s["cyclic"], None, None)]
     names = list(dict.fromkeys(s["stage"][s["cyclic"]]))  # in the order the rows give them
-    return [(n, s["cyclic"] & (s["stage"] == n), entries.get(n)) for n in names]
+    return [(n, s["cyclic"] & (s["stage"] == n), entries.get(n), after.get(n)) for n in names]
 
 
 def liquefaction_fit(points):
@@ -1953,10 +1955,11 @@ def cyclic_section(cyc, figs, colors):
     crits = set()
     staged = False
     met_at = {}  # (mu_r, criterion key): the (N, CSR) of each test's first cyclic stage that met it
+    recon_rows = []  # undrained cyclic stages reconsolidated by the isotropic stage after them
     for j, d, s in sorted(cyc, key=lambda r: (r[0]["mu_r"], r[0]["csr"])):
         stages = cyclic_stages(s, d)
         staged = staged or len(stages) > 1
-        for k, (name, m, st) in enumerate(stages):
+        for k, (name, m, st, recon) in enumerate(stages):
             drainage = st["drainage"] if st is not None else j["drainage"]  # a staged test may mix them
             und = drainage == "undrained"
             n_end, p = s["cycle"][m][-1], s["p"][m]
@@ -1982,6 +1985,12 @@ def cyclic_section(cyc, figs, colors):
                         f"{n_da} | {np.nanmin(p / ref):.3f} | {ru} | {quarter} |")
             if k == 0:
                 first = (n_end, st)
+            if recon is not None and und and "e" in st and "e" in recon:
+                # the volume the sample loses reconsolidated after undrained cycling, as a lab measures it: the box's
+                # void ratio at the two stages' ends (summary.json)
+                eps_v = (st["e"] - recon["e"]) / (1 + st["e"])
+                recon_rows.append(f"| {test} | {recon['name']} | {ru} | {100 * np.max(np.abs(s['eps_a'][m])):.2f} | "
+                                  f"{recon['p'] / 1e3:.4g} | {100 * eps_v:.3f} |")
         n_end, st = first
         if j["csr"] <= 0:
             continue
@@ -2040,7 +2049,13 @@ def cyclic_section(cyc, figs, colors):
             "for the material's response.", "",
             "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u "
             "| quarter cycle [transits] |",
-            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, "", *fit_section(fit_rows, unfitted)]
+            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, "", *fit_section(fit_rows, unfitted),
+            *(["Reconsolidation after undrained cycling (an isotropic stage right after a cyclic one): the volumetric "
+               "strain eps_v the sample takes as its pore pressure dissipates, from the box's void ratio at the two "
+               "stages' ends, (e_cyclic - e_reconsolidated)/(1 + e_cyclic): the post-liquefaction settlement, which "
+               "Ishihara & Yoshimine (1992) relate to the largest strain the cycles reached.", "",
+               "| test | reconsolidation stage | max r_u in the cycles | max \\|eps_a\\| in the cycles [%] | p' after "
+               "[kPa] | eps_v [%] |", "|---|---|---|---|---|---|", *recon_rows, ""] if recon_rows else [])]
 
 
 def fit_section(fit_rows, unfitted):

@@ -92,12 +92,20 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
   c["material"]["mu_r"] = yaml_number(j.mu_r);
   YAML::Node stages(YAML::NodeType::Sequence);
   bool first_iso = true;
+  // The sample job runs the base's isotropic stages before its first shear stage (the preparation), the shear job
+  // every stage from there, an isotropic stage between shear stages included: a reconsolidation after cycles (a
+  // re-liquefaction test: cycles, reconsolidation, cycles), which the sample job used to run before any shear.
+  bool sheared = false;
   const std::vector<bool> k0 = k0_consolidations(base["stages"]);
   for (size_t k = 0; k < base["stages"].size(); ++k) {
     YAML::Node s = YAML::Clone(base["stages"][k]);
     const std::string type = s["type"] ? s["type"].as<std::string>() : "isotropic";
     s["mu_r"] = yaml_number(j.mu_r);
-    if (type == "isotropic") {
+    sheared = sheared || type != "isotropic";
+    if (type == "isotropic" && sheared) {
+      if (!shear_only) continue;
+      if (j.p0 > 0) s["pressure"] = yaml_number(j.p0);  // every isotropic stage's (the base's share one: iso_pressures)
+    } else if (type == "isotropic") {
       if (shear_only) continue;
       if (j.p0 > 0) s["pressure"] = yaml_number(j.p0);
       if (first_iso && j.e0 > 0) s["target_e0"] = yaml_number(j.e0);
@@ -252,7 +260,7 @@ Study load_study_unchecked(const std::string& path) {
     const StageConfig& st = base_cfg.stages[k];
     (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
     if (st.type == StageType::Isotropic) {
-      base_p0 = st.pressure;
+      if (!has_tri) base_p0 = st.pressure;  // the preparation's: a reconsolidation after a shear is no p'_0
       iso_pressures.insert(st.pressure);
     }
     if (st.type == StageType::Cyclic) {

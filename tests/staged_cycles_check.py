@@ -13,7 +13,10 @@ synthetic series.csv:
 - the study report's cyclic section (cyclic_section) has a row for each cyclic stage, each with its own summary.json
   entry (N, criteria, cycles, drainage) and its own p' and r_u from p_c: cyc2's min p'/p'_0 is 70/100 and max r_u
   30/100, not 70/92 nor cyc1's; cyc3 drained, from its first row. One row for the run (the last stage's criteria and
-  N, every cyclic row's p' and r_u) was the report before: it lost the first stage's N, a virgin sample's."""
+  N, every cyclic row's p' and r_u) was the report before: it lost the first stage's N, a virgin sample's.
+- a run that reconsolidates after undrained cycles (consolidate, shake, recon: summary.json e 0.72 at shake's end,
+  0.69 at recon's, p' 100 kPa): the section's reconsolidation table gives eps_v = 0.03/1.72 = 1.744 %, the cycles'
+  max r_u 0.6 and max |eps_a| 3.00 %."""
 import csv
 import json
 import math
@@ -81,6 +84,29 @@ if not any("A staged test has a row for each cyclic stage" in x for x in lines):
     fails.append("cyclic_section does not say a staged test has a row a stage")
 if not os.path.isfile(os.path.join(figs, "liquefaction.png")):
     fails.append("cyclic_section drew no liquefaction.png")
+
+# Reconsolidation after undrained cycling
+rrun = os.path.join(work, "recon")
+os.makedirs(rrun)
+with open(os.path.join(rrun, "series.csv"), "w", newline="") as f:
+    w = csv.writer(f)
+    w.writerow(["stage", "time", "step", "eps_a", "p", "q", "u", "e", "mu_r", "stage_type", "cycle"])
+    for k, (st, ty, n, ea, p, u) in enumerate([("consolidate", 0, 0, 0, 100, 0), ("shake", 3, 0, 0, 100, 0),
+                                               ("shake", 3, 0.5, 0.01, 70, 30), ("shake", 3, 1.0, -0.03, 40, 60),
+                                               ("shake", 3, 1.2, 0.02, 45, 55), ("recon", 0, 0, 0, 100, 0)]):
+        w.writerow([st, k * 1e-3, k, ea, p * 1e3, 0, u * 1e3, 0.7, 0, ty, n])
+with open(os.path.join(rrun, "summary.json"), "w") as f:
+    json.dump({"stages": [{"name": "consolidate", "type": "isotropic", "e": 0.72, "p": 1e5},
+                          dict(entry("shake", "undrained", 2, 1.2, None, 1.0, 6.0), e=0.72, p=45e3),
+                          {"name": "recon", "type": "isotropic", "e": 0.69, "p": 1e5}]}, f)
+rjob = {"name": "rec", "mu_r": 0.0, "csr": 0.1, "drainage": "undrained", "cycles": 2}
+rlines = grainlab_plot.cyclic_section([(rjob, rrun, grainlab_plot.load(rrun))], figs, {0.0: "C0"})
+want = f"| rec | recon | 0.600 | 3.00 | 100 | {100 * 0.03 / 1.72:.3f} |"
+if want not in rlines:
+    fails.append(f"no reconsolidation row {want!r} in\n" + "\n".join(rlines))
+if any(x.startswith("| staged") and "| recon |" in x for x in lines) or \
+        any("Reconsolidation after undrained cycling" in x for x in lines):
+    fails.append("a reconsolidation table for the staged run, which has no isotropic stage after a cyclic one")
 if fails:
     sys.exit("staged_cycles_check: " + "; ".join(fails))
 print("staged_cycles_check: ok")

@@ -422,6 +422,43 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
   EXPECT_EQ(c.stages[1].q_amplitude, 8e4);
 }
 
+// A base that reconsolidates between shear stages (cycles, an isotropic reconsolidation, cycles again: a
+// re-liquefaction test): its sample jobs run the isotropic stages before the first shear (the preparation), its shear
+// jobs every stage from there, the reconsolidation in its place (it was run by the sample job, before any shear: a
+// test the base did not ask for, silently), with the p0 axis's pressure. The csr axis's p'_0 is the
+// preparation's, not a later isotropic stage's (which gave half the amplitude where the reconsolidation went to half
+// the pressure).
+TEST(Config, StudyKeepsAReconsolidationBetweenShears) {
+  const auto base = [](const std::string& tag, const std::string& recon_p) {
+    return write_tmp(tag, "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
+                          "  - {name: shake, type: cyclic, q_amplitude: 2e4, cycles: 5}\n"
+                          "  - {name: recon, type: isotropic, pressure: " + recon_p + "}\n"
+                          "  - {name: reshake, type: cyclic, q_amplitude: 2e4, cycles: 5}\n");
+  };
+  const Study s = load_study(write_tmp("study_recon", "base: " + base("study_recon_base", "2.0e5") +
+                                                          "\naxes: {csr: [0.1], p0: [1.0e5]}\n"));
+  ASSERT_EQ(s.samples.size(), 1u);
+  ASSERT_EQ(s.shears.size(), 1u);
+  const RunConfig prep = parse_run_config(YAML::Load(s.samples[0].config_yaml), s.samples[0].name);
+  ASSERT_EQ(prep.stages.size(), 1u);
+  EXPECT_EQ(prep.stages[0].name, "consolidate");
+  EXPECT_EQ(prep.stages[0].pressure, 1e5);
+  EXPECT_TRUE(prep.stages[0].save_sample);
+  const RunConfig c = parse_run_config(YAML::Load(shear_config(s, s.shears[0], "sample.h5")), s.shears[0].name);
+  ASSERT_EQ(c.stages.size(), 3u);
+  EXPECT_EQ(c.stages[0].name, "shake");
+  EXPECT_EQ(c.stages[1].name, "recon");
+  EXPECT_EQ(c.stages[1].type, StageType::Isotropic);
+  EXPECT_EQ(c.stages[1].pressure, 1e5) << "the p0 axis sets every isotropic stage";
+  EXPECT_EQ(c.stages[2].name, "reshake");
+  EXPECT_EQ(c.stages[0].q_amplitude, 2e4);  // 2 csr p'_0
+  EXPECT_EQ(c.stages[2].q_amplitude, 2e4);
+  const Study half = load_study(write_tmp("study_recon_half", "base: " + base("study_recon_half_base", "1.0e5") +
+                                                                  "\naxes: {csr: [0.1]}\n"));
+  ASSERT_EQ(half.shears.size(), 1u);
+  EXPECT_EQ(half.shears[0].q_amplitude, 4e4) << "2 csr p'_0 of the preparation's 200 kPa";
+}
+
 // Modulus-reduction studies: the strain_amplitude axis sets the amplitude of the base's one strain-controlled cyclic
 // stage and scales its rate with it, so every job's quarter cycle A/rate lasts as long as the base's (one loading
 // frequency); the stress-reversal stage of the same base keeps its q_amplitude; the samples are shared between
