@@ -116,7 +116,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     } else if (k0[k]) {
       // a K0 consolidation: as the base has it (its mu_r the material's, above)
     } else {
-      s["drainage"] = j.drainage;
+      if (j.set_drainage) s["drainage"] = j.drainage;
       if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
       if (type == "triaxial" && j.set_b) s["b"] = yaml_number(j.b);
       if (type == "triaxial" && j.set_stress_path) s["stress_path"] = j.stress_path;
@@ -255,6 +255,9 @@ Study load_study_unchecked(const std::string& path) {
   // test, configs/modulus_damping.yaml) the axis would not say which it sets.
   std::vector<std::string> strain_stages;
   Real base_strain_amp = 0, base_strain_rate = 0;
+  // What the study's shear keys set, per stage of the base they set (not its K0 consolidations): drainage on every
+  // shear stage, direction, b, stress_path, axial_strain_rate and max_axial_strain on every triaxial one (job_config)
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> stage_values;
   const std::vector<bool> k0 = k0_consolidations(base["stages"]);  // not the shear the axes' defaults are taken from
   for (size_t k = 0; k < base_cfg.stages.size(); ++k) {
     const StageConfig& st = base_cfg.stages[k];
@@ -274,6 +277,14 @@ Study load_study_unchecked(const std::string& path) {
       }
     }
     if (k0[k]) continue;
+    if (st.type != StageType::Isotropic) stage_values["drainage"].emplace_back(st.name, drainage_name(st.drainage));
+    if (st.type == StageType::Triaxial) {
+      stage_values["direction"].emplace_back(st.name, st.extension ? "extension" : "compression");
+      stage_values["b"].emplace_back(st.name, fmt(st.b));
+      stage_values["stress_path"].emplace_back(st.name, st.constant_p ? "constant_p" : "constant_sigma3");
+      stage_values["axial_strain_rate"].emplace_back(st.name, fmt(st.axial_strain_rate) + "/s");
+      stage_values["max_axial_strain"].emplace_back(st.name, fmt(st.max_axial_strain));
+    }
     if (st.type != StageType::Isotropic && base_drainage.empty())
       base_drainage = drainage_name(st.drainage);
     if (st.type == StageType::Triaxial && base_direction.empty()) {
@@ -416,6 +427,7 @@ Study load_study_unchecked(const std::string& path) {
       fail(path, key, "'" + d + "' is not drained, undrained or oedometric");
   };
   std::vector<std::string> drain = words("drainage", check_drainage);
+  const bool drainage_axis = !drain.empty();
   if (drain.empty()) drain = {base_drainage};
   // The direction axis sets every triaxial stage of the base (a cyclic stage reverses by itself): triaxial
   // compression and extension of the same sample, the pair that shows whether the friction angle depends on the
@@ -460,10 +472,29 @@ Study load_study_unchecked(const std::string& path) {
   std::vector<std::string> paths = words("stress_path", check_path);
   const bool path_axis = !paths.empty();
   if (paths.empty()) paths = {base_path};
+  // A shear key sets its value on every stage it applies to (job_config): of a base whose stages differ in it (a
+  // drained loading, then an undrained shear; a loading, then an unloading), it would make them one, silently, as csr
+  // would a staged cyclic test's amplitudes. The drainage, left out, leaves each stage its own (it was the first
+  // shear's on every stage: the drained loading's drainage on the undrained shear too).
+  const auto need_one = [&](const std::string& field, const std::string& k) {
+    const auto& v = stage_values[k];
+    for (const auto& [name, value] : v)
+      if (value != v.front().second)
+        fail(path, field, "sets the " + k + " of every " + (k == "drainage" ? "shear" : "triaxial") +
+                              " stage of the base, and the base's (" + s.base + ") have their own (" + v.front().first +
+                              " " + v.front().second + ", " + name + " " + value + ") that it would make one: give the "
+                              "base one " + k + ", or leave " + k + " out of the study");
+  };
+  if (drainage_axis) need_one("axes.drainage", "drainage");
+  if (direction_axis) need_one("axes.direction", "direction");
+  if (b_axis) need_one("axes.b", "b");
+  if (path_axis) need_one("axes.stress_path", "stress_path");
+  if (ax && ax["axial_strain_rate"]) need_one("axes.axial_strain_rate", "axial_strain_rate");
   struct Point {
     double mu_r, e0, p0;
     long seed, count;
     std::string drainage;
+    bool set_drainage;
     double csr, ea;
     std::string direction;
     bool set_direction;
@@ -490,26 +521,30 @@ Study load_study_unchecked(const std::string& path) {
                       for (double rate : axis("axial_strain_rate", {0}))
                         for (double csr : axis("csr", {0}))
                           for (double ea : axis("strain_amplitude", {0}))
-                            points.push_back({mur, e0, p0, long(seed), long(count), d, csr, ea, dir, direction_axis, b,
-                                              b_axis, "axes.b", sp, path_axis, "axes.stress_path", rate, 0});
+                            points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
+                                              direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
+                                              rate, 0});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
       Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
-               base_drainage, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0, 0};
+               base_drainage, false, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0, 0};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
           pt.drainage = it.second.as<std::string>();
+          pt.set_drainage = true;
           check_drainage(key + ".drainage", pt.drainage);
+          need_one(key + ".drainage", "drainage");
           continue;
         }
         if (f == "direction") {
           pt.direction = it.second.as<std::string>();
           pt.set_direction = true;
           check_direction(key + ".direction", pt.direction);
+          need_one(key + ".direction", "direction");
           continue;
         }
         if (f == "stress_path") {
@@ -517,6 +552,7 @@ Study load_study_unchecked(const std::string& path) {
           pt.set_stress_path = true;
           pt.path_key = key + ".stress_path";
           check_path(pt.path_key, pt.stress_path);
+          need_one(pt.path_key, "stress_path");
           continue;
         }
         std::string field = key;
@@ -546,14 +582,17 @@ Study load_study_unchecked(const std::string& path) {
           pt.ea = v;
         } else if (f == "axial_strain_rate") {
           need_rate_triaxial(field);
+          need_one(field, "axial_strain_rate");
           pt.rate = v;
         } else if (f == "max_axial_strain") {
           if (base_direction.empty())
             fail(path, field, "sets max_axial_strain of the base's triaxial stages, and the base (" + s.base + ") has none");
           if (!(v > 0 && v <= 0.9)) fail(path, field, "= " + fmt(v) + " must be in (0, 0.9], as a stage's");
+          need_one(field, "max_axial_strain");
           pt.strain = v;
         } else if (f == "b") {
           need_triaxial(field);
+          need_one(field, "b");
           pt.b = v;
           pt.set_b = true;
           pt.b_key = field;
@@ -609,6 +648,7 @@ Study load_study_unchecked(const std::string& path) {
     sh.is_sample = false;
     sh.sample_name = sn.str();
     sh.drainage = pt.drainage;
+    sh.set_drainage = pt.set_drainage;
     sh.name = "shear_" + pt.drainage + "_" + sn.str().substr(7);
     sh.direction = pt.direction;
     sh.set_direction = pt.set_direction;

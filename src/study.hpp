@@ -13,7 +13,10 @@ struct StudyJob {
   bool is_sample = false;
   double mu_r = 0, e0 = 0, p0 = 0;  // e0 = 0: the base config's preparation without a target
   long seed = 0, count = 0;
+  // the shear stages' drainage: the study's (drainage axis or an extra job's key; set_drainage) or else the base's
+  // first shear stage's, for the name and the report (each stage keeps its own where it is not set)
   std::string drainage;
+  bool set_drainage = false;
   // triaxial stages' loading direction, "compression" or "extension": the study's (direction axis or an extra job's
   // key; set_direction) or else the base's first triaxial stage's, for the name and the report
   std::string direction;

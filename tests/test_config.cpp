@@ -459,6 +459,49 @@ TEST(Config, StudyKeepsAReconsolidationBetweenShears) {
   EXPECT_EQ(half.shears[0].q_amplitude, 4e4) << "2 csr p'_0 of the preparation's 200 kPa";
 }
 
+// A base whose shear stages differ in a key the study sets on every one (job_config): a drained loading then an
+// undrained shear keep their drainages where the study does not sweep it (the first shear's drainage was written on
+// every stage: the undrained shear ran drained, silently); a drainage axis or an extra job's drainage, a direction
+// axis on a loading then an unloading, and an extra job's max_axial_strain on stages that end at their own strains
+// are refused, naming both stages (they would make them one).
+TEST(Config, StudyLeavesEachShearStageItsOwnValues) {
+  const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string base = write_tmp("study_two_base", head +
+                                     "  - {name: pre, type: triaxial, drainage: drained, max_axial_strain: 0.01}\n"
+                                     "  - {name: shear, type: triaxial, drainage: undrained, max_axial_strain: 0.05}\n");
+  const Study s = load_study(write_tmp("study_two", "base: " + base + "\naxes: {mu_r: [0, 0.1]}\n"));
+  ASSERT_EQ(s.shears.size(), 2u);
+  for (const StudyJob& j : s.shears) {
+    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    ASSERT_EQ(c.stages.size(), 2u);
+    EXPECT_EQ(c.stages[0].drainage, Drainage::Drained) << j.name;
+    EXPECT_EQ(c.stages[1].drainage, Drainage::Undrained) << j.name;
+    EXPECT_EQ(j.drainage, "drained") << "named after the first shear stage's";
+  }
+  const std::string both = "sets the drainage of every shear stage of the base, and the base's (" + base +
+                           ") have their own (pre drained, shear undrained) that it would make one";
+  for (const auto& [tag, study, key] : std::vector<std::array<std::string, 3>>{
+           {"study_two_axis", "base: " + base + "\naxes: {drainage: [drained, undrained]}\n", "axes.drainage"},
+           {"study_two_extra", "base: " + base + "\nextra: [{drainage: undrained}]\n", "extra[0].drainage"}}) {
+    const std::string got = error(tag, study);
+    EXPECT_NE(got.find(key + ": " + both), std::string::npos) << got;
+  }
+  const std::string strain = error("study_two_strain", "base: " + base + "\nextra: [{max_axial_strain: 0.2}]\n");
+  EXPECT_NE(strain.find("extra[0].max_axial_strain: sets the max_axial_strain of every triaxial stage of the base, and "
+                        "the base's (" + base + ") have their own (pre 0.01, shear 0.05)"),
+            std::string::npos)
+      << strain;
+  const std::string unload = write_tmp("study_unload_base", head +
+                                       "  - {name: load, type: triaxial, drainage: drained, max_axial_strain: 0.01}\n"
+                                       "  - {name: unload, type: triaxial, drainage: drained, direction: extension, "
+                                       "max_axial_strain: 0.01}\n");
+  const std::string dir = error("study_unload", "base: " + unload + "\naxes: {direction: [compression, extension]}\n");
+  EXPECT_NE(dir.find("axes.direction: sets the direction of every triaxial stage of the base, and the base's (" + unload +
+                     ") have their own (load compression, unload extension)"),
+            std::string::npos)
+      << dir;
+}
+
 // Modulus-reduction studies: the strain_amplitude axis sets the amplitude of the base's one strain-controlled cyclic
 // stage and scales its rate with it, so every job's quarter cycle A/rate lasts as long as the base's (one loading
 // frequency); the stress-reversal stage of the same base keeps its q_amplitude; the samples are shared between
