@@ -100,7 +100,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
   for (size_t k = 0; k < base["stages"].size(); ++k) {
     YAML::Node s = YAML::Clone(base["stages"][k]);
     const std::string type = s["type"] ? s["type"].as<std::string>() : "isotropic";
-    s["mu_r"] = yaml_number(j.mu_r);
+    if (j.set_mu_r) s["mu_r"] = yaml_number(j.mu_r);
     sheared = sheared || type != "isotropic";
     if (type == "isotropic" && sheared) {
       if (!shear_only) continue;
@@ -276,6 +276,10 @@ Study load_study_unchecked(const std::string& path) {
         base_strain_rate = st.axial_strain_rate;
       }
     }
+    // every stage's, its own or the material's (with the material's first: a stage of its own that differs from it
+    // is one a mu_r axis would flatten, and the job's name gives the material's)
+    if (k == 0) stage_values["mu_r"].emplace_back("material", fmt(base_cfg.engine.contact.mu_r));
+    stage_values["mu_r"].emplace_back(st.name, fmt(st.mu_r));
     if (k0[k]) continue;
     if (st.type != StageType::Isotropic) stage_values["drainage"].emplace_back(st.name, drainage_name(st.drainage));
     if (st.type == StageType::Triaxial) {
@@ -480,11 +484,13 @@ Study load_study_unchecked(const std::string& path) {
     const auto& v = stage_values[k];
     for (const auto& [name, value] : v)
       if (value != v.front().second)
-        fail(path, field, "sets the " + k + " of every " + (k == "drainage" ? "shear" : "triaxial") +
-                              " stage of the base, and the base's (" + s.base + ") have their own (" + v.front().first +
+        fail(path, field, "sets the " + k + " of every " +
+                              (k == "mu_r" ? "" : k == "drainage" ? "shear " : "triaxial ") + "stage of the base, and the base's (" + s.base + ") have their own (" + v.front().first +
                               " " + v.front().second + ", " + name + " " + value + ") that it would make one: give the "
                               "base one " + k + ", or leave " + k + " out of the study");
   };
+  const bool mu_r_axis = ax && ax["mu_r"];
+  if (mu_r_axis) need_one("axes.mu_r", "mu_r");
   if (drainage_axis) need_one("axes.drainage", "drainage");
   if (direction_axis) need_one("axes.direction", "direction");
   if (b_axis) need_one("axes.b", "b");
@@ -506,6 +512,7 @@ Study load_study_unchecked(const std::string& path) {
     std::string path_key;  // where stress_path was set, likewise
     double rate;           // the triaxial stages' axial_strain_rate (0: the base's)
     double strain;         // the triaxial stages' max_axial_strain (0: the base's; extra jobs only)
+    bool set_mu_r;         // mu_r from the axis or an extra job (every stage's), not the base's
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -523,14 +530,14 @@ Study load_study_unchecked(const std::string& path) {
                           for (double ea : axis("strain_amplitude", {0}))
                             points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
                                               direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
-                                              rate, 0});
+                                              rate, 0, mu_r_axis});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
       Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
-               base_drainage, false, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0, 0};
+               base_drainage, false, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0, 0, false};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -561,7 +568,11 @@ Study load_study_unchecked(const std::string& path) {
         if (vs.size() != 1) fail(path, field, "must be one number");
         check_axis_values(vs, path, field);
         const double v = vs[0];
-        if (f == "mu_r") pt.mu_r = v;
+        if (f == "mu_r") {
+          need_one(field, "mu_r");
+          pt.mu_r = v;
+          pt.set_mu_r = true;
+        }
         else if (f == "e0") pt.e0 = v;
         else if (f == "p0") {
           need_one_pressure(field);
@@ -628,6 +639,7 @@ Study load_study_unchecked(const std::string& path) {
       j.name = sn.str();
       j.is_sample = true;
       j.mu_r = pt.mu_r;
+      j.set_mu_r = pt.set_mu_r;
       j.e0 = pt.e0;
       j.p0 = pt.p0;
       j.seed = pt.seed;

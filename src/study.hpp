@@ -12,6 +12,9 @@ struct StudyJob {
   std::string sample_name;  // preparation job this shear uses
   bool is_sample = false;
   double mu_r = 0, e0 = 0, p0 = 0;  // e0 = 0: the base config's preparation without a target
+  // mu_r set on every stage (mu_r axis or an extra job's key); else only the material's, which stages without their
+  // own take (SPEC §6.2: each stage may set its own mu_r, which the study then leaves as the base gives it)
+  bool set_mu_r = false;
   long seed = 0, count = 0;
   // the shear stages' drainage: the study's (drainage axis or an extra job's key; set_drainage) or else the base's
   // first shear stage's, for the name and the report (each stage keeps its own where it is not set)

@@ -463,7 +463,7 @@ TEST(Config, StudyKeepsAReconsolidationBetweenShears) {
 // undrained shear keep their drainages where the study does not sweep it (the first shear's drainage was written on
 // every stage: the undrained shear ran drained, silently); a drainage axis or an extra job's drainage, a direction
 // axis on a loading then an unloading, and an extra job's max_axial_strain on stages that end at their own strains
-// are refused, naming both stages (they would make them one).
+// are refused, naming both stages (they would make them one). So do a preparation's own mu_r and a mu_r axis.
 TEST(Config, StudyLeavesEachShearStageItsOwnValues) {
   const std::string head = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
   const std::string base = write_tmp("study_two_base", head +
@@ -500,6 +500,27 @@ TEST(Config, StudyLeavesEachShearStageItsOwnValues) {
                      ") have their own (load compression, unload extension)"),
             std::string::npos)
       << dir;
+  // A preparation without rolling resistance (SPEC §6.2: each stage its own mu_r) keeps it where the study does not
+  // sweep mu_r (the material's was written on every stage); a mu_r axis or extra job's mu_r is refused.
+  const std::string prep0 = write_tmp("study_prep0_base", "sample: {count: 300}\nmaterial: {mu_r: 0.1}\nstages:\n"
+                                      "  - {name: consolidate, type: isotropic, pressure: 2.0e5, mu_r: 0}\n"
+                                      "  - {name: shear, type: triaxial}\n");
+  const Study p = load_study(write_tmp("study_prep0", "base: " + prep0 + "\naxes: {seed: [3, 4]}\n"));
+  ASSERT_EQ(p.samples.size(), 2u);
+  for (const StudyJob& j : p.samples) {
+    const RunConfig c = parse_run_config(YAML::Load(j.config_yaml), j.name);
+    EXPECT_EQ(c.stages.at(0).mu_r, 0.0) << j.name;
+    EXPECT_EQ(c.engine.contact.mu_r, 0.1) << j.name;
+  }
+  for (const auto& [tag, study, key] : std::vector<std::array<std::string, 3>>{
+           {"study_prep0_axis", "base: " + prep0 + "\naxes: {mu_r: [0.1, 0.3]}\n", "axes.mu_r"},
+           {"study_prep0_extra", "base: " + prep0 + "\nextra: [{mu_r: 0.3}]\n", "extra[0].mu_r"}}) {
+    const std::string got = error(tag, study);
+    EXPECT_NE(got.find(key + ": sets the mu_r of every stage of the base, and the base's (" + prep0 +
+                       ") have their own (material 0.1, consolidate 0)"),
+              std::string::npos)
+        << got;
+  }
 }
 
 // Modulus-reduction studies: the strain_amplitude axis sets the amplitude of the base's one strain-controlled cyclic
