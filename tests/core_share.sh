@@ -1,12 +1,20 @@
 #!/usr/bin/env bash
 # core_share.sh GRAINLAB TASKSET DIR: a 2-thread run that shares its two cores with a busy process is told so
 # (Laboratory::watch_core_share: two 5 s windows in a row under 0.75 of its threads' CPU time), and the same run alone
-# is not (where the machine gave it 1.6 cores or more; measured 1.92 alone, 1.12 beside the busy loop). Both are pinned to CPUs 0 and 1 (the run's --threads 2 fills them; the busy loop takes CPU 0 from it), so a
-# machine of more cores cannot move the busy loop elsewhere. Each run is stopped (SIGINT: a checkpoint, exit 130) at
-# the warning or after `seconds`; the run alone goes 12 s, past the two windows the warning needs.
+# is not (where the machine gave it 1.6 cores or more; measured 1.92 alone, 1.12 beside the busy loop). Both are
+# pinned to the first two CPUs this process may use (the run's --threads 2 fills them; the busy loop takes the first
+# from it), so a machine of more cores cannot move the busy loop elsewhere. Each run is stopped (SIGINT: a checkpoint,
+# exit 130) at the warning or after `seconds`; the run alone goes 12 s, past the two windows the warning needs.
 set -u
 g=$1 taskset=$2 dir=$3
 rm -rf "$dir" && mkdir -p "$dir" || exit 1
+# The first two CPUs of this process's affinity (Cpus_allowed_list: "0-1", "2,5-7", ...)
+pair=$(awk '/^Cpus_allowed_list/ { print $2 }' /proc/self/status | tr ',' '\n' |
+  awk -F- '{ if (NF == 2) for (i = $1; i <= $2; ++i) print i; else print $1 }' | head -2 | paste -sd, -)
+case "$pair" in
+  *,*) first=${pair%%,*} ;;
+  *) echo "FAIL: this test needs two CPUs, and this process may use $pair"; exit 1 ;;
+esac
 # A slow shear (6.5e6 steps, about 4 min alone) after a consolidation (1 s): as many steps as the time allows.
 cat > "$dir/c.yaml" <<'EOF'
 sample: {count: 300, seed: 5, density_scaling: 1000}
@@ -18,7 +26,7 @@ EOF
 warning="grainlab: warning: over the last [0-9.]+ s this run's 2 threads had [0-9.]+ cores' worth of CPU time: other processes .*are using its cores"
 cores=  # the cores' worth of CPU time the last run_for's process had (/proc/PID/stat utime + stime over its wall time)
 run_for() {  # run_for OUT SECONDS: the run until the warning or SECONDS
-  "$taskset" -c 0,1 "$g" run "$dir/c.yaml" --out "$dir/$1" --threads 2 --quiet 2> "$dir/$1.err" &
+  "$taskset" -c "$pair" "$g" run "$dir/c.yaml" --out "$dir/$1" --threads 2 --quiet 2> "$dir/$1.err" &
   local pid=$! t0 ticks rc
   t0=$(date +%s.%N)
   while kill -0 "$pid" 2> /dev/null && awk -v a="$t0" -v b="$(date +%s.%N)" -v s="$2" 'BEGIN { exit !(b - a < s) }'; do
@@ -40,7 +48,7 @@ if awk -v c="$cores" 'BEGIN { exit !(c < 1.6) }'; then
 elif grep -qE "$warning" "$dir/alone.err"; then
   echo "FAIL: the run alone ($cores cores) was warned of sharing its cores:"; cat "$dir/alone.err"; exit 1
 fi
-"$taskset" -c 0 sh -c 'while :; do :; done' &
+"$taskset" -c "$first" sh -c 'while :; do :; done' &
 busy=$!
 trap 'kill $busy 2> /dev/null' EXIT
 run_for shared 60
