@@ -1912,8 +1912,6 @@ def cyclic_stages(s, d):
     isotropic stage right after it or None). A staged test (cycles, a reconsolidation, cycles again: re-liquefaction;
     or amplitudes in turn) has several, each with its own N, criteria and quarter cycle. A run of a build before
     summary.json: its cyclic rows as one stage, without an entry."""
-    import json
-
     stages = []
     if os.path.isfile(os.path.join(d, "summary.json")):
         stages = json.load(open(os.path.join(d, "summary.json")))["stages"]
@@ -2038,8 +2036,8 @@ def cyclic_section(cyc, figs, colors):
     return ["## Cyclic tests", "",
             "N is the cycle number, continuous: the k-th load reversal at N = (2k - 1)/4. A test ends when its cycles "
             "are done or |eps_a| reaches the stage's max_axial_strain. Liquefaction is the first N at which r_u = "
-            "u/p'_0 (u/p'_c after an undrained stage) reached the stage's liquefaction_ru (initial liquefaction; undrained tests), or the double-amplitude "
-            "axial strain (peak-to-peak eps_a of a half cycle) reached its liquefaction_da_strain (ASTM D5311), "
+            "u/p'_0 (u/p'_c after an undrained stage) reached the stage's liquefaction_ru (initial liquefaction; "
+            "undrained tests), or the double-amplitude axial strain (peak-to-peak eps_a of a half cycle) reached its liquefaction_da_strain (ASTM D5311), "
             "checked at every step" + (f" (here r_u {crit[0]:g} and {100 * crit[1]:g} %)" if crit else "") + ". " +
             ("A staged test has a row for each cyclic stage (test (stage)), each counting its N, criteria and quarter "
              "cycle from its own start, its p' and r_u from p'_c, where the undrained loading began; the figure is of "

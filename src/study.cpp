@@ -114,7 +114,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     } else if (!shear_only) {
       continue;
     } else if (k0[k]) {
-      // a K0 consolidation: as the base has it (its mu_r the material's, above)
+      // a K0 consolidation: as the base has it (but a swept mu_r, above)
     } else {
       if (j.set_drainage) s["drainage"] = j.drainage;
       if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
@@ -255,8 +255,9 @@ Study load_study_unchecked(const std::string& path) {
   // test, configs/modulus_damping.yaml) the axis would not say which it sets.
   std::vector<std::string> strain_stages;
   Real base_strain_amp = 0, base_strain_rate = 0;
-  // What the study's shear keys set, per stage of the base they set (not its K0 consolidations): drainage on every
-  // shear stage, direction, b, stress_path, axial_strain_rate and max_axial_strain on every triaxial one (job_config)
+  // What the study's keys set, per stage of the base they set (job_config): mu_r on every stage (and the material);
+  // drainage on every shear stage, direction, b, stress_path, axial_strain_rate and max_axial_strain on every
+  // triaxial one, but for the K0 consolidations
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> stage_values;
   const std::vector<bool> k0 = k0_consolidations(base["stages"]);  // not the shear the axes' defaults are taken from
   for (size_t k = 0; k < base_cfg.stages.size(); ++k) {
@@ -484,10 +485,11 @@ Study load_study_unchecked(const std::string& path) {
     const auto& v = stage_values[k];
     for (const auto& [name, value] : v)
       if (value != v.front().second)
-        fail(path, field, "sets the " + k + " of every " +
-                              (k == "mu_r" ? "" : k == "drainage" ? "shear " : "triaxial ") + "stage of the base, and the base's (" + s.base + ") have their own (" + v.front().first +
-                              " " + v.front().second + ", " + name + " " + value + ") that it would make one: give the "
-                              "base one " + k + ", or leave " + k + " out of the study");
+        fail(path, field,
+             "sets the " + k + " of every " + (k == "mu_r" ? "" : k == "drainage" ? "shear " : "triaxial ") +
+                 "stage of the base, and the base's (" + s.base + ") have their own (" + v.front().first + " " +
+                 v.front().second + ", " + name + " " + value + ") that it would make one: give the base one " + k +
+                 ", or leave " + k + " out of the study");
   };
   const bool mu_r_axis = ax && ax["mu_r"];
   if (mu_r_axis) need_one("axes.mu_r", "mu_r");
