@@ -1430,7 +1430,7 @@ double process_cpu_seconds() {
 // (several a step), so a thread the scheduler has set aside stalls the rest, each stall up to a time slice. A run of
 // several threads then slows far past its share of the cores: on the 2-core VM two 2-thread runs of 400 spheres at
 // once took 37 s each against 0.3 s alone (120x; one busy-looping process beside one: 10x), two 10 000-sphere
-// benchmarks each ran at 2.2e6 particle-steps/s against ~8e6 alone (README, running several at once). `--threads`
+// benchmarks each ran at 2.2e6 particle-steps/s against 7-9e6 alone (README, on threads). `--threads`
 // cannot see other processes; the run can: its CPU time over a window of stepping is the cores it got (a spinning
 // thread counts too, so this is an upper bound of the useful share). Two windows in a row under kShareWarn of the
 // threads say so once a run; the kernels' pool idles only in serial work (I/O, the stage ends: start_core_share
