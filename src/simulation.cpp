@@ -1429,8 +1429,8 @@ double process_cpu_seconds() {
 // Threads that share their cores with other processes: OpenMP threads wait for each other at the end of every kernel
 // (several a step), so a thread the scheduler has set aside stalls the rest, each stall up to a time slice. A run of
 // several threads then slows far past its share of the cores: on the 2-core VM two 2-thread runs of 400 spheres at
-// once took 37 s each against 0.3 s alone (120x; one busy-looping process beside one: 10x), two 10 000-sphere
-// benchmarks each ran at 2.2e6 particle-steps/s against 7-9e6 alone (README, on threads). `--threads`
+// once took 0.67 to 152 s each against 0.3 s alone (up to 400x; one beside a busy loop: 3-10x), two 10 000-sphere
+// benchmarks each ran at 2.2e6 particle-steps/s against 7-9e6 alone (perf/core_share.sh). `--threads`
 // cannot see other processes; the run can: its CPU time over a window of stepping is the cores it got (a spinning
 // thread counts too, so this is an upper bound of the useful share). Two windows in a row under kShareWarn of the
 // threads say so once a run; the kernels' pool idles only in serial work (I/O, the stage ends: start_core_share
@@ -1462,7 +1462,7 @@ void Laboratory::watch_core_share() {
                "grainlab: warning: over the last %.3g s this run's %d threads had %.3g cores' worth of CPU time: other "
                "processes (or, on a virtual machine, other guests) are using its cores, and OpenMP threads wait on each "
                "other at every kernel's end, so it runs far slower than its share (two 2-thread runs of 400 spheres on "
-               "2 cores at once: 120x each); give each run --threads so that together they fit the cores (a study does "
+               "2 cores at once: up to 400x each); give each run --threads so that together they fit the cores (a study does "
                "so for its jobs), or stop the others\n",
                wall, threads, cores);
 }
