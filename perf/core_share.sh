@@ -4,7 +4,7 @@
 #   alone, two of them started together, and one beside a busy loop (session 48 on the 2-core VM, single rounds:
 #   0.26-0.30 s alone, 37 s each together, 3.0 s beside the busy loop),
 # and with `bench`, two 10 000-sphere race_bench runs at once against one alone (2.2e6 particle-steps/s each against
-#   7-9e6). Wall seconds of each run; GOMP_SPINCOUNT or OMP_WAIT_POLICY in the environment pass through (perf/NOTES.md
+#   7-9e6; one round of this script: 3.4e6 against 9.3e6). Wall seconds of each run; GOMP_SPINCOUNT or OMP_WAIT_POLICY in the environment pass through (perf/NOTES.md
 #   session 48 compares them).
 # Usage: [GRAINLAB_BIN=other/grainlab] perf/core_share.sh [run | bench] [REPS]   (build/ first; default: run, 1 round:
 #   the pair alone takes ~80 s)

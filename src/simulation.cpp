@@ -1430,7 +1430,7 @@ double process_cpu_seconds() {
 // (several a step), so a thread the scheduler has set aside stalls the rest, each stall up to a time slice. A run of
 // several threads then slows far past its share of the cores: on the 2-core VM two 2-thread runs of 400 spheres at
 // once took 0.67 to 152 s each against 0.3 s alone (up to 400x; one beside a busy loop: 3-10x), two 10 000-sphere
-// benchmarks each ran at 2.2e6 particle-steps/s against 7-9e6 alone (perf/core_share.sh). `--threads`
+// benchmarks each ran at 2.2-3.4e6 particle-steps/s against 7-9e6 alone (perf/core_share.sh). `--threads`
 // cannot see other processes; the run can: its CPU time over a window of stepping is the cores it got (a spinning
 // thread counts too, so this is an upper bound of the useful share). Two windows in a row under kShareWarn of the
 // threads say so once a run; the kernels' pool idles only in serial work (I/O, the stage ends: start_core_share
