@@ -39,7 +39,10 @@ old_root=$(sed -n 's/^# Source directory: //p' build-gpu/CTestTestfile.cmake)
 # So do the configs CMake writes for the tests (bad_configs/, cyclic.yaml). Only a quoted argument that is a
 # python3's path is replaced: cli_plot_no_python's "GRAINLAB_PYTHON=/nonexistent/python3" became the python itself,
 # which then ran grainlab as a script (session 47).
-for f in $(find build-gpu -path build-gpu/CMakeFiles -prune -o \( -name CTestTestfile.cmake -o -name "*.yaml" \) -type f -print); do
+# NUL-separated: a test's output left by an earlier call on this machine has paths with spaces (study_prep's
+# "Bob's study"), which a word-split list handed to sed in pieces (session 49).
+find build-gpu -path build-gpu/CMakeFiles -prune -o \( -name CTestTestfile.cmake -o -name "*.yaml" \) -type f -print0 |
+while IFS= read -r -d '' f; do
   sed -i -e "s#$old_root#$ROOT#g" -e "s#\"/usr/bin/cmake\"#\"$(command -v cmake)\"#g" \
          -e "s#\"/[^\"]*/python3\"#\"${GRAINLAB_PYTHON:-python3}\"#g" "$f"
 done
