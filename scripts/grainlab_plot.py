@@ -1987,8 +1987,15 @@ def cyclic_section(cyc, figs, colors):
                 # the volume the sample loses reconsolidated after undrained cycling, as a lab measures it: the box's
                 # void ratio at the two stages' ends (summary.json)
                 eps_v = (st["e"] - recon["e"]) / (1 + st["e"])
+                # and the interior's (series e_inner at the cycles' last row, the reconsolidated e_inner of
+                # summary.json): the box's strain less the looser layer along the walls, which a DEM sample has and
+                # a lab specimen's membrane does not; "–" for a run of a build before e_inner
+                ei_c = s["e_inner"][m][-1] if "e_inner" in s else float("nan")
+                ei_r = recon.get("e_inner")
+                eps_in = (f"{100 * (ei_c - ei_r) / (1 + ei_c):.3f}" if ei_r is not None and np.isfinite(ei_c)
+                          else "–")
                 recon_rows.append(f"| {test} | {recon['name']} | {ru} | {100 * np.max(np.abs(s['eps_a'][m])):.2f} | "
-                                  f"{recon['p'] / 1e3:.4g} | {100 * eps_v:.3f} |")
+                                  f"{recon['p'] / 1e3:.4g} | {100 * eps_v:.3f} | {eps_in} |")
         n_end, st = first
         if j["csr"] <= 0:
             continue
@@ -2051,9 +2058,13 @@ def cyclic_section(cyc, figs, colors):
             *(["Reconsolidation after undrained cycling (an isotropic stage right after a cyclic one): the volumetric "
                "strain eps_v the sample takes as its pore pressure dissipates, from the box's void ratio at the two "
                "stages' ends, (e_cyclic - e_reconsolidated)/(1 + e_cyclic): the post-liquefaction settlement, which "
-               "Ishihara & Yoshimine (1992) relate to the largest strain the cycles reached.", "",
+               "Ishihara & Yoshimine (1992) relate to the largest strain the cycles reached. The interior's eps_v is "
+               "the same from e_inner (the box inset by two mean diameters: series at the cycles' last row, "
+               "summary.json after): where it is well under the box's, the walls' looser layer takes much of the "
+               "settlement, which a lab specimen's membrane would not.", "",
                "| test | reconsolidation stage | max r_u in the cycles | max \\|eps_a\\| in the cycles [%] | p' after "
-               "[kPa] | eps_v [%] |", "|---|---|---|---|---|---|", *recon_rows, ""] if recon_rows else [])]
+               "[kPa] | eps_v [%] | eps_v interior [%] |", "|---|---|---|---|---|---|---|", *recon_rows, ""]
+             if recon_rows else [])]
 
 
 def fit_section(fit_rows, unfitted):

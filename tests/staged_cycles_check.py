@@ -16,7 +16,9 @@ synthetic series.csv:
   N, every cyclic row's p' and r_u) was the report before: it lost the first stage's N, a virgin sample's.
 - a run that reconsolidates after undrained cycles (consolidate, shake, recon: summary.json e 0.72 at shake's end,
   0.69 at recon's, p' 100 kPa): the section's reconsolidation table gives eps_v = 0.03/1.72 = 1.744 %, the cycles'
-  max r_u 0.6 and max |eps_a| 3.00 %."""
+  max r_u 0.6 and max |eps_a| 3.00 %; the interior's from e_inner, series 0.66 at shake's last row (0.67 on the row
+  before: not the stage's end) and summary.json 0.65 after recon, 0.01/1.66 = 0.602 %; "–" where the series has no
+  e_inner (a build before it)."""
 import csv
 import json
 import math
@@ -90,20 +92,28 @@ rrun = os.path.join(work, "recon")
 os.makedirs(rrun)
 with open(os.path.join(rrun, "series.csv"), "w", newline="") as f:
     w = csv.writer(f)
-    w.writerow(["stage", "time", "step", "eps_a", "p", "q", "u", "e", "mu_r", "stage_type", "cycle"])
-    for k, (st, ty, n, ea, p, u) in enumerate([("consolidate", 0, 0, 0, 100, 0), ("shake", 3, 0, 0, 100, 0),
-                                               ("shake", 3, 0.5, 0.01, 70, 30), ("shake", 3, 1.0, -0.03, 40, 60),
-                                               ("shake", 3, 1.2, 0.02, 45, 55), ("recon", 0, 0, 0, 100, 0)]):
-        w.writerow([st, k * 1e-3, k, ea, p * 1e3, 0, u * 1e3, 0.7, 0, ty, n])
+    w.writerow(["stage", "time", "step", "eps_a", "p", "q", "u", "e", "mu_r", "stage_type", "cycle", "e_inner"])
+    for k, (st, ty, n, ea, p, u, ei) in enumerate([("consolidate", 0, 0, 0, 100, 0, 0.68),
+                                                   ("shake", 3, 0, 0, 100, 0, 0.68),
+                                                   ("shake", 3, 0.5, 0.01, 70, 30, 0.68),
+                                                   ("shake", 3, 1.0, -0.03, 40, 60, 0.67),
+                                                   ("shake", 3, 1.2, 0.02, 45, 55, 0.66),
+                                                   ("recon", 0, 0, 0, 100, 0, 0.65)]):
+        w.writerow([st, k * 1e-3, k, ea, p * 1e3, 0, u * 1e3, 0.7, 0, ty, n, ei])
 with open(os.path.join(rrun, "summary.json"), "w") as f:
     json.dump({"stages": [{"name": "consolidate", "type": "isotropic", "e": 0.72, "p": 1e5},
                           dict(entry("shake", "undrained", 2, 1.2, None, 1.0, 6.0), e=0.72, p=45e3),
-                          {"name": "recon", "type": "isotropic", "e": 0.69, "p": 1e5}]}, f)
+                          {"name": "recon", "type": "isotropic", "e": 0.69, "p": 1e5, "e_inner": 0.65}]}, f)
 rjob = {"name": "rec", "mu_r": 0.0, "csr": 0.1, "drainage": "undrained", "cycles": 2}
-rlines = grainlab_plot.cyclic_section([(rjob, rrun, grainlab_plot.load(rrun))], figs, {0.0: "C0"})
-want = f"| rec | recon | 0.600 | 3.00 | 100 | {100 * 0.03 / 1.72:.3f} |"
+rs = grainlab_plot.load(rrun)
+rlines = grainlab_plot.cyclic_section([(rjob, rrun, rs)], figs, {0.0: "C0"})
+want = f"| rec | recon | 0.600 | 3.00 | 100 | {100 * 0.03 / 1.72:.3f} | {100 * 0.01 / 1.66:.3f} |"
 if want not in rlines:
     fails.append(f"no reconsolidation row {want!r} in\n" + "\n".join(rlines))
+older = {k: v for k, v in rs.items() if k != "e_inner"}  # a run of a build before the series' e_inner
+want = f"| rec | recon | 0.600 | 3.00 | 100 | {100 * 0.03 / 1.72:.3f} | – |"
+if want not in grainlab_plot.cyclic_section([(rjob, rrun, older)], figs, {0.0: "C0"}):
+    fails.append(f"no reconsolidation row {want!r} without the series' e_inner")
 if any(x.startswith("| staged") and "| recon |" in x for x in lines) or \
         any("Reconsolidation after undrained cycling" in x for x in lines):
     fails.append("a reconsolidation table for the staged run, which has no isotropic stage after a cyclic one")
