@@ -1977,12 +1977,15 @@ def cyclic_section(cyc, figs, colors):
             cycles = st["cycles"] if st is not None else j["cycles"]
             end = (f"\\|eps_a\\| = {100 * abs(s['eps_a'][m][-1]):.2f} %" if n_end < cycles
                    else f"{cycles} cycles done")
-            csr = j["csr"] if j["csr"] > 0 else float("nan")
+            # the study's csr axis, else the stage's own (summary.json csr = q_amplitude / (2 p'_c), given by a base
+            # stage's csr or q_amplitude: each stage of a staged test its own; a build before it: none)
+            csr = j["csr"] if j["csr"] > 0 else \
+                float(st["csr"]) if st is not None and st.get("csr") is not None else float("nan")
             test = j["name"] + (f" ({name})" if len(stages) > 1 else "")
             rows.append(f"| {test} | {j['mu_r']:g} | {drainage} | {csr:g} | {n_end:.3g} | {end} | {n_ru} | "
                         f"{n_da} | {np.nanmin(p / ref):.3f} | {ru} | {quarter} |")
             if k == 0:
-                first = (n_end, st)
+                first = (n_end, st, csr)
             if recon is not None and und and "e" in st and "e" in recon:
                 # the volume the sample loses reconsolidated after undrained cycling, as a lab measures it: the box's
                 # void ratio at the two stages' ends (summary.json)
@@ -1996,8 +1999,8 @@ def cyclic_section(cyc, figs, colors):
                           else "–")
                 recon_rows.append(f"| {test} | {recon['name']} | {ru} | {100 * np.max(np.abs(s['eps_a'][m])):.2f} | "
                                   f"{recon['p'] / 1e3:.4g} | {100 * eps_v:.3f} | {eps_in} |")
-        n_end, st = first
-        if j["csr"] <= 0:
+        n_end, st, csr = first
+        if not csr > 0:
             continue
         c = colors[j["mu_r"]]
         met = False

@@ -455,13 +455,18 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
       if (sc.type == StageType::Cyclic) {
         sc.cycles = g.integer("cycles", 1, 1, 1000000);
         sc.q_amplitude = g.real("q_amplitude", 0, 0, 1e10);
+        sc.csr = g.real("csr", 0, 0, 10);
         sc.strain_amplitude = g.real("strain_amplitude", 0, 0, 0.9);
         sc.liquefaction_ru = g.real("liquefaction_ru", 0.95, 0, 1, true);
         sc.liquefaction_da_strain = g.real("liquefaction_da_strain", 0.05, 0, 1.8, true);
-        if ((sc.q_amplitude > 0) == (sc.strain_amplitude > 0))
-          g.fail(g.key_path("q_amplitude"), "a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal) "
-                                     "or strain_amplitude (> 0: strain reversal); this one gives " +
-                                         std::string(sc.q_amplitude > 0 ? "both" : "neither"));
+        std::string amps;  // the amplitudes given
+        for (const auto& [key, v] : {std::pair<const char*, Real>{"q_amplitude", sc.q_amplitude}, {"csr", sc.csr},
+                                     {"strain_amplitude", sc.strain_amplitude}})
+          if (v > 0) amps += (amps.empty() ? "" : " and ") + std::string(key);
+        if (amps.empty() || amps.find(" and ") != std::string::npos)
+          g.fail(g.key_path("q_amplitude"), "a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal), "
+                                     "csr (> 0: stress reversal at q_0 +- 2 csr p'_c) or strain_amplitude (> 0: strain "
+                                     "reversal); this one gives " + (amps.empty() ? std::string("neither") : amps));
         if (sc.strain_amplitude >= sc.max_axial_strain)
           g.fail(g.key_path("strain_amplitude"), "= " + fmt(sc.strain_amplitude) + " must be below max_axial_strain = " +
                                               fmt(sc.max_axial_strain) + " (the stage would end at the first peak)");
@@ -579,6 +584,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;
+        else if (sc.csr > 0) e << YAML::Key << "csr" << YAML::Value << sc.csr;
         else e << YAML::Key << "strain_amplitude" << YAML::Value << sc.strain_amplitude;
         e << YAML::Key << "liquefaction_ru" << YAML::Value << sc.liquefaction_ru << YAML::Key << "liquefaction_da_strain"
           << YAML::Value << sc.liquefaction_da_strain;

@@ -70,8 +70,14 @@ struct StageConfig {
   bool constant_p = false;
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
-  Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: strain reversal)   [Pa]
+  Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: csr's or strain reversal)   [Pa]
+  // A as a cyclic stress ratio, A = 2 csr p'_c, p'_c taken by the run at the stage's start: the p' its undrained
+  // loading began from (the stage's own p'_0, or an undrained stage's before it: Laboratory::start_stage), a drained
+  // stage's p'_0. The CSR of the cyclic liquefaction test then holds for the stress the sample has, not a pressure the
+  // config names: after a K0 consolidation (p'_0 = (1 + 2 K0) sigma'_v / 3), a reconsolidation, or a servo's 1e-4.
+  Real csr = 0;                    // [-] (0: q_amplitude's or strain reversal)
   Real strain_amplitude = 0;       // A in axial strain eps_a (strain reversal; 0: stress reversal)  [-]
+  bool stress_reversal() const { return q_amplitude > 0 || csr > 0; }
   // Liquefaction criteria of a cyclic stage (recorded as the cycle number N at which each is first met; neither ends
   // the stage): initial liquefaction, r_u = u / p'_0 reaching liquefaction_ru (undrained stages), and the
   // double-amplitude axial strain (the peak-to-peak eps_a of a half cycle) reaching liquefaction_da_strain, ASTM

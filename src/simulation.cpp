@@ -527,9 +527,11 @@ class Laboratory {
   // A cyclic stage's controlled level x and its amplitude A: q (stress reversal) or eps_a (strain reversal).
   // Stress reversal about the stage's q_0 (0 but after a K0 consolidation or a drained loading: Lab::q0).
   std::pair<Real, Real> cyclic_level(const StageConfig& sc, const Measure& m) const {
-    return sc.q_amplitude > 0 ? std::pair<Real, Real>{m.q - lab_.q0, sc.q_amplitude}
-                              : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
+    return sc.stress_reversal() ? std::pair<Real, Real>{m.q - lab_.q0, q_amplitude(sc, lab_.pc)}
+                                : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
   }
+  // A stress-reversal stage's A: its q_amplitude, or 2 csr p'_c (StageConfig::csr) at the p'_c it started with.
+  static Real q_amplitude(const StageConfig& sc, Real pc) { return sc.csr > 0 ? 2 * sc.csr * pc : sc.q_amplitude; }
   Real cycle_number(const StageConfig& sc, const Measure& m) const;
   // A triaxial stage's axial strain along its loading: eps_a in compression, -eps_a in extension (what
   // max_axial_strain, snapshot_strain and the plan count).
@@ -1145,7 +1147,7 @@ void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn,
                                   L.shear_modulus(), 1.0, L.modulus_less_drag(), L.damping_less_drag()});
       lab_.cycles.stage.push_back(lab_.stage);
       L.start(m.q, m.eps_a, m.gamma, m.u, q_drag);
-      if (sc.q_amplitude > 0 && std::count(lab_.cycles.stage.begin(), lab_.cycles.stage.end(), lab_.stage) == 1)
+      if (sc.stress_reversal() && std::count(lab_.cycles.stage.begin(), lab_.cycles.stage.end(), lab_.stage) == 1)
         warn_dynamic_cycle(sc, quarter_transits(eng_->step_count() - 1));
     }
   }
@@ -1167,7 +1169,7 @@ void Laboratory::warn_dynamic_loops(const StageConfig& sc) const {
                "the ~%.3g ms a compression wave takes across the sample: the loops (cycles.csv) will measure its "
                "inertia as well as the material, E_eq and D too high; below axial_strain_rate = %.3g/s (%g transits if "
                "the sample strained as far; loaded slower it strains less)\n",
-               sc.name.c_str(), lab_.q0 / 1e3, (lab_.q0 + sc.q_amplitude) / 1e3, quarter * 1e3, quarter / transit_,
+               sc.name.c_str(), lab_.q0 / 1e3, (lab_.q0 + q_amplitude(sc, lab_.pc)) / 1e3, quarter * 1e3, quarter / transit_,
                transit_ * 1e3,
                sc.axial_strain_rate * quarter / (kQuasiStaticTransits * transit_), kQuasiStaticTransits);
 }
@@ -1185,7 +1187,7 @@ void Laboratory::warn_dynamic_cycle(const StageConfig& sc, double quarter) const
                "its unloading and reloading are stiffer and quicker than the first quarter; the loops (cycles.csv) "
                "measure the sample's inertia as well as the material, E_eq and D too high; below axial_strain_rate = "
                "%.3g/s\n",
-               sc.name.c_str(), sc.q_amplitude / 1e3, 4 * quarter * transit_ * 1e3, quarter, transit_ * 1e3,
+               sc.name.c_str(), q_amplitude(sc, lab_.pc) / 1e3, 4 * quarter * transit_ * 1e3, quarter, transit_ * 1e3,
                sc.axial_strain_rate * quarter / kQuasiStaticTransits);
 }
 
@@ -1512,7 +1514,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // A damped cyclic stage's loops less the drag want the drag of every step's kick: the step measures it.
     const bool loop_drag = cyclic && sc.damping > 0;
     Real q_drag = 0;
-    if (turn && lab_.half_cycles == 1 && sc.q_amplitude > 0) warn_dynamic_loops(sc);
+    if (turn && lab_.half_cycles == 1 && sc.stress_reversal()) warn_dynamic_loops(sc);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
     const bool snap =
         shear && cfg_.snapshot_strain > 0 && (cyclic ? turn : strain_along(sc, m0.eps_a) >= lab_.next_snap_eps);
@@ -2215,6 +2217,9 @@ void Laboratory::write_summary() const {
     if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Oedometric)
       js << ", \"K0\": " << num(stage_k0(k)) << ", \"OCR\": " << num(stage_ocr(k));
     if (sc.type == StageType::Cyclic) js << ", \"quarter_cycle_transits\": " << num(r.quarter_transits);
+    // a stress reversal's amplitude and its cyclic stress ratio A / (2 p'_c), whichever of them the config gave
+    if (sc.stress_reversal())
+      js << ", \"q_amplitude\": " << num(q_amplitude(sc, r.pc)) << ", \"csr\": " << num(q_amplitude(sc, r.pc) / (2 * r.pc));
     if (sc.type == StageType::Isotropic) js << ", \"e_inner\": " << num(r.e_inner) << ", \"e_core\": " << num(r.e_core);
     js << "}";
   }
@@ -2519,9 +2524,12 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
             << double(sc.max_steps) * strain_step << "; raise max_steps (or axial_strain_rate)";
           warn(w.str());
         }
-      } else if (sc.q_amplitude > 0) {
+      } else if (sc.stress_reversal()) {
         // Stress reversal: how far each half cycle strains depends on the sample (more as p' falls).
-        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of q = +-" << sc.q_amplitude / 1e3 << " kPa at "
+        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of q = +-";
+        if (sc.csr > 0) os << "2 x " << sc.csr << " p'_c";
+        else os << sc.q_amplitude / 1e3 << " kPa";
+        os << " at "
            << sc.axial_strain_rate << "/s, or until |eps_a| = " << sc.max_axial_strain << ", mu = " << sc.mu
            << ", mu_r = " << sc.mu_r << ": at most " << sc.max_steps << " steps";
         plan.steps.push_back(double(sc.max_steps));

@@ -138,6 +138,8 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
         if (j.strain > old_end) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (j.strain / old_end))));
       }
       if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
+      // a stage that gives its amplitude as csr takes the axis's csr as it is (the run applies it at the stage's p'_c)
+      if (type == "cyclic" && j.csr > 0 && s["csr"]) s["csr"] = yaml_number(j.csr);
       if (type == "cyclic" && j.strain_amplitude > 0 && s["strain_amplitude"]) {
         s["strain_amplitude"] = yaml_number(j.strain_amplitude);
         s["axial_strain_rate"] = yaml_number(j.strain_rate);
@@ -243,9 +245,12 @@ Study load_study_unchecked(const std::string& path) {
   std::string base_path;        // and for stress_path
   // A cyclic stage's stress amplitude is what the csr axis sets, from the p'_0 of each job (the pressure of the
   // base's last isotropic stage, or the p0 axis): CSR = q_amplitude / (2 p'_0), the cyclic liquefaction test's measure.
+  // A stage that gives csr instead takes the axis's csr, which the run applies at the stage's own p'_c
+  // (StageConfig::csr): the stress it has, after a K0 stage or a reconsolidation too.
   bool has_q_cyclic = false;
-  // Their amplitudes, by stage: a staged test loads at rising amplitudes in turn, which one csr would flatten
-  std::vector<std::pair<std::string, Real>> q_stages;
+  // Their amplitudes, by stage ("20 kPa", or "csr 0.1" where the stage gives csr): a staged test loads at rising
+  // amplitudes in turn, which one csr would flatten
+  std::vector<std::pair<std::string, std::string>> q_stages;
   long base_cycles = 0;
   Real base_p0 = 0;
   std::set<Real> iso_pressures;  // of the base's isotropic stages: several make a loading path, which p0 would flatten
@@ -268,8 +273,13 @@ Study load_study_unchecked(const std::string& path) {
       iso_pressures.insert(st.pressure);
     }
     if (st.type == StageType::Cyclic) {
-      has_q_cyclic = has_q_cyclic || st.q_amplitude > 0;
-      if (st.q_amplitude > 0) q_stages.emplace_back(st.name, st.q_amplitude);
+      has_q_cyclic = has_q_cyclic || st.stress_reversal();
+      if (st.stress_reversal()) {
+        std::ostringstream amp;
+        if (st.csr > 0) amp << "csr " << st.csr;
+        else amp << st.q_amplitude / 1e3 << " kPa";
+        q_stages.emplace_back(st.name, amp.str());
+      }
       base_cycles = st.cycles;
       if (st.strain_amplitude > 0) {
         strain_stages.push_back(st.name);
@@ -365,16 +375,16 @@ Study load_study_unchecked(const std::string& path) {
     }
   const auto need_q_cyclic = [&](const std::string& key) {
     if (!has_q_cyclic)
-      fail(path, key, "sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0), and the base (" + s.base +
-                          ") has no cyclic stage with q_amplitude");
+      fail(path, key, "sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0, or the stage's csr), and "
+                      "the base (" + s.base + ") has no cyclic stage with q_amplitude or csr");
     // It sets every stress-controlled cyclic stage (job_config): of a staged test, whose stages load at amplitudes of
     // their own in turn, it would make one test of one amplitude, silently (as p0 would flatten a loading path).
     for (const auto& [name, amp] : q_stages)
       if (amp != q_stages.front().second) {
         std::ostringstream os;
-        os << "sets the stress amplitude of every cyclic stage with q_amplitude, and the base's (" << s.base
-           << ") load at amplitudes of their own (" << q_stages.front().first << " " << q_stages.front().second / 1e3
-           << " kPa, " << name << " " << amp / 1e3 << " kPa) that it would make one: give the base one amplitude, or "
+        os << "sets the stress amplitude of every cyclic stage with q_amplitude or csr, and the base's (" << s.base
+           << ") load at amplitudes of their own (" << q_stages.front().first << " " << q_stages.front().second
+           << ", " << name << " " << amp << ") that it would make one: give the base one amplitude, or "
            << "leave csr out and set each stage's q_amplitude in a base of its own";
         fail(path, key, os.str());
       }
@@ -763,7 +773,7 @@ StudyPlan plan_study(const Study& s) {
     for (double k : p.steps) n += k;
     // a stress-reversal cyclic stage's length depends on the sample: its plan steps are only its max_steps
     const bool capped = std::any_of(c.stages.begin(), c.stages.end(), [](const StageConfig& st) {
-      return st.type == StageType::Cyclic && st.q_amplitude > 0;
+      return st.type == StageType::Cyclic && st.stress_reversal();
     });
     if (capped) {
       ++sp.capped_shears;

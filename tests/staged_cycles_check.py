@@ -86,6 +86,18 @@ if not any("A staged test has a row for each cyclic stage" in x for x in lines):
     fails.append("cyclic_section does not say a staged test has a row a stage")
 if not os.path.isfile(os.path.join(figs, "liquefaction.png")):
     fails.append("cyclic_section drew no liquefaction.png")
+# Without a csr axis (the job's csr 0) each row's CSR is its stage's summary.json csr (A / (2 p'_c), whichever of
+# q_amplitude and csr the stage gave); a stage without one (strain reversal, an older build) has none
+with open(os.path.join(run, "summary.json")) as f:
+    summ = json.load(f)
+for st, v in (("cyc1", 0.125), ("cyc2", 0.25)):
+    next(x for x in summ["stages"] if x["name"] == st)["csr"] = v
+with open(os.path.join(run, "summary.json"), "w") as f:
+    json.dump(summ, f)
+got = [x.split(" | ")[3] for x in grainlab_plot.cyclic_section([(dict(job, csr=0), run, s)], figs, {0.0: "C0"})
+       if x.startswith("| staged")]
+if got != ["0.125", "0.25", "nan"]:
+    fails.append(f"the stages' CSR without a csr axis {got}, wanted ['0.125', '0.25', 'nan']")
 
 # Reconsolidation after undrained cycling
 rrun = os.path.join(work, "recon")

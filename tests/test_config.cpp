@@ -204,9 +204,13 @@ TEST(Config, RejectsBadInputClearly) {
       // cyclic stages: exactly one amplitude, a strain amplitude below the end strain, whole cycles; their keys
       // mean nothing to a monotonic stage
       {"cyc_none", "stages:\n  - {type: cyclic, cycles: 3}\n",
-       "stages[0].q_amplitude: a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal) or "
-       "strain_amplitude (> 0: strain reversal); this one gives neither"},
-      {"cyc_both", "stages:\n  - {type: cyclic, q_amplitude: 3e4, strain_amplitude: 0.01}\n", "this one gives both"},
+       "stages[0].q_amplitude: a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal), csr (> "
+       "0: stress reversal at q_0 +- 2 csr p'_c) or strain_amplitude (> 0: strain reversal); this one gives neither"},
+      {"cyc_both", "stages:\n  - {type: cyclic, q_amplitude: 3e4, strain_amplitude: 0.01}\n",
+       "this one gives q_amplitude and strain_amplitude"},
+      {"cyc_csr_q", "stages:\n  - {type: cyclic, q_amplitude: 3e4, csr: 0.1}\n", "this one gives q_amplitude and csr"},
+      {"cyc_csr_range", "stages:\n  - {type: cyclic, csr: 11}\n", "stages[0].csr = 11 is outside the allowed range [0, 10]"},
+      {"csr_tri", "stages:\n  - {type: triaxial, csr: 0.1}\n", "stages[0].csr: unknown key"},
       {"cyc_amp", "stages:\n  - {type: cyclic, strain_amplitude: 0.05, max_axial_strain: 0.05}\n",
        "stages[0].strain_amplitude = 0.05 must be below max_axial_strain = 0.05"},
       {"cyc_n", "stages:\n  - {type: cyclic, q_amplitude: 3e4, cycles: 0}\n",
@@ -393,7 +397,8 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
             std::string::npos);
   const std::string e = error("study_csr_mono", "base: " GRAINLAB_SOURCE_DIR "/configs/quick-study-base.yaml\n"
                                                 "axes: {csr: [0.2]}\n");
-  EXPECT_NE(e.find("axes.csr: sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0), and the base ("),
+  EXPECT_NE(e.find("axes.csr: sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0, or the stage's "
+                   "csr), and the base ("),
             std::string::npos)
       << e;
   // A staged test (amplitudes in turn) is refused, in the axes and in an extra job; two stages of one amplitude (a
@@ -402,7 +407,7 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
                                        "  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
                                        "  - {name: low, type: cyclic, q_amplitude: 2e4, cycles: 5}\n"
                                        "  - {name: high, type: cyclic, q_amplitude: 4e4, cycles: 5}\n");
-  const std::string flattened = "sets the stress amplitude of every cyclic stage with q_amplitude, and the base's (" +
+  const std::string flattened = "sets the stress amplitude of every cyclic stage with q_amplitude or csr, and the base's (" +
                                 staged + ") load at amplitudes of their own (low 20 kPa, high 40 kPa) that it would make one";
   for (const auto& [tag, study, key] : std::vector<std::array<std::string, 3>>{
            {"study_csr_staged", "base: " + staged + "\naxes: {csr: [0.1]}\n", "axes.csr"},
@@ -420,6 +425,25 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
   ASSERT_EQ(c.stages.size(), 2u);
   EXPECT_EQ(c.stages[0].q_amplitude, 8e4);
   EXPECT_EQ(c.stages[1].q_amplitude, 8e4);
+  // A stage that gives csr takes the axis's csr itself (the run applies it at the stage's p'_c), no q_amplitude; a
+  // base mixing the two in a staged test is refused as amplitudes of their own.
+  const std::string by_csr = write_tmp("study_csr_stage_base", "sample: {count: 300}\nstages:\n"
+                                       "  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
+                                       "  - {name: shake, type: cyclic, csr: 0.1, cycles: 5}\n");
+  const Study u = load_study(write_tmp("study_csr_stage", "base: " + by_csr + "\naxes: {csr: [0.2, 0.3]}\n"));
+  ASSERT_EQ(u.shears.size(), 2u);
+  for (const StudyJob& j : u.shears) {
+    const RunConfig cj = parse_run_config(YAML::Load(shear_config(u, j, "sample.h5")), j.name);
+    ASSERT_EQ(cj.stages.size(), 1u);
+    EXPECT_EQ(cj.stages[0].csr, j.csr) << j.name;
+    EXPECT_EQ(cj.stages[0].q_amplitude, 0.0) << j.name;
+  }
+  const std::string mixed = write_tmp("study_mixed_base", "sample: {count: 300}\nstages:\n"
+                                      "  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
+                                      "  - {name: low, type: cyclic, q_amplitude: 2e4, cycles: 5}\n"
+                                      "  - {name: high, type: cyclic, csr: 0.1, cycles: 5}\n");
+  const std::string got = error("study_csr_mixed", "base: " + mixed + "\naxes: {csr: [0.1]}\n");
+  EXPECT_NE(got.find("load at amplitudes of their own (low 20 kPa, high csr 0.1)"), std::string::npos) << got;
 }
 
 // A base that reconsolidates between shear stages (cycles, an isotropic reconsolidation, cycles again: a

@@ -1158,6 +1158,64 @@ TEST(Lab, AnUndrainedStageAfterAnUndrainedOneKeepsItsPorePressure) {
   EXPECT_EQ(slurp(resumed + "/summary.json"), slurp(out + "/summary.json"));
 }
 
+// A cyclic stage's amplitude given as csr is A = 2 csr p'_c at the p'_c the stage starts with (StageConfig::csr): the
+// stress the sample has, not a pressure the config names. After a K0 consolidation (p'_c the K0 stage's end p', not
+// the reference's 190 kPa): summary.json's q_amplitude is 2 csr p_c and its csr the config's, and the run is the one
+// given that q_amplitude (printed to 17 digits: the same double), series and loops byte for byte. Two undrained stages
+// in a row: the second's A is from the first's p'_c (the drainage stayed closed), not its own, lower p'_0 (the run
+// given both q_amplitudes so is this one, byte for byte); stopped in it, the resumed run (p'_c from the checkpoint) is
+// the whole one. A q_amplitude stage's summary gives its csr.
+TEST(Lab, ACsrAmplitudeIsTwiceCsrTimesTheStagesPc) {
+  const std::string k0 = "  - {name: k0, type: triaxial, drainage: oedometric, axial_strain_rate: 1.0, "
+                         "max_axial_strain: 0.004, damping: 0.2}\n";
+  const auto cyclic = [](const std::string& name, const std::string& amp) {
+    return "  - {name: " + name + ", type: cyclic, drainage: undrained, " + amp +
+           ", cycles: 1, axial_strain_rate: 0.5, max_axial_strain: 0.05, damping: 0.2}\n";
+  };
+  const auto stage_value = [](const std::string& out, size_t s, const char* key) {
+    return std::stod(YAML::LoadFile(out + "/summary.json")["stages"][s][key].Scalar());
+  };
+  const std::string by_csr = tmpdir("csr_k0");
+  ASSERT_FALSE(run(on_reference("csr_k0", k0 + cyclic("shake", "csr: 0.1"), 10), by_csr).interrupted);
+  const double pc = stage_value(by_csr, 1, "p_c"), A = 2 * 0.1 * pc;
+  EXPECT_GT(std::abs(pc - 190e3), 0.05 * 190e3) << "the K0 stage moved p' away from the sample's pressure";
+  EXPECT_EQ(stage_value(by_csr, 1, "p_0"), pc);
+  EXPECT_EQ(stage_value(by_csr, 1, "q_amplitude"), A);
+  EXPECT_NEAR(stage_value(by_csr, 1, "csr"), 0.1, 1e-15);
+  char amp[64];
+  std::snprintf(amp, sizeof amp, "q_amplitude: %.17g", A);
+  const std::string by_q = tmpdir("csr_k0_q");
+  ASSERT_FALSE(run(on_reference("csr_k0_q", k0 + cyclic("shake", amp), 10), by_q).interrupted);
+  EXPECT_EQ(slurp(by_q + "/series.csv"), slurp(by_csr + "/series.csv"));
+  EXPECT_EQ(slurp(by_q + "/cycles.csv"), slurp(by_csr + "/cycles.csv"));
+  EXPECT_NEAR(stage_value(by_q, 1, "csr"), 0.1, 1e-15);
+  // Undrained after undrained: p'_c carried over
+  const std::string cfg = on_reference("csr_closed", cyclic("cyc1", "csr: 0.2") + cyclic("cyc2", "csr: 0.15"), 10),
+                    out = tmpdir("csr_closed");
+  const RunResult whole = run(cfg, out);
+  ASSERT_FALSE(whole.interrupted);
+  const double pc1 = stage_value(out, 0, "p_c");
+  EXPECT_EQ(stage_value(out, 1, "p_c"), pc1);
+  EXPECT_LT(stage_value(out, 1, "p_0"), 0.99 * pc1) << "the first cycle lowered p' (the test's reach)";
+  EXPECT_EQ(stage_value(out, 0, "q_amplitude"), 2 * 0.2 * pc1);
+  EXPECT_EQ(stage_value(out, 1, "q_amplitude"), 2 * 0.15 * pc1);
+  // and the loops turned there: the run given those q_amplitudes is this one (with the second stage's own p'_0 it
+  // would turn 1 % early)
+  std::string amps[2];
+  for (int s = 0; s < 2; ++s) {
+    std::snprintf(amp, sizeof amp, "q_amplitude: %.17g", 2 * (s == 0 ? 0.2 : 0.15) * pc1);
+    amps[s] = amp;
+  }
+  const std::string closed_q = tmpdir("csr_closed_q");
+  ASSERT_FALSE(run(on_reference("csr_closed_q", cyclic("cyc1", amps[0]) + cyclic("cyc2", amps[1]), 10), closed_q).interrupted);
+  EXPECT_EQ(slurp(closed_q + "/series.csv"), slurp(out + "/series.csv"));
+  const std::string resumed = tmpdir("csr_closed_resumed");
+  ASSERT_TRUE(run(cfg, resumed, whole.stages[0].steps + whole.stages[1].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, resumed, -1, true).interrupted);
+  EXPECT_EQ(slurp(resumed + "/series.csv"), slurp(out + "/series.csv"));
+  EXPECT_EQ(slurp(resumed + "/cycles.csv"), slurp(out + "/cycles.csv"));
+}
+
 // Triaxial extension (`direction: extension`): the axial walls move apart at the rate, so eps_a falls to
 // -max_axial_strain, where the stage ends within a step's strain after exactly the steps the plan counts, with
 // snapshots every snapshot_strain of -eps_a. Drained, sigma_3 = sigma_x = sigma_y is held at p'_0 (within 1 %, as in
