@@ -257,6 +257,7 @@ int main(int argc, char** argv) {
       std::printf("  memory: about %s for the largest job (1.5 kB a sphere), times --jobs\n",
                   grainlab::memory_amount(sp.memory_need_max).c_str());
       std::fflush(stdout);  // the plan, then its warnings, also when both go to one file
+      for (const std::string& w : st.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
       for (const std::string& w : sp.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
       return 0;
     } catch (const std::exception& e) {

@@ -265,8 +265,19 @@ Study load_study_unchecked(const std::string& path) {
   // triaxial one, but for the K0 consolidations
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> stage_values;
   const std::vector<bool> k0 = k0_consolidations(base["stages"]);  // not the shear the axes' defaults are taken from
+  // The csr axis's q_amplitude = 2 csr p'_0 is of the preparation's pressure. A stage that leaves another p' for the
+  // next stage's cycles to start from (a drained or K0 shear; a reconsolidation to another pressure; not an undrained
+  // stage, after which an undrained one keeps its p'_c) and the first q_amplitude stage after it: a warning, as the
+  // CSR is not the one of the stress the cycles start from (a stage's csr is: StageConfig::csr).
+  std::string moved_by, csr_moved;
   for (size_t k = 0; k < base_cfg.stages.size(); ++k) {
     const StageConfig& st = base_cfg.stages[k];
+    if (st.type == StageType::Cyclic && st.q_amplitude > 0 && !moved_by.empty() && csr_moved.empty())
+      csr_moved = "stage " + st.name + " starts where stage " + moved_by + " left the sample";
+    if (st.type == StageType::Isotropic)
+      moved_by = has_tri && st.pressure != base_p0 ? st.name + " (isotropic, " + fmt(st.pressure / 1e3) + " kPa)" : "";
+    else if (st.drainage != Drainage::Undrained)
+      moved_by = st.name + " (" + drainage_name(st.drainage) + ")";
     (st.type == StageType::Isotropic ? has_iso : has_tri) = true;
     if (st.type == StageType::Isotropic) {
       if (!has_tri) base_p0 = st.pressure;  // the preparation's: a reconsolidation after a shear is no p'_0
@@ -725,6 +736,12 @@ Study load_study_unchecked(const std::string& path) {
   for (const StudyJob& j : s.samples) parse_run_config(YAML::Load(j.config_yaml), path + " (job " + j.name + ")");
   for (const StudyJob& j : s.shears)
     parse_run_config(job_config(base, j, true, "sample.h5"), path + " (job " + j.name + ")");
+  if (!csr_moved.empty() &&
+      std::any_of(s.shears.begin(), s.shears.end(), [](const StudyJob& j) { return j.q_amplitude > 0; }))
+    s.warnings.push_back(path + ": csr sets q_amplitude = 2 csr p'_0 at the preparation's pressure, and " + csr_moved +
+                         ", so the cycles start from another p' (summary.json p_0) and their CSR is not csr: give "
+                         "that stage csr instead of q_amplitude (A = 2 csr p'_c at the stress it starts from, "
+                         "configs/README.md)");
   return s;
 }
 
@@ -1145,6 +1162,7 @@ int run_study(const Study& s, const StudyOptions& o) {
   for (auto& j : s.shears)
     if (!done(j)) queue.push_back(&j);
   const size_t total = s.samples.size() + s.shears.size();
+  for (const std::string& w : s.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
   if (!o.quiet)
     std::printf("study %s: %zu sample%s, %zu shear%s; %zu to run, %d at a time x %d thread%s; output %s\n",
                 s.path.c_str(), s.samples.size(), plural(long(s.samples.size())), s.shears.size(),

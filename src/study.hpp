@@ -61,6 +61,8 @@ struct Study {
   // fluctuation; and over the rows whose kinetic / elastic energy (series ke_ratio) is at most max_ke_ratio (0: every
   // row).
   double peak_window = 0, peak_max_ke = 0;
+  // What the study may not do as its author meant, said by `grainlab validate` and at the study's start
+  std::vector<std::string> warnings;
 };
 
 Study load_study(const std::string& path);

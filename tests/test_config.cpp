@@ -444,6 +444,37 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
                                       "  - {name: high, type: cyclic, csr: 0.1, cycles: 5}\n");
   const std::string got = error("study_csr_mixed", "base: " + mixed + "\naxes: {csr: [0.1]}\n");
   EXPECT_NE(got.find("load at amplitudes of their own (low 20 kPa, high csr 0.1)"), std::string::npos) << got;
+  // The csr axis on a q_amplitude stage whose cycles start from another p' than the preparation's (after a K0 stage, a
+  // drained loading, a reconsolidation to another pressure) is a warning naming both stages and the remedy; not
+  // after an undrained stage (an undrained one goes on with its p'_c), nor for a stage that gives csr, nor without
+  // a csr axis.
+  const std::string iso = "sample: {count: 300}\nstages:\n  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n";
+  const std::string k0 = "  - {name: k0, type: triaxial, drainage: oedometric, max_axial_strain: 0.01}\n";
+  const auto warnings = [&](const std::string& tag, const std::string& stages, const std::string& axes) {
+    const std::string b = write_tmp(tag + "_base", iso + stages);
+    return load_study(write_tmp(tag, "base: " + b + "\naxes: " + axes + "\n")).warnings;
+  };
+  const std::vector<std::string> w = warnings("study_csr_k0", k0 + "  - {name: shake, type: cyclic, q_amplitude: 2e4}\n",
+                                              "{csr: [0.1]}");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find(": csr sets q_amplitude = 2 csr p'_0 at the preparation's pressure, and stage shake starts where "
+                      "stage k0 (oedometric) left the sample, so the cycles start from another p' (summary.json p_0) "
+                      "and their CSR is not csr: give that stage csr instead of q_amplitude"),
+            std::string::npos)
+      << w[0];
+  const std::vector<std::string> r = warnings("study_csr_recon",
+                                              "  - {name: cyc, type: cyclic, q_amplitude: 2e4}\n"
+                                              "  - {name: recon, type: isotropic, pressure: 1.0e5}\n"
+                                              "  - {name: cyc2, type: cyclic, q_amplitude: 2e4}\n", "{csr: [0.1]}");
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_NE(r[0].find("stage cyc2 starts where stage recon (isotropic, 100 kPa) left the sample"), std::string::npos) << r[0];
+  EXPECT_TRUE(warnings("study_csr_k0_csr", k0 + "  - {name: shake, type: cyclic, csr: 0.1}\n", "{csr: [0.1]}").empty());
+  EXPECT_TRUE(warnings("study_csr_k0_mu", k0 + "  - {name: shake, type: cyclic, q_amplitude: 2e4}\n", "{mu_r: [0.1]}")
+                  .empty());
+  EXPECT_TRUE(warnings("study_csr_undrained",
+                       "  - {name: mono, type: triaxial, drainage: undrained, max_axial_strain: 0.01}\n"
+                       "  - {name: shake, type: cyclic, q_amplitude: 2e4}\n", "{csr: [0.1]}")
+                  .empty());
 }
 
 // A base that reconsolidates between shear stages (cycles, an isotropic reconsolidation, cycles again: a
