@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs on the lent GPU machine over a copy of the working tree with .gpucarry/ (perf/gpu/pack.sh) carried.
 # Everything it measures lands in $OUT (the tool's result folder; ./gpu-out elsewhere).
-#   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects; env
+#   perf/gpu/device.sh tests [REGEX]   the CTest suite on the CUDA backend (or the tests REGEX selects, @unpassed:
+#                                      those no earlier call on this machine passed; env
 #                                      GPU_TESTS_EXCLUDE, GPU_TESTS_SECONDS, GPU_TESTS_JOBS, GPU_TESTS_GPU_SLOTS: see the verb)
 #   perf/gpu/device.sh bench [REPS]    copy bandwidth + race scene 32k .. 11M, rolling on/off (perf/RESULTS.md)
 #   perf/gpu/device.sh base [TILES]    the race bench of an older build (pack.sh BASE_BUILD=...) at the tiles
@@ -51,6 +52,7 @@ echo "carried libraries used: $(ls /tmp/gpucarry-lib | tr '\n' ' ')" | tee -a "$
 { sed "s/^/binaries built at commit /" "$C/commit.txt"; cp "$C/commit.txt" "$OUT/commit.txt"; } 2>/dev/null | tee -a "$OUT/device.txt"
 
 S="$C/scene"
+PASSED_ALL=/tmp/gpu_tests_passed_all.txt  # the entries passed by every `tests` call on this machine so far
 status=0
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -59,7 +61,15 @@ while [ $# -gt 0 ]; do
         # @FILE: the regex a first call wrote (tests_rest.txt, copied into the tree). An empty regex is refused: CTest
         # would run every entry, and a "$(cat FILE)" of a file that is not there says nothing else (session 43 lost
         # a call's 240 s so, to study_quick).
-        if [[ "$regex" == @* ]]; then
+        # @unpassed: every entry no call has passed yet on this machine (PASSED_ALL, kept across the calls of one warm
+        # machine): a first call runs what matters most by its REGEX, a second everything else (session 49 built
+        # that regex by hand in the call's command).
+        if [[ "$regex" == @unpassed ]]; then
+          (cd build-gpu && ctest -N) | sed -n 's/^ *Test *#[0-9]*: //p' | sort > /tmp/tests_all.txt
+          regex=$(comm -23 /tmp/tests_all.txt <(sort -u "$PASSED_ALL" 2> /dev/null) | sed 's/[.+]/\\&/g' | paste -sd'|')
+          [ -n "$regex" ] || { echo "device.sh tests @unpassed: every entry has passed on this machine"; shift; continue; }
+          regex="^($regex)\$"
+        elif [[ "$regex" == @* ]]; then
           [ -s "${regex#@}" ] || { echo "device.sh tests: ${regex#@}: no such file, or empty (copy the first call's tests_rest.txt there)" >&2; exit 2; }
           regex=$(cat "${regex#@}")
         fi
@@ -89,6 +99,7 @@ while [ $# -gt 0 ]; do
       (cd build-gpu && ctest -N ${regex:+-R "$regex"} ${GPU_TESTS_EXCLUDE:+-E "$GPU_TESTS_EXCLUDE"}) \
         | sed -n 's/^ *Test *#[0-9]*: //p' | sort > /tmp/tests_selected.txt
       sed -n -E 's/^ *[0-9]+\/[0-9]+ Test +#[0-9]+: ([^ ]+) .* Passed .*/\1/p' "$OUT/ctest.log" | sort > /tmp/tests_passed.txt
+      sort -u /tmp/tests_passed.txt "$PASSED_ALL" -o "$PASSED_ALL" 2> /dev/null || cp /tmp/tests_passed.txt "$PASSED_ALL"
       rest=$(comm -23 /tmp/tests_selected.txt /tmp/tests_passed.txt | sed 's/[.+]/\\&/g' | paste -sd'|')
       if [ -n "$rest" ]; then
         echo "^($rest)\$" > "$OUT/tests_rest.txt"
