@@ -1942,6 +1942,17 @@ def liquefaction_fit(points):
             "n_max": float(n.max()), "rms": float(np.sqrt(np.mean(resid ** 2)))}
 
 
+# A study's conditions besides mu_r and the CSR that set a cyclic test's resistance (the job's study.json keys; 0:
+# the base's value), each with its text: the liquefaction-resistance curves are fitted per mu_r and per value of
+# each that differs among the tests (a curve through tests at two confining pressures, or drained and undrained,
+# would mix two materials' responses)
+CYCLIC_CONDITIONS = (("e0", lambda v: f"e0 {v:g}" if v else "e0 base"),
+                     ("p0", lambda v: f"p'_0 {v / 1e3:g} kPa" if v else "p'_0 base"),
+                     ("drainage", str),
+                     ("count", lambda v: f"{v:g} spheres" if v else "base count"),
+                     ("axial_strain_rate", lambda v: f"{v:g}/s" if v else "base rate"))
+
+
 def cyclic_section(cyc, figs, colors):
     """Cyclic tests of a study: the cycle number N each reached, N at each liquefaction criterion (from the run's
     summary.json: r_u = u/p'_0 reaching the stage's liquefaction_ru, the double-amplitude axial strain reaching its
@@ -1954,6 +1965,10 @@ def cyclic_section(cyc, figs, colors):
     staged = False
     met_at = {}  # (mu_r, criterion key): the (N, CSR) of each test's first cyclic stage that met it
     recon_rows = []  # undrained cyclic stages reconsolidated by the isotropic stage after them
+    varying = [(k, text) for k, text in CYCLIC_CONDITIONS if len({r[0].get(k) for r in cyc}) > 1]
+
+    def conditions(j):
+        return ", ".join(text(j[k]) for k, text in varying)
     for j, d, s in sorted(cyc, key=lambda r: (r[0]["mu_r"], r[0]["csr"])):
         stages = cyclic_stages(s, d)
         staged = staged or len(stages) > 1
@@ -2009,21 +2024,22 @@ def cyclic_section(cyc, figs, colors):
                 ax.plot([max(st[key], 1e-2)], [csr], marker, color=c, label=f"mu_r = {j['mu_r']:g}")
                 met = True
                 if st[key] > 0:
-                    met_at.setdefault((j["mu_r"], key), []).append((st[key], csr))
+                    met_at.setdefault((j["mu_r"], conditions(j), key), []).append((st[key], csr))
         if not met:
             ax.plot([max(n_end, 1e-2)], [csr], ">", color=c, markerfacecolor="none", label=f"mu_r = {j['mu_r']:g}")
     crit = next(iter(crits)) if len(crits) == 1 else None  # the tests' thresholds, where they share them
     fit_rows, unfitted, fitted = [], [], set()
-    for (mu_r, key), pts in sorted(met_at.items()):
+    for (mu_r, cond, key), pts in sorted(met_at.items()):
         what = (f"{100 * crit[1]:g} % DA strain" if crit else "DA strain") if key == "n_da" else \
             (f"r_u = {crit[0]:g}" if crit else "r_u")
         f = liquefaction_fit(pts)
         if f is None:
-            unfitted.append(f"mu_r {mu_r:g}, {what} ({len(pts)} test{'s' if len(pts) != 1 else ''})")
+            unfitted.append(f"mu_r {mu_r:g}{', ' + cond if varying else ''}, {what} "
+                            f"({len(pts)} test{'s' if len(pts) != 1 else ''})")
             continue
         out = "" if f["n_min"] <= CRR_CYCLES <= f["n_max"] else " (extrapolated)"
-        fit_rows.append(f"| {mu_r:g} | {what} | {f['tests']} | {f['a']:.4g} | {f['b']:.4g} | {f['crr']:.4g}{out} | "
-                        f"{f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
+        fit_rows.append(f"| {mu_r:g} | {cond + ' | ' if varying else ''}{what} | {f['tests']} | {f['a']:.4g} | "
+                        f"{f['b']:.4g} | {f['crr']:.4g}{out} | {f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
         fitted.add((mu_r, key))
         nn = np.geomspace(f["n_min"], f["n_max"], 50)
         ax.plot(nn, f["a"] * nn ** -f["b"], "--" if key == "n_da" else ":", color=colors[mu_r], lw=1)
@@ -2057,7 +2073,8 @@ def cyclic_section(cyc, figs, colors):
             "for the material's response.", "",
             "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u "
             "| quarter cycle [transits] |",
-            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, "", *fit_section(fit_rows, unfitted),
+            "|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+            *fit_section(fit_rows, unfitted, ", ".join(k for k, _ in varying)),
             *(["Reconsolidation after undrained cycling (an isotropic stage right after a cyclic one): the volumetric "
                "strain eps_v the sample takes as its pore pressure dissipates, from the box's void ratio at the two "
                "stages' ends, (e_cyclic - e_reconsolidated)/(1 + e_cyclic): the post-liquefaction settlement, which "
@@ -2070,18 +2087,21 @@ def cyclic_section(cyc, figs, colors):
              if recon_rows else [])]
 
 
-def fit_section(fit_rows, unfitted):
-    """The liquefaction-resistance curves of cyclic_section (liquefaction_fit): a table, and the groups left unfitted."""
+def fit_section(fit_rows, unfitted, by=""):
+    """The liquefaction-resistance curves of cyclic_section (liquefaction_fit): a table, and the groups left unfitted;
+    `by`: the study's other conditions that differ among the tests (CYCLIC_CONDITIONS), a curve per value of each."""
     if not fit_rows and not unfitted:
         return []
-    lines = [f"Liquefaction-resistance curves CSR = a N^-b per mu_r and criterion (least squares in log-log over the "
+    lines = [f"Liquefaction-resistance curves CSR = a N^-b per mu_r{', ' + by if by else ''} and criterion (least "
+             f"squares in log-log over the "
              f"tests that met it; the figure's dashed (DA strain) and dotted (r_u) lines), and CRR, the CSR that meets "
              f"it in {CRR_CYCLES} cycles (a magnitude 7.5 earthquake's equivalent cycles, Seed et al. 1975; "
              f"extrapolated where the tests' N do not span {CRR_CYCLES}). Clean sands give b near 0.34 (Idriss & "
              f"Boulanger 2008).", ""]
     if fit_rows:
-        lines += [f"| mu_r | criterion | tests | a | b | CRR (N = {CRR_CYCLES}) | N of the tests | rms of log CSR |",
-                  "|---|---|---|---|---|---|---|---|", *fit_rows, ""]
+        lines += [f"| mu_r | {'conditions | ' if by else ''}criterion | tests | a | b | CRR (N = {CRR_CYCLES}) | N of "
+                  f"the tests | rms of log CSR |", "|---|---|---|---|---|---|---|---|" + ("---|" if by else ""),
+                  *fit_rows, ""]
     if unfitted:
         lines += ["Not fitted (fewer than two tests meeting the criterion at different N, or a CSR that does not fall as "
                   "N rises): " + "; ".join(unfitted) + ".", ""]

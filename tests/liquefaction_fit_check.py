@@ -7,7 +7,11 @@ cyclic_section) on synthetic cyclic tests:
   N (1 to 25.3), beyond the r_u tests' (0.40 to 12.9: marked extrapolated); the report's table gives them to 4
   digits; the rms misfit of exact points is round-off.
 - mu_r 0.3: one test met the criterion: not fitted, and the report says so.
-- liquefaction_fit refuses points whose CSR rises with N (no resistance curve) and points at one N."""
+- liquefaction_fit refuses points whose CSR rises with N (no resistance curve) and points at one N.
+- a study over confining pressure (the jobs' p0 differ): a curve per mu_r and p'_0, the 100 kPa tests on CSR = 0.3
+  N^-0.34, the 200 kPa ones on CSR = 0.2 N^-0.3, each fitted exactly (one curve through all seven was the report
+  before: a = 0.275, b = 0.341, rms 0.16 in log CSR, of no sample), the table with a conditions column; a drained test beside undrained ones likewise
+  is a group of its own (here one test: not fitted, named with its drainage)."""
 import csv
 import json
 import os
@@ -32,7 +36,7 @@ def ru_law(csr):
     return (csr / 0.25) ** (-1 / 0.2)
 
 
-def cyclic_run(name, csr, n_da, n_ru, mu_r):
+def cyclic_run(name, csr, n_da, n_ru, mu_r, **job_keys):
     """A run dir with a consolidation and one undrained cyclic stage (series rows and summary.json as the run writes
     them, only what the section reads) and its job."""
     run = os.path.join(work, name)
@@ -50,7 +54,7 @@ def cyclic_run(name, csr, n_da, n_ru, mu_r):
                               {"name": "shake", "type": "cyclic", "drainage": "undrained", "cycles": 30,
                                "cycle": n_end, "liquefaction_ru": 0.95, "n_ru": n_ru, "liquefaction_da_strain": 0.05,
                                "n_da": n_da, "quarter_cycle_transits": 8.0}]}, f)
-    job = {"name": name, "mu_r": mu_r, "csr": csr, "drainage": "undrained", "cycles": 30}
+    job = dict({"name": name, "mu_r": mu_r, "csr": csr, "drainage": "undrained", "cycles": 30}, **job_keys)
     return job, run, grainlab_plot.load(run)
 
 
@@ -87,6 +91,21 @@ if text.count("(extrapolated)") != 1:
     fails.append("not the r_u curve's CRR alone marked extrapolated")
 if not os.path.isfile(os.path.join(figs, "liquefaction.png")):
     fails.append("no liquefaction.png")
+
+# A confining-pressure study: a curve per p'_0
+cyc2 = [cyclic_run(f"p1_{c:g}", c, da_law(c), None, 0.0, p0=1e5) for c in (0.1, 0.15, 0.2, 0.3)]
+cyc2 += [cyclic_run(f"p2_{c:g}", c, (c / 0.2) ** (-1 / 0.3), None, 0.0, p0=2e5) for c in (0.1, 0.15)]
+cyc2.append(cyclic_run("d0.2", 0.2, 4.0, None, 0.0, p0=1e5, drainage="drained"))
+lines2 = grainlab_plot.cyclic_section(cyc2, figs, {0.0: "C0"})
+text2 = "\n".join(lines2)
+for w in (f"| 0 | p'_0 100 kPa, undrained | 5 % DA strain | 4 | 0.3 | 0.34 | {crr_da:.4g} | ",
+          f"| 0 | p'_0 200 kPa, undrained | 5 % DA strain | 2 | 0.2 | 0.3 | {0.2 * 15 ** -0.3:.4g} (extrapolated) | "):
+    if not any(x.startswith(w) for x in lines2):
+        fails.append(f"no report row starting {w!r} in\n{text2}")
+if "| mu_r | conditions | criterion |" not in text2 or "per mu_r, p0, drainage and criterion" not in text2:
+    fails.append("the fit table names no conditions")
+if "mu_r 0, p'_0 100 kPa, drained, 5 % DA strain (1 test)" not in text2:
+    fails.append("the drained test is not a group of its own")
 print(text)
 print(f"CRR at 15 cycles: DA {crr_da:.4f}, r_u {crr_ru:.4f}; N at DA {[round(da_law(c), 3) for c in (0.1, 0.15, 0.2, 0.3)]}")
 if fails:
