@@ -1969,6 +1969,12 @@ def cyclic_section(cyc, figs, colors):
 
     def conditions(j):
         return ", ".join(text(j[k]) for k, text in varying)
+    # a colour and a legend entry per curve: mu_r's, or with other conditions varying, one of each (mu_r, conditions)
+    groups = sorted({(r[0]["mu_r"], conditions(r[0])) for r in cyc})
+    color_of = {g: (colors[g[0]] if not varying else f"C{k % 10}") for k, g in enumerate(groups)}
+
+    def label_of(mu_r, cond):
+        return f"mu_r = {mu_r:g}" + (f", {cond}" if varying else "")
     for j, d, s in sorted(cyc, key=lambda r: (r[0]["mu_r"], r[0]["csr"])):
         stages = cyclic_stages(s, d)
         staged = staged or len(stages) > 1
@@ -2017,16 +2023,17 @@ def cyclic_section(cyc, figs, colors):
         n_end, st, csr = first
         if not csr > 0:
             continue
-        c = colors[j["mu_r"]]
+        g = (j["mu_r"], conditions(j))
+        c = color_of[g]
         met = False
         for key, marker in (("n_da", "o"), ("n_ru", "s")):
             if st is not None and st[key] is not None:
-                ax.plot([max(st[key], 1e-2)], [csr], marker, color=c, label=f"mu_r = {j['mu_r']:g}")
+                ax.plot([max(st[key], 1e-2)], [csr], marker, color=c, label=label_of(*g))
                 met = True
                 if st[key] > 0:
                     met_at.setdefault((j["mu_r"], conditions(j), key), []).append((st[key], csr))
         if not met:
-            ax.plot([max(n_end, 1e-2)], [csr], ">", color=c, markerfacecolor="none", label=f"mu_r = {j['mu_r']:g}")
+            ax.plot([max(n_end, 1e-2)], [csr], ">", color=c, markerfacecolor="none", label=label_of(*g))
     crit = next(iter(crits)) if len(crits) == 1 else None  # the tests' thresholds, where they share them
     fit_rows, unfitted, fitted = [], [], set()
     for (mu_r, cond, key), pts in sorted(met_at.items()):
@@ -2042,7 +2049,7 @@ def cyclic_section(cyc, figs, colors):
                         f"{f['b']:.4g} | {f['crr']:.4g}{out} | {f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
         fitted.add((mu_r, key))
         nn = np.geomspace(f["n_min"], f["n_max"], 50)
-        ax.plot(nn, f["a"] * nn ** -f["b"], "--" if key == "n_da" else ":", color=colors[mu_r], lw=1)
+        ax.plot(nn, f["a"] * nn ** -f["b"], "--" if key == "n_da" else ":", color=color_of[(mu_r, cond)], lw=1)
     # the markers' meaning as legend entries (grey), after one entry per mu_r
     for marker, text, face in (("o", f"{100 * crit[1]:g} % double amplitude" if crit else "DA strain criterion", "grey"),
                                ("s", f"r_u = {crit[0]:g}" if crit else "r_u criterion", "grey"),
