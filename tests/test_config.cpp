@@ -30,6 +30,10 @@ std::string write_tmp(const std::string& name, const std::string& text) {
   std::ofstream(p) << text;
   return p.string();
 }
+// A shear job's run config as the study writes it (its sample file named sample.h5), parsed as the run parses it
+RunConfig job_run_config(const Study& s, const StudyJob& j) {
+  return parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+}
 std::string error_of(const std::string& path) {
   try {
     load_run_config(path);
@@ -421,7 +425,7 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
                                       "  - {name: more, type: cyclic, q_amplitude: 2e4, cycles: 5}\n");
   const Study t = load_study(write_tmp("study_twice", "base: " + twice + "\naxes: {csr: [0.2]}\n"));
   ASSERT_EQ(t.shears.size(), 1u);
-  const RunConfig c = parse_run_config(YAML::Load(shear_config(t, t.shears[0], "sample.h5")), t.shears[0].name);
+  const RunConfig c = job_run_config(t, t.shears[0]);
   ASSERT_EQ(c.stages.size(), 2u);
   EXPECT_EQ(c.stages[0].q_amplitude, 8e4);
   EXPECT_EQ(c.stages[1].q_amplitude, 8e4);
@@ -433,7 +437,7 @@ TEST(Config, StudyCsrAxisSetsTheCyclicAmplitude) {
   const Study u = load_study(write_tmp("study_csr_stage", "base: " + by_csr + "\naxes: {csr: [0.2, 0.3]}\n"));
   ASSERT_EQ(u.shears.size(), 2u);
   for (const StudyJob& j : u.shears) {
-    const RunConfig cj = parse_run_config(YAML::Load(shear_config(u, j, "sample.h5")), j.name);
+    const RunConfig cj = job_run_config(u, j);
     ASSERT_EQ(cj.stages.size(), 1u);
     EXPECT_EQ(cj.stages[0].csr, j.csr) << j.name;
     EXPECT_EQ(cj.stages[0].q_amplitude, 0.0) << j.name;
@@ -499,7 +503,7 @@ TEST(Config, StudyKeepsAReconsolidationBetweenShears) {
   EXPECT_EQ(prep.stages[0].name, "consolidate");
   EXPECT_EQ(prep.stages[0].pressure, 1e5);
   EXPECT_TRUE(prep.stages[0].save_sample);
-  const RunConfig c = parse_run_config(YAML::Load(shear_config(s, s.shears[0], "sample.h5")), s.shears[0].name);
+  const RunConfig c = job_run_config(s, s.shears[0]);
   ASSERT_EQ(c.stages.size(), 3u);
   EXPECT_EQ(c.stages[0].name, "shake");
   EXPECT_EQ(c.stages[1].name, "recon");
@@ -527,7 +531,7 @@ TEST(Config, StudyLeavesEachShearStageItsOwnValues) {
   const Study s = load_study(write_tmp("study_two", "base: " + base + "\naxes: {mu_r: [0, 0.1]}\n"));
   ASSERT_EQ(s.shears.size(), 2u);
   for (const StudyJob& j : s.shears) {
-    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 2u);
     EXPECT_EQ(c.stages[0].drainage, Drainage::Drained) << j.name;
     EXPECT_EQ(c.stages[1].drainage, Drainage::Undrained) << j.name;
@@ -595,7 +599,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
   EXPECT_EQ(s.strain_stage, "loops");
   for (const StudyJob& j : s.shears) {
     SCOPED_TRACE(j.name);
-    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 2u);
     EXPECT_EQ(c.stages[0].strain_amplitude, j.strain_amplitude);
     // the quarter cycle A / rate of the base's, 1e-3 / 0.3 s, to the 12 digits the rate is written with
@@ -645,7 +649,7 @@ TEST(Config, StudyDirectionAxisSetsTheTriaxialStages) {
   int ext = 0;
   for (const StudyJob& j : s.shears) {
     SCOPED_TRACE(j.name);
-    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 2u);
     EXPECT_EQ(c.stages[0].extension, j.direction == "extension");
     EXPECT_EQ(j.name.size() > 4 && j.name.compare(j.name.size() - 4, 4, "_ext") == 0, j.direction == "extension");
@@ -700,7 +704,7 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
     SCOPED_TRACE(j.name);
     EXPECT_EQ(j.name, names[k]);
     EXPECT_EQ(j.stress_path, cp[k] ? "constant_p" : "constant_sigma3");
-    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 1u);
     EXPECT_EQ(c.stages[0].constant_p, cp[k]);
     EXPECT_EQ(c.stages[0].b, k == 2 || k == 3 ? 0.5 : 0.0);
@@ -749,7 +753,7 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
     const StudyJob& j = s.shears[k];
     SCOPED_TRACE(j.name);
     EXPECT_EQ(j.b, expect_b[k]);
-    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 1u);
     EXPECT_EQ(c.stages[0].b, expect_b[k]);
     EXPECT_EQ(j.name.find("_b") != std::string::npos, expect_b[k] > 0);
@@ -790,7 +794,7 @@ long default_base_cap(const std::string& tag, const std::string& head, const std
   const std::string plain = write_tmp(tag + "_plain", head + "  - {name: shear, type: triaxial, max_axial_strain: 0.05}\n");
   const Study s = load_study(write_tmp(tag + "_default", "base: " + plain + "\n" + study_keys));
   if (s.shears.size() != 1) return -1;
-  return parse_run_config(YAML::Load(shear_config(s, s.shears[0], "sample.h5")), "j").stages[0].max_steps;
+  return job_run_config(s, s.shears[0]).stages[0].max_steps;
 }
 
 // A rate series: the axial_strain_rate axis sets every triaxial stage's rate (a cyclic stage's, its loading frequency,
@@ -819,7 +823,7 @@ TEST(Config, StudyRateAxisSetsTheTriaxialStages) {
     SCOPED_TRACE(j.name);
     EXPECT_EQ(j.name, names[k]);
     EXPECT_EQ(j.rate_group, k < 4 ? j.name.substr(0, j.name.rfind("_rate")) : "");
-    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 2u);
     EXPECT_EQ(c.stages[0].axial_strain_rate, rate[k]);
     EXPECT_EQ(c.stages[0].max_steps, cap[k]);
@@ -869,7 +873,7 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
     SCOPED_TRACE(j.name);
     EXPECT_EQ(j.name, names[k]);
     EXPECT_EQ(j.sample_name, s.samples[0].name);
-    const RunConfig c = parse_run_config(YAML::Load(shear_config(s, j, "sample.h5")), j.name);
+    const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 1u);
     EXPECT_EQ(c.stages[0].max_axial_strain, end[k]);
     EXPECT_EQ(c.stages[0].max_steps, cap[k]);
