@@ -1998,12 +1998,16 @@ def cyclic_section(cyc, figs, colors):
             cycles = st["cycles"] if st is not None else j["cycles"]
             end = (f"\\|eps_a\\| = {100 * abs(s['eps_a'][m][-1]):.2f} %" if n_end < cycles
                    else f"{cycles} cycles done")
-            # the study's csr axis, else the stage's own (summary.json csr = q_amplitude / (2 p'_c), given by a base
-            # stage's csr or q_amplitude: each stage of a staged test its own; a build before it: none)
-            csr = j["csr"] if j["csr"] > 0 else \
-                float(st["csr"]) if st is not None and st.get("csr") is not None else float("nan")
+            # the stage's CSR as the run applied it (summary.json csr = q_amplitude / (2 p'_c): each stage of a staged
+            # test its own), else the study's csr axis (a build before summary.json's csr). Where the two differ by more
+            # than 1 % (the axis's q_amplitude = 2 csr p'_0 is of the preparation's pressure, and a q_amplitude stage
+            # after a K0 or drained stage starts from another p': the study warned) the run's, the axis's beside it
+            run_csr = float(st["csr"]) if st is not None and st.get("csr") is not None else float("nan")
+            csr, csr_text = (run_csr, f"{run_csr:g}") if not j["csr"] > 0 else (j["csr"], f"{j['csr']:g}")
+            if j["csr"] > 0 and abs(run_csr - j["csr"]) > 0.01 * j["csr"]:
+                csr, csr_text = run_csr, f"{run_csr:.3g} (axis {j['csr']:g})"
             test = j["name"] + (f" ({name})" if len(stages) > 1 else "")
-            rows.append(f"| {test} | {j['mu_r']:g} | {drainage} | {csr:g} | {n_end:.3g} | {end} | {n_ru} | "
+            rows.append(f"| {test} | {j['mu_r']:g} | {drainage} | {csr_text} | {n_end:.3g} | {end} | {n_ru} | "
                         f"{n_da} | {np.nanmin(p / ref):.3f} | {ru} | {quarter} |")
             if k == 0:
                 first = (n_end, st, csr)
@@ -2077,7 +2081,9 @@ def cyclic_section(cyc, figs, colors):
              "each test's first cyclic stage (the later ones load a sample the first has sheared). " if staged else "") +
             "The quarter cycle is the first cycle's duration over 4 in transits of a compression wave across the sample "
             f"(summary.json); below {QUASI_STATIC_TRANSITS} the loops carry the sample's inertia (dynamic): load slower "
-            "for the material's response.", "",
+            "for the material's response. CSR is the study's csr, or the stage's q_amplitude / (2 p'_c) as the run "
+            "applied it (summary.json) where there is none or the two differ by more than 1 % (the axis's beside it: "
+            "a q_amplitude stage that starts where a K0 or drained stage left the sample).", "",
             "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u "
             "| quarter cycle [transits] |",
             "|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",

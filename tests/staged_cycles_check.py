@@ -98,6 +98,16 @@ got = [x.split(" | ")[3] for x in grainlab_plot.cyclic_section([(dict(job, csr=0
        if x.startswith("| staged")]
 if got != ["0.125", "0.25", "nan"]:
     fails.append(f"the stages' CSR without a csr axis {got}, wanted ['0.125', '0.25', 'nan']")
+# With a csr axis whose value the run's differs from by more than 1 % (a q_amplitude stage that started from another
+# p' than the preparation's: after a K0 stage), the run's, the axis's beside it; within 1 % (a servo's), the axis's
+got = [x.split(" | ")[3] for x in grainlab_plot.cyclic_section([(dict(job, csr=0.2), run, s)], figs, {0.0: "C0"})
+       if x.startswith("| staged")]
+if got != ["0.125 (axis 0.2)", "0.25 (axis 0.2)", "0.2"]:
+    fails.append(f"the stages' CSR beside a csr axis of 0.2 {got}, wanted ['0.125 (axis 0.2)', '0.25 (axis 0.2)', '0.2']")
+got = [x.split(" | ")[3] for x in grainlab_plot.cyclic_section([(dict(job, csr=0.126), run, s)], figs, {0.0: "C0"})
+       if x.startswith("| staged")][0]
+if got != "0.126":
+    fails.append(f"a run's CSR 0.8 % from the axis's shown as {got!r}, wanted the axis's '0.126'")
 
 # Reconsolidation after undrained cycling
 rrun = os.path.join(work, "recon")
