@@ -1661,6 +1661,11 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       std::printf("stage %s: cycle %.4g of %ld%s, eps_a = %.4g, p'/p'_0 = %.4g\n", sc.name.c_str(), lab_.cycle, sc.cycles,
                   std::abs(m.eps_a) >= sc.max_axial_strain ? " (stopped at |eps_a| = max_axial_strain)" : "", m.eps_a,
                   m.p / lab_.pc);
+    // the amplitude the cycles reversed at, and the cyclic stress ratio it is of the p' they started from (csr: as
+    // given; q_amplitude: after a K0 or drained stage, not the one of the preparation's pressure)
+    if (sc.type == StageType::Cyclic && sc.stress_reversal())
+      std::printf("stage %s: q = %.4g +- %.4g kPa, CSR = %.4g of p'_c = %.4g kPa\n", sc.name.c_str(), lab_.q0 / 1e3,
+                  q_amplitude(sc, lab_.pc) / 1e3, q_amplitude(sc, lab_.pc) / (2 * lab_.pc), lab_.pc / 1e3);
     if (sc.type == StageType::Cyclic) {
       auto at = [](Real n) {
         char b[48];
