@@ -504,6 +504,17 @@ def oedometric_section(oed, figs, mono=(), cs=None, peak=None):
             *(jaky_rows(oed, mono, cs, peak) if mono else []), *unloading_rows(oed, mono, cs, peak)]
 
 
+def cyclic_ratio_text(run):
+    """The CSR of a run's stress-reversal cyclic stages as it applied them (summary.json csr: q_amplitude / (2 p'_c)),
+    for a legend: ", CSR 0.15" (staged: "0.1/0.15"); "" for strain reversal or a build before summary.json's csr."""
+    try:
+        with open(os.path.join(run, "summary.json")) as f:
+            v = [st["csr"] for st in json.load(f).get("stages", []) if st.get("csr") is not None]
+    except (OSError, ValueError, TypeError, AttributeError):
+        return ""
+    return f", CSR {'/'.join(f'{x:.3g}' for x in v)}" if v else ""
+
+
 def fig_cyclic(runs, out):
     """Cyclic stages against the cycle number N: p'/p'_0 (p'_0 at the stage's first row), the excess pore pressure
     ratio r_u = u/p'_c of undrained tests (liquefaction as r_u -> 1; p'_c where the undrained loading began,
@@ -515,7 +526,7 @@ def fig_cyclic(runs, out):
     for run, s in runs:
         m = s["cyclic"]
         n, p = s["cycle_run"][m], s["p"][m]
-        lab = label(run, s)
+        lab = label(run, s) + cyclic_ratio_text(run)
         und = m & (s["stage_type"] == 3)
         with np.errstate(divide="ignore", invalid="ignore"):  # p'_0 = 0 (a sample without contacts) draws nothing
             ax[0].plot(n, p / p[0], label=lab)

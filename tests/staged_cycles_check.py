@@ -98,6 +98,11 @@ got = [x.split(" | ")[3] for x in grainlab_plot.cyclic_section([(dict(job, csr=0
        if x.startswith("| staged")]
 if got != ["0.125", "0.25", "nan"]:
     fails.append(f"the stages' CSR without a csr axis {got}, wanted ['0.125', '0.25', 'nan']")
+# grainlab plot's legend gives them too (cyclic.png), and nothing for a run whose summary.json has no csr
+if grainlab_plot.cyclic_ratio_text(run) != ", CSR 0.125/0.25":
+    fails.append(f"the cyclic figure's legend CSR {grainlab_plot.cyclic_ratio_text(run)!r}, wanted ', CSR 0.125/0.25'")
+if grainlab_plot.cyclic_ratio_text(work) != "":
+    fails.append("a legend CSR for a directory without summary.json")
 # With a csr axis whose value the run's differs from by more than 1 % (a q_amplitude stage that started from another
 # p' than the preparation's: after a K0 stage), the run's, the axis's beside it; within 1 % (a servo's), the axis's
 got = [x.split(" | ")[3] for x in grainlab_plot.cyclic_section([(dict(job, csr=0.2), run, s)], figs, {0.0: "C0"})
