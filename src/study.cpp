@@ -505,12 +505,14 @@ Study load_study_unchecked(const std::string& path) {
   const auto need_one = [&](const std::string& field, const std::string& k) {
     const auto& v = stage_values[k];
     for (const auto& [name, value] : v)
-      if (value != v.front().second)
-        fail(path, field,
-             "sets the " + k + " of every " + (k == "mu_r" ? "" : k == "drainage" ? "shear " : "triaxial ") +
-                 "stage of the base, and the base's (" + s.base + ") have their own (" + v.front().first + " " +
-                 v.front().second + ", " + name + " " + value + ") that it would make one: give the base one " + k +
-                 ", or leave " + k + " out of the study");
+      if (value != v.front().second) {
+        std::ostringstream os;
+        os << "sets the " << k << " of every " << (k == "mu_r" ? "" : k == "drainage" ? "shear " : "triaxial ")
+           << "stage of the base, and the base's (" << s.base << ") have their own (" << v.front().first << " "
+           << v.front().second << ", " << name << " " << value << ") that it would make one: give the base one " << k
+           << ", or leave " << k << " out of the study";
+        fail(path, field, os.str());
+      }
   };
   const bool mu_r_axis = ax && ax["mu_r"];
   if (mu_r_axis) need_one("axes.mu_r", "mu_r");
