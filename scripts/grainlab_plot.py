@@ -1978,8 +1978,10 @@ def cyclic_section(cyc, figs, colors):
     recon_rows = []  # undrained cyclic stages reconsolidated by the isotropic stage after them
     varying = [(k, text) for k, text in CYCLIC_CONDITIONS if len({r[0].get(k) for r in cyc}) > 1]
 
-    def conditions(j):
-        return ", ".join(text(j[k]) for k, text in varying)
+    def conditions(j, but=None):
+        return ", ".join(text(j[k]) for k, text in varying if k != but)
+    p0_of = {(r[0]["mu_r"], conditions(r[0])): r[0].get("p0", 0) for r in cyc}  # each group's p'_0 (0: the base's)
+    rest_of = {(r[0]["mu_r"], conditions(r[0])): conditions(r[0], "p0") for r in cyc}  # its conditions less p'_0
     # a colour and a legend entry per curve: mu_r's, or with other conditions varying, one of each (mu_r, conditions)
     groups = sorted({(r[0]["mu_r"], conditions(r[0])) for r in cyc})
     color_of = {g: (colors[g[0]] if not varying else f"C{k % 10}") for k, g in enumerate(groups)}
@@ -2051,6 +2053,7 @@ def cyclic_section(cyc, figs, colors):
             ax.plot([max(n_end, 1e-2)], [csr], ">", color=c, markerfacecolor="none", label=label_of(*g))
     crit = next(iter(crits)) if len(crits) == 1 else None  # the tests' thresholds, where they share them
     fit_rows, unfitted, fitted = [], [], set()
+    by_p0 = {}  # (mu_r, the other conditions, criterion): [(p'_0, CRR)] of the curves fitted at each p'_0
     for (mu_r, cond, key), pts in sorted(met_at.items()):
         what = (f"{100 * crit[1]:g} % DA strain" if crit else "DA strain") if key == "n_da" else \
             (f"r_u = {crit[0]:g}" if crit else "r_u")
@@ -2062,6 +2065,8 @@ def cyclic_section(cyc, figs, colors):
         out = "" if f["n_min"] <= CRR_CYCLES <= f["n_max"] else " (extrapolated)"
         fit_rows.append(f"| {mu_r:g} | {cond + ' | ' if varying else ''}{what} | {f['tests']} | {f['a']:.4g} | "
                         f"{f['b']:.4g} | {f['crr']:.4g}{out} | {f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
+        if p0_of[(mu_r, cond)] > 0:  # the CRR of each confining pressure, for K_sigma
+            by_p0.setdefault((mu_r, rest_of[(mu_r, cond)], what), []).append((p0_of[(mu_r, cond)], f["crr"]))
         fitted.add((mu_r, key))
         nn = np.geomspace(f["n_min"], f["n_max"], 50)
         ax.plot(nn, f["a"] * nn ** -f["b"], "--" if key == "n_da" else ":", color=color_of[(mu_r, cond)], lw=1)
@@ -2098,7 +2103,7 @@ def cyclic_section(cyc, figs, colors):
             "| test | mu_r | drainage | CSR | N reached | end | N at r_u | N at DA strain | min p'/p'_0 | max r_u "
             "| quarter cycle [transits] |",
             "|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
-            *fit_section(fit_rows, unfitted, ", ".join(k for k, _ in varying)),
+            *fit_section(fit_rows, unfitted, ", ".join(k for k, _ in varying)), *overburden_section(by_p0),
             *(["Reconsolidation after undrained cycling (an isotropic stage right after a cyclic one): the volumetric "
                "strain eps_v the sample takes as its pore pressure dissipates, from the box's void ratio at the two "
                "stages' ends, (e_cyclic - e_reconsolidated)/(1 + e_cyclic): the post-liquefaction settlement, which "
@@ -2109,6 +2114,40 @@ def cyclic_section(cyc, figs, colors):
                "| test | reconsolidation stage | max r_u in the cycles | max \\|eps_a\\| in the cycles [%] | p' after "
                "[kPa] | eps_v [%] | eps_v interior [%] |", "|---|---|---|---|---|---|---|", *recon_rows, ""]
              if recon_rows else [])]
+
+
+def overburden_factor(points):
+    """K_sigma of a material's CRR at several confining pressures (Seed & Harder 1990): K = CRR(p'_0) / CRR at the
+    lowest p'_0, and C_sigma of K = 1 - C_sigma ln(p'_0 / p'_ref) by least squares through K(p'_ref) = 1 (Idriss &
+    Boulanger 2008's form, their p'_ref one atmosphere; here the lowest p'_0 tested). points: [(p'_0, CRR)] at two
+    distinct p'_0 or more. Returns ([(p'_0, CRR, K)] by p'_0, C_sigma)."""
+    pts = sorted(points)
+    p_ref, crr_ref = pts[0]
+    rows = [(p, c, c / crr_ref) for p, c in pts]
+    x = np.array([math.log(p / p_ref) for p, _, _ in rows])
+    k = np.array([kk for _, _, kk in rows])
+    return rows, float(-np.sum(x * (k - 1)) / np.sum(x * x))
+
+
+def overburden_section(by_p0):
+    """The report's K_sigma table (overburden_factor) for each material and criterion whose CRR was fitted at two
+    confining pressures or more (a p0 axis); nothing otherwise."""
+    rows = []
+    for (mu_r, rest, what), pts in sorted(by_p0.items()):
+        if len({p for p, _ in pts}) < 2:
+            continue
+        r, c_sigma = overburden_factor(pts)
+        rows.append(f"| {mu_r:g} | {rest or '–'} | {what} | " + ", ".join(f"{p / 1e3:g}" for p, _, _ in r) + " | " +
+                    ", ".join(f"{c:.4g}" for _, c, _ in r) + " | " + ", ".join(f"{kk:.3f}" for _, _, kk in r) +
+                    f" | {c_sigma:.3f} |")
+    if not rows:
+        return []
+    return ["Overburden correction: K_sigma = CRR(p'_0) / CRR at the lowest p'_0 of each material and criterion "
+            "(Seed & Harder 1990), and C_sigma of K_sigma = 1 - C_sigma ln(p'_0 / p'_0,lowest) by least squares (the "
+            "form of Idriss & Boulanger 2008, who give C_sigma up to 0.3 for sands, rising with density). CRR as in the "
+            "table above (extrapolated ones included).", "",
+            "| mu_r | other conditions | criterion | p'_0 [kPa] | CRR (N = 15) | K_sigma | C_sigma |",
+            "|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def fit_section(fit_rows, unfitted, by=""):

@@ -11,9 +11,12 @@ cyclic_section) on synthetic cyclic tests:
 - a study over confining pressure (the jobs' p0 differ): a curve per mu_r and p'_0, the 100 kPa tests on CSR = 0.3
   N^-0.34, the 200 kPa ones on CSR = 0.2 N^-0.3, each fitted exactly (one curve through all seven was the report
   before: a = 0.275, b = 0.341, rms 0.16 in log CSR, of no sample), the table with a conditions column; a drained test beside undrained ones likewise
-  is a group of its own (here one test: not fitted, named with its drainage)."""
+  is a group of its own (here one test: not fitted, named with its drainage). The overburden table: K_sigma = CRR(200
+  kPa)/CRR(100 kPa) = 0.2 15^-0.3 / (0.3 15^-0.34) and C_sigma = (1 - K_sigma)/ln 2; overburden_factor on CRR 0.12,
+  0.10, 0.08 at 100, 200, 400 kPa: K_sigma 1, 5/6, 2/3 and C_sigma = (5/6)/(5 ln 2) by least squares, to 1e-12."""
 import csv
 import json
+import math
 import os
 import shutil
 import sys
@@ -106,6 +109,19 @@ if "| mu_r | conditions | criterion |" not in text2 or "per mu_r, p0, drainage a
     fails.append("the fit table names no conditions")
 if "mu_r 0, p'_0 100 kPa, drained, 5 % DA strain (1 test)" not in text2:
     fails.append("the drained test is not a group of its own")
+crr2 = 0.2 * 15 ** -0.3
+k_sigma = crr2 / crr_da
+w = (f"| 0 | undrained | 5 % DA strain | 100, 200 | {crr_da:.4g}, {crr2:.4g} | 1.000, {k_sigma:.3f} | "
+     f"{(1 - k_sigma) / math.log(2):.3f} |")
+if w not in lines2:
+    fails.append(f"no overburden row {w!r} in\n{text2}")
+if "Overburden" in text:
+    fails.append("an overburden table for tests at one pressure")
+rows, c_sigma = grainlab_plot.overburden_factor([(2e5, 0.10), (1e5, 0.12), (4e5, 0.08)])
+if [p for p, _, _ in rows] != [1e5, 2e5, 4e5] or \
+        any(abs(k - v) > 1e-12 for (_, _, k), v in zip(rows, (1, 5 / 6, 2 / 3))) or \
+        abs(c_sigma - (5 / 6) / (5 * math.log(2))) > 1e-12:
+    fails.append(f"overburden_factor {rows} C_sigma {c_sigma}, wanted K 1, 5/6, 2/3 and {(5 / 6) / (5 * math.log(2))}")
 print(text)
 print(f"CRR at 15 cycles: DA {crr_da:.4f}, r_u {crr_ru:.4f}; N at DA {[round(da_law(c), 3) for c in (0.1, 0.15, 0.2, 0.3)]}")
 if fails:
