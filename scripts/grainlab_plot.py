@@ -2145,7 +2145,9 @@ def overburden_section(by_p0):
     return ["Overburden correction: K_sigma = CRR(p'_0) / CRR at the lowest p'_0 of each material and criterion "
             "(Seed & Harder 1990), and C_sigma of K_sigma = 1 - C_sigma ln(p'_0 / p'_0,lowest) by least squares (the "
             "form of Idriss & Boulanger 2008, who give C_sigma up to 0.3 for sands, rising with density). CRR as in the "
-            "table above (extrapolated ones included).", "",
+            "table above (extrapolated ones included). The lab's K_sigma compares one relative density: samples a p0 "
+            "axis prepares from one gas are each consolidated to their own p'_0, so denser at the higher one (see the "
+            "Samples section's e), which raises their CRR; an e0 axis (target_e0) prepares them at one void ratio.", "",
             "| mu_r | other conditions | criterion | p'_0 [kPa] | CRR (N = 15) | K_sigma | C_sigma |",
             "|---|---|---|---|---|---|---|", *rows, ""]
 
