@@ -1974,7 +1974,7 @@ def cyclic_section(cyc, figs, colors):
     fig, ax = plt.subplots(figsize=(7, 4.5))
     crits = set()
     staged = False
-    met_at = {}  # (mu_r, criterion key): the (N, CSR) of each test's first cyclic stage that met it
+    met_at = {}  # (mu_r, conditions, criterion key): the (N, CSR) of each test's first cyclic stage that met it
     recon_rows = []  # undrained cyclic stages reconsolidated by the isotropic stage after them
     varying = [(k, text) for k, text in CYCLIC_CONDITIONS if len({r[0].get(k) for r in cyc}) > 1]
 
