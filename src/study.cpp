@@ -739,7 +739,7 @@ Study load_study_unchecked(const std::string& path) {
   for (const StudyJob& j : s.shears)
     parse_run_config(job_config(base, j, true, "sample.h5"), path + " (job " + j.name + ")");
   if (!csr_moved.empty() &&
-      std::any_of(s.shears.begin(), s.shears.end(), [](const StudyJob& j) { return j.q_amplitude > 0; }))
+      std::any_of(s.shears.begin(), s.shears.end(), [](const StudyJob& j) { return j.csr > 0; }))
     s.warnings.push_back(path + ": csr sets q_amplitude = 2 csr p'_0 at the preparation's pressure, and " + csr_moved +
                          ", so the cycles start from another p' (summary.json p_0) and their CSR is not csr: give "
                          "that stage csr instead of q_amplitude (A = 2 csr p'_c at the stress it starts from, "
