@@ -93,6 +93,18 @@ class Section {
     }
     return b;
   }
+  // A required list of [min_size, max_size] numbers, each in [lo, hi] (lower bound open when lo_open), finite.
+  std::vector<Real> real_list(const std::string& k, size_t min_size, size_t max_size, Real lo, Real hi, bool lo_open) {
+    if (!has(k)) fail(key_path(k), "is required here");
+    const YAML::Node v = n_[k];
+    if (!v.IsSequence() || v.size() < min_size || v.size() > max_size)
+      fail(key_path(k), "must be a list of " + std::to_string(min_size) + " to " + std::to_string(max_size) +
+                            " numbers (" + range(lo, hi, lo_open) + ")" +
+                            (v.IsSequence() ? "; it has " + std::to_string(v.size()) : ""));
+    std::vector<Real> out;
+    for (size_t i = 0; i < v.size(); ++i) out.push_back(real_value(v[i], key_path(k) + "[" + std::to_string(i) + "]", lo, hi, lo_open));
+    return out;
+  }
   Section sub(const std::string& k) {
     seen_.insert(k);
     YAML::Node c = n_[k];
@@ -119,8 +131,8 @@ class Section {
   static std::string range(Real lo, Real hi, bool lo_open) {
     return std::string("allowed range ") + (lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi == kInf ? ")" : "]");
   }
-  Real real_node(const std::string& k, Real lo, Real hi, bool lo_open) {
-    const YAML::Node v = n_[k];
+  Real real_node(const std::string& k, Real lo, Real hi, bool lo_open) { return real_value(n_[k], key_path(k), lo, hi, lo_open); }
+  Real real_value(const YAML::Node& v, const std::string& where, Real lo, Real hi, bool lo_open) const {
     Real x = 0;
     bool ok = v.IsScalar();
     if (ok) {
@@ -130,9 +142,9 @@ class Section {
         ok = false;
       }
     }
-    if (!ok) fail(key_path(k), "must be a number (" + range(lo, hi, lo_open) + ")");
+    if (!ok) fail(where, "must be a number (" + range(lo, hi, lo_open) + ")");
     if (!std::isfinite(x) || x < lo || x > hi || (lo_open && x == lo))
-      fail(key_path(k), "= " + (v.IsScalar() ? v.Scalar() : fmt(x)) + " is outside the " + range(lo, hi, lo_open));
+      fail(where, "= " + (v.IsScalar() ? v.Scalar() : fmt(x)) + " is outside the " + range(lo, hi, lo_open));
     return x;
   }
 
@@ -334,7 +346,7 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   if (!c.sample_file.empty()) {
     // A saved sample brings its particles, box and densities: generation keys would be ignored, so
     // they are refused rather than silently dropped.
-    for (const char* k : {"count", "D", "r_min", "r_max", "seed", "initial_solid_fraction", "density",
+    for (const char* k : {"count", "D", "r_min", "r_max", "grading", "seed", "initial_solid_fraction", "density",
                           "density_scaling"})
       if (s.has(k)) s.fail(std::string("sample.") + k, "cannot be combined with sample.file (the file defines it)");
     // A relative path is relative to this config's directory. It is then made absolute, so that the resolved
@@ -349,12 +361,44 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
     if (!ec) c.sample_file = abs.lexically_normal().string();
   }
   c.packing.count = int(s.integer("count", 3000, 1, 100000000));
-  c.packing.D = s.real("D", 3.63, 0, 10);
-  if (std::abs(c.packing.D - 1) < 1e-12) s.fail("sample.D", "= 1 is not supported (use D != 1)");
-  c.packing.r_min = s.real("r_min", 0.2e-3, 0, 1, true);
-  c.packing.r_max = s.real("r_max", 0.6e-3, 0, 1, true);
-  if (c.packing.r_max < c.packing.r_min)
-    s.fail("sample.r_max", "= " + fmt(c.packing.r_max) + " must be >= sample.r_min = " + fmt(c.packing.r_min));
+  if (s.has("grading")) {
+    // A sieve curve (percent passing by mass at each diameter) in place of SPEC §1's power law: it gives the sizes.
+    for (const char* k : {"D", "r_min", "r_max"})
+      if (s.has(k))
+        s.fail(std::string("sample.") + k, "cannot be combined with sample.grading (the curve gives the sizes)");
+    Section g = s.sub("grading");
+    Grading& gr = c.packing.grading;
+    gr.diameter = g.real_list("diameter", 2, 1000, 0, 2, true);
+    gr.passing = g.real_list("passing", 2, 1000, 0, 100, false);
+    g.finish();
+    if (gr.passing.size() != gr.diameter.size())
+      g.fail("sample.grading.passing", "has " + std::to_string(gr.passing.size()) + " values for the " +
+                                           std::to_string(gr.diameter.size()) + " of sample.grading.diameter: one a sieve");
+    for (size_t k = 1; k < gr.diameter.size(); ++k) {
+      const std::string at = "[" + std::to_string(k) + "]";
+      if (!(gr.diameter[k] > gr.diameter[k - 1]))
+        g.fail("sample.grading.diameter" + at, "= " + fmt(gr.diameter[k]) + " m must be larger than the diameter "
+                                                   "before it, " + fmt(gr.diameter[k - 1]) + " m (sieves from the finest up)");
+      if (gr.passing[k] < gr.passing[k - 1])
+        g.fail("sample.grading.passing" + at, "= " + fmt(gr.passing[k]) + " % is below the " + fmt(gr.passing[k - 1]) +
+                                                  " % before it: the percent passing grows with the diameter");
+    }
+    if (gr.passing.front() != 0)
+      g.fail("sample.grading.passing[0]", "= " + fmt(gr.passing.front()) + " % must be 0: the curve starts at the "
+                                          "smallest sphere (add a sieve below it where the passing is 0)");
+    if (gr.passing.back() != 100)
+      g.fail("sample.grading.passing[" + std::to_string(gr.passing.size() - 1) + "]",
+             "= " + fmt(gr.passing.back()) + " % must be 100: the curve ends at the largest sphere");
+    c.packing.r_min = gr.diameter.front() / 2;
+    c.packing.r_max = gr.diameter.back() / 2;
+  } else {
+    c.packing.D = s.real("D", 3.63, 0, 10);
+    if (std::abs(c.packing.D - 1) < 1e-12) s.fail("sample.D", "= 1 is not supported (use D != 1)");
+    c.packing.r_min = s.real("r_min", 0.2e-3, 0, 1, true);
+    c.packing.r_max = s.real("r_max", 0.6e-3, 0, 1, true);
+    if (c.packing.r_max < c.packing.r_min)
+      s.fail("sample.r_max", "= " + fmt(c.packing.r_max) + " must be >= sample.r_min = " + fmt(c.packing.r_min));
+  }
   // Seeds up to 2^53: every such integer is exact in the double the YAML number is read as.
   c.packing.seed = std::uint64_t(s.integer("seed", 1, 0, 1L << 53));
   c.packing.solid_fraction = s.real("initial_solid_fraction", 0.3, 0, 0.45, true);
@@ -532,9 +576,19 @@ std::string resolved_config_yaml(const RunConfig& c) {
   if (!c.sample_file.empty()) {
     e << YAML::Key << "file" << YAML::Value << c.sample_file;
   } else {
-    e << YAML::Key << "count" << YAML::Value << c.packing.count << YAML::Key << "D" << YAML::Value << c.packing.D
-      << YAML::Key << "r_min" << YAML::Value << c.packing.r_min << YAML::Key << "r_max" << YAML::Value
-      << c.packing.r_max << YAML::Key << "seed" << YAML::Value << c.packing.seed << YAML::Key
+    e << YAML::Key << "count" << YAML::Value << c.packing.count;
+    if (c.packing.grading.empty()) {
+      e << YAML::Key << "D" << YAML::Value << c.packing.D << YAML::Key << "r_min" << YAML::Value << c.packing.r_min
+        << YAML::Key << "r_max" << YAML::Value << c.packing.r_max;
+    } else {
+      e << YAML::Key << "grading" << YAML::Value << YAML::BeginMap;
+      e << YAML::Key << "diameter" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (Real d : c.packing.grading.diameter) e << d;
+      e << YAML::EndSeq << YAML::Key << "passing" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (Real p : c.packing.grading.passing) e << p;
+      e << YAML::EndSeq << YAML::EndMap;
+    }
+    e << YAML::Key << "seed" << YAML::Value << c.packing.seed << YAML::Key
       << "initial_solid_fraction" << YAML::Value << c.packing.solid_fraction << YAML::Key << "density"
       << YAML::Value << c.density << YAML::Key << "density_scaling" << YAML::Value << c.density_scaling;
   }

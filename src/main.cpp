@@ -311,7 +311,7 @@ int main(int argc, char** argv) {
     std::printf("  memory: about %s (1.5 kB a sphere)", grainlab::memory_amount(plan.memory_need).c_str());
     if (plan.memory_available > 0)
       std::printf("; %s available (%s)", grainlab::memory_amount(plan.memory_available).c_str(), plan.memory_source.c_str());
-    std::printf("\n");
+    std::printf("\n  %s\n", plan.sample.c_str());
     for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
     std::fflush(stdout);
     for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s: %s\n", config.c_str(), w.c_str());

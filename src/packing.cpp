@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -42,28 +43,120 @@ Real power_law_radius(Real u, Real D, Real a, Real b) {
   return std::pow(lo + u * (hi - lo), 1 / e);
 }
 
+GradingSampler::GradingSampler(const Grading& g) {
+  // Interval k, [d_k, d_k+1], holds the mass share dP_k spread uniformly in ln d, and p(d) ~ d^-4 there: its number
+  // share is dP_k (d_k^-3 - d_k+1^-3) / (3 ln(d_k+1 / d_k)) up to a common factor. Radii relative to the largest keep
+  // the powers finite for any sizes a config admits (a ratio past ~1e100 makes them infinite: the caller's check).
+  const Real top = g.diameter.back();
+  std::vector<Real> w;
+  for (size_t k = 0; k + 1 < g.diameter.size(); ++k) {
+    const Real dp = g.passing[k + 1] - g.passing[k];
+    if (!(dp > 0)) continue;  // a flat step (a gap grading): no sphere there
+    const Real a = g.diameter[k] / top, b = g.diameter[k + 1] / top;
+    a_.push_back(g.diameter[k] / 2);
+    b_.push_back(g.diameter[k + 1] / 2);
+    w.push_back(dp * (std::pow(a, -3) - std::pow(b, -3)) / (3 * std::log(b / a)));
+  }
+  Real sum = 0;
+  for (Real x : w) sum += x;
+  Real run = 0;
+  for (Real x : w) cum_.push_back((run += x) / sum);
+  if (!cum_.empty()) cum_.back() = 1;  // so that every u < 1 finds its interval
+}
+
+Real GradingSampler::radius(Real u) const {
+  const size_t k = size_t(std::upper_bound(cum_.begin(), cum_.end(), u) - cum_.begin());
+  const size_t i = std::min(k, cum_.size() - 1);
+  const Real lo = i == 0 ? 0 : cum_[i - 1];
+  const Real v = std::min<Real>(std::max<Real>((u - lo) / (cum_[i] - lo), 0), 1);
+  return power_law_radius(v, 4, a_[i], b_[i]);
+}
+
+Real grading_diameter(const Grading& g, Real percent) {
+  const std::vector<Real>& d = g.diameter;
+  const std::vector<Real>& p = g.passing;
+  if (percent <= p.front()) return d.front();
+  for (size_t k = 0; k + 1 < d.size(); ++k)
+    if (percent <= p[k + 1] && p[k + 1] > p[k])
+      return d[k] * std::pow(d[k + 1] / d[k], (percent - p[k]) / (p[k + 1] - p[k]));
+  return d.back();
+}
+
+std::vector<Real> passing_at(std::vector<Real> r, const std::vector<Real>& diameters) {
+  // Sorted, with the running volume: O(N log N + sieves log N) (a million spheres, a thousand sieves).
+  std::sort(r.begin(), r.end());
+  std::vector<double> cum(r.size() + 1, 0);
+  for (size_t i = 0; i < r.size(); ++i) cum[i + 1] = cum[i] + double(r[i]) * r[i] * r[i];
+  std::vector<Real> out(diameters.size(), 0);
+  for (size_t k = 0; k < diameters.size(); ++k) {
+    const size_t n = size_t(std::upper_bound(r.begin(), r.end(), diameters[k] / 2) - r.begin());
+    out[k] = cum.back() > 0 ? Real(100 * cum[n] / cum.back()) : 0;
+  }
+  return out;
+}
+
+namespace {
+GradingIndices indices_of(const Grading& g) {
+  GradingIndices x;
+  x.d10 = grading_diameter(g, 10);
+  x.d30 = grading_diameter(g, 30);
+  x.d50 = grading_diameter(g, 50);
+  x.d60 = grading_diameter(g, 60);
+  x.cu = x.d60 / x.d10;
+  x.cc = x.d30 * x.d30 / (x.d10 * x.d60);
+  return x;
+}
+}  // namespace
+
+GradingIndices grading_indices(const Grading& g) { return indices_of(g); }
+
+GradingIndices grading_indices(std::vector<Real> r) {
+  // The sample's own curve: each sphere's diameter passes the mass of every sphere up to and including it.
+  if (r.empty()) return {};
+  std::sort(r.begin(), r.end());
+  double total = 0;
+  for (Real ri : r) total += double(ri) * ri * ri;
+  Grading g;
+  double run = 0;
+  for (size_t i = 0; i < r.size(); ++i) {
+    run += double(r[i]) * r[i] * r[i];
+    if (i + 1 < r.size() && r[i + 1] == r[i]) continue;  // one point per distinct diameter
+    g.diameter.push_back(2 * r[i]);
+    g.passing.push_back(Real(100 * run / total));
+  }
+  // The curve starts at the smallest diameter with that sphere's share passing: a D_x below it is that diameter.
+  return indices_of(g);
+}
+
 namespace {
 // The radii of a spec, largest first, drawn from `rng` (the first draws of a packing's generator), with the
 // cube they fill at the spec's solid fraction: the part of a packing that is known before any placement.
 std::vector<Real> draw_radii(const PackingSpec& s, Rng& rng, Real& L) {
   if (s.count < 1) throw ParameterError("count must be >= 1");
   if (!(s.r_min > 0) || !(s.r_max >= s.r_min)) throw ParameterError("need 0 < r_min <= r_max");
-  if (std::abs(s.D - 1) < 1e-12) throw ParameterError("D = 1 is not supported (log-uniform); use D != 1");
+  if (s.grading.empty() && std::abs(s.D - 1) < 1e-12)
+    throw ParameterError("D = 1 is not supported (log-uniform); use D != 1");
+  std::optional<GradingSampler> graded;
+  if (!s.grading.empty()) graded.emplace(s.grading);
   if (!(s.solid_fraction > 0 && s.solid_fraction <= 0.45))
     throw ParameterError("solid_fraction must be in (0, 0.45] for random sequential placement");
   std::vector<Real> r(s.count);
   Real vs = 0;
   for (auto& ri : r) {
-    ri = power_law_radius(rng.uniform(), s.D, s.r_min, s.r_max);
+    ri = graded ? graded->radius(rng.uniform()) : power_law_radius(rng.uniform(), s.D, s.r_min, s.r_max);
     vs += 4.0 / 3.0 * M_PI * ri * ri * ri;
   }
   // The inverse CDF takes r_min^(1 - D) and r_max^(1 - D): an extreme r_min (1e-300 m at D = 3.63: 1e789) overflows
   // and every radius is NaN.
   if (!(std::isfinite(vs) && vs > 0)) {
     std::ostringstream os;
-    os << "sample.r_min = " << s.r_min << " m, r_max = " << s.r_max << " m with D = " << s.D << ": the radii "
-       << "r_min^(1 - D) and r_max^(1 - D) of the inverse CDF, or the spheres' volume, are not finite numbers; "
-       << "use radii nearer 1 (they are in metres)";
+    if (graded)
+      os << "sample.grading: diameters " << 2 * s.r_min << " to " << 2 * s.r_max << " m: the inverse CDF's powers "
+         << "d^-3, or the spheres' volume, are not finite numbers; use diameters nearer 1 (they are in metres)";
+    else
+      os << "sample.r_min = " << s.r_min << " m, r_max = " << s.r_max << " m with D = " << s.D << ": the radii "
+         << "r_min^(1 - D) and r_max^(1 - D) of the inverse CDF, or the spheres' volume, are not finite numbers; "
+         << "use radii nearer 1 (they are in metres)";
     throw ParameterError(os.str());
   }
   // Largest first: the big spheres find room while the box is empty.

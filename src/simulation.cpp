@@ -589,6 +589,7 @@ class Laboratory {
   std::string sample_digest_;  // sample.file's state_digest (else empty): checkpoints and run.h5 record it
   std::optional<SampleFile> sample_;  // sample.file's content (load_sample), until build_engine takes it
   Real planned_dt_ = 0;   // the time step this config gives (plan_run); an extended run must keep its own
+  GradingIndices grading_;  // the sample's D10-D60, Cu, Cc by mass (plan_run): summary.json's "sample"
   double transit_ = 0;    // a compression wave's time across the sample (plan_run): cyclic loading against it
   bool extended_ = false; // resumed from a checkpoint of a config that this one extends
   bool recadenced_ = false; // resumed with another checkpoint cadence than the run's (with_checkpoint_cadence)
@@ -2191,6 +2192,9 @@ void Laboratory::write_summary() const {
   };
   std::ostringstream js;
   js << "{\n  \"config\": " << json_string(cfg_.path) << ",\n  \"build\": " << json_string(build_info())
+     << ",\n  \"sample\": {\"spheres\": " << eng_->num_particles() << ", \"d10\": " << num(grading_.d10)
+     << ", \"d30\": " << num(grading_.d30) << ", \"d50\": " << num(grading_.d50) << ", \"d60\": " << num(grading_.d60)
+     << ", \"cu\": " << num(grading_.cu) << ", \"cc\": " << num(grading_.cc) << "}"
      << ",\n  \"stages\": [";
   for (size_t k = 0; k < lab_.results.size(); ++k) {
     const StageResult& r = lab_.results[k];
@@ -2311,6 +2315,7 @@ RunResult Laboratory::run() {
   const RunPlan plan = plan_run_with(cfg_, 0, false, sample_ ? &*sample_ : nullptr);
   planned_dt_ = plan.dt;
   transit_ = plan.transit;
+  grading_ = plan.grading;
   for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
   if (opt_.check_resume) {  // nothing to resume is nothing to refuse; else the checkpoint's own refusals
     if (holds_files(out_ + "/checkpoints")) {
@@ -2335,7 +2340,7 @@ RunResult Laboratory::run() {
     // the first progress line buried the plan.
     std::printf("output: %s (config.yaml: the resolved config, every default filled in)\n", out_.c_str());
     if (!opt_.resume) {
-      std::printf("plan:\n");
+      std::printf("plan:\n  %s\n", plan.sample.c_str());
       for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
     }
   }
@@ -2445,6 +2450,62 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
   }
   plan.particles = long(r.size());
   plan.memory_need = double(plan.particles) * kBytesPerSphere;
+  {
+    // What a geotechnical user reads off a grading: D50, Cu = D60/D10, Cc = D30^2/(D10 D60), by mass.
+    const auto mm = [](double d) {
+      std::ostringstream o;
+      o << std::setprecision(3) << d * 1e3 << " mm";
+      return o.str();
+    };
+    const auto indices = [&](const GradingIndices& g) {
+      std::ostringstream o;
+      o << std::setprecision(3) << "D50 = " << mm(g.d50) << ", Cu = " << g.cu << ", Cc = " << g.cc;
+      return o.str();
+    };
+    const auto [lo, hi] = std::minmax_element(r.begin(), r.end());
+    plan.grading = grading_indices(r);
+    std::ostringstream os;
+    os << std::setprecision(4) << "sample: " << r.size() << " sphere" << plural(long(r.size()));
+    const Grading& gr = cfg.packing.grading;
+    if (!cfg.sample_file.empty()) {
+      os << " read from sample.file, diameters " << mm(2 * *lo) << " to " << mm(2 * *hi) << "; by mass "
+         << indices(plan.grading);
+    } else if (gr.empty()) {
+      os << " drawn from p(r) ~ r^-" << cfg.packing.D << " on diameters " << mm(2 * cfg.packing.r_min) << " to "
+         << mm(2 * cfg.packing.r_max) << "; by mass " << indices(plan.grading);
+    } else {
+      os << " drawn from sample.grading (" << gr.diameter.size() << " sieves, " << mm(gr.diameter.front()) << " to "
+         << mm(gr.diameter.back()) << ": " << indices(grading_indices(gr)) << "); as drawn "
+         << indices(plan.grading);
+      const std::vector<Real> got = passing_at(r, gr.diameter);
+      size_t worst = 0;
+      for (size_t k = 0; k < got.size(); ++k)
+        if (std::abs(got[k] - gr.passing[k]) > std::abs(got[worst] - gr.passing[worst])) worst = k;
+      const double miss = got[worst] - gr.passing[worst];
+      os << std::setprecision(3) << "; percent passing ";
+      if (got.size() <= 12) {
+        for (size_t k = 0; k < got.size(); ++k) os << (k ? " / " : "") << got[k];
+        os << " (asked ";
+        for (size_t k = 0; k < got.size(); ++k) os << (k ? " / " : "") << gr.passing[k];
+        os << ")";
+      } else {
+        os << "within " << std::abs(miss) << " points of the asked at every sieve";
+      }
+      if (std::abs(miss) > kGradingMiss) {
+        // The coarser side of the worst sieve: how many spheres carry its mass share.
+        long coarser = 0;
+        for (Real ri : r) coarser += 2 * ri > gr.diameter[worst] ? 1 : 0;
+        std::ostringstream w;
+        w << std::setprecision(3) << "sample.grading: the " << r.size() << " spheres drawn pass " << got[worst]
+          << " % at " << mm(gr.diameter[worst]) << " against the " << gr.passing[worst] << " % asked (" << miss
+          << " points; " << coarser << " sphere" << plural(coarser) << " coarser carry the "
+          << 100 - gr.passing[worst] << " % above it): the mass of a fraction of few spheres scatters from draw to "
+          << "draw (sample.seed); raise sample.count";
+        plan.warnings.push_back(w.str());
+      }
+    }
+    plan.sample = os.str();
+  }
   plan.rolling = ep.contact.mu_r > 0;
   const StableStep st = stable_step(r, density, scaling, ep);
   plan.dt_limit = st.limit(plan.rolling);

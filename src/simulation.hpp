@@ -80,7 +80,13 @@ struct RunPlan {
   double inertial_max = 0;            // the largest estimated inertial number of a shear (0: p' unknown)
   double transit = 0;                 // the time a compression wave takes across the sample [s] (plan_run)
   bool placed = false;                // the sample was placed as the run will place it (plan_run's place)
+  std::string sample;                 // the sample's sizes: where from, D50, Cu, Cc by mass (and against its grading)
+  GradingIndices grading;             // the sample's own (its spheres', by mass)
 };
+// The largest miss, in percentage points passing at a sieve, of a drawn sample against its sample.grading above which
+// plan_run warns (choice: the coarse fractions of a small sample are a few spheres each; a sieve analysis repeats to
+// about 1-2 points, ASTM D6913's precision statement, so 5 is well past a lab's own scatter).
+constexpr double kGradingMiss = 5;
 // plan_run's place checks samples of up to this many spheres (choice: 2e5 place in 0.5-0.8 s on one core of the
 // 2-core VM, perf/startup.sh placement, 1e6 in ~3.5 s, about half of `perf/startup.sh start`; a study validates
 // every sample job so; a larger sample, whose box loses little to its walls, is placed at the run's start, before
