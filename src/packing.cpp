@@ -55,7 +55,8 @@ GradingSampler::GradingSampler(const Grading& g) {
     const Real a = g.diameter[k] / top, b = g.diameter[k + 1] / top;
     a_.push_back(g.diameter[k] / 2);
     b_.push_back(g.diameter[k + 1] / 2);
-    w.push_back(dp * (std::pow(a, -3) - std::pow(b, -3)) / (3 * std::log(b / a)));
+    // (sieves a rounding apart, a == b here: the interval's limit, a^-3)
+    w.push_back(dp * (b > a ? (std::pow(a, -3) - std::pow(b, -3)) / (3 * std::log(b / a)) : std::pow(a, -3)));
   }
   Real sum = 0;
   for (Real x : w) sum += x;

@@ -22,7 +22,7 @@ keys = ["count", "D", "r_min", "r_max", "seed", "mu", "mu_r", "E", "dt", "dt_fac
         "pressure", "target_e0", "drainage", "file", "dir", "every", "sample", "material", "numerics", "output",
         "ключ", "😀", "", "max_steps", "max_axial_strain", "axial_strain_rate", "keep_checkpoints",
         "cycles", "q_amplitude", "strain_amplitude", "liquefaction_ru", "liquefaction_da_strain", "b", "direction",
-        "servo_gain", "servo_integral", "stress_path", "max_servo_error", "csr"]
+        "servo_gain", "servo_integral", "stress_path", "max_servo_error", "csr", "grading", "diameter", "passing"]
 
 
 def mutate(text):

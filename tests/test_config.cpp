@@ -91,6 +91,30 @@ TEST(Config, NumbersAreWrittenShortAndReadBackBitwise) {
   EXPECT_GE(n, 3);
 }
 
+// A grading's config reads back from the run's resolved config.yaml to the same curve and the same radii (a resumed
+// run compares the resolved text; the radii are the sample), with r_min and r_max its end sieves' halves.
+TEST(Config, AGradingReadsBackFromTheResolvedConfig) {
+  const RunConfig c = load_run_config(write_tmp(
+      "grading", std::string("sample: {count: 500, seed: 3, grading: {diameter: [0.425e-3, 0.6e-3, 1.18e-3], "
+                             "passing: [0, 35, 100]}}\n") + kMinimal));
+  EXPECT_EQ(c.packing.grading.diameter, (std::vector<Real>{0.425e-3, 0.6e-3, 1.18e-3}));
+  EXPECT_EQ(c.packing.grading.passing, (std::vector<Real>{0, 35, 100}));
+  EXPECT_EQ(c.packing.r_min, 0.425e-3 / 2);
+  EXPECT_EQ(c.packing.r_max, 1.18e-3 / 2);
+  const std::string text = resolved_config_yaml(c);
+  EXPECT_NE(text.find("grading:\n    diameter: [0.000425, 6.0e-04, 0.00118]\n    passing: [0, 35, 100]"), std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("r_min"), std::string::npos) << text;
+  const RunConfig back = parse_run_config(YAML::Load(text), "config.yaml");
+  EXPECT_EQ(resolved_config_yaml(back), text);
+  EXPECT_EQ(packing_radii(back.packing), packing_radii(c.packing));
+  // the plan names the curve's indices and the drawn sample's percent passing at each sieve
+  const RunPlan plan = plan_run(c);
+  EXPECT_NE(plan.sample.find("500 spheres drawn from sample.grading (3 sieves, 0.425 mm to 1.18 mm: D50 = "),
+            std::string::npos) << plan.sample;
+  EXPECT_NE(plan.sample.find("(asked 0 / 35 / 100)"), std::string::npos) << plan.sample;
+}
+
 TEST(Config, DefaultsAreSpecReferenceValues) {
   const RunConfig c = load_run_config(write_tmp("min", kMinimal));
   EXPECT_EQ(c.engine.contact.E, 100e6);
@@ -259,6 +283,36 @@ TEST(Config, RejectsBadInputClearly) {
       {"liq_da", "stages:\n  - {type: cyclic, q_amplitude: 3e4, max_axial_strain: 0.02, liquefaction_da_strain: 0.04}\n",
        "stages[0].liquefaction_da_strain = 0.04 must be below 2 max_axial_strain = 0.04"},
       {"liq_tri", "stages:\n  - {type: triaxial, liquefaction_ru: 0.9}\n", "stages[0].liquefaction_ru: unknown key"},
+      // a grading curve: sieves from the finest up, percent passing from 0 to 100, one value a sieve; it gives the
+      // sizes, so D, r_min and r_max are refused beside it (and it beside sample.file)
+      {"grad_D", std::string("sample: {D: 3, grading: {diameter: [1e-3, 2e-3], passing: [0, 100]}}\n") + kMinimal,
+       "sample.D: cannot be combined with sample.grading (the curve gives the sizes)"},
+      {"grad_rmax", std::string("sample: {r_max: 1e-3, grading: {diameter: [1e-3, 2e-3], passing: [0, 100]}}\n") + kMinimal,
+       "sample.r_max: cannot be combined with sample.grading"},
+      {"grad_order", std::string("sample: {grading: {diameter: [1e-3, 3e-3, 2e-3], passing: [0, 50, 100]}}\n") + kMinimal,
+       "sample.grading.diameter[2] = 0.002 m must be larger than the diameter before it, 0.003 m"},
+      {"grad_down", std::string("sample: {grading: {diameter: [1e-3, 2e-3, 3e-3], passing: [0, 60, 50]}}\n") + kMinimal,
+       "sample.grading.passing[2] = 50 % is below the 60 % before it"},
+      {"grad_start", std::string("sample: {grading: {diameter: [1e-3, 2e-3], passing: [10, 100]}}\n") + kMinimal,
+       "sample.grading.passing[0] = 10 % must be 0: the curve starts at the smallest sphere"},
+      {"grad_end", std::string("sample: {grading: {diameter: [1e-3, 2e-3], passing: [0, 95]}}\n") + kMinimal,
+       "sample.grading.passing[1] = 95 % must be 100: the curve ends at the largest sphere"},
+      {"grad_count", std::string("sample: {grading: {diameter: [1e-3, 2e-3, 3e-3], passing: [0, 100]}}\n") + kMinimal,
+       "sample.grading.passing: has 2 values for the 3 of sample.grading.diameter: one a sieve"},
+      {"grad_one", std::string("sample: {grading: {diameter: [1e-3], passing: [100]}}\n") + kMinimal,
+       "sample.grading.diameter: must be a list of 2 to 1000 numbers (allowed range (0, 2]); it has 1"},
+      {"grad_scalar", std::string("sample: {grading: {diameter: 1e-3, passing: [0, 100]}}\n") + kMinimal,
+       "sample.grading.diameter: must be a list of 2 to 1000 numbers"},
+      {"grad_elem", std::string("sample: {grading: {diameter: [1e-3, big], passing: [0, 100]}}\n") + kMinimal,
+       "sample.grading.diameter[1]: must be a number (allowed range (0, 2])"},
+      {"grad_pct", std::string("sample: {grading: {diameter: [1e-3, 2e-3], passing: [0, 101]}}\n") + kMinimal,
+       "sample.grading.passing[1] = 101 is outside the allowed range [0, 100]"},
+      {"grad_missing", std::string("sample: {grading: {diameter: [1e-3, 2e-3]}}\n") + kMinimal,
+       "sample.grading.passing: is required here"},
+      {"grad_key", std::string("sample: {grading: {diameter: [1e-3, 2e-3], passing: [0, 100], by: mass}}\n") + kMinimal,
+       "sample.grading.by: unknown key"},
+      {"grad_file", std::string("sample: {file: x.h5, grading: {diameter: [1e-3, 2e-3], passing: [0, 100]}}\n") + kMinimal,
+       "sample.grading: cannot be combined with sample.file"},
   };
   for (const Case& c : cases) {
     const std::string e = error_of(write_tmp(c.name, c.text));
