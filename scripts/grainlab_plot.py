@@ -1382,9 +1382,18 @@ def consolidated(out, name):
     return {**iso[-1], "dir": os.path.join(out, "jobs", name, "run")} if iso else None
 
 
+def sample_sizes(run_dir):
+    """A run's sample sizes by mass (summary.json's `sample`: d50 in m, cu, ...); {} where its build wrote none."""
+    try:
+        return json.load(open(os.path.join(run_dir, "summary.json"))).get("sample") or {}
+    except (OSError, ValueError, AttributeError):
+        return {}
+
+
 def samples_section(out, jobs, samples=None):
-    """The study's samples as consolidated (their summary.json's last isotropic stage): e of the box, of its interior and
-    of its core (the central eighth), and whether the sample is graded (GRADED_CORE). The samples are study.json's
+    """The study's samples as consolidated (their summary.json's last isotropic stage): D50 and Cu of their spheres (by
+    mass), e of the box, of its interior and of its core (the central eighth), and whether the sample is graded
+    (GRADED_CORE). The samples are study.json's
     list (`samples`), or, in a study.json of a build before it, those its jobs name. Empty where no sample job has a
     summary."""
     rows, graded = [], []
@@ -1405,7 +1414,10 @@ def samples_section(out, jobs, samples=None):
             graded.append(name)
         else:
             verdict = "homogeneous"
-        rows.append(f"| {name} | {n if n is not None else '-'} | {number_text(s.get('e'), '.4f')} | "
+        sizes = sample_sizes(s["dir"])
+        d50 = sizes.get("d50")
+        rows.append(f"| {name} | {n if n is not None else '-'} | {number_text(d50 * 1e3 if d50 else None, '.3f')} | "
+                    f"{number_text(sizes.get('cu'), '.2f')} | {number_text(s.get('e'), '.4f')} | "
                     f"{number_text(e_in, '.4f')} | {number_text(e_core, '.4f')} | {number_text(diff, '+.4f')} | {verdict} |")
     if not rows:
         return []
@@ -1413,11 +1425,12 @@ def samples_section(out, jobs, samples=None):
             "frictional gas compacted by its walls alone forms; such a sample is no element test. `affine: true` on "
             "the isotropic stage compacts it homogeneously (configs/README.md)." if graded else "")
     return ["## Samples", "",
-            "Each sample at the end of its consolidation: e of the wall box, of its interior (inset by two mean "
+            "Each sample at the end of its consolidation: its spheres' D50 and Cu = D60/D10 by mass, e of the wall box, of its interior (inset by two mean "
             "diameters) and of its core (the central eighth of the box). A sample is graded when its core is looser than "
             f"its interior by more than {GRADED_CORE:g} (told from {GRADED_MIN_COUNT} spheres up: a smaller core "
             "scatters as much).", "",
-            "| sample | spheres | e_0 | e_0 interior | e_0 core | core - interior | |", "|---|---|---|---|---|---|---|",
+            "| sample | spheres | D50 [mm] | Cu | e_0 | e_0 interior | e_0 core | core - interior | |",
+            "|---|---|---|---|---|---|---|---|---|",
             *rows, "", *([note, ""] if note else [])]
 
 

@@ -3,7 +3,9 @@
 whose summary.json give e, e_inner and e_core at the end of consolidation, and whose config.yaml gives the count.
 - 5 000 spheres, core - interior = +0.0300: graded; 12 000, +0.0151: graded (just above GRADED_CORE = 0.015);
   10 000, +0.0149: homogeneous (just below); 2 000, +0.0500: too few spheres to tell; 5 000 of a build before
-  e_inner / e_core (null): '-'. Rows ordered by size; the note counts 2 of 5 graded and names `affine: true`.
+  e_inner / e_core (null): '-'. Rows ordered by size; the note counts 2 of 5 graded and names `affine: true`. Each
+  row's D50 (mm) and Cu are its summary's `sample` (d50 0.7 mm + 0.01 mm a row, cu 1.5); '-' for a build before it
+  (s_e, which has none).
 - A study whose samples are all homogeneous has the section but no note."""
 import json
 import os
@@ -27,8 +29,11 @@ def make(root, samples):
             f.write(f"sample:\n  count: {count}\n  D: 3.63\n  seed: 11\nmaterial:\n  E: 1.0e+08\n")
         stage = {"name": "consolidate", "type": "isotropic", "done": True, "steps": 100, "mu": 0.5, "p": 1e5, "q": 0,
                  "e": e, "e_inner": e_in, "e_core": e_core}
+        summary = {"config": "x", "stages": [stage]}
+        if e_in is not None:
+            summary["sample"] = {"spheres": count, "d50": 0.7e-3 + 1e-5 * len(jobs), "cu": 1.5}
         with open(os.path.join(d, "summary.json"), "w") as f:
-            json.dump({"config": "x", "stages": [stage]}, f)
+            json.dump(summary, f)
         jobs.append({"name": "shear_" + name, "dir": f"jobs/shear_{name}/run", "sample": name, "mu_r": 0, "e0": 0,
                      "p0": 1e5, "drainage": "drained"})
     return study_report(root, jobs)
@@ -39,18 +44,18 @@ text = make(os.path.join(work, "mixed"), [
     ("s_d", 2000, 0.72, 0.6500, 0.7000), ("s_e", 5000, 0.70, None, None)])
 sec = text.split("## Samples")[1].split("\n## ")[0] if "## Samples" in text else ""
 rows = [l for l in sec.splitlines() if l.startswith("| s_")]
-want = ["| s_d | 2000 | 0.7200 | 0.6500 | 0.7000 | +0.0500 | too few spheres to tell (< 5000) |",
-        "| s_a | 5000 | 0.7000 | 0.6500 | 0.6800 | +0.0300 | graded |",
-        "| s_e | 5000 | 0.7000 | - | - | - | - |",
-        "| s_c | 10000 | 0.6900 | 0.6400 | 0.6549 | +0.0149 | homogeneous |",
-        "| s_b | 12000 | 0.6900 | 0.6400 | 0.6551 | +0.0151 | graded |"]
+want = ["| s_d | 2000 | 0.730 | 1.50 | 0.7200 | 0.6500 | 0.7000 | +0.0500 | too few spheres to tell (< 5000) |",
+        "| s_a | 5000 | 0.700 | 1.50 | 0.7000 | 0.6500 | 0.6800 | +0.0300 | graded |",
+        "| s_e | 5000 | - | - | 0.7000 | - | - | - | - |",
+        "| s_c | 10000 | 0.720 | 1.50 | 0.6900 | 0.6400 | 0.6549 | +0.0149 | homogeneous |",
+        "| s_b | 12000 | 0.710 | 1.50 | 0.6900 | 0.6400 | 0.6551 | +0.0151 | graded |"]
 if rows != want:
     fails.append("rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
 if "2 of 5 samples are graded" not in sec or "`affine: true`" not in sec:
     fails.append("the note does not count 2 of 5 graded samples and name affine: " + sec)
 text = make(os.path.join(work, "homogeneous"), [("s_a", 5000, 0.70, 0.6300, 0.6400)])
 sec = text.split("## Samples")[1].split("\n## ")[0] if "## Samples" in text else ""
-if "| s_a | 5000 | 0.7000 | 0.6300 | 0.6400 | +0.0100 | homogeneous |" not in sec or "graded:" in sec:
+if "| s_a | 5000 | 0.700 | 1.50 | 0.7000 | 0.6300 | 0.6400 | +0.0100 | homogeneous |" not in sec or "graded:" in sec:
     fails.append("a homogeneous study: " + sec)
 if fails:
     sys.exit("\n".join(fails))
