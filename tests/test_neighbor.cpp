@@ -441,6 +441,14 @@ TEST(Packing, AGradingIsDrawnByMassAsItsCurve) {
   EXPECT_EQ(eq.d10, 0.6e-3);
   EXPECT_EQ(eq.d60, 0.6e-3);
   EXPECT_EQ(eq.cu, 1);
+  // 80 spheres of 1 mm and 20 of 2 mm: by mass 33.3 % at 1 mm, 100 % at 2 mm (tests/sieve_check.py, the figure's)
+  std::vector<Real> two(80, 0.5e-3);
+  two.insert(two.end(), 20, 1.0e-3);
+  const GradingIndices tw = grading_indices(two);
+  EXPECT_NEAR(tw.d50, 1e-3 * std::pow(2.0, 0.25), 1e-15);
+  EXPECT_NEAR(tw.d60, 1e-3 * std::pow(2.0, 0.4), 1e-15);
+  EXPECT_EQ(tw.d10, 1e-3);
+  EXPECT_NEAR(tw.cc, std::pow(2.0, -0.4), 1e-12);
   // the drawn sample's D50 against the curve's (0.8 mm at 70 %: D50 in the 0.5-0.8 mm interval), to its scatter
   EXPECT_NEAR(grading_indices(r).d50 / grading_diameter(g, 50), 1, 0.01);
 }
