@@ -2224,6 +2224,20 @@ def overburden_factor(points):
     return rows, float(-np.sum(x * (k - 1)) / np.sum(x * x))
 
 
+ATMOSPHERE = 101.325e3  # Pa: Idriss & Boulanger's reference pressure p_a
+
+
+def at_one_atmosphere(rows, c_sigma):
+    """overburden_factor's line K = 1 - C ln(p'/p'_ref) referred to one atmosphere: CRR(p_a) = CRR_ref (1 - C
+    ln(p_a/p'_ref)), and as CRR(p')/CRR(p_a) = 1 - C' ln(p'/p_a) exactly with C' = C / (1 - C ln(p_a/p'_ref)). Returns
+    (CRR at p_a, C', whether p_a lies outside the pressures tested), or None where the line reaches p_a at CRR <= 0."""
+    p_ref, crr_ref = rows[0][0], rows[0][1]
+    f = 1 - c_sigma * math.log(ATMOSPHERE / p_ref)
+    if not f > 0:
+        return None
+    return crr_ref * f, c_sigma / f, not rows[0][0] <= ATMOSPHERE <= rows[-1][0]
+
+
 def overburden_section(by_p0):
     """The report's K_sigma table (overburden_factor) for each material and criterion whose CRR was fitted at two
     confining pressures or more (a p0 axis); nothing otherwise."""
@@ -2232,9 +2246,12 @@ def overburden_section(by_p0):
         if len({p for p, _ in pts}) < 2:
             continue
         r, c_sigma = overburden_factor(pts)
+        atm = at_one_atmosphere(r, c_sigma)
+        atm_text = "– | –" if atm is None else \
+            f"{atm[0]:.4g}{' (extrapolated)' if atm[2] else ''} | {atm[1]:.3f}"
         rows.append(f"| {mu_r:g} | {rest or '–'} | {what} | " + ", ".join(f"{p / 1e3:g}" for p, _, _ in r) + " | " +
                     ", ".join(f"{c:.4g}" for _, c, _ in r) + " | " + ", ".join(f"{kk:.3f}" for _, _, kk in r) +
-                    f" | {c_sigma:.3f} |")
+                    f" | {c_sigma:.3f} | {atm_text} |")
     if not rows:
         return []
     return ["Overburden correction: K_sigma = CRR(p'_0) / CRR at the lowest p'_0 of each material and criterion "
@@ -2242,9 +2259,13 @@ def overburden_section(by_p0):
             "form of Idriss & Boulanger 2008, who give C_sigma up to 0.3 for sands, rising with density). CRR as in the "
             "table above (extrapolated ones included). The lab's K_sigma compares one relative density: samples a p0 "
             "axis prepares from one gas are each consolidated to their own p'_0, so denser at the higher one (see the "
-            "Samples section's e), which raises their CRR; an e0 axis (target_e0) prepares them at one void ratio.", "",
-            "| mu_r | other conditions | criterion | p'_0 [kPa] | CRR (N = 15) | K_sigma | C_sigma |",
-            "|---|---|---|---|---|---|---|", *rows, ""]
+            "Samples section's e), which raises their CRR; an e0 axis (target_e0) prepares them at one void ratio. "
+            "Referred to one atmosphere (p_a = 101.325 kPa, Idriss & Boulanger's reference) along the same line: CRR at "
+            "p_a, and C_sigma of K_sigma = CRR(p'_0)/CRR(p_a) = 1 - C_sigma ln(p'_0/p_a) (extrapolated where p_a lies "
+            "outside the pressures tested).", "",
+            "| mu_r | other conditions | criterion | p'_0 [kPa] | CRR (N = 15) | K_sigma | C_sigma | CRR at 1 atm | "
+            "C_sigma (1 atm) |",
+            "|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def fit_section(fit_rows, unfitted, by=""):

@@ -13,7 +13,10 @@ cyclic_section) on synthetic cyclic tests:
   before: a = 0.275, b = 0.341, rms 0.16 in log CSR, of no sample), the table with a conditions column; a drained test beside undrained ones likewise
   is a group of its own (here one test: not fitted, named with its drainage). The overburden table: K_sigma = CRR(200
   kPa)/CRR(100 kPa) = 0.2 15^-0.3 / (0.3 15^-0.34) and C_sigma = (1 - K_sigma)/ln 2; overburden_factor on CRR 0.12,
-  0.10, 0.08 at 100, 200, 400 kPa: K_sigma 1, 5/6, 2/3 and C_sigma = (5/6)/(5 ln 2) by least squares, to 1e-12."""
+  0.10, 0.08 at 100, 200, 400 kPa: K_sigma 1, 5/6, 2/3 and C_sigma = (5/6)/(5 ln 2) by least squares, to 1e-12.
+  Referred to one atmosphere along that line (at_one_atmosphere): CRR(p_a) = CRR(100 kPa) (1 - C ln(1.01325)) and
+  C' = C / (1 - C ln(1.01325)), so that CRR(p')/CRR(p_a) = 1 - C' ln(p'/p_a) at every tested p' (to 1e-12);
+  tests from 200 kPa up give it extrapolated."""
 import csv
 import json
 import math
@@ -111,8 +114,10 @@ if "mu_r 0, p'_0 100 kPa, drained, 5 % DA strain (1 test)" not in text2:
     fails.append("the drained test is not a group of its own")
 crr2 = 0.2 * 15 ** -0.3
 k_sigma = crr2 / crr_da
+c2 = (1 - k_sigma) / math.log(2)
+f2 = 1 - c2 * math.log(1.01325)
 w = (f"| 0 | undrained | 5 % DA strain | 100, 200 | {crr_da:.4g}, {crr2:.4g} | 1.000, {k_sigma:.3f} | "
-     f"{(1 - k_sigma) / math.log(2):.3f} |")
+     f"{c2:.3f} | {crr_da * f2:.4g} | {c2 / f2:.3f} |")
 if w not in lines2:
     fails.append(f"no overburden row {w!r} in\n{text2}")
 if "Overburden" in text:
@@ -122,6 +127,15 @@ if [p for p, _, _ in rows] != [1e5, 2e5, 4e5] or \
         any(abs(k - v) > 1e-12 for (_, _, k), v in zip(rows, (1, 5 / 6, 2 / 3))) or \
         abs(c_sigma - (5 / 6) / (5 * math.log(2))) > 1e-12:
     fails.append(f"overburden_factor {rows} C_sigma {c_sigma}, wanted K 1, 5/6, 2/3 and {(5 / 6) / (5 * math.log(2))}")
+crr_atm, c_atm, extrapolated = grainlab_plot.at_one_atmosphere(rows, c_sigma)
+if abs(crr_atm - 0.12 * (1 - c_sigma * math.log(1.01325))) > 1e-12 or extrapolated:
+    fails.append(f"at_one_atmosphere: CRR {crr_atm} (extrapolated {extrapolated})")
+for p, _, _ in rows:  # the same line, referred to p_a
+    line_ref = 1 - c_sigma * math.log(p / 1e5)
+    if abs(line_ref * 0.12 / crr_atm - (1 - c_atm * math.log(p / 101.325e3))) > 1e-12:
+        fails.append(f"at_one_atmosphere: C' {c_atm} does not give the line at {p}")
+if not grainlab_plot.at_one_atmosphere([(2e5, 0.1, 1.0), (4e5, 0.08, 0.8)], 0.3)[2]:
+    fails.append("at_one_atmosphere: p_a below the tests is not extrapolated")
 print(text)
 print(f"CRR at 15 cycles: DA {crr_da:.4f}, r_u {crr_ru:.4f}; N at DA {[round(da_law(c), 3) for c in (0.1, 0.15, 0.2, 0.3)]}")
 if fails:
