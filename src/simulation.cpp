@@ -2536,6 +2536,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
   plan.transit = transit;
 
   double p_prev = p_start;  // the pressure the previous isotropic stage leaves (a shear's p'_0), 0: unknown
+  bool p_moved = false;     // a shear stage since it (a K0 loading, cycles): p' is then the run's to find
   for (const StageConfig& sc : cfg.stages) {
     std::ostringstream os;
     os << std::setprecision(4) << "stage " << sc.name << ": ";
@@ -2568,6 +2569,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         warn(w.str());
       }
       p_prev = sc.pressure;
+      p_moved = false;
       plan.steps.push_back(double(sc.max_steps) * (sc.target_e0 > 0 ? sc.max_trials : 1));
     } else {
       const char* drainage = drainage_name(sc.drainage);
@@ -2646,10 +2648,14 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         plan.inertial_max = std::max(plan.inertial_max, I);
         os << ", inertial number ~" << std::setprecision(2) << I << " at p' = " << std::setprecision(4) << p_prev / 1e3
            << " kPa";
+        // After a K0 loading (p' rises: I is lower) or cycles (p' falls: higher) the stage starts where the run finds
+        // it; the consolidation's p' is the estimate the plan has.
+        if (p_moved) os << " (the last consolidation's; the stages since move p')";
         if (I > kQuasiStaticInertial)
           os << " (above the quasi-static " << kQuasiStaticInertial << ": lower axial_strain_rate or density_scaling)";
       }
     }
+    if (sc.type != StageType::Isotropic) p_moved = true;
     plan.stages.push_back(os.str());
   }
   return plan;
