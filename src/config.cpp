@@ -388,7 +388,9 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
                                           "smallest sphere (add a sieve below it where the passing is 0)");
     if (gr.passing.back() != 100)
       g.fail("sample.grading.passing[" + std::to_string(gr.passing.size() - 1) + "]",
-             "= " + fmt(gr.passing.back()) + " % must be 100: the curve ends at the largest sphere");
+             "= " + fmt(gr.passing.back()) + " % must be 100: the curve ends at the largest sphere (" +
+                 (gr.passing.back() == 1 ? "percent, not a fraction: 100 where the curve says 1)"
+                                         : "add a sieve above it where the passing is 100)"));
     c.packing.r_min = gr.diameter.front() / 2;
     c.packing.r_max = gr.diameter.back() / 2;
   } else {

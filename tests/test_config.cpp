@@ -296,7 +296,10 @@ TEST(Config, RejectsBadInputClearly) {
       {"grad_start", std::string("sample: {grading: {diameter: [1e-3, 2e-3], passing: [10, 100]}}\n") + kMinimal,
        "sample.grading.passing[0] = 10 % must be 0: the curve starts at the smallest sphere"},
       {"grad_end", std::string("sample: {grading: {diameter: [1e-3, 2e-3], passing: [0, 95]}}\n") + kMinimal,
-       "sample.grading.passing[1] = 95 % must be 100: the curve ends at the largest sphere"},
+       "sample.grading.passing[1] = 95 % must be 100: the curve ends at the largest sphere (add a sieve above it where "
+       "the passing is 100)"},
+      {"grad_fraction", std::string("sample: {grading: {diameter: [1e-3, 2e-3], passing: [0, 1]}}\n") + kMinimal,
+       "sample.grading.passing[1] = 1 % must be 100: the curve ends at the largest sphere (percent, not a fraction"},
       {"grad_count", std::string("sample: {grading: {diameter: [1e-3, 2e-3, 3e-3], passing: [0, 100]}}\n") + kMinimal,
        "sample.grading.passing: has 2 values for the 3 of sample.grading.diameter: one a sieve"},
       {"grad_one", std::string("sample: {grading: {diameter: [1e-3], passing: [100]}}\n") + kMinimal,
