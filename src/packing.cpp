@@ -83,6 +83,19 @@ Real grading_diameter(const Grading& g, Real percent) {
   return d.back();
 }
 
+GradingPoints grading_check_points(const Grading& g) {
+  GradingPoints p;
+  for (size_t k = 0; k < g.diameter.size(); ++k) {
+    p.at.push_back(g.diameter[k]);
+    p.want.push_back(g.passing[k]);
+    if (k + 1 < g.diameter.size() && g.passing[k + 1] > g.passing[k]) {
+      p.at.push_back(std::sqrt(g.diameter[k] * g.diameter[k + 1]));
+      p.want.push_back((g.passing[k] + g.passing[k + 1]) / 2);
+    }
+  }
+  return p;
+}
+
 std::vector<Real> passing_at(std::vector<Real> r, const std::vector<Real>& diameters) {
   // Sorted, with the running volume: O(N log N + sieves log N) (a million spheres, a thousand sieves).
   std::sort(r.begin(), r.end());

@@ -23,6 +23,12 @@ Real grading_diameter(const Grading& g, Real percent);
 // The grading (by mass) of a set of radii: at each of `diameters`, the percent of their volume in spheres of
 // diameter <= it.
 std::vector<Real> passing_at(std::vector<Real> r, const std::vector<Real>& diameters);
+// Where to compare a drawn sample with its grading: each sieve and each interval's geometric middle, with the percent
+// the curve passes there (at a middle the mean of its ends, the curve being linear in ln d); flat steps have no middle.
+struct GradingPoints {
+  std::vector<Real> at, want;
+};
+GradingPoints grading_check_points(const Grading& g);
 // D10, D30, D50, D60 and the coefficients of uniformity Cu = D60/D10 and curvature Cc = D30^2/(D10 D60) of a
 // grading curve or of a sample's radii (by mass; between two spheres' diameters interpolated in ln d).
 struct GradingIndices {

@@ -2480,15 +2480,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
       // The drawn curve against the asked at every sieve and at each interval's geometric middle, where the asked
       // passes the mean of its ends: a wide interval's coarse end can hold under one sphere (0.02-2 mm, 10^5 spheres:
       // ~1 coarser than 1 mm for the 15 % of the mass there), which its sieves alone, 0 and 100 %, do not show.
-      std::vector<Real> at, want;
-      for (size_t k = 0; k < gr.diameter.size(); ++k) {
-        at.push_back(gr.diameter[k]);
-        want.push_back(gr.passing[k]);
-        if (k + 1 < gr.diameter.size() && gr.passing[k + 1] > gr.passing[k]) {
-          at.push_back(std::sqrt(gr.diameter[k] * gr.diameter[k + 1]));
-          want.push_back((gr.passing[k] + gr.passing[k + 1]) / 2);
-        }
-      }
+      const auto [at, want] = grading_check_points(gr);
       const std::vector<Real> got = passing_at(r, at);
       size_t worst = 0;
       for (size_t k = 0; k < got.size(); ++k)

@@ -394,15 +394,10 @@ TEST(Packing, AGradingIsDrawnByMassAsItsCurve) {
   const std::vector<Real> r = packing_radii(spec);
   ASSERT_EQ(long(r.size()), spec.count);
   const Grading& g = spec.grading;
-  std::vector<Real> at, want;  // sieves and interval middles, with the curve's percent passing there
-  for (size_t k = 0; k < g.diameter.size(); ++k) {
-    at.push_back(g.diameter[k]);
-    want.push_back(g.passing[k]);
-    if (k + 1 < g.diameter.size() && g.passing[k + 1] > g.passing[k]) {
-      at.push_back(std::sqrt(g.diameter[k] * g.diameter[k + 1]));
-      want.push_back((g.passing[k] + g.passing[k + 1]) / 2);
-    }
-  }
+  const auto [at, want] = grading_check_points(g);  // sieves and interval middles, the curve's percent there
+  ASSERT_EQ(at.size(), 8u);  // 5 sieves, 3 middles (none in the flat step)
+  EXPECT_EQ(want[1], 15);
+  EXPECT_NEAR(at[1], std::sqrt(0.2e-3 * 0.3e-3), 1e-18);
   const std::vector<Real> got = passing_at(r, at);
   double vmean = 0;
   for (Real ri : r) vmean += double(ri) * ri * ri / double(r.size());
