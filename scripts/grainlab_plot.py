@@ -38,6 +38,7 @@ from atomic_write import write_atomically, write_text_atomically  # noqa: E402
 from contacts import fig_contacts, report_section as contacts_section  # noqa: E402
 import dilatancy  # noqa: E402
 from localisation import fig_localisation, report_section as localisation_section  # noqa: E402
+import size_classes  # noqa: E402
 
 # The quasi-static limit of the inertial number (GDR MiDi 2004, Eur. Phys. J. E 14: I < 1e-3), as
 # kQuasiStaticInertial in src/simulation.hpp: above it the stress ratio of a steady flow rises with I (the mu(I)
@@ -1375,6 +1376,8 @@ def study(out):
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
              *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
              *contacts_section([(j["name"], d) for j, d, _ in mono]),
+             *size_classes.report_section([(j["name"], d, os.path.join(out, "jobs", j["sample"], "run", "config.yaml")
+                                            if j.get("sample") else None) for j, d, _ in mono]),
              *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
@@ -2524,6 +2527,7 @@ def main():
         fig_grading(a.runs, out)
         fig_forcechains(a.runs[0], out)
         fig_contacts(a.runs[0], out, save, plt)
+        size_classes.write_csv(a.runs[0], out)
         fig_localisation(a.runs[0], out, save, plt)
     else:
         csl(runs, out, a.window)
