@@ -1217,6 +1217,13 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     return text, states
 
 
+def size_tests(out, runs):
+    """The size-class section's tests of a study: (name, run directory, its sample job's config.yaml, whose
+    sample.grading gives the classes; None for a job without a sample job)."""
+    return [(j["name"], d, os.path.join(out, "jobs", j["sample"], "run", "config.yaml") if j.get("sample") else None)
+            for j, d, _ in runs]
+
+
 def study(out):
     """Report of a `grainlab study` directory: report.md + figures/ (stress paths, peaks, critical states,
     critical-state lines per mu_r, stress-force-fabric shares)."""
@@ -1339,7 +1346,7 @@ def study(out):
         write_text_atomically(os.path.join(out, "report.md"),
                               "\n".join(head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + more_figs) + ".", ""]
                                          + samples_section(out, idx["jobs"], idx.get("samples")) + comp_lines
-                                         + oed_lines + cyc_lines))
+                                         + oed_lines + cyc_lines + size_classes.report_section(size_tests(out, runs))))
         print(os.path.join(out, "report.md"))
         return
     lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
@@ -1376,8 +1383,7 @@ def study(out):
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
              *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
              *contacts_section([(j["name"], d) for j, d, _ in mono]),
-             *size_classes.report_section([(j["name"], d, os.path.join(out, "jobs", j["sample"], "run", "config.yaml")
-                                            if j.get("sample") else None) for j, d, _ in mono]),
+             *size_classes.report_section(size_tests(out, mono)),
              *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))

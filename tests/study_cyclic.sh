@@ -20,7 +20,10 @@ grep -q "q_amplitude: 114000" $hi/job.yaml || fail "$hi/job.yaml: q_amplitude is
 grep -q "## Cyclic tests" sc/report.md || fail "report.md lacks its cyclic section"
 grep -qE '^\| sample_mur0_ebase_pbase_s[0-9]+_n300 \| 300 \| [0-9.]+ \|' sc/report.md ||
   fail "report.md lacks its Samples section (a cyclic study's report has one too)"
-[ "$(grep -c '^| shear_undrained_.*_csr0\.[13] |' sc/report.md)" -eq 2 ] || fail "report.md: not 2 cyclic rows"
+[ "$(grep -c '^| shear_undrained_.*_csr0\.[13] | 0 | undrained |' sc/report.md)" -eq 2 ] || fail "report.md: not 2 cyclic rows"
+# the load by size class at each test's end: four classes of equal mass (a power-law base) for each of the 2 tests
+[ "$(grep -cE '^\| shear_undrained_.*_csr0\.[13] \| [0-9.]+-[0-9.]+ mm \| ' sc/report.md)" -eq 8 ] ||
+  fail "report.md: not 4 size classes for each of the 2 tests"
 # N at the double-amplitude criterion (liquefaction_da_strain: 2 % in the base), from each run's summary.json; the
 # report lists the same numbers
 nda() { grep -o '"n_da": [-0-9.e]*' "$1"/run/summary.json | awk '{print $2}'; }

@@ -19,7 +19,7 @@ grep -q "strain_amplitude: 1.0e-04, axial_strain_rate: 0.02," "$(job 0 0.0001)"/
 grep -q "strain_amplitude: 0.005, axial_strain_rate: 1," "$(job 0.3 0.005)"/job.yaml ||
   fail "$(job 0.3 0.005)/job.yaml: not 5e-3 at 1/s: $(grep loops "$(job 0.3 0.005)"/job.yaml)"
 grep -q "## Modulus reduction and damping" ss/report.md || fail "report.md lacks its modulus-reduction section"
-[ "$(grep -c '^| shear_undrained_.*_ea0\.0*[15] |' ss/report.md)" -eq 6 ] || fail "report.md: not 6 rows: $(cat ss/report.md)"
+[ "$(grep -c '^| shear_undrained_.*_ea0\.0*[15] | mu_r=' ss/report.md)" -eq 6 ] || fail "report.md: not 6 rows: $(cat ss/report.md)"
 # each row: the job's last cycle in cycles.csv (cycle 2): its shear strain amplitude (gamma_max - gamma_min)/2 in %,
 # E_eq and G_eq in MPa (columns 8, 13, 14 and 15); G_eq/G_0 = 1 at the smallest amplitude
 for mur in 0 0.3; do
