@@ -1042,6 +1042,16 @@ TEST(Config, StudyPlanCoversEveryJob) {
   EXPECT_NE(e.find("(job sample_mur0.1_ebase_pbase_s3_n500): numerics.dt = 0.001 s is above the stable limit"),
             std::string::npos)
       << e;
+  // A grading the sample job's 300 spheres miss (6.1 points at 0.8 mm: cli_grading_plan) is said once, of the sample
+  // job: its shear jobs are planned on the same spheres.
+  const std::string graded = write_tmp(
+      "study_plan_graded", "sample: {count: 300, seed: 42, grading: {diameter: [0.4e-3, 0.6e-3, 0.8e-3, 1.0e-3, 1.2e-3], "
+                           "passing: [0, 20, 55, 90, 100]}}\nstages: [{type: isotropic}, {name: shear, type: triaxial}]\n");
+  const StudyPlan gp = plan_study(load_study(write_tmp("study_plan_g", "base: " + graded + "\naxes: {drainage: [drained, "
+                                                                      "undrained]}\n")));
+  ASSERT_EQ(gp.warnings.size(), 1u);
+  EXPECT_EQ(gp.warnings[0].rfind("job sample_mur0_ebase_pbase_s42_n300: sample.grading: the 300 spheres drawn pass 61.1 %", 0),
+            0u) << gp.warnings[0];
 }
 
 // A container's CPU quota (cgroup v2 cpu.max) as cores: usable_cores() takes the smaller of it and the affinity.
