@@ -315,14 +315,12 @@ def grading_indices(d, P):
 
 
 def asked_grading(run):
-    """The sieve curve a run's config.yaml asked for (sample.grading: diameters in m, percent passing), or None."""
-    import yaml
-
+    """The sieve curve a run's config.yaml asked for (sample.grading: diameters in m, percent passing; of the run that
+    made its sample.file, size_classes.grading_of), or None."""
+    g = size_classes.grading_of(os.path.join(run, "config.yaml"))
     try:
-        with open(os.path.join(run, "config.yaml")) as f:
-            g = (yaml.safe_load(f).get("sample") or {}).get("grading")
         return (np.array(g["diameter"], dtype=float), np.array(g["passing"], dtype=float)) if g else None
-    except (OSError, AttributeError, KeyError, TypeError, ValueError, yaml.YAMLError):
+    except (KeyError, TypeError, ValueError):
         return None
 
 

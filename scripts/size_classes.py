@@ -23,15 +23,26 @@ import numpy as np
 MIN_SPHERES = 20
 
 
-def grading_classes(config_path):
-    """The non-empty sieve intervals [(d_lo, d_hi)] of a run's config.yaml sample.grading; None without one."""
+def grading_of(config_path, depth=3):
+    """A run's config.yaml sample.grading ({diameter, passing}), or None. A run from a saved sample (sample.file, a
+    sample_<stage>.h5 in the run directory that made it: a study's shear job) takes that run's, up to `depth` runs back."""
     import yaml
 
     try:
         with open(config_path) as f:
-            g = (yaml.safe_load(f).get("sample") or {}).get("grading")
+            sample = yaml.safe_load(f).get("sample") or {}
     except (OSError, AttributeError, yaml.YAMLError):
         return None
+    if sample.get("grading"):
+        return sample["grading"]
+    if sample.get("file") and depth > 0:
+        return grading_of(os.path.join(os.path.dirname(str(sample["file"])), "config.yaml"), depth - 1)
+    return None
+
+
+def grading_classes(config_path):
+    """The non-empty sieve intervals [(d_lo, d_hi)] of a run's sample.grading (grading_of); None without one."""
+    g = grading_of(config_path)
     if not g:
         return None
     d, p = list(map(float, g["diameter"])), list(map(float, g["passing"]))
