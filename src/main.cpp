@@ -314,7 +314,8 @@ int main(int argc, char** argv) {
     std::printf("\n  %s\n", plan.sample.c_str());
     for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
     std::fflush(stdout);
-    for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s: %s\n", config.c_str(), w.c_str());
+    for (const auto* ws : {&plan.sample_warnings, &plan.warnings})
+      for (const std::string& w : *ws) std::fprintf(stderr, "grainlab: warning: %s: %s\n", config.c_str(), w.c_str());
     return 0;
   }
   if (!omp_threads_env_ok(threads)) return 2;

@@ -2316,7 +2316,8 @@ RunResult Laboratory::run() {
   planned_dt_ = plan.dt;
   transit_ = plan.transit;
   grading_ = plan.grading;
-  for (const std::string& w : plan.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
+  for (const auto* ws : {&plan.sample_warnings, &plan.warnings})
+    for (const std::string& w : *ws) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
   if (opt_.check_resume) {  // nothing to resume is nothing to refuse; else the checkpoint's own refusals
     if (holds_files(out_ + "/checkpoints")) {
       build_engine();
@@ -2510,7 +2511,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
           << " % asked (" << miss << " points; " << coarser << " sphere" << plural(coarser) << " coarser carry the "
           << 100 - want[worst] << " % above it): the mass of a fraction of few spheres scatters from draw to "
           << "draw (sample.seed); raise sample.count, or narrow the curve";
-        plan.warnings.push_back(w.str());
+        plan.sample_warnings.push_back(w.str());
       }
     }
     plan.sample = os.str();

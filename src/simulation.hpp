@@ -77,6 +77,7 @@ struct RunPlan {
   std::vector<double> steps;          // a stage's steps: triaxial to its end strain (at most max_steps),
                                       // isotropic its max_steps (it ends at equilibrium, usually sooner)
   std::vector<std::string> warnings;  // a stage that max_steps cuts short, a ramp that never ends
+  std::vector<std::string> sample_warnings;  // of the spheres themselves (a grading they miss): a study says them once
   double inertial_max = 0;            // the largest estimated inertial number of a shear (0: p' unknown)
   double transit = 0;                 // the time a compression wave takes across the sample [s] (plan_run)
   bool placed = false;                // the sample was placed as the run will place it (plan_run's place)

@@ -765,9 +765,10 @@ StudyPlan plan_study(const Study& s) {
     }
   };
   const auto keep = [&](const StudyJob& j, const RunPlan& p) {
-    for (const std::string& w : p.warnings)
-      // a shear job's spheres are its sample job's (planned on the radii that job draws): said once, of the sample
-      if (j.is_sample || w.rfind("sample.grading:", 0) != 0) sp.warnings.push_back("job " + j.name + ": " + w);
+    // a shear job's spheres are its sample job's (planned on the radii that job draws): said once, of the sample
+    if (j.is_sample)
+      for (const std::string& w : p.sample_warnings) sp.warnings.push_back("job " + j.name + ": " + w);
+    for (const std::string& w : p.warnings) sp.warnings.push_back("job " + j.name + ": " + w);
     sp.memory_need_max = std::max(sp.memory_need_max, p.memory_need);
   };
   for (const StudyJob& j : s.samples) {

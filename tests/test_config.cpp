@@ -113,6 +113,14 @@ TEST(Config, AGradingReadsBackFromTheResolvedConfig) {
   EXPECT_NE(plan.sample.find("500 spheres drawn from sample.grading (3 sieves, 0.425 mm to 1.18 mm: D50 = "),
             std::string::npos) << plan.sample;
   EXPECT_NE(plan.sample.find("(asked 0 / 35 / 100)"), std::string::npos) << plan.sample;
+  EXPECT_TRUE(plan.sample_warnings.empty() && plan.warnings.empty());
+  // a draw that misses the curve is a warning of the sample's (cli_grading_plan's 300 spheres: 6.1 points at 0.8 mm)
+  const RunPlan few = plan_run(load_run_config(write_tmp(
+      "grading_few", std::string("sample: {count: 300, seed: 42, grading: {diameter: [0.4e-3, 0.6e-3, 0.8e-3, 1.0e-3, "
+                                 "1.2e-3], passing: [0, 20, 55, 90, 100]}}\n") + kMinimal)));
+  ASSERT_EQ(few.sample_warnings.size(), 1u);
+  EXPECT_NE(few.sample_warnings[0].find("pass 61.1 % at 0.8 mm against the 55 % asked"), std::string::npos);
+  EXPECT_TRUE(few.warnings.empty());
 }
 
 TEST(Config, DefaultsAreSpecReferenceValues) {
