@@ -88,9 +88,11 @@ GradingPoints grading_check_points(const Grading& g) {
   for (size_t k = 0; k < g.diameter.size(); ++k) {
     p.at.push_back(g.diameter[k]);
     p.want.push_back(g.passing[k]);
+    p.sieve.push_back(1);
     if (k + 1 < g.diameter.size() && g.passing[k + 1] > g.passing[k]) {
       p.at.push_back(std::sqrt(g.diameter[k] * g.diameter[k + 1]));
       p.want.push_back((g.passing[k] + g.passing[k + 1]) / 2);
+      p.sieve.push_back(0);
     }
   }
   return p;

@@ -27,6 +27,7 @@ std::vector<Real> passing_at(std::vector<Real> r, const std::vector<Real>& diame
 // the curve passes there (at a middle the mean of its ends, the curve being linear in ln d); flat steps have no middle.
 struct GradingPoints {
   std::vector<Real> at, want;
+  std::vector<char> sieve;  // 1: at[k] is a sieve, 0: a middle
 };
 GradingPoints grading_check_points(const Grading& g);
 // D10, D30, D50, D60 and the coefficients of uniformity Cu = D60/D10 and curvature Cc = D30^2/(D10 D60) of a

@@ -2481,7 +2481,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
       // The drawn curve against the asked at every sieve and at each interval's geometric middle, where the asked
       // passes the mean of its ends: a wide interval's coarse end can hold under one sphere (0.02-2 mm, 10^5 spheres:
       // ~1 coarser than 1 mm for the 15 % of the mass there), which its sieves alone, 0 and 100 %, do not show.
-      const auto [at, want] = grading_check_points(gr);
+      const auto [at, want, sieve] = grading_check_points(gr);
       const std::vector<Real> got = passing_at(r, at);
       size_t worst = 0;
       for (size_t k = 0; k < got.size(); ++k)
@@ -2491,7 +2491,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
       if (gr.diameter.size() <= 12) {
         std::ostringstream asked;
         for (size_t k = 0, n = 0; k < at.size(); ++k) {
-          if (at[k] != gr.diameter[n]) continue;  // a middle
+          if (!sieve[k]) continue;
           os << (n ? " / " : "") << got[k];
           asked << (n ? " / " : "") << want[k];
           ++n;
@@ -2504,10 +2504,9 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         // The coarser side of the worst point: how many spheres carry its mass share.
         long coarser = 0;
         for (Real ri : r) coarser += 2 * ri > at[worst] ? 1 : 0;
-        const bool sieve = std::find(gr.diameter.begin(), gr.diameter.end(), at[worst]) != gr.diameter.end();
         std::ostringstream w;
         w << std::setprecision(3) << "sample.grading: the " << r.size() << " spheres drawn pass " << got[worst]
-          << " % at " << mm(at[worst]) << (sieve ? "" : " (between sieves)") << " against the " << want[worst]
+          << " % at " << mm(at[worst]) << (sieve[worst] ? "" : " (between sieves)") << " against the " << want[worst]
           << " % asked (" << miss << " points; " << coarser << " sphere" << plural(coarser) << " coarser carry the "
           << 100 - want[worst] << " % above it): the mass of a fraction of few spheres scatters from draw to "
           << "draw (sample.seed); raise sample.count, or narrow the curve";

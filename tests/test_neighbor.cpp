@@ -394,8 +394,9 @@ TEST(Packing, AGradingIsDrawnByMassAsItsCurve) {
   const std::vector<Real> r = packing_radii(spec);
   ASSERT_EQ(long(r.size()), spec.count);
   const Grading& g = spec.grading;
-  const auto [at, want] = grading_check_points(g);  // sieves and interval middles, the curve's percent there
+  const auto [at, want, sieve] = grading_check_points(g);  // sieves and interval middles, the curve's percent there
   ASSERT_EQ(at.size(), 8u);  // 5 sieves, 3 middles (none in the flat step)
+  EXPECT_EQ(sieve, (std::vector<char>{1, 0, 1, 1, 0, 1, 0, 1}));
   EXPECT_EQ(want[1], 15);
   EXPECT_NEAR(at[1], std::sqrt(0.2e-3 * 0.3e-3), 1e-18);
   const std::vector<Real> got = passing_at(r, at);
