@@ -147,12 +147,15 @@ def load(run, prog="grainlab plot"):
     return cols
 
 
+def run_name(run):
+    """A run's name for a legend: its directory's, or for a study job's run directory, jobs/<job>/run, the job's."""
+    name = os.path.basename(os.path.normpath(run))
+    return os.path.basename(os.path.dirname(os.path.normpath(run))) if name == "run" else name
+
+
 def label(run, s):
     mur = s["mu_r"][s["shear"]][-1] if s["shear"].any() else s["mu_r"][-1]
-    name = os.path.basename(os.path.normpath(run))
-    if name == "run":  # a study job's run directory, jobs/<job>/run: the job's name tells the curves apart
-        name = os.path.basename(os.path.dirname(os.path.normpath(run)))
-    return f"{name} (mu_r={mur:g})"
+    return f"{run_name(run)} (mu_r={mur:g})"
 
 
 def save(fig, out, name):
@@ -340,9 +343,7 @@ def fig_grading(runs, out):
             r = f["particles/r"][:]
         d, P = sieve_curve(r)
         x = found[run] = grading_indices(d, P)
-        name = os.path.basename(os.path.normpath(run))
-        if name == "run":
-            name = os.path.basename(os.path.dirname(os.path.normpath(run)))
+        name = run_name(run)
         color = f"C{k % 10}"
         ax.plot(np.concatenate(([d[0]], d)) * 1e3, np.concatenate(([0.0], P)), drawstyle="steps-post", color=color,
                 label=f"{name}: {len(r)} spheres, D50 {x['d50'] * 1e3:.3g} mm, Cu {x['cu']:.2f}, Cc {x['cc']:.2f}")
@@ -2231,7 +2232,7 @@ def overburden_factor(points):
     return rows, float(-np.sum(x * (k - 1)) / np.sum(x * x))
 
 
-ATMOSPHERE = 101.325e3  # Pa: Idriss & Boulanger's reference pressure p_a
+ATMOSPHERE = 101.325e3  # Pa: one atmosphere, p_a (Idriss & Boulanger's reference pressure; Darendeli's)
 
 
 def at_one_atmosphere(rows, c_sigma):
@@ -2329,7 +2330,7 @@ def damping_fit(E_ratio, D):
 # Darendeli (2001), the modulus reduction of soils from resonant-column and torsional-shear tests:
 # G/G_max = 1 / (1 + (gamma/gamma_r)^a), a = 0.919, gamma_r [%] = (0.0352 + 0.0010 PI OCR^0.3246) (sigma'_0/p_a)^0.3483.
 # For clean sand (PI = 0) OCR drops out. A reference for the DEM's curve, not a fit: real grains are not spheres.
-DARENDELI_A, DARENDELI_PA = 0.919, 101.325e3
+DARENDELI_A, DARENDELI_PA = 0.919, ATMOSPHERE
 
 
 def darendeli_gamma_r(p):

@@ -111,8 +111,7 @@ std::vector<Real> passing_at(std::vector<Real> r, const std::vector<Real>& diame
   return out;
 }
 
-namespace {
-GradingIndices indices_of(const Grading& g) {
+GradingIndices grading_indices(const Grading& g) {
   GradingIndices x;
   x.d10 = grading_diameter(g, 10);
   x.d30 = grading_diameter(g, 30);
@@ -122,9 +121,6 @@ GradingIndices indices_of(const Grading& g) {
   x.cc = x.d30 * x.d30 / (x.d10 * x.d60);
   return x;
 }
-}  // namespace
-
-GradingIndices grading_indices(const Grading& g) { return indices_of(g); }
 
 GradingIndices grading_indices(std::vector<Real> r) {
   // The sample's own curve: each sphere's diameter passes the mass of every sphere up to and including it.
@@ -141,7 +137,7 @@ GradingIndices grading_indices(std::vector<Real> r) {
     g.passing.push_back(Real(100 * run / total));
   }
   // The curve starts at the smallest diameter with that sphere's share passing: a D_x below it is that diameter.
-  return indices_of(g);
+  return grading_indices(g);
 }
 
 namespace {
