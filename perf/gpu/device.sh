@@ -89,9 +89,21 @@ while [ $# -gt 0 ]; do
           "${GPU_TESTS_GPU_SLOTS:-1}" > /tmp/gpu_resources.json
         spec=(--resource-spec-file /tmp/gpu_resources.json)
       fi
+      # Each gtest's cases with their times (GTEST_OUTPUT: one XML an executable): CTest's log gives an entry's total
+      # only, and test_lab.cuda's doubled (91 s at 71e7563, 181 s at 9d55af7) could not be split by case (session 51).
+      rm -rf "$OUT/gtest"; export GTEST_OUTPUT="xml:$OUT/gtest/"
       (cd build-gpu && ctest --output-on-failure -j "${GPU_TESTS_JOBS:-6}" --timeout 500 ${regex:+-R "$regex"} \
         ${GPU_TESTS_EXCLUDE:+-E "$GPU_TESTS_EXCLUDE"} "${stop[@]}" "${spec[@]}") > "$OUT/ctest.log" 2>&1 || status=1
       tail -n 25 "$OUT/ctest.log"
+      unset GTEST_OUTPUT
+      if ls "$OUT"/gtest/*.xml > /dev/null 2>&1; then
+        echo "the slowest gtest cases (all in $OUT/gtest/cases.txt):"
+        awk 'match($0, /<testcase name="[^"]*"/) { n = substr($0, RSTART + 16, RLENGTH - 17); t = ""; c = ""
+               if (match($0, / time="[^"]*"/)) t = substr($0, RSTART + 7, RLENGTH - 8)
+               if (match($0, /classname="[^"]*"/)) c = substr($0, RSTART + 11, RLENGTH - 12)
+               print t " s", c "." n }' "$OUT"/gtest/*.xml | sort -rn > "$OUT/gtest/cases.txt"
+        head -n 8 "$OUT/gtest/cases.txt"
+      fi
       # The entries of this selection that did not pass (stopped by GPU_TESTS_SECONDS, not reached, or failed), as
       # a -R regex in $OUT/tests_rest.txt: on one GPU slot the whole suite is ~620 s of GPU time on an H200
       # (RESULTS_GPU.md, session 41), more than one call, so a second call runs `device.sh tests @.gpucarry/tests_rest.txt` after
