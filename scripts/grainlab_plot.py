@@ -1524,9 +1524,10 @@ def samples_section(out, jobs, samples=None):
             *rows, "", *([note, ""] if note else [])]
 
 
-# The axes of a preparation study's figure: study.json's key, its label, and whether its scale is logarithmic.
+# The axes of a preparation study's figure: study.json's key, its label, and whether its scale is logarithmic. cu: the
+# grading axis's curve's Cu = D60/D10 (0: the base's sizes, or a study.json from before the axis).
 PREP_AXES = (("count", "spheres", True), ("p0", "p'_0 [kPa]", True), ("mu_r", "mu_r", False),
-             ("e0", "target e_0", False))
+             ("e0", "target e_0", False), ("cu", "Cu = D60/D10 of the grading asked", False))
 
 
 def gas_fraction(run_dir):
@@ -1546,15 +1547,16 @@ def preparation_section(out, samples, figs):
     axis whether the interior's e_0 still changes between the two largest sizes (by more than two standard errors of
     the difference of their means); and figures/preparation.png, e_0 against each swept axis. `samples`: the finished
     ones. Empty where none has a summary."""
+    # A group's key: the PREP_AXES values, then the grading's name (two curves of one Cu are two samples)
     groups = {}
     for j in samples:
         s = consolidated(out, j["name"])
         if s is not None:
-            groups.setdefault(tuple(j[k] for k, _, _ in PREP_AXES), []).append((j, s))
+            groups.setdefault(tuple(j.get(k, 0) for k, _, _ in PREP_AXES) + (j.get("grading", ""),), []).append((j, s))
     if not groups:
         return [], False
     rows, stats = [], {}
-    for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[0])):  # by mu_r, p0 and e0, then size
+    for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[4], k[5], k[0])):  # by mu_r, p0, e0, grading, then size
         g = sorted(groups[key], key=lambda t: t[0]["seed"])
         col = {c: measured([s.get(c) for _, s in g]) for c in ("e", "e_inner", "e_core", "mu", "steps")}
         col["diff"] = measured([s["e_core"] - s["e_inner"] for _, s in g
@@ -1604,6 +1606,7 @@ def preparation_section(out, samples, figs):
                   "± its standard error)", "", *conv, ""]
     # e_0 against each swept axis: the interior's mean ± sd over the seeds (solid), the box's and the core's means.
     swept = [(i, k, lab, log) for i, (k, lab, log) in enumerate(PREP_AXES) if len({key[i] for key in stats}) > 1]
+    named = len({key[-1] for key in stats}) > 1  # several gradings: their names tell the other panels' lines apart
     if not swept:
         return lines, False
 
@@ -1614,14 +1617,16 @@ def preparation_section(out, samples, figs):
     for a_, (i, k, lab, log) in zip(ax[0], swept):
         lines_of = {}
         for key in stats:
-            lines_of.setdefault(key[:i] + key[i + 1:], []).append(key)
+            # on the Cu panel one line runs through the gradings (the name left out of what tells lines apart)
+            lines_of.setdefault(key[:i] + key[i + 1:(-1 if k == "cu" else None)], []).append(key)
         for n, (rest, keys) in enumerate(sorted(lines_of.items())):
             keys = sorted(keys, key=lambda t: t[i])
             x = np.array([t[i] / (1e3 if k == "p0" else 1) for t in keys])
             c = f"C{n % 10}"
             # the other swept axes' values: what tells the lines apart
-            other = ", ".join(f"p'_0 = {v / 1e3:g} kPa" if kk == "p0" else f"{v:g} spheres" if kk == "count" else f"{kk} = {v:g}"
-                              for (m_, kk, _, _), v in zip(swept, key_of(keys[0])) if m_ != i)
+            other = ", ".join([f"p'_0 = {v / 1e3:g} kPa" if kk == "p0" else f"{v:g} spheres" if kk == "count"
+                               else f"{kk} = {v:g}" for (m_, kk, _, _), v in zip(swept, key_of(keys[0]))
+                               if m_ != i and kk != "cu"] + ([keys[0][-1]] if named and k != "cu" else []))
             for colname, style, what in (("e_inner", "o-", "interior"), ("e", "s--", "box"), ("e_core", "^:", "core")):
                 ok = [bool(stats[t][colname]) for t in keys]
                 if not any(ok):

@@ -88,6 +88,11 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     // Always written: the study's value, or the base's where the axis is not swept (a seed of 0 is a seed).
     c["sample"]["seed"] = j.seed;
     c["sample"]["count"] = j.count;
+    if (!j.grading_yaml.empty()) {
+      // The curve gives the sizes: the power law's keys would be refused beside it (config.cpp).
+      for (const char* k : {"D", "r_min", "r_max", "grading"}) c["sample"].remove(k);
+      c["sample"]["grading"] = YAML::Load(j.grading_yaml);
+    }
   }
   c["material"]["mu_r"] = yaml_number(j.mu_r);
   YAML::Node stages(YAML::NodeType::Sequence);
@@ -378,12 +383,59 @@ Study load_study_unchecked(const std::string& path) {
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
       if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "b", "stress_path", "axial_strain_rate",
-                                 "seed", "count", "csr", "strain_amplitude"}
+                                 "seed", "count", "grading", "csr", "strain_amplitude"}
                .count(k))
         fail(path, "axes." + k,
              "unknown axis (known: mu_r, e0, p0, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
-             "csr, strain_amplitude)");
+             "grading, csr, strain_amplitude)");
     }
+  // The grading axis: named sieve curves (sample.grading's form), one sample each, in place of the base's sizes: how a
+  // sample's e_0 depends on its grading (e_max and e_min fall as Cu rises, Youd 1973), on the report's preparation
+  // figure against each curve's Cu. A preparation study only: the shear report's fits (critical-state lines, failure,
+  // dilatancy, rates, seeds, liquefaction curves) group their tests by mu_r and would pool the gradings.
+  struct NamedGrading {
+    std::string name, yaml;
+    double cu;
+  };
+  std::vector<NamedGrading> gradings;
+  if (ax && ax["grading"]) {
+    const std::string key = "axes.grading";
+    need_generated(key);
+    if (has_tri)
+      fail(path, key, "sweeps the sample's grading in a preparation study (a base without a shear stage), and the base (" +
+                          s.base + ") shears: the report's fits group its tests by mu_r and would pool the gradings; "
+                          "run a study per grading, its base's sample.grading that curve");
+    const YAML::Node g = ax["grading"];
+    if (!g.IsMap() || g.size() == 0)
+      fail(path, key, "must name each sieve curve: {fine: {diameter: [...], passing: [...]}, coarse: {...}}, at least one");
+    for (auto it : g) {
+      const std::string name = it.first.as<std::string>(), k = key + "." + name;
+      // the name ends the sample job's directory name (_g<name>)
+      if (name.empty() || name.size() > 40 ||
+          name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") != std::string::npos)
+        fail(path, k, "a grading's name ends its sample job's directory name: 1-40 letters, digits, '-', '_' or '.'");
+      StudyJob probe;
+      probe.seed = base_cfg.packing.seed;
+      probe.count = base_cfg.packing.count;
+      probe.grading_yaml = YAML::Dump(it.second);
+      // The curve checked as the job's config will check it, its errors named by this key: "sample.grading.passing[0]"
+      // of the job is "axes.grading.NAME.passing[0]" here.
+      const std::string tag = "\x01";
+      RunConfig rc;
+      try {
+        rc = parse_run_config(job_config(base, probe, false, ""), tag);
+      } catch (const ConfigError& e) {
+        std::string m = e.what();
+        const std::string job_key = tag + ": sample.grading";
+        if (m.rfind(job_key, 0) == 0) throw ConfigError(path + ": " + k + m.substr(job_key.size()));
+        if (m.rfind(tag + ": ", 0) == 0) m = m.substr(tag.size() + 2);
+        fail(path, k, m);
+      }
+      if (rc.packing.grading.empty())  // (the loader refuses a curve it cannot read; grading_indices needs one)
+        fail(path, k, "must be a sieve curve: {diameter: [...], passing: [...]}");
+      gradings.push_back({name, probe.grading_yaml, grading_indices(rc.packing.grading).cu});
+    }
+  }
   const auto need_q_cyclic = [&](const std::string& key) {
     if (!has_q_cyclic)
       fail(path, key, "sets the stress amplitude of a cyclic stage (q_amplitude = 2 csr p'_0, or the stage's csr), and "
@@ -538,6 +590,7 @@ Study load_study_unchecked(const std::string& path) {
     double rate;           // the triaxial stages' axial_strain_rate (0: the base's)
     double strain;         // the triaxial stages' max_axial_strain (0: the base's; extra jobs only)
     bool set_mu_r;         // mu_r from the axis or an extra job (every stage's), not the base's
+    int grading;           // index in gradings (-1: the base's sizes)
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -546,6 +599,7 @@ Study load_study_unchecked(const std::string& path) {
         for (double p0 : axis("p0", {0}))
           for (double seed : axis("seed", {double(base_cfg.packing.seed)}))
             for (double count : axis("count", {double(base_cfg.packing.count)}))
+              for (int gi = gradings.empty() ? -1 : 0; gi < int(gradings.size()); ++gi)
               for (auto& d : drain)
                 for (auto& dir : directions)
                   for (double b : axis("b", {base_b}))
@@ -555,14 +609,14 @@ Study load_study_unchecked(const std::string& path) {
                           for (double ea : axis("strain_amplitude", {0}))
                             points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
                                               direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
-                                              rate, 0, mu_r_axis});
+                                              rate, 0, mu_r_axis, gi});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
     for (size_t k = 0; k < ex.size(); ++k) {
       const std::string key = "extra[" + std::to_string(k) + "]";
       Point pt{base_cfg.engine.contact.mu_r, 0, 0, long(base_cfg.packing.seed), long(base_cfg.packing.count),
-               base_drainage, false, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0, 0, false};
+               base_drainage, false, 0, 0, base_direction, false, base_b, false, "", base_path, false, "", 0, 0, false, -1};
       for (auto it : ex[k]) {
         const std::string f = it.first.as<std::string>();
         if (f == "drainage") {
@@ -659,6 +713,7 @@ Study load_study_unchecked(const std::string& path) {
     if (base_sample.empty()) sn << "_s" << pt.seed;
     else sn << "_file";
     sn << "_n" << pt.count;
+    if (pt.grading >= 0) sn << "_g" << gradings[pt.grading].name;
     if (!sample_index.count(sn.str())) {
       StudyJob j;
       j.name = sn.str();
@@ -669,6 +724,11 @@ Study load_study_unchecked(const std::string& path) {
       j.p0 = pt.p0;
       j.seed = pt.seed;
       j.count = pt.count;
+      if (pt.grading >= 0) {
+        j.grading_name = gradings[pt.grading].name;
+        j.grading_yaml = gradings[pt.grading].yaml;
+        j.grading_cu = gradings[pt.grading].cu;
+      }
       j.config_yaml = YAML::Dump(job_config(base, j, false, "", base_sample));
       sample_index[j.name] = s.samples.size();
       s.samples.push_back(j);
@@ -1129,7 +1189,8 @@ int run_study(const Study& s, const StudyOptions& o) {
     for (size_t k = 0; k < s.samples.size(); ++k) {
       const StudyJob& j = s.samples[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"mu_r\": " << j.mu_r
-         << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"seed\": " << j.seed << ", \"count\": " << j.count << "}"
+         << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"seed\": " << j.seed << ", \"count\": " << j.count
+         << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu << "}"
          << (k + 1 < s.samples.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";

@@ -46,6 +46,10 @@ struct StudyJob {
   // strains, e.g. an oedometric test at 3 % beside a drained shear to its critical state (the report's K0 and Jaky);
   // not in the name, so that a larger value extends the job that ran
   double strain = 0;
+  // the sample's sieve curve from the grading axis (sample.grading as YAML, in place of the base's sizes; "" for the
+  // base's), its name (the job's "_g" suffix) and the curve's Cu = D60/D10 (the report's preparation figure's x)
+  std::string grading_yaml, grading_name;
+  double grading_cu = 0;
   std::string config_yaml;  // the generated run config
 };
 

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# A preparation study over sieve curves (the grading axis): tests/data/tiny-grading-study.yaml, two curves x two seeds
+# of 300 spheres. Each sample job draws from its own curve (tests/grading_study_check.py), the report's preparation
+# section and figure take the curves (prep_check.py recomputes its rows from the samples), a rerun runs nothing; a
+# grading axis on a base that shears, a bad curve, a bad name and a list for a mapping are one-line errors naming the key.
+set -u
+bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
+. "$here"/study_setup.sh
+study_setup study_grading tiny-grading-study.yaml tiny-grading-base.yaml
+py=${GRAINLAB_PYTHON:-/usr/bin/python3}
+printf '%s\n' "$plan" | grep -q "4 samples, 0 shear tests; a preparation study" || fail "validate: $plan"
+out=$("$bin" study tiny-grading-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
+[ "$(ls st/jobs/*_g*/done | wc -l)" -eq 4 ] || fail "expected 4 finished jobs named _g<grading>: $(ls st/jobs)"
+grep -q "Cu = D60/D10 of the grading asked" st/report.md && fail "the figure's axis label leaked into the report"
+[ -f st/figures/preparation.png ] || fail "no figures/preparation.png"
+"$py" "$here"/grading_study_check.py tiny-grading-study.yaml st || fail "the samples are not their curves'"
+"$py" "$here"/prep_check.py st || fail "the report's preparation section does not match the samples"
+out=$("$bin" study tiny-grading-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
+printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
+cp "$src"/tiny-study-base.yaml .
+printf 'base: tiny-study-base.yaml\naxes: {grading: {a: {diameter: [1e-3, 2e-3], passing: [0, 100]}}}\n' > bad.yaml
+"$here"/expect_error.sh "bad.yaml: axes.grading: sweeps the sample's grading in a preparation study .* shears" \
+  "$bin" validate bad.yaml || fail "a grading axis on a base that shears is not refused"
+printf 'base: tiny-grading-base.yaml\naxes: {grading: {ok: {diameter: [1e-3, 2e-3], passing: [0, 100]}, bad: {diameter: [1e-3, 2e-3], passing: [10, 100]}}}\n' > bad.yaml
+"$here"/expect_error.sh "^grainlab: error: bad.yaml: axes.grading.bad.passing\[0\]" "$bin" validate bad.yaml || fail "a bad curve is not named by its key"
+printf 'base: tiny-grading-base.yaml\naxes: {grading: {"a/b": {diameter: [1e-3, 2e-3], passing: [0, 100]}}}\n' > bad.yaml
+"$here"/expect_error.sh "^grainlab: error: bad.yaml: axes.grading.a/b: a grading's name ends its sample job's directory name" \
+  "$bin" validate bad.yaml || fail "a name that is no file name is not refused"
+printf 'base: tiny-grading-base.yaml\naxes: {grading: [1, 2]}\n' > bad.yaml
+"$here"/expect_error.sh "^grainlab: error: bad.yaml: axes.grading: must name each sieve curve" "$bin" validate bad.yaml ||
+  fail "a list for the curves' mapping is not refused"
+echo "study_grading: ok"
