@@ -409,7 +409,9 @@ Study load_study_unchecked(const std::string& path) {
     if (!g.IsMap() || g.size() == 0)
       fail(path, key, "must name each sieve curve: {fine: {diameter: [...], passing: [...]}, coarse: {...}}, at least one");
     for (auto it : g) {
-      const std::string name = it.first.as<std::string>(), k = key + "." + name;
+      const std::string name = it.first.as<std::string>();
+      std::string k = key;
+      k.append(".").append(name);
       // the name ends the sample job's directory name (_g<name>)
       if (name.empty() || name.size() > 40 ||
           name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") != std::string::npos)
@@ -427,7 +429,11 @@ Study load_study_unchecked(const std::string& path) {
       } catch (const ConfigError& e) {
         std::string m = e.what();
         const std::string job_key = tag + ": sample.grading";
-        if (m.rfind(job_key, 0) == 0) throw ConfigError(path + ": " + k + m.substr(job_key.size()));
+        if (m.rfind(job_key, 0) == 0) {
+          std::string msg = path;
+          msg.append(": ").append(k).append(m, job_key.size());
+          throw ConfigError(msg);
+        }
         if (m.rfind(tag + ": ", 0) == 0) m = m.substr(tag.size() + 2);
         fail(path, k, m);
       }
