@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <iomanip>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -254,6 +256,19 @@ int main(int argc, char** argv) {
       else if (seeds.size() > 1)
         std::printf("  seeds: %zu (%s that differ only in their seed get the report's sample-to-sample scatter)\n",
                     seeds.size(), st.shears.empty() ? "samples" : "tests");
+      // The grading axis's curves, each with its Cu (the report's preparation figure's x), in the study's order.
+      std::vector<std::string> curves;
+      for (const grainlab::StudyJob& j : st.samples) {
+        std::ostringstream c;
+        c << j.grading_name << " Cu " << std::setprecision(3) << j.grading_cu;
+        if (!j.grading_name.empty() && std::find(curves.begin(), curves.end(), c.str()) == curves.end())
+          curves.push_back(c.str());
+      }
+      if (!curves.empty()) {
+        std::string list;
+        for (const std::string& c : curves) list += (list.empty() ? "" : ", ") + c;
+        std::printf("  gradings: %zu curves in place of the base's sizes: %s\n", curves.size(), list.c_str());
+      }
       std::printf("  memory: about %s for the largest job (1.5 kB a sphere), times --jobs\n",
                   grainlab::memory_amount(sp.memory_need_max).c_str());
       std::fflush(stdout);  // the plan, then its warnings, also when both go to one file

@@ -9,6 +9,9 @@ bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 study_setup study_grading tiny-grading-study.yaml tiny-grading-base.yaml
 py=${GRAINLAB_PYTHON:-/usr/bin/python3}
 printf '%s\n' "$plan" | grep -q "4 samples, 0 shear tests; a preparation study" || fail "validate: $plan"
+# each curve's Cu as worked out by hand (linear in ln d): narrow D60/D10 = 0.8 1.25^0.2 / (0.6 (4/3)^0.2) = 1.316
+printf '%s\n' "$plan" | grep -q "gradings: 2 curves in place of the base's sizes: narrow Cu 1.32, wide Cu 1.99$" ||
+  fail "validate does not list the curves: $plan"
 out=$("$bin" study tiny-grading-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
 [ "$(ls st/jobs/*_g*/done | wc -l)" -eq 4 ] || fail "expected 4 finished jobs named _g<grading>: $(ls st/jobs)"
 grep -q "Cu = D60/D10 of the grading asked" st/report.md && fail "the figure's axis label leaked into the report"
