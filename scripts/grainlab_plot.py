@@ -1225,13 +1225,42 @@ def size_tests(out, runs):
 
 def study(out):
     """Report of a `grainlab study` directory: report.md + figures/ (stress paths, peaks, critical states,
-    critical-state lines per mu_r, stress-force-fabric shares)."""
+    critical-state lines per mu_r, stress-force-fabric shares). A study over several gradings (the grading axis) gets
+    one such report per curve, each a section of report.md with its figures in figures/g_<name>/: every fit of the
+    report (critical-state lines, failure, dilatancy, rates, seeds, liquefaction curves) groups its tests by mu_r and
+    the loading, and would pool the curves; each curve's section is the report a study of that curve alone writes."""
     import json
 
     idx = json.load(open(os.path.join(out, "study.json")))
     if not idx["jobs"] and idx.get("samples"):  # a preparation study: its base has no shear stage
         preparation_report(out, idx)
         return
+    gradings = sorted({j.get("grading", "") for j in idx["jobs"]})
+    if len(gradings) < 2:
+        lines = study_lines(out, idx, "figures")
+    else:
+        cu = {j.get("grading", ""): j.get("cu", 0) for j in idx["jobs"]}
+        lines = [f"# Study report: {idx['study']}", "",
+                 f"{len(idx['jobs'])} shear tests on {len(gradings)} gradings: " +
+                 ", ".join(f"{g} (Cu {cu[g]:.3g})" if g else "the base's sizes" for g in gradings) +
+                 ". Each grading's tests have a section of their own below, as the report of a study of that grading "
+                 "alone (its headings one level down), with their figures in `figures/g_<grading>/` (`figures/base/` "
+                 "for the base's sizes): the report's fits group tests by mu_r and the loading, and would pool the "
+                 "gradings.", ""]
+        for g in gradings:
+            sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("grading", "") == g],
+                           samples=[s for s in idx.get("samples", []) if s.get("grading", "") == g])
+            rel = f"figures/g_{g}" if g else "figures/base"
+            part = study_lines(out, sub_idx, rel)
+            title = f"## Grading {g}: Cu = {cu[g]:.3g}" if g else "## The base's sizes"
+            lines += [title] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
+    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+    print(os.path.join(out, "report.md"))
+
+
+def study_lines(out, idx, figs_rel):
+    """The lines of a study's report of the jobs in idx (study.json's, or its part of one grading), its figures saved
+    in out/figs_rel and named so in the text."""
     cs_cfg = idx["critical_state"]
     tol = (cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
     runs, missing = [], []
@@ -1241,7 +1270,7 @@ def study(out):
             runs.append((j, d, load(d)))
         else:
             missing.append(j["name"])
-    figs = os.path.join(out, "figures")
+    figs = os.path.join(out, figs_rel)
     os.makedirs(figs, exist_ok=True)
     murs = sorted({j["mu_r"] for j, _, _ in runs})
     colors = {m: plt.cm.viridis(i / max(1, len(murs) - 1)) for i, m in enumerate(murs)}
@@ -1342,14 +1371,13 @@ def study(out):
             f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
             ""]
     if (cyc or amp or oed) and not mono:  # a cyclic or K0 study: peaks and critical states are those of monotonic shears
-        write_text_atomically(os.path.join(out, "report.md"),
-                              "\n".join(head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + more_figs) + ".", ""]
-                                         + samples_section(out, idx["jobs"], idx.get("samples")) + comp_lines
-                                         + oed_lines + cyc_lines + size_classes.report_section(size_tests(out, runs))))
-        print(os.path.join(out, "report.md"))
-        return
-    lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`, `figures/sff_shares.png`"
-             + "".join(", " + f for f in more_figs) + ".", "",
+        lines = (head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + more_figs) + ".", ""]
+                 + samples_section(out, idx["jobs"], idx.get("samples")) + comp_lines
+                 + oed_lines + cyc_lines + size_classes.report_section(size_tests(out, runs)))
+    else:
+        # sff_shares.png is drawn of the critical states only (none: not drawn, not named)
+        lines = [*head, "Figures: `figures/stress_paths.png`, `figures/csl.png`"
+             + (", `figures/sff_shares.png`" if states else "") + "".join(", " + f for f in more_figs) + ".", "",
              "## Peak states", "",
              "The peak of |q| along the loading (q from the walls, < 0 in extension); the stress ratio M = q/p' of the "
              "contact stress (q = sqrt(3/2 s:s) >= 0) there and at its largest, with the mobilised friction angle "
@@ -1384,8 +1412,11 @@ def study(out):
              *contacts_section([(j["name"], d) for j, d, _ in mono]),
              *size_classes.report_section(size_tests(out, mono)),
              *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
-    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
-    print(os.path.join(out, "report.md"))
+    if figs_rel == "figures":
+        return lines
+    # the text names the study's figures (in backquotes) where this part of the study saved them; a run's own
+    # figures/ (`grainlab plot` on a test's run: "(figures/localisation.png)") stay as they are
+    return [x.replace("`figures/", f"`{figs_rel}/") for x in lines]
 
 
 def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
@@ -1438,7 +1469,7 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
             "Rowe's stress-dilatancy sigma_1/sigma_3 = K (1 - d), fitted from the largest contraction to the end (the "
             "principal stress ratio (3 + 2 q/p') / (3 - q/p') of the contact stress), gives phi_f = asin((K - 1)/(K + 1)), "
             "with the rms of the relative residuals; Rowe read phi_f between the grains' friction phi_mu = atan(mu) and "
-            "phi'_cs. figures/stress_dilatancy.png draws d against eps_a and each test's Rowe line. " + note, "",
+            "phi'_cs. `figures/stress_dilatancy.png` draws d against eps_a and each test's Rowe line. " + note, "",
             "| test | mu_r | phi'_max [°] | phi'_cs [°] | (-d)_max ± se (eps_a %) | psi_max [°] | (phi'_max - phi'_cs) / "
             "(-d)_max [°] | Rowe K | phi_f [°] (rms) | phi_mu [°] |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]

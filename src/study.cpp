@@ -390,9 +390,9 @@ Study load_study_unchecked(const std::string& path) {
              "grading, csr, strain_amplitude)");
     }
   // The grading axis: named sieve curves (sample.grading's form), one sample each, in place of the base's sizes: how a
-  // sample's e_0 depends on its grading (e_max and e_min fall as Cu rises, Youd 1973), on the report's preparation
-  // figure against each curve's Cu. A preparation study only: the shear report's fits (critical-state lines, failure,
-  // dilatancy, rates, seeds, liquefaction curves) group their tests by mu_r and would pool the gradings.
+  // sample's e_0 depends on its grading (e_max and e_min fall as Cu rises, Youd 1973: the preparation report's figure
+  // against each curve's Cu), and its shear tests' (critical-state line, friction, liquefaction resistance: the report
+  // gives each curve a section of its own, as its fits group tests by mu_r and the loading and would pool the curves).
   struct NamedGrading {
     std::string name, yaml;
     double cu;
@@ -401,10 +401,6 @@ Study load_study_unchecked(const std::string& path) {
   if (ax && ax["grading"]) {
     const std::string key = "axes.grading";
     need_generated(key);
-    if (has_tri)
-      fail(path, key, "sweeps the sample's grading in a preparation study (a base without a shear stage), and the base (" +
-                          s.base + ") shears: the report's fits group its tests by mu_r and would pool the gradings; "
-                          "run a study per grading, its base's sample.grading that curve");
     const YAML::Node g = ax["grading"];
     if (!g.IsMap() || g.size() == 0)
       fail(path, key, "must name each sieve curve: {fine: {diameter: [...], passing: [...]}, coarse: {...}}, at least one");
@@ -1186,7 +1182,8 @@ int run_study(const Study& s, const StudyOptions& o) {
          << ", \"count\": " << j.count << ", \"csr\": " << j.csr
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude
          << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group)
-         << ", \"max_axial_strain\": " << j.strain << "}"
+         << ", \"max_axial_strain\": " << j.strain << ", \"grading\": " << json_string(j.grading_name)
+         << ", \"cu\": " << j.grading_cu << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }
     // Every sample job (a preparation study's only jobs): the report's Samples and Preparation sections. p0 and e0

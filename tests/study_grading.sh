@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# A preparation study over sieve curves (the grading axis): tests/data/tiny-grading-study.yaml, two curves x two seeds
-# of 300 spheres. Each sample job draws from its own curve (tests/grading_study_check.py), the report's preparation
-# section and figure take the curves (prep_check.py recomputes its rows from the samples), a rerun runs nothing; a
-# grading axis on a base that shears, a bad curve, a bad name and a list for a mapping are one-line errors naming the key.
+# Studies over sieve curves (the grading axis). A preparation study, tests/data/tiny-grading-study.yaml, two curves x two
+# seeds of 300 spheres: each sample job draws from its own curve (tests/grading_study_check.py), the report's
+# preparation section and figure take the curves (prep_check.py recomputes its rows from the samples), a rerun runs
+# nothing. A shear study over the same curves (tiny-grading-shear-study.yaml): each curve's section of the report is
+# the report of a study of that curve alone (tests/grading_report_check.py). A bad curve, a bad name and a list for a
+# mapping are one-line errors naming the key.
 set -u
 bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 . "$here"/study_setup.sh
@@ -20,10 +22,14 @@ grep -q "Cu = D60/D10 of the grading asked" st/report.md && fail "the figure's a
 "$py" "$here"/prep_check.py st || fail "the report's preparation section does not match the samples"
 out=$("$bin" study tiny-grading-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
 printf '%s\n' "$out" | grep -q "; 0 to run" || fail "the rerun did not skip the finished jobs: $out"
-cp "$src"/tiny-study-base.yaml .
-printf 'base: tiny-study-base.yaml\naxes: {grading: {a: {diameter: [1e-3, 2e-3], passing: [0, 100]}}}\n' > bad.yaml
-"$here"/expect_error.sh "bad.yaml: axes.grading: sweeps the sample's grading in a preparation study .* shears" \
-  "$bin" validate bad.yaml || fail "a grading axis on a base that shears is not refused"
+# Shear tests over the two curves: each curve's section of the report is the report of a study of that curve alone.
+cp "$src"/tiny-grading-shear-base.yaml "$src"/tiny-grading-shear-study.yaml .
+out=$("$bin" study tiny-grading-shear-study.yaml --out sh --jobs 2 2>&1) || fail "the shear study failed: $out"
+[ "$(ls sh/jobs/shear_drained_*_g*/done | wc -l)" -eq 4 ] || fail "expected 4 finished shears named _g<grading>: $(ls sh/jobs)"
+grep -q '"grading": "wide", "cu": 1.99' sh/study.json || fail "study.json's shears lack their grading: $(cat sh/study.json)"
+sed '/^    wide:/d' tiny-grading-shear-study.yaml > narrow-alone.yaml
+out=$("$bin" study narrow-alone.yaml --out alone --jobs 2 2>&1) || fail "the one-curve study failed: $out"
+"$py" "$here"/grading_report_check.py sh narrow alone || fail "a curve's section is not its study's report"
 printf 'base: tiny-grading-base.yaml\naxes: {grading: {ok: {diameter: [1e-3, 2e-3], passing: [0, 100]}, bad: {diameter: [1e-3, 2e-3], passing: [10, 100]}}}\n' > bad.yaml
 "$here"/expect_error.sh "^grainlab: error: bad.yaml: axes.grading.bad.passing\[0\]" "$bin" validate bad.yaml || fail "a bad curve is not named by its key"
 printf 'base: tiny-grading-base.yaml\naxes: {grading: {"a/b": {diameter: [1e-3, 2e-3], passing: [0, 100]}}}\n' > bad.yaml
