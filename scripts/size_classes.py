@@ -12,7 +12,8 @@ Shire, O'Sullivan, Hanley & Fannin 2014, Geotechnique 64(8), 613-625: alpha = p'
 gap-graded samples, 1 once the fines are part of the skeleton).
 
 Classes: the sieve intervals of the run's `sample.grading` that hold mass (a gap grading's fines and coarse fractions
-apart), else four classes of equal mass (the sample's mass quartiles of diameter).
+apart), else (no grading, or one interval holding all the mass) four classes of equal mass (the sample's mass
+quartiles of diameter).
 """
 import glob
 import os
@@ -41,12 +42,15 @@ def grading_of(config_path, depth=3):
 
 
 def grading_classes(config_path):
-    """The non-empty sieve intervals [(d_lo, d_hi)] of a run's sample.grading (grading_of); None without one."""
+    """The non-empty sieve intervals [(d_lo, d_hi)] of a run's sample.grading (grading_of); None without one, or where
+    one interval holds all the mass (a curve straight from its first sieve to its last: one class would say nothing of
+    which sizes carry the load, its mass quartiles do)."""
     g = grading_of(config_path)
     if not g:
         return None
     d, p = list(map(float, g["diameter"])), list(map(float, g["passing"]))
-    return [(d[k], d[k + 1]) for k in range(len(d) - 1) if p[k + 1] > p[k]]
+    held = [(d[k], d[k + 1]) for k in range(len(d) - 1) if p[k + 1] > p[k]]
+    return held if len(held) > 1 else None
 
 
 def quartile_classes(r):
@@ -156,7 +160,7 @@ def report_section(tests):
         return []
     return ["## Load by size class at the end of each test", "",
             "From each test's last snapshot (scripts/size_classes.py): the spheres in classes (the sieve intervals of "
-            "the sample's `sample.grading`, else four classes of equal mass), each class's share of the solids, its "
+            "the sample's `sample.grading` that hold mass, else four classes of equal mass), each class's share of the solids, its "
             "contacts per sphere Z, its rattlers (under 2 contacts; wall contacts not counted), its share of the "
             "contacts' p' (each sphere's Love-Weber moment, r - delta/2 of each contact's |d| f_n) and alpha = that "
             "share over its volume share (Shire et al. 2014's stress-reduction factor: below 1, a class the skeleton "
