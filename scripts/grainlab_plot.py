@@ -1247,6 +1247,9 @@ def study(out):
                  "alone (its headings one level down), with their figures in `figures/g_<grading>/` (`figures/base/` "
                  "for the base's sizes): the report's fits group tests by mu_r and the loading, and would pool the "
                  "gradings.", ""]
+        os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+        if gradings_figure(out, idx.get("samples", []), os.path.join(out, "figures")):
+            lines += ["Figure: `figures/grading.png` (each curve, asked and drawn: one sample of each).", ""]
         for g in gradings:
             sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("grading", "") == g],
                            samples=[s for s in idx.get("samples", []) if s.get("grading", "") == g])
@@ -1773,6 +1776,24 @@ def compression_section(out, samples, figs):
     return lines, True
 
 
+def gradings_figure(out, samples, figs):
+    """figures/grading.png of a study over several curves (the grading axis): of each curve its finished sample job of the
+    lowest seed, as drawn against as asked (fig_grading, its printed lines kept out of the study's output). False where
+    fewer than two curves have a finished sample."""
+    import contextlib
+    import io
+
+    first = {}
+    for j in sorted(samples, key=lambda j: (j.get("seed", 0), j["name"])):
+        g = j.get("grading", "")
+        if g and g not in first and os.path.isfile(os.path.join(out, "jobs", j["name"], "done")):
+            first[g] = os.path.join(out, j["dir"])
+    if len(first) < 2:
+        return False
+    with contextlib.redirect_stdout(io.StringIO()):
+        return bool(fig_grading([first[g] for g in sorted(first)], figs))
+
+
 def preparation_report(out, idx):
     """report.md of a preparation study (a base without a shear stage: its jobs are the samples alone): the Samples
     and Preparation sections."""
@@ -1784,7 +1805,9 @@ def preparation_report(out, idx):
     finished = [j for j in samples if j["name"] in done]
     prep, fig = preparation_section(out, finished, figs)
     comp, comp_fig = compression_section(out, finished, figs)
-    shown = [f for f, on in (("`figures/preparation.png`", fig), ("`figures/compression.png`", comp_fig)) if on]
+    shown = [f for f, on in (("`figures/preparation.png`", fig), ("`figures/compression.png`", comp_fig),
+                             ("`figures/grading.png` (each curve, asked and drawn)", gradings_figure(out, samples, figs)))
+             if on]
     lines = [f"# Study report: {idx['study']}", "",
              f"{len(done)} samples prepared (a preparation study: its base has no shear stage)"
              + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".", "",

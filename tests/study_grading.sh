@@ -18,6 +18,8 @@ out=$("$bin" study tiny-grading-study.yaml --out st --jobs 2 2>&1) || fail "the 
 [ "$(ls st/jobs/*_g*/done | wc -l)" -eq 4 ] || fail "expected 4 finished jobs named _g<grading>: $(ls st/jobs)"
 grep -q "Cu = D60/D10 of the grading asked" st/report.md && fail "the figure's axis label leaked into the report"
 [ -f st/figures/preparation.png ] || fail "no figures/preparation.png"
+grep -q '`figures/grading.png` (each curve, asked and drawn)' st/report.md && [ -f st/figures/grading.png ] ||
+  fail "no figures/grading.png of the curves named and drawn"
 "$py" "$here"/grading_study_check.py tiny-grading-study.yaml st || fail "the samples are not their curves'"
 "$py" "$here"/prep_check.py st || fail "the report's preparation section does not match the samples"
 out=$("$bin" study tiny-grading-study.yaml --out st --jobs 2 2>&1) || fail "the rerun failed: $out"
@@ -30,6 +32,7 @@ grep -q '"grading": "wide", "cu": 1.99' sh/study.json || fail "study.json's shea
 sed '/^    wide:/d' tiny-grading-shear-study.yaml > narrow-alone.yaml
 out=$("$bin" study narrow-alone.yaml --out alone --jobs 2 2>&1) || fail "the one-curve study failed: $out"
 "$py" "$here"/grading_report_check.py sh narrow alone || fail "a curve's section is not its study's report"
+grep -q '`figures/grading.png`' sh/report.md || fail "the shear study's report names no figure of its curves"
 printf 'base: tiny-grading-base.yaml\naxes: {grading: {ok: {diameter: [1e-3, 2e-3], passing: [0, 100]}, bad: {diameter: [1e-3, 2e-3], passing: [10, 100]}}}\n' > bad.yaml
 "$here"/expect_error.sh "^grainlab: error: bad.yaml: axes.grading.bad.passing\[0\]" "$bin" validate bad.yaml || fail "a bad curve is not named by its key"
 printf 'base: tiny-grading-base.yaml\naxes: {grading: {"a/b": {diameter: [1e-3, 2e-3], passing: [0, 100]}}}\n' > bad.yaml
