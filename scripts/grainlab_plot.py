@@ -1250,6 +1250,7 @@ def study(out):
         os.makedirs(os.path.join(out, "figures"), exist_ok=True)
         if gradings_figure(out, idx.get("samples", []), os.path.join(out, "figures")):
             lines += ["Figure: `figures/grading.png` (each curve, asked and drawn: one sample of each).", ""]
+        lines += across_gradings_section(out, idx, os.path.join(out, "figures"))
         for g in gradings:
             sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("grading", "") == g],
                            samples=[s for s in idx.get("samples", []) if s.get("grading", "") == g])
@@ -1259,6 +1260,57 @@ def study(out):
             lines += [title] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
+
+
+def across_gradings_section(out, idx, figs):
+    """The monotonic shears of a study over several curves side by side (the sections after it fit each curve apart):
+    per test its curve, max q/p' (phi'_max) as its section's peak table gives it, and its end state as its critical-state
+    table measures it (the means over the window, whether or not they are steady, and which are), and
+    figures/gradings_e_p.png, that end e against ln p' for each curve: how far the curve moves the states. Empty
+    without such a test."""
+    cs_cfg = idx["critical_state"]
+    tol = (cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
+    peak = peak_settings(idx)
+    rows, pts = [], {}
+    for j in sorted(idx["jobs"], key=lambda j: (j.get("cu", 0), j.get("grading", ""), j.get("p0", 0), j["name"])):
+        d = os.path.join(out, j["dir"])
+        if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
+            continue
+        s = load(d)
+        if not s["monotonic"].any():
+            continue
+        ps = peak_state(s, peak)
+        c = critical_state(s, cs_cfg["window"], *tol)
+        g = j.get("grading", "")
+        end = c is not None and "e" in c
+        rows.append(f"| {g or 'the base'} | {j.get('cu', 0):.3g} | {j['name']} | "
+                    + (f"{ps['M']:.3f} ({ps['phi']:.1f}°)" if "M" in ps else "-") + " | "
+                    + (f"{c['p'] / 1e3:.1f} | {c['e']:.4f} | {c['qp']:.3f} | {'yes' if c['ok'] else 'no'} |" if end
+                       else "- | - | - | - |"))
+        if end:
+            pts.setdefault(g, []).append((c["p"], c["e"], c["ok"]))
+    if not rows:
+        return []
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for k, g in enumerate(sorted(pts)):
+        p_, e_, ok = (np.array(v) for v in zip(*sorted(pts[g])))
+        ok = ok.astype(bool)
+        ax.plot(p_ / 1e3, e_, "-", color=f"C{k % 10}", lw=0.8)
+        ax.plot(p_[ok] / 1e3, e_[ok], "o", color=f"C{k % 10}", label=f"{g or 'the base'} (filled: critical)")
+        ax.plot(p_[~ok] / 1e3, e_[~ok], "o", color=f"C{k % 10}", mfc="none")
+    ax.set(xscale="log", xlabel="p' [kPa]", ylabel="e", title="end of each shear (the critical-state window's means)")
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    ax.grid(True, which="both", alpha=0.3)
+    legend(ax, fontsize=8)
+    save(fig, figs, "gradings_e_p")
+    return ["## Across the gradings", "",
+            f"Each monotonic shear: its curve and Cu, max q/p' (phi'_max) as its section's peak table gives it, and its end "
+            f"state: p', e and q/p' averaged over the last {cs_cfg['window']:g} of axial strain, as its critical-state "
+            "table measures them, steady there (critical: yes) or still drifting (no; its section says by how much). "
+            "`figures/gradings_e_p.png` draws that e against p' for each curve (filled: critical).", "",
+            "| grading | Cu | test | max q/p' (phi'_max) | p' at end [kPa] | e at end | q/p' at end | critical |",
+            "|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def study_lines(out, idx, figs_rel):

@@ -33,6 +33,45 @@ else:
                      f"{want[k] if k < len(want) else '(end)'}")
     if not any(f"`figures/g_{curve}/" in x for x in part):
         fails.append(f"{curve}'s section names no figure of figures/g_{curve}/")
+
+
+def table(text, column):
+    """{test: cells} of the table in text whose header has `column`, with that column's index."""
+    for k, x in enumerate(text):
+        if x.startswith("| ") and column in x.split(" | "):
+            head = [c.strip() for c in x.strip("|").split("|")]
+            rows = {}
+            for y in text[k + 2:]:
+                if not y.startswith("| "):
+                    break
+                cells = [c.strip() for c in y.strip("|").split("|")]
+                rows[cells[head.index("test")]] = cells
+            return rows, head.index(column)
+    return {}, None
+
+
+# The table across the gradings: one row a monotonic shear, its phi'_max and (where critical) end state as its section
+# gives them.
+across = lines[lines.index("## Across the gradings"):heads[0]] if "## Across the gradings" in lines and heads else []
+rows, k_max = table(across, "max q/p' (phi'_max)")
+n_peaks = 0
+for k in heads:
+    end = next((h for h in heads if h > k), len(lines))
+    sec = lines[k:end]
+    peaks, k_peak = table(sec, "max q/p' (phi'_max)")
+    crit, k_crit = table(sec, "critical")
+    n_peaks += len(peaks)
+    for test, cells in peaks.items():
+        if test not in rows:
+            fails.append(f"{test} is not in the table across the gradings")
+            continue
+        if rows[test][k_max] != cells[k_peak]:
+            fails.append(f"{test}: phi'_max {rows[test][k_max]} across, {cells[k_peak]} in its section")
+        c = crit.get(test)
+        if c and c[k_crit] == "yes" and rows[test][4:6] != [c[k_crit + 1], c[k_crit + 3]]:
+            fails.append(f"{test}: end p', e {rows[test][4:6]} across, critical state {c[k_crit + 1]}, {c[k_crit + 3]}")
+if not rows or len(rows) != n_peaks:
+    fails.append(f"the table across the gradings has {len(rows)} rows for the sections' {n_peaks} peak rows")
 for d, text in ((out, lines), (one, alone)):
     for f in sorted(set(re.findall(r"`(figures/[^`]+\.png)`", "\n".join(text)))):
         if not os.path.isfile(os.path.join(d, f)):

@@ -3,7 +3,8 @@
 # seeds of 300 spheres: each sample job draws from its own curve (tests/grading_study_check.py), the report's
 # preparation section and figure take the curves (prep_check.py recomputes its rows from the samples), a rerun runs
 # nothing. A shear study over the same curves (tiny-grading-shear-study.yaml): each curve's section of the report is
-# the report of a study of that curve alone (tests/grading_report_check.py). A bad curve, a bad name and a list for a
+# the report of a study of that curve alone, and the table across the curves gives each shear's numbers as its section
+# does (tests/grading_report_check.py). A bad curve, a bad name and a list for a
 # mapping are one-line errors naming the key.
 set -u
 bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
