@@ -260,14 +260,16 @@ int main(int argc, char** argv) {
       std::vector<std::string> curves;
       for (const grainlab::StudyJob& j : st.samples) {
         std::ostringstream c;
-        c << j.grading_name << " Cu " << std::setprecision(3) << j.grading_cu;
+        c << j.grading_name << ": Cu " << std::setprecision(3) << j.grading_cu;
+        if (const auto dt = sp.grading_dt.find(j.grading_name); dt != sp.grading_dt.end()) c << ", dt " << dt->second << " s";
         if (!j.grading_name.empty() && std::find(curves.begin(), curves.end(), c.str()) == curves.end())
           curves.push_back(c.str());
       }
       if (!curves.empty()) {
         std::string list;
-        for (const std::string& c : curves) list += (list.empty() ? "" : ", ") + c;
-        std::printf("  gradings: %zu curves in place of the base's sizes: %s\n", curves.size(), list.c_str());
+        for (const std::string& c : curves) list += (list.empty() ? "" : "; ") + c;
+        // dt: the finest spheres' (SPEC §4), so a wider curve takes more steps to the same end
+        std::printf("  gradings: %zu curves in place of the base's sizes (%s)\n", curves.size(), list.c_str());
       }
       std::printf("  memory: about %s for the largest job (1.5 kB a sphere), times --jobs\n",
                   grainlab::memory_amount(sp.memory_need_max).c_str());

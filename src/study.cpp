@@ -838,6 +838,10 @@ StudyPlan plan_study(const Study& s) {
     const RunPlan p = plan(j, c, 0);
     keep(j, p);
     for (double n : p.steps) sp.sample_steps_max = std::max(sp.sample_steps_max, long(n));
+    if (!j.grading_name.empty()) {
+      auto [it, fresh] = sp.grading_dt.emplace(j.grading_name, p.dt);
+      if (!fresh) it->second = std::min(it->second, double(p.dt));
+    }
     for (const StageConfig& st : c.stages)
       if (st.type == StageType::Isotropic) sample_p[j.name] = st.pressure;
     sample_cfg[j.name] = c;

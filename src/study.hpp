@@ -2,6 +2,7 @@
 // Parameter studies (issue 8): one YAML names a base run config and the axes to sweep; each distinct
 // sample is prepared once and reused by every shear that needs it; jobs are resumable (finished ones
 // are skipped, interrupted ones resumed); the report is written by scripts/grainlab_plot.py.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,9 @@ struct StudyPlan {
   double memory_need_max = 0;  // bytes, the largest job
   double inertial_min = 0, inertial_max = 0;  // the shears' estimated inertial numbers at their p'_0
   std::vector<std::string> warnings;  // each names its job
+  // the grading axis's curves: the shortest time step of each curve's sample jobs [s] (a wider curve's fines step
+  // shorter: SPEC §4's m_min against k_max), by curve name
+  std::map<std::string, double> grading_dt;
 };
 StudyPlan plan_study(const Study& s);
 

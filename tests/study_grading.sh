@@ -13,8 +13,11 @@ study_setup study_grading tiny-grading-study.yaml tiny-grading-base.yaml
 py=${GRAINLAB_PYTHON:-/usr/bin/python3}
 printf '%s\n' "$plan" | grep -q "4 samples, 0 shear tests; a preparation study" || fail "validate: $plan"
 # each curve's Cu as worked out by hand (linear in ln d): narrow D60/D10 = 0.8 1.25^0.2 / (0.6 (4/3)^0.2) = 1.316
-printf '%s\n' "$plan" | grep -q "gradings: 2 curves in place of the base's sizes: narrow Cu 1.32, wide Cu 1.99$" ||
+printf '%s\n' "$plan" | grep -qE "gradings: 2 curves in place of the base's sizes \(narrow: Cu 1.32, dt ([0-9.e-]+) s; wide: Cu 1.99, dt ([0-9.e-]+) s\)$" ||
   fail "validate does not list the curves: $plan"
+# the wide curve's finest spheres (0.3 mm against 0.6 mm) step shorter: dt ~ sqrt(m_min / k_max) ~ d_min^1.5 / d_max^0.5
+dts=$(printf '%s\n' "$plan" | sed -nE 's/.*narrow: Cu 1.32, dt ([0-9.e-]+) s; wide: Cu 1.99, dt ([0-9.e-]+) s.*/\1 \2/p')
+awk -v a="${dts% *}" -v b="${dts#* }" 'BEGIN { exit !(b + 0 < a + 0) }' || fail "the wide curve's dt is not the shorter: $dts"
 out=$("$bin" study tiny-grading-study.yaml --out st --jobs 2 2>&1) || fail "the study failed: $out"
 [ "$(ls st/jobs/*_g*/done | wc -l)" -eq 4 ] || fail "expected 4 finished jobs named _g<grading>: $(ls st/jobs)"
 grep -q "Cu = D60/D10 of the grading asked" st/report.md && fail "the figure's axis label leaked into the report"
