@@ -1251,13 +1251,25 @@ def study(out):
         if gradings_figure(out, idx.get("samples", []), os.path.join(out, "figures")):
             lines += ["Figure: `figures/grading.png` (each curve, asked and drawn: one sample of each).", ""]
         lines += across_gradings_section(out, idx, os.path.join(out, "figures"))
+        parts, crr_rows = [], []
         for g in gradings:
             sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("grading", "") == g],
                            samples=[s for s in idx.get("samples", []) if s.get("grading", "") == g])
             rel = f"figures/g_{g}" if g else "figures/base"
-            part = study_lines(out, sub_idx, rel)
+            fits = []
+            part = study_lines(out, sub_idx, rel, fits)
             title = f"## Grading {g}: Cu = {cu[g]:.3g}" if g else "## The base's sizes"
-            lines += [title] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
+            parts += [title] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
+            crr_rows += [f"| {g or 'the base'} | {cu[g]:.3g} | {f['mu_r']:g} | {f['cond'] or '–'} | {f['what']} | "
+                         f"{f['tests']} | {f['crr']} |" for f in fits]
+        if crr_rows:
+            lines += ["## Liquefaction resistance across the gradings", "",
+                      f"Each curve's liquefaction-resistance fits (its section's table: CSR = a N^-b per mu_r, the "
+                      f"conditions that vary and criterion) side by side, CRR the CSR that meets the criterion in "
+                      f"{CRR_CYCLES} cycles.", "",
+                      f"| grading | Cu | mu_r | conditions | criterion | tests | CRR (N = {CRR_CYCLES}) |",
+                      "|---|---|---|---|---|---|---|", *crr_rows, ""]
+        lines += parts
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -1313,9 +1325,10 @@ def across_gradings_section(out, idx, figs):
             "|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
-def study_lines(out, idx, figs_rel):
+def study_lines(out, idx, figs_rel, fits=None):
     """The lines of a study's report of the jobs in idx (study.json's, or its part of one grading), its figures saved
-    in out/figs_rel and named so in the text."""
+    in out/figs_rel and named so in the text. fits: a list that gets the liquefaction-resistance curves it fits
+    (cyclic_section)."""
     cs_cfg = idx["critical_state"]
     tol = (cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
     runs, missing = [], []
@@ -1384,7 +1397,7 @@ def study_lines(out, idx, figs_rel):
             cs_rows.append(f"| {j['name']} | {j['mu_r']:g} | {direction} | no: {c['why']} | | | | | | | | | | | | |")
     measures_note = stress_measures_note(cs_ok)
     csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
-    cyc_lines = cyclic_section(cyc, figs, colors) if cyc else []
+    cyc_lines = cyclic_section(cyc, figs, colors, fits) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
     rate_lines = rate_section(mono, cs_cfg["window"], tol, figs, peak)
     seed_lines = seed_section(mono, cs_cfg["window"], tol, figs, peak)
@@ -2178,12 +2191,13 @@ CYCLIC_CONDITIONS = (("e0", lambda v: f"e0 {v:g}" if v else "e0 base"),
                      ("axial_strain_rate", lambda v: f"{v:g}/s" if v else "base rate"))
 
 
-def cyclic_section(cyc, figs, colors):
+def cyclic_section(cyc, figs, colors, fits=None):
     """Cyclic tests of a study: the cycle number N each reached, N at each liquefaction criterion (from the run's
     summary.json: r_u = u/p'_0 reaching the stage's liquefaction_ru, the double-amplitude axial strain reaching its
     liquefaction_da_strain; both caught on the step), a row for each cyclic stage of a staged test, and the
     liquefaction-resistance curve CSR - N per mu_r of each test's first cyclic stage (figures/liquefaction.png; filled:
-    N at a criterion, hollow: still standing after N cycles)."""
+    N at a criterion, hollow: still standing after N cycles). fits: a list that gets each fitted curve's mu_r, conditions
+    (its row's text, "" where none vary), criterion, tests and CRR as its row gives them."""
     rows = []
     fig, ax = plt.subplots(figsize=(7, 4.5))
     crits = set()
@@ -2279,6 +2293,9 @@ def cyclic_section(cyc, figs, colors):
         out = "" if f["n_min"] <= CRR_CYCLES <= f["n_max"] else " (extrapolated)"
         fit_rows.append(f"| {mu_r:g} | {cond + ' | ' if varying else ''}{what} | {f['tests']} | {f['a']:.4g} | "
                         f"{f['b']:.4g} | {f['crr']:.4g}{out} | {f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
+        if fits is not None:
+            fits.append(dict(mu_r=mu_r, cond=cond if varying else "", what=what, tests=f["tests"],
+                             crr=f"{f['crr']:.4g}{out}"))
         if p0_of[(mu_r, cond)] > 0:  # the CRR of each confining pressure, for K_sigma
             by_p0.setdefault((mu_r, rest_of[(mu_r, cond)], what), []).append((p0_of[(mu_r, cond)], f["crr"]))
         fitted.add((mu_r, key))

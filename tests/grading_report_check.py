@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Oracle of a shear study's report over several gradings (tests/study_grading.sh): each curve's section of report.md
 is the report of a study of that curve alone (its headings one level down, its figures in figures/g_<curve>/): the same
-jobs give the same bits, so the two texts must agree line for line past their titles. And every figure either report
-names in backquotes exists.
+jobs give the same bits, so the two texts must agree line for line past their titles. The tables across the curves
+give each monotonic shear's phi'_max (and a critical state's p', e) and each liquefaction-resistance fit's CRR as its
+section does. And every figure either report names in backquotes exists.
   grading_report_check.py STUDY_DIR CURVE ONE_CURVE_STUDY_DIR"""
 import os
 import re
@@ -55,12 +56,25 @@ def table(text, column):
 across = lines[lines.index("## Across the gradings"):heads[0]] if "## Across the gradings" in lines and heads else []
 rows, k_max = table(across, "max q/p' (phi'_max)")
 n_peaks = 0
+crr_want = []
 for k in heads:
     end = next((h for h in heads if h > k), len(lines))
     sec = lines[k:end]
     peaks, k_peak = table(sec, "max q/p' (phi'_max)")
     crit, k_crit = table(sec, "critical")
     n_peaks += len(peaks)
+    # the section's liquefaction-resistance fits, as the table across the curves must give them
+    fit_head = next((x for x in sec if x.startswith("| mu_r |") and "| CRR (N = " in x), None)
+    if fit_head:
+        head = [c.strip() for c in fit_head.strip("|").split("|")]
+        at = sec.index(fit_head)
+        cu = lines[k].split(": Cu = ")[1]
+        for y in sec[at + 2:]:
+            if not y.startswith("| "):
+                break
+            c = dict(zip(head, [v.strip() for v in y.strip("|").split("|")]))
+            crr_want.append(f"| {lines[k][len('## Grading '):].split(':')[0]} | {cu} | {c['mu_r']} | "
+                            f"{c.get('conditions', '–')} | {c['criterion']} | {c['tests']} | {c[head[head.index('b') + 1]]} |")
     for test, cells in peaks.items():
         if test not in rows:
             fails.append(f"{test} is not in the table across the gradings")
@@ -70,8 +84,16 @@ for k in heads:
         c = crit.get(test)
         if c and c[k_crit] == "yes" and rows[test][4:6] != [c[k_crit + 1], c[k_crit + 3]]:
             fails.append(f"{test}: end p', e {rows[test][4:6]} across, critical state {c[k_crit + 1]}, {c[k_crit + 3]}")
-if not rows or len(rows) != n_peaks:
+if len(rows) != n_peaks:
     fails.append(f"the table across the gradings has {len(rows)} rows for the sections' {n_peaks} peak rows")
+crr_got = []
+if "## Liquefaction resistance across the gradings" in lines:
+    at = next(k for k in range(lines.index("## Liquefaction resistance across the gradings"), len(lines))
+              if lines[k].startswith("| grading |"))
+    crr_got = lines[at + 2:next((k for k in range(at + 2, len(lines)) if not lines[k].startswith("| ")), len(lines))]
+if crr_got != crr_want:
+    fails.append("the liquefaction resistance across the gradings:\n  got    " + "\n         ".join(crr_got)
+                 + "\n  wanted " + "\n         ".join(crr_want))
 for d, text in ((out, lines), (one, alone)):
     for f in sorted(set(re.findall(r"`(figures/[^`]+\.png)`", "\n".join(text)))):
         if not os.path.isfile(os.path.join(d, f)):

@@ -4,7 +4,8 @@
 # preparation section and figure take the curves (prep_check.py recomputes its rows from the samples), a rerun runs
 # nothing. A shear study over the same curves (tiny-grading-shear-study.yaml): each curve's section of the report is
 # the report of a study of that curve alone, and the table across the curves gives each shear's numbers as its section
-# does (tests/grading_report_check.py). A bad curve, a bad name and a list for a
+# does (tests/grading_report_check.py); likewise cyclic tests over the curves (tiny-grading-cyclic-study.yaml), their
+# liquefaction-resistance fits across the curves as each section gives them. A bad curve, a bad name and a list for a
 # mapping are one-line errors naming the key.
 set -u
 bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
@@ -37,6 +38,15 @@ sed '/^    wide:/d' tiny-grading-shear-study.yaml > narrow-alone.yaml
 out=$("$bin" study narrow-alone.yaml --out alone --jobs 2 2>&1) || fail "the one-curve study failed: $out"
 "$py" "$here"/grading_report_check.py sh narrow alone || fail "a curve's section is not its study's report"
 grep -q '`figures/grading.png`' sh/report.md || fail "the shear study's report names no figure of its curves"
+grep -q "^## Across the gradings" sh/report.md || fail "the shear study's report has no table across the gradings"
+# Cyclic tests over the curves: each curve's section is its study alone, its liquefaction-resistance fit across.
+cp "$src"/tiny-grading-cyclic-base.yaml "$src"/tiny-grading-cyclic-study.yaml .
+out=$("$bin" study tiny-grading-cyclic-study.yaml --out cy --jobs 2 2>&1) || fail "the cyclic study failed: $out"
+sed '/^    wide:/d' tiny-grading-cyclic-study.yaml > narrow-cyclic.yaml
+out=$("$bin" study narrow-cyclic.yaml --out cy-alone --jobs 2 2>&1) || fail "the one-curve cyclic study failed: $out"
+grep -q "^| narrow | 1.32 | 0 | – | 2 % DA strain | 2 | " cy/report.md ||
+  fail "no liquefaction-resistance fit of the narrow curve across the gradings: $(sed -n '/## Liquefaction resistance across/,/## Grading/p' cy/report.md)"
+"$py" "$here"/grading_report_check.py cy narrow cy-alone || fail "a curve's cyclic section is not its study's report"
 printf 'base: tiny-grading-base.yaml\naxes: {grading: {ok: {diameter: [1e-3, 2e-3], passing: [0, 100]}, bad: {diameter: [1e-3, 2e-3], passing: [10, 100]}}}\n' > bad.yaml
 "$here"/expect_error.sh "^grainlab: error: bad.yaml: axes.grading.bad.passing\[0\]" "$bin" validate bad.yaml || fail "a bad curve is not named by its key"
 printf 'base: tiny-grading-base.yaml\naxes: {grading: {"a/b": {diameter: [1e-3, 2e-3], passing: [0, 100]}}}\n' > bad.yaml
