@@ -2290,12 +2290,11 @@ def cyclic_section(cyc, figs, colors, fits=None):
             unfitted.append(f"mu_r {mu_r:g}{', ' + cond if varying else ''}, {what} "
                             f"({len(pts)} test{'s' if len(pts) != 1 else ''})")
             continue
-        out = "" if f["n_min"] <= CRR_CYCLES <= f["n_max"] else " (extrapolated)"
+        crr = f"{f['crr']:.4g}" + ("" if f["n_min"] <= CRR_CYCLES <= f["n_max"] else " (extrapolated)")
         fit_rows.append(f"| {mu_r:g} | {cond + ' | ' if varying else ''}{what} | {f['tests']} | {f['a']:.4g} | "
-                        f"{f['b']:.4g} | {f['crr']:.4g}{out} | {f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
+                        f"{f['b']:.4g} | {crr} | {f['n_min']:.3g}–{f['n_max']:.3g} | {f['rms']:.3g} |")
         if fits is not None:
-            fits.append(dict(mu_r=mu_r, cond=cond if varying else "", what=what, tests=f["tests"],
-                             crr=f"{f['crr']:.4g}{out}"))
+            fits.append(dict(mu_r=mu_r, cond=cond if varying else "", what=what, tests=f["tests"], crr=crr))
         if p0_of[(mu_r, cond)] > 0:  # the CRR of each confining pressure, for K_sigma
             by_p0.setdefault((mu_r, rest_of[(mu_r, cond)], what), []).append((p0_of[(mu_r, cond)], f["crr"]))
         fitted.add((mu_r, key))
