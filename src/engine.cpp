@@ -630,7 +630,8 @@ HealthReport Engine::check_health(const HealthLimits& lim) const {
     os << "particles " << mo.i << " and " << mo.j << " overlap by " << mo.ratio << " of the smaller radius (limit "
        << lim.max_overlap << "), normal force " << kn * delta << " N, closing by " << 100 * per_step
        << " % of the overlap per step";
-    if (per_step < kSqueeze)
+    rep.squeeze = per_step < kSqueeze;
+    if (rep.squeeze)
       return fail(os.str(),
                   "a slow squeeze, not an impact: the contacts are too soft for the load (raise material.E, lower "
                   "the pressure, or allow deeper overlaps with numerics.max_overlap); a smaller dt will not help",

@@ -129,6 +129,8 @@ struct HealthLimits {
 struct HealthReport {
   bool ok = true;
   std::string what;  // one line: step, particle ids, offending quantity, suggested dt
+  bool squeeze = false;  // the overlap limit passed in a slow squeeze: the load, not the time step (the caller may
+                         // know which load: Laboratory::assert_healthy)
 };
 
 // Thrown for a parameter outside its valid range; the message says which, the range, and a fix.
