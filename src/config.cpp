@@ -430,6 +430,7 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
   c.engine.servo_max_step = n.real("servo_max_step", 1e-3, 0, 1, true);
   c.health.max_overlap = n.real("max_overlap", 0.2, 0, 10, true);
   c.health.max_step_move = n.real("max_step_move", 0.5, 0, 100, true);
+  c.engine.fines_mass_radius = n.real("fines_mass_radius", 0, 0, 1, false);
   n.finish();
 
   YAML::Node st = top.raw("stages");
@@ -607,8 +608,10 @@ std::string resolved_config_yaml(const RunConfig& c) {
   e << YAML::Key << "skin" << YAML::Value << c.engine.skin << YAML::Key << "inner_skin" << YAML::Value
     << c.engine.inner_skin << YAML::Key << "damping" << YAML::Value
     << c.engine.damping << YAML::Key << "servo_max_step" << YAML::Value << c.engine.servo_max_step << YAML::Key << "max_overlap"
-    << YAML::Value << c.health.max_overlap << YAML::Key << "max_step_move" << YAML::Value << c.health.max_step_move
-    << YAML::EndMap;
+    << YAML::Value << c.health.max_overlap << YAML::Key << "max_step_move" << YAML::Value << c.health.max_step_move;
+  // written only where set, as dt: the resolved config of a run without it reads as every earlier build's
+  if (c.engine.fines_mass_radius > 0) e << YAML::Key << "fines_mass_radius" << YAML::Value << c.engine.fines_mass_radius;
+  e << YAML::EndMap;
   e << YAML::Key << "stages" << YAML::Value << YAML::BeginSeq;
   for (const StageConfig& sc : c.stages) {
     e << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sc.name << YAML::Key << "type" << YAML::Value

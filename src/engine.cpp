@@ -41,7 +41,7 @@ StableStep stable_step(const std::vector<Real>& r, Real density, Real density_sc
   if (r.empty()) return st;
   Real r_min = r[0], r_max = r[0], I_min = 0;
   for (size_t i = 0; i < r.size(); ++i) {
-    const Real m = sphere_mass(r[i], density, density_scaling);
+    const Real m = particle_mass(r[i], density, density_scaling, p.fines_mass_radius);
     const Real I = Real(0.4 * m * r[i] * r[i]);
     st.m_min = i == 0 ? m : std::min(st.m_min, m);
     I_min = i == 0 ? I : std::min(I_min, I);
@@ -84,6 +84,7 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
   if (s.x.size() != s.r.size()) throw ParameterError("particle positions and radii differ in count");
   if (!(s.density > 0)) throw ParameterError("density must be > 0");
   if (!(s.density_scaling >= 1)) throw ParameterError("density_scaling must be >= 1 (SPEC §1)");
+  if (!(params_.fines_mass_radius >= 0)) throw ParameterError("numerics.fines_mass_radius must be >= 0 (0 = off)");
   if (params_.E_wall <= 0) params_.E_wall = params_.contact.E;
   if (box_ && walls_.count != 6) throw ParameterError("a box needs exactly 6 walls");
   if (params_.pair_kernel == PairKernel::Lanes && !kPairLanesBuilt)
@@ -117,8 +118,9 @@ Engine::Engine(const ParticleSetup& s, const EngineParams& params, const WallSet
       hw(i, k) = s.w.empty() ? 0 : s.w[i][k];
     }
     hr(i) = s.r[i];
-    // SPEC §1: I = 2/5 m r^2, both times the density scaling factor.
-    hm(i) = sphere_mass(s.r[i], s.density, s.density_scaling);
+    // SPEC §1: I = 2/5 m r^2, both times the density scaling factor (and a fine's by its mass scaling: the same
+    // factor on m and I, as s, so its rotation keeps the translation's period ratio).
+    hm(i) = particle_mass(s.r[i], s.density, s.density_scaling, params_.fines_mass_radius);
     hI(i) = 0.4 * hm(i) * s.r[i] * s.r[i];
     hid(i) = i;
     r_min_ = std::min(r_min_, s.r[i]);

@@ -62,6 +62,11 @@ struct EngineParams {
   // configs/quick.yaml, a dynamic run, the same within noise; perf/NOTES.md attempt 29).
   Real inner_skin = 0.05;     // fraction of skin, [0, 1)                                [-]
   Real servo_max_step = 1e-3; // a servoed wall moves at most this fraction of r_min per step (SPEC §3)
+  // The fines' mass scaling (choice, beyond SPEC §1's one factor s; 0 = off): a sphere smaller than this radius
+  // weighs as a sphere of this radius (its m and I = 2/5 m r^2 times (r_f / r)^3, on top of s), so the stable step
+  // (SPEC §4, set by the lightest sphere against the stiffest spring) is that of a sphere of radius r_f. A wide
+  // grading's step is the fines', most of which are rattlers in the coarse grains' voids (configs/README.md).  [m]
+  Real fines_mass_radius = 0;
   // Which contact kernel (kernels/dem.hpp): both give the same bits, so this is a speed choice only; the
   // tests run both. Lanes where it is built, else Row.
   PairKernel pair_kernel = kDefaultPairKernel;
@@ -79,6 +84,11 @@ struct StableStep {
 // SPEC §1: m = 4/3 pi r^3 rho, times the density scaling factor.
 inline Real sphere_mass(Real r, Real density, Real density_scaling) {
   return Real(4.0 / 3.0 * M_PI * r * r * r * density * density_scaling);
+}
+// The mass the engine gives a sphere of radius r: sphere_mass, a sphere under fines_mass_radius weighing as one of
+// that radius (EngineParams::fines_mass_radius; 0: SPEC §1's mass, to the bit).
+inline Real particle_mass(Real r, Real density, Real density_scaling, Real fines_mass_radius) {
+  return sphere_mass(r < fines_mass_radius ? fines_mass_radius : r, density, density_scaling);
 }
 StableStep stable_step(const std::vector<Real>& r, Real density, Real density_scaling, const EngineParams& p);
 // The step a run takes: p.contact.dt if set (refused above the limit, with the numbers and the fix), else

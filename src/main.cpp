@@ -329,6 +329,7 @@ int main(int argc, char** argv) {
     if (plan.memory_available > 0)
       std::printf("; %s available (%s)", grainlab::memory_amount(plan.memory_available).c_str(), plan.memory_source.c_str());
     std::printf("\n  %s\n", plan.sample.c_str());
+    if (!plan.fines.empty()) std::printf("  %s\n", plan.fines.c_str());
     for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
     std::fflush(stdout);
     for (const auto* ws : {&plan.sample_warnings, &plan.warnings})

@@ -1834,6 +1834,8 @@ void Laboratory::save_sample(const StageConfig& sc) {
     write_state(w, s);
     w.attr("density", density_);
     w.attr("density_scaling", scaling_);
+    // provenance only: a run that reuses the sample weighs its fines by its own numerics.fines_mass_radius
+    if (cfg_.engine.fines_mass_radius > 0) w.attr("fines_mass_radius", cfg_.engine.fines_mass_radius);
     w.attr("p", r.p);
     w.attr("e", r.e);
     w.attr("e_inner", r.e_inner);
@@ -2231,7 +2233,11 @@ void Laboratory::write_summary() const {
   js << "{\n  \"config\": " << json_string(cfg_.path) << ",\n  \"build\": " << json_string(build_info())
      << ",\n  \"sample\": {\"spheres\": " << eng_->num_particles() << ", \"d10\": " << num(grading_.d10)
      << ", \"d30\": " << num(grading_.d30) << ", \"d50\": " << num(grading_.d50) << ", \"d60\": " << num(grading_.d60)
-     << ", \"cu\": " << num(grading_.cu) << ", \"cc\": " << num(grading_.cc) << "}"
+     << ", \"cu\": " << num(grading_.cu) << ", \"cc\": " << num(grading_.cc);
+  // The fines' mass scaling where it is on (beyond SPEC §1, recorded as its density scaling is): the radius under
+  // which the spheres weigh as one of it.
+  if (const Real rf = cfg_.engine.fines_mass_radius; rf > 0) js << ", \"fines_mass_radius\": " << num(rf);
+  js << "}"
      << ",\n  \"stages\": [";
   for (size_t k = 0; k < lab_.results.size(); ++k) {
     const StageResult& r = lab_.results[k];
@@ -2322,6 +2328,7 @@ void Laboratory::flush_outputs() {
     w.attr("config", resolved_config_yaml(cfg_));
     w.attr("build", build_info());
     w.attr("density_scaling", scaling_);
+    if (cfg_.engine.fines_mass_radius > 0) w.attr("fines_mass_radius", cfg_.engine.fines_mass_radius);
     if (!sample_digest_.empty()) w.attr("sample_digest", sample_digest_);
     w.group("/series");
     const auto& cols = series_columns();
@@ -2372,13 +2379,15 @@ RunResult Laboratory::run() {
       throw std::runtime_error(out_ + "/checkpoints: no readable checkpoint to resume from");
   }
   if (!opt_.quiet) {
-    std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g\n",
-                build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_);
+    std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g%s\n",
+                build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_,
+                cfg_.engine.fines_mass_radius > 0 ? " | fines scaled (plan)" : "");
     // The resolved config (every default filled in) is the run's config.yaml, not the console's: 50 lines before
     // the first progress line buried the plan.
     std::printf("output: %s (config.yaml: the resolved config, every default filled in)\n", out_.c_str());
     if (!opt_.resume) {
       std::printf("plan:\n  %s\n", plan.sample.c_str());
+      if (!plan.fines.empty()) std::printf("  %s\n", plan.fines.c_str());
       for (const std::string& l : plan.stages) std::printf("  %s\n", l.c_str());
     }
   }
@@ -2566,6 +2575,36 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
     throw std::runtime_error(os.str());
   }
   plan.dt = choose_time_step(st, ep);
+  if (const Real rf = ep.fines_mass_radius; rf > 0) {
+    // What the fines' mass scaling does to this sample: how many spheres and what share of the solid mass it makes
+    // heavier, by how much the sample's mass grows, and the stable step against SPEC §1's masses.
+    long scaled = 0;
+    double m_spec = 0, m_fines = 0, m_run = 0;
+    for (Real ri : r) {
+      const double ms = sphere_mass(ri, density, scaling);
+      m_spec += ms;
+      m_run += particle_mass(ri, density, scaling, rf);
+      if (ri < rf) {
+        ++scaled;
+        m_fines += ms;
+      }
+    }
+    EngineParams spec = ep;
+    spec.fines_mass_radius = 0;
+    const Real limit_spec = stable_step(r, density, scaling, spec).limit(plan.rolling);
+    std::ostringstream os;
+    os << std::setprecision(3) << "fines: numerics.fines_mass_radius = " << rf * 1e3 << " mm: " << scaled << " of "
+       << r.size() << " spheres (" << 100 * m_fines / m_spec << " % of the solid mass) weigh as a sphere of that "
+       << "radius, the sample's mass x " << m_run / m_spec << "; stable limit " << plan.dt_limit << " s against "
+       << limit_spec << " s with SPEC §1's masses (x " << plan.dt_limit / limit_spec << ")";
+    plan.fines = os.str();
+    if (scaled == 0) {
+      std::ostringstream w;
+      w << std::setprecision(4) << "numerics.fines_mass_radius = " << rf << " m is not above the smallest radius, "
+        << *std::min_element(r.begin(), r.end()) << " m: no sphere is made heavier";
+      plan.sample_warnings.push_back(w.str());
+    }
+  }
   double d_mean = 0, v_solid = 0;
   for (Real ri : r) {
     d_mean += 2 * ri;
@@ -2577,7 +2616,10 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
   // fraction 0.6. A cyclic loop measures the material only when its loading is slow against the sample's response:
   // the loading frequency 1/(4 t_q) (t_q: a quarter cycle) against the sample's fundamental frequency ~ c / (4 L)
   // (a quarter wavelength over its height) is T_w / t_q.
-  const double m_mean = sphere_mass(Real(d_mean / 2), density, scaling), k_mean = ep.contact.E * d_mean / 2;
+  // (The mean sphere's mass as the engine gives it: with the fines' scaling on, a mean sphere that is a fine is
+  // heavier, its waves slower, and the transits longer: the conservative side of the warnings below.)
+  const double m_mean = particle_mass(Real(d_mean / 2), density, scaling, ep.fines_mass_radius),
+               k_mean = ep.contact.E * d_mean / 2;
   const double transit = std::cbrt(v_solid / 0.6) / (d_mean * std::sqrt(k_mean / m_mean));
   plan.transit = transit;
 

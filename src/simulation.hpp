@@ -82,6 +82,7 @@ struct RunPlan {
   double transit = 0;                 // the time a compression wave takes across the sample [s] (plan_run)
   bool placed = false;                // the sample was placed as the run will place it (plan_run's place)
   std::string sample;                 // the sample's sizes: where from, D50, Cu, Cc by mass (and against its grading)
+  std::string fines;                  // numerics.fines_mass_radius's effect (empty: off): spheres, mass, step
   GradingIndices grading;             // the sample's own (its spheres', by mass)
 };
 // The largest miss, in percentage points passing at a sieve, of a drawn sample against its sample.grading above which

@@ -118,3 +118,65 @@ TEST(Collision, ViscousRestitutionMatchesClosedForm) {
   }
   EXPECT_LT(last, first / 5);
 }
+
+// numerics.fines_mass_radius (EngineParams::fines_mass_radius): a sphere under the radius weighs as a sphere of that
+// radius. A fine (r 0.1 mm, scaled to the mass of a 0.2 mm sphere: 8x) hits a coarse sphere (0.3 mm) at rest, head-on,
+// undamped. The linear contact's duration is pi sqrt(m*/k) with m* of the scaled mass (leapfrog's bound as above; the
+// unscaled fine's would be 2.5x shorter), the pair's momentum with the scaled masses is conserved to rounding (pair
+// forces are equal and opposite each step: 1e-12, where the unscaled masses would miss by 88 %), and the exit
+// velocities are the elastic collision's of those masses. The step is f sqrt(m(r_f) / k_max): 2^1.5 = 2.83x the
+// unscaled run's; the rolling limit sqrt(I_min / k_r) has I_min = 2/5 m(r_f) r_min^2.
+TEST(Collision, AFineWeighsAsASphereOfTheFinesMassRadius) {
+  const Real rs = 0.1e-3, rb = 0.3e-3, rf = 0.2e-3, V = 0.05, f = 0.05;
+  const Real ms = test::sphere_mass(rf), mb = test::sphere_mass(rb), k = 100e6 * 0.5 * (rs + rb);
+  EngineParams p;
+  p.contact = test::reference_contact();
+  p.damping = 0;
+  p.dt_factor = f;
+  p.skin = 0.05e-3;
+  p.fines_mass_radius = rf;
+  ParticleSetup s;
+  const Real gap0 = 10e-6;
+  s.x = {{0, 0, 0}, {rs + rb + gap0, 0, 0}};
+  s.v = {{V, 0, 0}, {0, 0, 0}};
+  s.r = {rs, rb};
+  Engine eng(s, p, WallSet{}, false);
+  EXPECT_NEAR(eng.dt(), f * std::sqrt(ms / (100e6 * rb)), 1e-12 * eng.dt());
+  {
+    EngineParams off = p;
+    off.fines_mass_radius = 0;
+    const Engine spec(s, off, WallSet{}, false);
+    EXPECT_NEAR(eng.dt() / spec.dt(), std::pow(rf / rs, 1.5), 1e-12);
+    EngineParams big = p;
+    big.fines_mass_radius = 0.5 * rs;  // under every radius: SPEC §1's masses, to the bit
+    EXPECT_EQ(Engine(s, big, WallSet{}, false).dt(), spec.dt());
+  }
+  const StableStep st = stable_step(s.r, 2650, 1, p);
+  const Real rbar = 0.5 * (rs + rb);
+  EXPECT_NEAR(st.roll, std::sqrt(0.4 * ms * rs * rs / (100e6 * rbar * rbar * rbar)), 1e-12 * st.roll);
+  EXPECT_NEAR(st.m_min, ms, 1e-12 * ms);
+  auto gap = [&] {
+    const auto x = eng.positions();
+    return x[1][0] - x[0][0] - rs - rb;
+  };
+  Real g_prev = gap(), t_in = -1, t_out = -1;
+  for (int n = 0; n < 200000 && t_out < 0; ++n) {
+    const Real t0 = eng.time();
+    eng.step();
+    const Real g = gap();
+    if (t_in < 0 && g_prev > 0 && g <= 0) t_in = t0 + eng.dt() * g_prev / (g_prev - g);
+    if (t_in >= 0 && g_prev <= 0 && g > 0) t_out = t0 + eng.dt() * (-g_prev) / (g - g_prev);
+    g_prev = g;
+  }
+  ASSERT_GT(t_out, 0) << "no separation";
+  const Real T = M_PI * std::sqrt(ms * mb / (ms + mb) / k);
+  const Real wdt = eng.dt() * std::sqrt(k * (ms + mb) / (ms * mb));
+  std::printf("  duration %.6e s (exact %.6e, unscaled fine %.6e), omega dt %.3f\n", t_out - t_in, T,
+              M_PI * std::sqrt(test::sphere_mass(rs) * mb / (test::sphere_mass(rs) + mb) / k), wdt);
+  EXPECT_LT(std::abs(t_out - t_in - T) / T, 1.25 * wdt * wdt / 24);
+  const auto v = eng.velocities();
+  EXPECT_NEAR(ms * v[0][0] + mb * v[1][0], ms * V, 1e-12 * ms * V);
+  // Elastic exit velocities of the scaled masses, to leapfrog's exit-speed bound (above).
+  EXPECT_NEAR(v[0][0], (ms - mb) / (ms + mb) * V, 0.5 * wdt * wdt * V);
+  EXPECT_NEAR(v[1][0], 2 * ms / (ms + mb) * V, 0.5 * wdt * wdt * V);
+}

@@ -6,6 +6,7 @@
 #include <pwd.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstdlib>
@@ -121,6 +122,53 @@ TEST(Config, AGradingReadsBackFromTheResolvedConfig) {
   ASSERT_EQ(few.sample_warnings.size(), 1u);
   EXPECT_NE(few.sample_warnings[0].find("pass 61.1 % at 0.8 mm against the 55 % asked"), std::string::npos);
   EXPECT_TRUE(few.warnings.empty());
+}
+
+// numerics.fines_mass_radius: read, written back only where set (a run without it resolves as every earlier build's),
+// and the plan's account of it checked against the radii: the spheres under the radius, their share of the solid mass,
+// the sample's mass factor, and the stable limit against SPEC §1's masses, (r_f / r_min)^1.5 without rolling (the
+// lightest sphere against the same stiffest spring). A radius under every sphere is a warning: it scales nothing.
+TEST(Config, TheFinesMassRadiusIsPlannedAndResolved) {
+  const std::string sample = "sample: {count: 800, seed: 5, grading: {diameter: [0.2e-3, 1.8e-3], passing: [0, 100]}}\n";
+  const RunConfig c = load_run_config(write_tmp("fines", sample + "numerics: {fines_mass_radius: 0.2e-3}\n" + kMinimal));
+  EXPECT_EQ(c.engine.fines_mass_radius, 0.2e-3);
+  const std::string text = resolved_config_yaml(c);
+  EXPECT_NE(text.find("fines_mass_radius: 2.0e-04"), std::string::npos) << text;
+  EXPECT_EQ(resolved_config_yaml(parse_run_config(YAML::Load(text), "config.yaml")), text);
+  const RunConfig off = load_run_config(write_tmp("fines_off", sample + kMinimal));
+  EXPECT_EQ(resolved_config_yaml(off).find("fines_mass_radius"), std::string::npos);
+  const std::vector<Real> r = packing_radii(c.packing);
+  long below = 0;
+  double m_all = 0, m_below = 0, m_run = 0;
+  for (Real ri : r) {
+    const double m = double(ri) * ri * ri;
+    m_all += m;
+    m_run += std::max(0.2e-3, double(ri)) * std::max(0.2e-3, double(ri)) * std::max(0.2e-3, double(ri));
+    if (ri < 0.2e-3) ++below, m_below += m;
+  }
+  const RunPlan plan = plan_run(c), spec = plan_run(off);
+  EXPECT_TRUE(spec.fines.empty());
+  ASSERT_GT(below, 0);
+  char want[256];
+  std::snprintf(want, sizeof(want), "%ld of %zu spheres (%.3g %% of the solid mass) weigh as a sphere of that radius, "
+                "the sample's mass x %.3g", below, r.size(), 100 * m_below / m_all, m_run / m_all);
+  EXPECT_NE(plan.fines.find(want), std::string::npos) << plan.fines << "\n" << want;
+  const Real r_min = *std::min_element(r.begin(), r.end());
+  EXPECT_NEAR(plan.dt_limit / spec.dt_limit, std::pow(0.2e-3 / r_min, 1.5), 1e-12);
+  // (the 800 spheres miss the wide curve at its middle, a warning of their own: not counted here)
+  const auto fines_warnings = [](const RunPlan& pl) {
+    std::vector<std::string> w;
+    for (const std::string& s : pl.sample_warnings)
+      if (s.find("fines_mass_radius") != std::string::npos) w.push_back(s);
+    return w;
+  };
+  EXPECT_TRUE(fines_warnings(plan).empty());
+  const RunPlan none = plan_run(load_run_config(
+      write_tmp("fines_none", sample + "numerics: {fines_mass_radius: 0.05e-3}\n" + kMinimal)));
+  ASSERT_EQ(fines_warnings(none).size(), 1u);
+  EXPECT_NE(fines_warnings(none)[0].find("numerics.fines_mass_radius = 5e-05 m is not above the smallest radius"),
+            std::string::npos) << fines_warnings(none)[0];
+  EXPECT_EQ(none.dt_limit, spec.dt_limit);
 }
 
 TEST(Config, DefaultsAreSpecReferenceValues) {
