@@ -2575,6 +2575,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
     throw std::runtime_error(os.str());
   }
   plan.dt = choose_time_step(st, ep);
+  const double r_min = *std::min_element(r.begin(), r.end());
   if (const Real rf = ep.fines_mass_radius; rf > 0) {
     // What the fines' mass scaling does to this sample: how many spheres and what share of the solid mass it makes
     // heavier, by how much the sample's mass grows, and the stable step against SPEC §1's masses.
@@ -2741,6 +2742,19 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         if (p_moved) os << " (the last consolidation's; the stages since move p')";
         if (I > kQuasiStaticInertial)
           os << " (above the quasi-static " << kQuasiStaticInertial << ": lower axial_strain_rate or density_scaling)";
+        // With the fines' mass scaling, a fine of radius r < r_f has the density rho s (r_f / r)^3, so its inertial
+        // number 2 r sqrt(rho_eff / p') grows as r_f^1.5 / sqrt(r): the smallest sphere's is the largest. Measured
+        // (perf/FINES_SCALING.md, Cu 3, r_min 0.1 mm, 100 kPa): r_f = 0.2 mm at 1/s, this 2.9e-3, biased the
+        // critical q/p' by +0.059 (the seeds' sd 0.017); at 0.25/s, 7.3e-4, within the scatter.
+        if (const Real rf = ep.fines_mass_radius; rf > r_min) {
+          const double If = sc.axial_strain_rate * 2 * std::sqrt(double(rf) * rf * rf / r_min) *
+                            std::sqrt(density * scaling / p_prev);
+          plan.inertial_max = std::max(plan.inertial_max, If);
+          os << "; the scaled fines' ~" << std::setprecision(2) << If << " (the smallest sphere at its scaled mass)";
+          if (If > kQuasiStaticInertial)
+            os << " (above the quasi-static " << kQuasiStaticInertial
+               << ": lower axial_strain_rate or numerics.fines_mass_radius)";
+        }
       }
     }
     if (sc.type != StageType::Isotropic) p_moved = true;

@@ -169,6 +169,19 @@ TEST(Config, TheFinesMassRadiusIsPlannedAndResolved) {
   EXPECT_NE(fines_warnings(none)[0].find("numerics.fines_mass_radius = 5e-05 m is not above the smallest radius"),
             std::string::npos) << fines_warnings(none)[0];
   EXPECT_EQ(none.dt_limit, spec.dt_limit);
+  // A shear's inertial number for the scaled fines: the smallest sphere at its scaled density rho s (r_f / r)^3,
+  // I = rate 2 r sqrt(rho_eff / p'), against the quasi-static 1e-3 (perf/FINES_SCALING.md: biased above it).
+  const std::string shear = "stages:\n  - {type: isotropic, pressure: 100e3}\n"
+                            "  - {type: triaxial, drainage: drained, axial_strain_rate: 0.25}\n";
+  const RunPlan sh = plan_run(load_run_config(
+      write_tmp("fines_shear", "sample: {count: 800, seed: 5, density_scaling: 1000, grading: {diameter: [0.2e-3, "
+                               "1.8e-3], passing: [0, 100]}}\nnumerics: {fines_mass_radius: 0.2e-3}\n" + shear)));
+  ASSERT_EQ(sh.stages.size(), 2u);
+  const double I_f = 0.25 * 2 * r_min * std::sqrt(2650 * 1000 * std::pow(0.2e-3 / r_min, 3) / 100e3);
+  std::snprintf(want, sizeof(want), "the scaled fines' ~%.2g (the smallest sphere at its scaled mass)", I_f);
+  EXPECT_NE(sh.stages[1].find(want), std::string::npos) << sh.stages[1] << "\n" << want;
+  EXPECT_EQ(sh.stages[1].find("lower axial_strain_rate or numerics.fines_mass_radius"), std::string::npos);
+  EXPECT_NEAR(sh.inertial_max, I_f, 1e-12 * I_f);  // (another order of the same products)
 }
 
 TEST(Config, DefaultsAreSpecReferenceValues) {
