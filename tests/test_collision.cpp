@@ -14,6 +14,22 @@ struct Collision {
   Real exit_speed = 0;
 };
 
+// Steps eng until the gap (gap(): > 0 apart) has closed and opened again; the contact's duration from the
+// interpolated zero crossings, or -1 where it never separated (200 000 steps).
+template <class Gap>
+Real contact_duration(Engine& eng, Gap gap) {
+  Real g_prev = gap(), t_in = -1, t_out = -1;
+  for (int k = 0; k < 200000 && t_out < 0; ++k) {
+    const Real t0 = eng.time();
+    eng.step();
+    const Real g = gap();
+    if (t_in < 0 && g_prev > 0 && g <= 0) t_in = t0 + eng.dt() * g_prev / (g_prev - g);
+    if (t_in >= 0 && g_prev <= 0 && g > 0) t_out = t0 + eng.dt() * (-g_prev) / (g - g_prev);
+    g_prev = g;
+  }
+  return t_out < 0 ? -1 : t_out - t_in;
+}
+
 // Two spheres of radius r approach head-on at +-V (or one sphere hits a floor when wall = true).
 Collision collide(Real f, bool wall, Real beta = 0) {
   const Real r = 0.3e-3, V = 0.05;
@@ -39,24 +55,14 @@ Collision collide(Real f, bool wall, Real beta = 0) {
     s.r = {r, r};
   }
   Engine eng(s, p, walls, false);
-  auto gap = [&] {
+  Collision c;
+  c.duration = contact_duration(eng, [&] {
     const auto x = eng.positions();
     return wall ? x[0][2] - r : (x[1][0] - x[0][0]) - 2 * r;
-  };
-  Real g_prev = gap(), t_in = -1, t_out = -1;
-  for (int k = 0; k < 200000 && t_out < 0; ++k) {
-    const Real t0 = eng.time();
-    eng.step();
-    const Real g = gap();
-    if (t_in < 0 && g_prev > 0 && g <= 0) t_in = t0 + eng.dt() * g_prev / (g_prev - g);
-    if (t_in >= 0 && g_prev <= 0 && g > 0) t_out = t0 + eng.dt() * (-g_prev) / (g - g_prev);
-    g_prev = g;
-  }
-  Collision c;
-  c.duration = t_out - t_in;
+  });
   const auto v = eng.velocities();
   c.exit_speed = wall ? v[0][2] : 0.5 * (v[1][0] - v[0][0]);
-  EXPECT_GT(t_out, 0) << "no separation";
+  EXPECT_GT(c.duration, 0) << "no separation";
   return c;
 }
 
@@ -155,25 +161,16 @@ TEST(Collision, AFineWeighsAsASphereOfTheFinesMassRadius) {
   const Real rbar = 0.5 * (rs + rb);
   EXPECT_NEAR(st.roll, std::sqrt(0.4 * ms * rs * rs / (100e6 * rbar * rbar * rbar)), 1e-12 * st.roll);
   EXPECT_NEAR(st.m_min, ms, 1e-12 * ms);
-  auto gap = [&] {
+  const Real duration = contact_duration(eng, [&] {
     const auto x = eng.positions();
     return x[1][0] - x[0][0] - rs - rb;
-  };
-  Real g_prev = gap(), t_in = -1, t_out = -1;
-  for (int n = 0; n < 200000 && t_out < 0; ++n) {
-    const Real t0 = eng.time();
-    eng.step();
-    const Real g = gap();
-    if (t_in < 0 && g_prev > 0 && g <= 0) t_in = t0 + eng.dt() * g_prev / (g_prev - g);
-    if (t_in >= 0 && g_prev <= 0 && g > 0) t_out = t0 + eng.dt() * (-g_prev) / (g - g_prev);
-    g_prev = g;
-  }
-  ASSERT_GT(t_out, 0) << "no separation";
+  });
+  ASSERT_GT(duration, 0) << "no separation";
   const Real T = M_PI * std::sqrt(ms * mb / (ms + mb) / k);
   const Real wdt = eng.dt() * std::sqrt(k * (ms + mb) / (ms * mb));
-  std::printf("  duration %.6e s (exact %.6e, unscaled fine %.6e), omega dt %.3f\n", t_out - t_in, T,
+  std::printf("  duration %.6e s (exact %.6e, unscaled fine %.6e), omega dt %.3f\n", duration, T,
               M_PI * std::sqrt(test::sphere_mass(rs) * mb / (test::sphere_mass(rs) + mb) / k), wdt);
-  EXPECT_LT(std::abs(t_out - t_in - T) / T, 1.25 * wdt * wdt / 24);
+  EXPECT_LT(std::abs(duration - T) / T, 1.25 * wdt * wdt / 24);
   const auto v = eng.velocities();
   EXPECT_NEAR(ms * v[0][0] + mb * v[1][0], ms * V, 1e-12 * ms * V);
   // Elastic exit velocities of the scaled masses, to leapfrog's exit-speed bound (above).
