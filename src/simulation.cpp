@@ -2379,9 +2379,12 @@ RunResult Laboratory::run() {
       throw std::runtime_error(out_ + "/checkpoints: no readable checkpoint to resume from");
   }
   if (!opt_.quiet) {
+    char fines[64] = "";
+    if (cfg_.engine.fines_mass_radius > 0)
+      std::snprintf(fines, sizeof(fines), " | fines_mass_radius %.4g mm", 1e3 * cfg_.engine.fines_mass_radius);
     std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g%s\n",
                 build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_,
-                cfg_.engine.fines_mass_radius > 0 ? " | fines scaled (plan)" : "");
+                fines);
     // The resolved config (every default filled in) is the run's config.yaml, not the console's: 50 lines before
     // the first progress line buried the plan.
     std::printf("output: %s (config.yaml: the resolved config, every default filled in)\n", out_.c_str());
