@@ -1857,7 +1857,8 @@ void Laboratory::assert_healthy() {
   // chains then take the walls' momentum, before the sample has found contacts enough to share it, and a finer sphere
   // between coarse ones is squeezed past the limit well below the target pressure. A ramp keeps the walls' target,
   // and so their speed, low while the gas jams; raising E or the limit treats the symptom. Measured on a Cu 3 curve
-  // (3 000 spheres of 0.2-1.8 mm, mu 0.5, affine, E = 100 MPa, 100 kPa): no ramp and a 5 000-step ramp both stop at
+  // (configs/grading-base.yaml with sample.grading 0.2-1.8 mm, one interval: 3 000 spheres, mu 0.5, affine, E = 100 MPa,
+  // 100 kPa): no ramp and a 5 000-step ramp both stop at
   // step 4 799 at ~18 kPa (overlap 0.216); 10 000 steps pass at 0.166, 20 000 at 0.127, 50 000 at 0.076: five times
   // the step of the stop (~24 000) is the advice; tests/data/soft_ramp.yaml (E = 15 MPa at 190 kPa, a 20 000-step
   // ramp, stopped at step 15 799) consolidates on a ramp of 80 000. Not where the plan's estimate of the mean overlap

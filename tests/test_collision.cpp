@@ -129,7 +129,7 @@ TEST(Collision, ViscousRestitutionMatchesClosedForm) {
 // radius. A fine (r 0.1 mm, scaled to the mass of a 0.2 mm sphere: 8x) hits a coarse sphere (0.3 mm) at rest, head-on,
 // undamped. The linear contact's duration is pi sqrt(m*/k) with m* of the scaled mass (leapfrog's bound as above; the
 // unscaled fine's would be 2.5x shorter), the pair's momentum with the scaled masses is conserved to rounding (pair
-// forces are equal and opposite each step: 1e-12, where the unscaled masses would miss by 88 %), and the exit
+// forces are equal and opposite each step: 1e-12, where a run of the unscaled masses would miss by 1.7 times it), and the exit
 // velocities are the elastic collision's of those masses. The step is f sqrt(m(r_f) / k_max): 2^1.5 = 2.83x the
 // unscaled run's; the rolling limit sqrt(I_min / k_r) has I_min = 2/5 m(r_f) r_min^2.
 TEST(Collision, AFineWeighsAsASphereOfTheFinesMassRadius) {
