@@ -498,6 +498,23 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
           g.fail(g.key_path("stress_path"), "= constant_p needs a drained stage (here " + std::string(drainage_name(sc.drainage)) +
                                             ": the walls keep the volume or their place, and p' is the test's result); "
                                             "leave stress_path out or give constant_sigma3");
+        // An oedometer's stress ends: sigma_v loading or unloading to a stress, ocr unloading to sigma_v,max / ocr.
+        sc.sigma_v = g.real("sigma_v", 0, 0, 1e10, true);
+        sc.ocr = g.real("ocr", 0, 1, 1e6, true);
+        for (const char* key : {"sigma_v", "ocr"})
+          if (g.has(key) && sc.drainage != Drainage::Oedometric)
+            g.fail(g.key_path(key), std::string("ends an oedometric stage at a vertical stress, and this stage is ") +
+                                        drainage_name(sc.drainage) + " (give drainage: oedometric, or leave " + key +
+                                        " out and end the stage at max_axial_strain)");
+        if (g.has("sigma_v") && g.has("ocr"))
+          g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " and sigma_v = " + fmt(sc.sigma_v) +
+                                        " both end the stage at a vertical stress: give one of them");
+        if (g.has("ocr") && k == 0)
+          g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " unloads to sigma_v,max / ocr, sigma_v,max the largest of the "
+                                    "stages before, and this is the first stage: give sigma_v");
+        if (g.has("ocr") && !sc.extension)
+          g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " ends an unloading at sigma_v,max / ocr, and this stage loads "
+                                    "(direction: compression): give direction: extension, or sigma_v to load to a stress");
       }
       if (sc.type == StageType::Cyclic) {
         sc.cycles = g.integer("cycles", 1, 1, 1000000);
@@ -640,6 +657,9 @@ std::string resolved_config_yaml(const RunConfig& c) {
         e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression") << YAML::Key << "b"
           << YAML::Value << sc.b;
       if (sc.constant_p) e << YAML::Key << "stress_path" << YAML::Value << "constant_p";
+      // only where set, as affine: the configs of runs without them stay as they were (resume compares them)
+      if (sc.sigma_v > 0) e << YAML::Key << "sigma_v" << YAML::Value << sc.sigma_v;
+      if (sc.ocr > 0) e << YAML::Key << "ocr" << YAML::Value << sc.ocr;
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;

@@ -68,6 +68,12 @@ struct StageConfig {
   // the step finds it: the constant-mean-stress tests of the b-effect literature (Thornton 2000, Geotechnique 50(1);
   // Ng 2004, J. Eng. Mech. 130(3)), whose results at several b are then at one p' and one void-ratio state.
   bool constant_p = false;
+  // triaxial, oedometric: a stress end, as an oedometer loads and unloads (choice, beyond SPEC §6.3): the stage ends on
+  // the first step whose sigma_z of the walls reaches sigma_v (at or above it in compression, at or below in extension),
+  // or, unloading, falls to sigma_v,max / ocr (sigma_v,max the largest sigma_z of the series rows of the stages before,
+  // as summary.json's OCR takes it); max_axial_strain stays the stage's end should the stress not come first. 0: off.
+  Real sigma_v = 0;                // [Pa]
+  Real ocr = 0;                    // [-] (> 1, extension only)
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: csr's or strain reversal)   [Pa]

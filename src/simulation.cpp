@@ -406,7 +406,8 @@ std::string with_checkpoint_cadence_of(const std::string& config, const std::str
 
 // Empty when the config `now` only extends `then` (both as config_fingerprint writes them) for a run whose newest
 // checkpoint lies in stage k (k = the number of stages: finished): every key outside `stages` the same, the
-// stages before k the same, stage k the same but for its end (max_axial_strain, max_steps, cycles), the stages after k
+// stages before k the same, stage k the same but for its end (max_axial_strain, max_steps, cycles; an oedometric stage's
+// sigma_v and ocr: refuse_passed_end judges whether the run has passed the moved end), the stages after k
 // (not started) free, and stages appended. Otherwise the first difference, named as a config key.
 std::string extension_mismatch(const std::string& then, const std::string& now, int k) {
   const YAML::Node a = YAML::Load(then), b = YAML::Load(now);
@@ -438,7 +439,7 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
   for (int j = 0; j <= last; ++j) {
     YAML::Node x = YAML::Clone(sa[j]), y = YAML::Clone(sb[j]);
     if (j == last)
-      for (const char* key : {"max_axial_strain", "max_steps", "cycles"}) {
+      for (const char* key : {"max_axial_strain", "max_steps", "cycles", "sigma_v", "ocr"}) {
         x.remove(key);
         y.remove(key);
       }
@@ -449,6 +450,13 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
 }
 
 namespace {
+
+// A number to 4 significant digits, as the run's lines give stresses.
+std::string sig4(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
 
 // A drained shear servos its lateral walls (start_stage) to lateral_targets.
 bool lateral_servo(const StageConfig& sc) { return sc.type != StageType::Isotropic && sc.drainage == Drainage::Drained; }
@@ -534,6 +542,13 @@ class Laboratory {
   std::vector<double> row(const StageConfig& sc, const Measure& m, const Diagnostics& d);
   bool isotropic_done(const StageConfig& sc, const Diagnostics& d) const;
   bool shear_end(const StageConfig& sc, const Measure& m) const;
+  // An oedometric stage's stress end (StageConfig::sigma_v, ocr): the sigma_z it ends at, 0 for none; sv_end_ holds
+  // the running stage's (run_stage), which shear_end reads.
+  Real sigma_v_end(const StageConfig& sc, int k) const;
+  bool stress_end(const StageConfig& sc, const Measure& m) const {
+    return sv_end_ > 0 && (sc.extension ? m.sz <= sv_end_ : m.sz >= sv_end_);
+  }
+  Real sv_end_ = 0;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
   // A cyclic stage's controlled level x and its amplitude A: q (stress reversal) or eps_a (strain reversal).
   // Stress reversal about the stage's q_0 (0 but after a K0 consolidation or a drained loading: Lab::q0).
@@ -1093,10 +1108,24 @@ bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) con
 // triaxial, eps_a (-eps_a in extension) reached; cyclic, |eps_a| at max_axial_strain (the sample liquefied or failed), or the cycles
 // done: after the last extension peak, back at the level the stage started from (q or eps_a = 0).
 bool Laboratory::shear_end(const StageConfig& sc, const Measure& m) const {
-  if (sc.type == StageType::Triaxial) return strain_along(sc, m.eps_a) >= sc.max_axial_strain;
+  if (sc.type == StageType::Triaxial) return strain_along(sc, m.eps_a) >= sc.max_axial_strain || stress_end(sc, m);
   if (sc.type != StageType::Cyclic) return false;
   if (std::abs(m.eps_a) >= sc.max_axial_strain) return true;
   return lab_.half_cycles >= 2 * sc.cycles && eng_->wall_control(4).velocity > 0 && cyclic_level(sc, m).first >= 0;
+}
+
+// The sigma_z (of the walls, as a step finds it) at which stage k, an oedometric one, ends: its sigma_v, or sigma_v,max /
+// ocr with sigma_v,max the largest sigma_z of the series rows of the stages before k (stage_ocr's, so that the
+// summary's OCR at the end is the one asked for, within a step's change), which a checkpoint holds: a resumed stage ends
+// where the uninterrupted one does. 0: no stress end.
+Real Laboratory::sigma_v_end(const StageConfig& sc, int k) const {
+  if (sc.type != StageType::Triaxial) return 0;
+  if (sc.sigma_v > 0) return sc.sigma_v;
+  if (!(sc.ocr > 0)) return 0;
+  const size_t iz = series_column("sigma_z");
+  Real top = 0;
+  for (size_t r = 0; r < lab_.series.rows.size() && lab_.series.stage[r] < k; ++r) top = std::max(top, Real(lab_.series.rows[r][iz]));
+  return top / sc.ocr;
 }
 
 // Cyclic stages, at the start of a step: at a peak (q or eps_a at +A while compressing, at -A while extending) the
@@ -1489,6 +1518,9 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   last_log_line_ = {};  // each stage's first row is logged
   stage_step0_ = lab_.stage_step;
   overlap_warned_ = false;
+  sv_end_ = sigma_v_end(sc, lab_.stage);
+  bool ended_on_stress = false;  // the stage's end: its stress end met (else its strain, or max_steps)
+  Real sz_end = 0;               // sigma_z where it ended, as shear_end found it
   start_core_share();  // not the stage ends' serial writes (samples, snapshots), where the pool's threads sleep
   int rows_since_flush = 0;
   bool done = false;
@@ -1505,6 +1537,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // The end strain is caught on the first step that reaches it (it used to wait for the next check,
     // report or snapshot step: up to check_every - 1 steps past max_axial_strain).
     const bool strain_end = shear_end(sc, m0);
+    if (strain_end) {
+      ended_on_stress = stress_end(sc, m0);
+      sz_end = m0.sz;
+    }
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
     if (lateral_servo(sc) && moving_lateral_targets(sc)) {
       // True triaxial (StageConfig::b), the constant-p' path (StageConfig::constant_p): the lateral walls' targets
@@ -1666,6 +1702,26 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   write_summary();
   if (sc.type == StageType::Isotropic && sc.save_sample) save_sample(sc);
   if (sc.type == StageType::Isotropic) warn_graded(sc, res);
+  if (sv_end_ > 0 && done) {
+    // The stress end asked for, against where the stage ended: at max_axial_strain short of it, or on its first step
+    // (the stress already past it: a loading to less than the sample carries, an unloading to more).
+    const std::string end = sc.ocr > 0 ? "sigma_v,max / ocr = " + sig4(sv_end_ * sc.ocr / 1e3) + " / " + sig4(sc.ocr) + " = " +
+                                             sig4(sv_end_ / 1e3) + " kPa"
+                                       : "sigma_v = " + sig4(sv_end_ / 1e3) + " kPa";
+    if (!ended_on_stress)
+      std::fprintf(stderr,
+                   "grainlab: warning: stage %s ended at max_axial_strain = %g with sigma_v = %s kPa, short of its end %s: "
+                   "raise max_axial_strain\n",
+                   sc.name.c_str(), sc.max_axial_strain, sig4(sz_end / 1e3).c_str(), end.c_str());
+    else if (stage_step0_ == 0 && lab_.stage_step == 1)
+      std::fprintf(stderr,
+                   "grainlab: warning: stage %s: sigma_v was %s kPa at its start, already past its end %s: it ended on "
+                   "its first step\n",
+                   sc.name.c_str(), sig4(sz_end / 1e3).c_str(), end.c_str());
+    else if (!opt_.quiet)
+      std::printf("stage %s: ended at sigma_v = %s kPa, its end %s\n", sc.name.c_str(), sig4(sz_end / 1e3).c_str(),
+                  end.c_str());
+  }
   if (!opt_.quiet) {
     std::printf("stage %s: %s after %ld steps, mu = %.4g, p = %.4g kPa, q = %.4g kPa, e = %.4f\n", sc.name.c_str(),
                 done ? "done" : "NOT converged (max_steps reached)", lab_.stage_step, lab_.mu, m.p / 1e3, m.q / 1e3, m.e);
@@ -1696,7 +1752,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       const auto& row = lab_.series.rows.back();
       const double q = row[series_column("q")], p = row[series_column("p")];
       const double qd = row[series_column("q_drag")], pd = row[series_column("p_drag")];
-      if (q != 0 && p > 0 && p - pd > 0)
+      if (std::abs(q) > 0.01 * p && p > 0 && p - pd > 0)  // not a stage that ended at q ~ 0 (a 1-step stage)
         std::printf("stage %s: the damping's drag is %.1f %% of the walls' q at its end (q/p' %.3f of the walls, %.3f less "
                     "the drag; series q_drag): a slower shear or less damping lowers it\n",
                     sc.name.c_str(), 100 * qd / q, std::fabs(q / p), std::fabs((q - qd) / (p - pd)));
@@ -2159,10 +2215,9 @@ bool Laboratory::load_newest_checkpoint() {
         // The run had finished: reopen its last stage if the moved end lies beyond where it stopped.
         const StageConfig& sc = cfg_.stages[lab_.stage - 1];
         const Measure m = measure(sc);
+        sv_end_ = sigma_v_end(sc, lab_.stage - 1);  // shear_end's stress end, as the stage would run again
         const bool more = lab_.stage_step < sc.max_steps &&
-                          (sc.type == StageType::Triaxial ? strain_along(sc, m.eps_a) < sc.max_axial_strain
-                           : sc.type == StageType::Cyclic ? !shear_end(sc, m)
-                                                          : !lab_.results.back().converged);
+                          (sc.type != StageType::Isotropic ? !shear_end(sc, m) : !lab_.results.back().converged);
         if (more) {
           --lab_.stage;
           lab_.started = true;
@@ -2198,22 +2253,34 @@ void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& th
   struct End {
     const char* key;
     double now, reached;  // the new end; where the run is (NaN: not known)
+    // the stress ends (StageConfig::sigma_v, ocr): optional, so one the old config lacks is earlier than any (it
+    // adds an end) and one the new lacks is later; sign -1 where a larger value ends sooner (sigma_v in extension)
+    bool optional = false;
+    double sign = 1;
   };
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Real sv_top = sc.ocr > 0 ? sigma_v_end(sc, k) * sc.ocr : 0;  // sigma_v,max before the stage
+  const double sv_sign = sc.extension ? -1 : 1;
   const End ends[] = {
       {"max_axial_strain", sc.max_axial_strain, sc.type == StageType::Triaxial ? strain_along(sc, m.eps_a) : nan},
       {"max_steps", double(sc.max_steps), double(lab_.stage_step)},
-      {"cycles", double(sc.cycles), sc.type == StageType::Cyclic ? 0.5 * double(lab_.half_cycles) : nan}};
+      {"cycles", double(sc.cycles), sc.type == StageType::Cyclic ? 0.5 * double(lab_.half_cycles) : nan},
+      {"sigma_v", sc.sigma_v > 0 ? sv_sign * sc.sigma_v : nan, sv_sign * m.sz, true, sv_sign},
+      {"ocr", sc.ocr > 0 ? sc.ocr : nan, m.sz > 0 ? sv_top / m.sz : nan, true, 1}};
   for (const End& e : ends) {
-    if (!old[e.key]) continue;
-    const double before = old[e.key].as<double>();
+    if (e.optional && !(e.now == e.now)) continue;  // no such end now: the stage ends later, if at all
+    if (!old[e.key] && !e.optional) continue;
+    const double before = old[e.key] ? e.sign * old[e.key].as<double>() : std::numeric_limits<double>::infinity();
     if (!(e.now < before) || e.reached <= e.now) continue;  // NaN (not known) refuses
     std::ostringstream os;
-    os << std::setprecision(6) << path << ": this config moves stages[" << k << "]." << e.key << " from " << before
-       << " to " << e.now
+    os << std::setprecision(6) << path << ": this config ";
+    if (old[e.key]) os << "moves stages[" << k << "]." << e.key << " from " << e.sign * before << " to ";
+    else os << "adds stages[" << k << "]." << e.key << " = ";
+    os << e.sign * e.now
        << (e.reached == e.reached ? ", which the run has passed" : ", which the run may have passed (a cyclic stage's "
                                                                    "peaks are not kept)");
-    if (e.reached == e.reached) os << " (" << e.reached << (finished ? " where the stage ended)" : " where it stopped)");
+    if (e.reached == e.reached)
+      os << " (" << e.sign * e.reached << (finished ? " where the stage ended)" : " where it stopped)");
     os << ": resumed, it would not be the run this config starts; give an end beyond it, or start a new run from the "
           "run's sample";
     throw std::runtime_error(os.str());
@@ -2674,8 +2741,25 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         os << "triaxial " << drainage;
         if (sc.b > 0) os << " (true triaxial, b = " << sc.b << ")";
         if (sc.constant_p) os << " at constant p'";
-        os << (sc.extension ? " extension to eps_a = -" : " to eps_a = ") << sc.max_axial_strain << " at " << sc.axial_strain_rate
-           << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6) << need << " steps";
+        const bool stress_ended = sc.sigma_v > 0 || sc.ocr > 0;  // an oedometer's stress end, the strain a cap
+        if (stress_ended) {
+          os << (sc.extension ? " extension" : "") << " to ";
+          if (sc.sigma_v > 0) os << "sigma_v = " << sc.sigma_v / 1e3 << " kPa";
+          else os << "sigma_v,max / " << sc.ocr;
+          os << " (or eps_a = " << (sc.extension ? "-" : "") << sc.max_axial_strain << ")";
+        } else {
+          os << (sc.extension ? " extension to eps_a = -" : " to eps_a = ") << sc.max_axial_strain;
+        }
+        os << " at " << sc.axial_strain_rate << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": "
+           << (stress_ended ? "at most " : "") << std::setprecision(6) << need << " steps";
+        // Right after a consolidation sigma_v is its pressure: a stress end on the wrong side of it is met at once.
+        if (sc.sigma_v > 0 && p_prev > 0 && !p_moved && (sc.extension ? sc.sigma_v >= p_prev : sc.sigma_v <= p_prev)) {
+          std::ostringstream w;
+          w << std::setprecision(4) << "sigma_v = " << sc.sigma_v / 1e3 << " kPa is " << (sc.extension ? "above" : "below")
+            << " the " << p_prev / 1e3 << " kPa the stage starts from: it " << (sc.extension ? "unloads" : "loads")
+            << " to it at once (ends on its first step)";
+          warn(w.str());
+        }
         plan.steps.push_back(std::min(need, double(sc.max_steps)));
         if (need > double(sc.max_steps)) {
           std::ostringstream w;

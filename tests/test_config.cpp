@@ -340,6 +340,22 @@ TEST(Config, RejectsBadInputClearly) {
       {"oed_path", "stages:\n  - {type: triaxial, drainage: oedometric, stress_path: constant_p}\n",
        "stages[0].stress_path = constant_p needs a drained stage (here oedometric"},
       {"drain_bad", "stages:\n  - {type: triaxial, drainage: wet}\n", "stages[0].drainage"},
+      // an oedometer's stress ends: an oedometric stage's; ocr unloads from an earlier stage's sigma_v,max
+      {"sv_drained", "stages:\n  - {type: triaxial, drainage: drained, sigma_v: 3e5}\n",
+       "stages[0].sigma_v: ends an oedometric stage at a vertical stress, and this stage is drained (give drainage: "
+       "oedometric, or leave sigma_v out and end the stage at max_axial_strain)"},
+      {"sv_zero", "stages:\n  - {type: triaxial, drainage: oedometric, sigma_v: 0}\n",
+       "stages[0].sigma_v = 0 is outside the allowed range (0, 1e+10]"},
+      {"sv_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, sigma_v: 3e5}\n", "stages[0].sigma_v: unknown key"},
+      {"ocr_one", "stages:\n  - {type: isotropic}\n  - {type: triaxial, drainage: oedometric, direction: extension, ocr: 1}\n",
+       "stages[1].ocr = 1 is outside the allowed range (1, 1e+06]"},
+      {"ocr_load", "stages:\n  - {type: isotropic}\n  - {type: triaxial, drainage: oedometric, ocr: 2}\n",
+       "stages[1].ocr = 2 ends an unloading at sigma_v,max / ocr, and this stage loads (direction: compression)"},
+      {"ocr_first", "stages:\n  - {type: triaxial, drainage: oedometric, direction: extension, ocr: 2}\n",
+       "stages[0].ocr = 2 unloads to sigma_v,max / ocr, sigma_v,max the largest of the stages before, and this is the "
+       "first stage: give sigma_v"},
+      {"ocr_sv", "stages:\n  - {type: isotropic}\n  - {type: triaxial, drainage: oedometric, direction: extension, "
+       "ocr: 2, sigma_v: 1e5}\n", "stages[1].ocr = 2 and sigma_v = 100000 both end the stage at a vertical stress: give one of them"},
       // the servo's integral action: [0, 0.5] (WallControl::integral: stable below 1 on an ideal wall)
       {"ki_big", "stages:\n  - {type: triaxial, drainage: drained, servo_integral: 0.8}\n",
        "stages[0].servo_integral = 0.8 is outside the allowed range [0, 0.5]"},

@@ -1435,6 +1435,66 @@ TEST(Lab, OedometricStageHoldsTheLateralWallsAndGivesK0) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
 }
 
+// An oedometer's stress ends (StageConfig::sigma_v, ocr), as a lab oedometer loads to a stress and unloads to an OCR:
+// on the reference sample (190 kPa) loaded to sigma_v = 300 kPa and unloaded to OCR 1.5, each stage well inside its
+// max_axial_strain (5 %), rows every step. Each stage ends on the first step that finds sigma_z (the wall loads the
+// servo used) past its end: every row of the stage but its last two lies short of it, and the last within a few steps'
+// change (kStepTol: sigma_z moves 0.016 % and 0.025 % a step at the two ends, printed: 1e-3 is four to six steps). summary.json's OCR is then 1.5 to that tolerance.
+// Stopped in the unloading and resumed: the same series, byte for byte. The finished run extended by --resume with
+// ocr 2 goes on to OCR 2 (the state of the uninterrupted ocr-2 run, to the bit); ocr 1.2, which it has passed, is
+// refused.
+TEST(Lab, OedometricStageEndsAtItsStressOrOcr) {
+  const double kStepTol = 1e-3;
+  const auto stages = [](const std::string& ocr) {
+    return "  - {name: load, type: triaxial, drainage: oedometric, axial_strain_rate: 1.0, sigma_v: 3.0e5, damping: 0.2}\n"
+           "  - {name: unload, type: triaxial, drainage: oedometric, direction: extension, axial_strain_rate: 1.0, "
+           "ocr: " + ocr + ", damping: 0.2}\n";
+  };
+  const std::string cfg = on_reference("oed_sv", stages("1.5"), 1), out = tmpdir("oed_sv");
+  const RunResult r = run(cfg, out);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_TRUE(r.stages[0].converged && r.stages[1].converged);
+  H5Reader h(out + "/run.h5");
+  const auto ea = h.doubles("/series/eps_a"), sz = h.doubles("/series/sigma_z");
+  size_t turn = 0;  // the last row of the loading stage
+  while (turn + 1 < ea.size() && ea[turn + 1] > 0) ++turn;
+  ASSERT_GT(turn, 20u);
+  ASSERT_GT(ea.size(), turn + 20);
+  const double top = *std::max_element(sz.begin(), sz.begin() + turn + 1), end = top / 1.5;
+  std::printf("  stress ends: sigma_v %.5g -> %.5g kPa (%zu rows, eps_a %.4g) -> %.5g kPa (OCR %.5g, eps_a %.4g); "
+              "last steps' changes %.2g %%, %.2g %%\n", sz[0] / 1e3, sz[turn] / 1e3, turn + 1, ea[turn], sz.back() / 1e3,
+              top / sz.back(), ea.back(), 100 * (sz[turn] / sz[turn - 1] - 1), 100 * (1 - sz.back() / sz[sz.size() - 2]));
+  for (size_t k = 0; k + 2 <= turn; ++k) EXPECT_LT(sz[k], 3e5) << "row " << k << " is past the loading's end";
+  for (size_t k = turn + 1; k + 2 < sz.size(); ++k) EXPECT_GT(sz[k], end) << "row " << k << " is past the unloading's end";
+  EXPECT_NEAR(sz[turn], 3e5, kStepTol * 3e5);
+  EXPECT_NEAR(sz.back(), end, kStepTol * end);
+  EXPECT_LT(ea[turn], 0.05);
+  EXPECT_GT(ea.back() - ea[turn], -0.05);
+  const YAML::Node sum = YAML::LoadFile(out + "/summary.json");
+  EXPECT_NEAR(sum["stages"][1]["OCR"].as<double>(), 1.5, kStepTol * 1.5);
+  EXPECT_NE(slurp(out + "/config.yaml").find("ocr: 1.5"), std::string::npos);
+  const std::string stopped = tmpdir("oed_sv_stopped");
+  ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps + r.stages[1].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
+  // extended: ocr 1.2 is passed; ocr 2 goes on to the uninterrupted ocr-2 run's state
+  std::string err;
+  try {
+    run(on_reference("oed_sv_12", stages("1.2"), 1), out, -1, true);
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  EXPECT_NE(err.find("this config moves stages[1].ocr from 1.5 to 1.2, which the run has passed (1.5"),
+            std::string::npos) << err;
+  const std::string c2 = on_reference("oed_sv_2", stages("2"), 1), direct = tmpdir("oed_sv_2");
+  const RunResult r2 = run(c2, direct);
+  const RunResult ext = run(c2, out, -1, true);
+  ASSERT_EQ(ext.stages.size(), 2u);
+  EXPECT_EQ(ext.stages[1].steps, r2.stages[1].steps);
+  EXPECT_NEAR(YAML::LoadFile(out + "/summary.json")["stages"][1]["OCR"].as<double>(), 2.0, kStepTol * 2);
+  expect_same_state(direct, out);
+}
+
 // The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
 // sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
 // sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
