@@ -1235,27 +1235,53 @@ def study(out):
     if not idx["jobs"] and idx.get("samples"):  # a preparation study: its base has no shear stage
         preparation_report(out, idx)
         return
+    stiffs = sorted({j.get("E", 0) for j in idx["jobs"]})
+    if len(stiffs) < 2:
+        lines = grading_lines(out, idx, "figures")
+    else:
+        # The E axis (material.E, the contact stiffness): a section per E, as the gradings' below; across them the
+        # oedometric and shear tables of each say what the stiffness moves.
+        lines = [f"# Study report: {idx['study']}", "",
+                 f"{len(idx['jobs'])} tests at {len(stiffs)} contact stiffnesses E (material.E; k_n = E rbar, SPEC §2): " +
+                 ", ".join(f"{E:g} Pa" if E else "the base's" for E in stiffs) +
+                 ". Each E's tests have a section of their own below, as the report of a study at that E alone (its "
+                 "headings one level down), with their figures in `figures/E_<E>/` (`figures/E_base/` for the base's): "
+                 "the report's fits group tests by mu_r and the loading, and would pool the stiffnesses, which move "
+                 "the states (a softer packing overlaps more: denser, and more of its strain elastic).", ""]
+        for E in stiffs:
+            sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("E", 0) == E],
+                           samples=[s for s in idx.get("samples", []) if s.get("E", 0) == E])
+            part = grading_lines(out, sub_idx, f"figures/E_{E:g}" if E else "figures/E_base")
+            lines += [f"## Contact stiffness E = {E:g} Pa" if E else "## The base's contact stiffness"]
+            lines += ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
+    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+    print(os.path.join(out, "report.md"))
+
+
+def grading_lines(out, idx, figs_rel):
+    """The report of the jobs in idx (a study's, or its part at one E), figures under out/figs_rel: one study's report,
+    or over several gradings one such report per curve (study's docstring)."""
     gradings = sorted({j.get("grading", "") for j in idx["jobs"]})
     if len(gradings) < 2:
-        lines = study_lines(out, idx, "figures")
+        lines = study_lines(out, idx, figs_rel)
     else:
         cu = {j.get("grading", ""): j.get("cu", 0) for j in idx["jobs"]}
         lines = [f"# Study report: {idx['study']}", "",
                  f"{len(idx['jobs'])} shear tests on {len(gradings)} gradings: " +
                  ", ".join(f"{g} (Cu {cu[g]:.3g})" if g else "the base's sizes" for g in gradings) +
                  ". Each grading's tests have a section of their own below, as the report of a study of that grading "
-                 "alone (its headings one level down), with their figures in `figures/g_<grading>/` (`figures/base/` "
+                 f"alone (its headings one level down), with their figures in `{figs_rel}/g_<grading>/` (`{figs_rel}/base/` "
                  "for the base's sizes): the report's fits group tests by mu_r and the loading, and would pool the "
                  "gradings.", ""]
-        os.makedirs(os.path.join(out, "figures"), exist_ok=True)
-        if gradings_figure(out, idx.get("samples", []), os.path.join(out, "figures")):
-            lines += ["Figure: `figures/grading.png` (each curve, asked and drawn: one sample of each).", ""]
-        lines += across_gradings_section(out, idx, os.path.join(out, "figures"))
+        os.makedirs(os.path.join(out, figs_rel), exist_ok=True)
+        if gradings_figure(out, idx.get("samples", []), os.path.join(out, figs_rel)):
+            lines += [f"Figure: `{figs_rel}/grading.png` (each curve, asked and drawn: one sample of each).", ""]
+        lines += across_gradings_section(out, idx, os.path.join(out, figs_rel))
         parts, crr_rows = [], []
         for g in gradings:
             sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("grading", "") == g],
                            samples=[s for s in idx.get("samples", []) if s.get("grading", "") == g])
-            rel = f"figures/g_{g}" if g else "figures/base"
+            rel = f"{figs_rel}/g_{g}" if g else f"{figs_rel}/base"
             fits = []
             part = study_lines(out, sub_idx, rel, fits)
             title = f"## Grading {g}: Cu = {cu[g]:.3g}" if g else "## The base's sizes"
@@ -1270,8 +1296,7 @@ def study(out):
                       f"| grading | Cu | mu_r | conditions | criterion | tests | CRR (N = {CRR_CYCLES}) |",
                       "|---|---|---|---|---|---|---|", *crr_rows, ""]
         lines += parts
-    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
-    print(os.path.join(out, "report.md"))
+    return lines
 
 
 def across_gradings_section(out, idx, figs):
@@ -1320,7 +1345,7 @@ def across_gradings_section(out, idx, figs):
             f"Each monotonic shear: its curve and Cu, max q/p' (phi'_max) as its section's peak table gives it, and its end "
             f"state: p', e and q/p' averaged over the last {cs_cfg['window']:g} of axial strain, as its critical-state "
             "table measures them, steady there (critical: yes) or still drifting (no; its section says by how much). "
-            "`figures/gradings_e_p.png` draws that e against p' for each curve (filled: critical).", "",
+            f"`{os.path.relpath(figs, out)}/gradings_e_p.png` draws that e against p' for each curve (filled: critical).", "",
             "| grading | Cu | test | max q/p' (phi'_max) | p' at end [kPa] | e at end | q/p' at end | critical |",
             "|---|---|---|---|---|---|---|---|", *rows, ""]
 

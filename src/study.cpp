@@ -95,6 +95,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     }
   }
   c["material"]["mu_r"] = yaml_number(j.mu_r);
+  if (j.E > 0) c["material"]["E"] = yaml_number(j.E);
   YAML::Node stages(YAML::NodeType::Sequence);
   bool first_iso = true;
   // The sample job runs the base's isotropic stages before its first shear stage (the preparation), the shear job
@@ -183,6 +184,9 @@ void check_axis_values(const std::vector<double>& v, const std::string& path, co
   if (ends_with("p0"))
     for (double x : v)
       if (!(x > 0)) fail(path, key, "values must be > 0 (Pa); leave p0 out for the base's pressure");
+  if (ends_with("E"))
+    for (double x : v)
+      if (!(x > 0 && x <= 1e13)) fail(path, key, "values must be in (0, 1e13] (Pa, material.E); leave E out for the base's");
   if (ends_with("csr"))
     for (double x : v)
       if (!(x > 0)) fail(path, key, "values must be > 0 (q_amplitude / (2 p'_0)); leave csr out for the base's q_amplitude");
@@ -382,11 +386,11 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
-      if (!std::set<std::string>{"mu_r", "e0", "p0", "drainage", "direction", "b", "stress_path", "axial_strain_rate",
-                                 "seed", "count", "grading", "csr", "strain_amplitude"}
+      if (!std::set<std::string>{"mu_r", "e0", "p0", "E", "drainage", "direction", "b", "stress_path",
+                                 "axial_strain_rate", "seed", "count", "grading", "csr", "strain_amplitude"}
                .count(k))
         fail(path, "axes." + k,
-             "unknown axis (known: mu_r, e0, p0, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
+             "unknown axis (known: mu_r, e0, p0, E, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
              "grading, csr, strain_amplitude)");
     }
   // The grading axis: named sieve curves (sample.grading's form), one sample each, in place of the base's sizes: how a
@@ -593,6 +597,7 @@ Study load_study_unchecked(const std::string& path) {
     double strain;         // the triaxial stages' max_axial_strain (0: the base's; extra jobs only)
     bool set_mu_r;         // mu_r from the axis or an extra job (every stage's), not the base's
     int grading;           // index in gradings (-1: the base's sizes)
+    double E = 0;          // material.E (0: the base's)
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -601,6 +606,7 @@ Study load_study_unchecked(const std::string& path) {
         for (double p0 : axis("p0", {0}))
           for (double seed : axis("seed", {double(base_cfg.packing.seed)}))
             for (double count : axis("count", {double(base_cfg.packing.count)}))
+             for (double E : axis("E", {0}))
               for (int gi = gradings.empty() ? -1 : 0; gi < int(gradings.size()); ++gi)
               for (auto& d : drain)
                 for (auto& dir : directions)
@@ -611,7 +617,7 @@ Study load_study_unchecked(const std::string& path) {
                           for (double ea : axis("strain_amplitude", {0}))
                             points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
                                               direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
-                                              rate, 0, mu_r_axis, gi});
+                                              rate, 0, mu_r_axis, gi, E});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
@@ -655,6 +661,7 @@ Study load_study_unchecked(const std::string& path) {
           pt.set_mu_r = true;
         }
         else if (f == "e0") pt.e0 = v;
+        else if (f == "E") pt.E = v;
         else if (f == "p0") {
           need_one_pressure(field);
           pt.p0 = v;
@@ -690,7 +697,7 @@ Study load_study_unchecked(const std::string& path) {
           pt.b_key = field;
         } else
           fail(path, field,
-               "unknown key (known: mu_r, e0, p0, drainage, direction, b, stress_path, axial_strain_rate, "
+               "unknown key (known: mu_r, e0, p0, E, drainage, direction, b, stress_path, axial_strain_rate, "
                "max_axial_strain, seed, count, csr, strain_amplitude)");
       }
       points.push_back(pt);
@@ -716,6 +723,13 @@ Study load_study_unchecked(const std::string& path) {
     else sn << "_file";
     sn << "_n" << pt.count;
     if (pt.grading >= 0) sn << "_g" << gradings[pt.grading].name;
+    if (pt.E > 0) {
+      // "_E1e9" for 1e+09 (a name without a '+'), "_E2.5e8"
+      std::string v = fmt(pt.E);
+      for (const char* from : {"e+0", "e+"})
+        if (const size_t at = v.find(from); at != std::string::npos) v.replace(at, std::strlen(from), "e");
+      sn << "_E" << v;
+    }
     if (!sample_index.count(sn.str())) {
       StudyJob j;
       j.name = sn.str();
@@ -724,6 +738,7 @@ Study load_study_unchecked(const std::string& path) {
       j.set_mu_r = pt.set_mu_r;
       j.e0 = pt.e0;
       j.p0 = pt.p0;
+      j.E = pt.E;
       j.seed = pt.seed;
       j.count = pt.count;
       if (pt.grading >= 0) {
@@ -738,8 +753,8 @@ Study load_study_unchecked(const std::string& path) {
       // The same name is the same sample (a point listed twice), unless the values differ below the name's six
       // significant digits: then two samples would silently become one.
       const StudyJob& o = s.samples[sample_index[sn.str()]];
-      if (o.mu_r != pt.mu_r || o.e0 != pt.e0 || o.p0 != pt.p0)
-        fail(path, "axes", "two values of mu_r, e0 or p0 agree to 6 significant digits (job " + sn.str() +
+      if (o.mu_r != pt.mu_r || o.e0 != pt.e0 || o.p0 != pt.p0 || o.E != pt.E)
+        fail(path, "axes", "two values of mu_r, e0, p0 or E agree to 6 significant digits (job " + sn.str() +
                                "); make them differ sooner or list one of them");
     }
     if (!has_tri) continue;  // a preparation study: the sample is the job
@@ -1187,7 +1202,7 @@ int run_study(const Study& s, const StudyOptions& o) {
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude
          << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group)
          << ", \"max_axial_strain\": " << j.strain << ", \"grading\": " << json_string(j.grading_name)
-         << ", \"cu\": " << j.grading_cu << "}"
+         << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }
     // Every sample job (a preparation study's only jobs): the report's Samples and Preparation sections. p0 and e0
@@ -1197,7 +1212,7 @@ int run_study(const Study& s, const StudyOptions& o) {
       const StudyJob& j = s.samples[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"mu_r\": " << j.mu_r
          << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"seed\": " << j.seed << ", \"count\": " << j.count
-         << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu << "}"
+         << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
          << (k + 1 < s.samples.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";

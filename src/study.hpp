@@ -13,6 +13,9 @@ struct StudyJob {
   std::string sample_name;  // preparation job this shear uses
   bool is_sample = false;
   double mu_r = 0, e0 = 0, p0 = 0;  // e0 = 0: the base config's preparation without a target
+  // material.E from the E axis or an extra job (0: the base's): the contact stiffness, k_n = E rbar (SPEC §2), a
+  // sample's (each E its own preparation: the packing consolidates to another overlap) and its shears'
+  double E = 0;
   // mu_r set on every stage (mu_r axis or an extra job's key); else only the material's, which stages without their
   // own take (SPEC §6.2: each stage may set its own mu_r, which the study then leaves as the base gives it)
   bool set_mu_r = false;

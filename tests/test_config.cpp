@@ -468,7 +468,7 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
       {"study_zero", "axes: {count: [0]}\n", "axes.count: values must be in [1, 1e8]"},
       {"study_extra", "extra: [{seed: 1.5}]\n", "extra[0].seed: values must be whole numbers"},
       {"study_p0", "axes: {p0: [0, 100e3]}\n", "axes.p0: values must be > 0 (Pa)"},
-      {"study_close", "axes: {mu_r: [0.1, 0.10000001]}\n", "axes: two values of mu_r, e0 or p0 agree to 6 significant"},
+      {"study_close", "axes: {mu_r: [0.1, 0.10000001]}\n", "axes: two values of mu_r, e0, p0 or E agree to 6 significant"},
       // a value listed twice made one job, silently (the grid smaller than it reads)
       {"study_twice", "axes: {mu_r: [0.3, 0.1, 0.30]}\n", "axes.mu_r: 0.3 is listed twice (values 1 and 3): an axis lists "
                                                           "each value once"},
@@ -988,6 +988,36 @@ TEST(Config, StudyRateAxisSetsTheTriaxialStages) {
            ") has none"},
       {"study_rate_close", "base: " + base + "\naxes: {axial_strain_rate: [1, 1.0000001]}\n",
        "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+  });
+}
+
+// The contact stiffness as an axis (E: material.E, k_n = E rbar): each E its own sample (a packing consolidates to
+// another overlap at another stiffness), named "_E1e9" (no '+'), its shears at the same E; an extra job's E likewise;
+// the base's without the axis (no suffix: the names studies had before it). study.json gives each job's E (the report's
+// sections). Errors: a value outside (0, 1e13], two values within 6 digits.
+TEST(Config, StudyStiffnessAxisSetsTheMaterial) {
+  const std::string base = write_tmp("study_E_base", "sample: {count: 300}\nmaterial: {E: 5.0e7}\nstages:\n"
+                                     "  - {name: consolidate, type: isotropic, pressure: 2.0e5}\n"
+                                     "  - {name: shear, type: triaxial, drainage: drained, max_axial_strain: 0.05}\n");
+  const Study s = load_study(write_tmp("study_E", "base: " + base + "\naxes: {E: [1.0e8, 2.5e9]}\nextra: [{E: 3.0e8}, {mu_r: 0.1}]\n"));
+  ASSERT_EQ(s.samples.size(), 4u);
+  ASSERT_EQ(s.shears.size(), 4u);
+  const char* names[] = {"shear_drained_mur0_ebase_pbase_s1_n300_E1e8", "shear_drained_mur0_ebase_pbase_s1_n300_E2.5e9",
+                         "shear_drained_mur0_ebase_pbase_s1_n300_E3e8", "shear_drained_mur0.1_ebase_pbase_s1_n300"};
+  const double E[] = {1e8, 2.5e9, 3e8, 5e7};
+  for (size_t k = 0; k < s.shears.size(); ++k) {
+    const StudyJob& j = s.shears[k];
+    SCOPED_TRACE(j.name);
+    EXPECT_EQ(j.name, names[k]);
+    EXPECT_EQ(j.sample_name, "sample_" + j.name.substr(std::string("shear_drained_").size()));
+    EXPECT_EQ(job_run_config(s, j).engine.contact.E, E[k]);
+    EXPECT_EQ(parse_run_config(YAML::Load(s.samples[k].config_yaml), "sample").engine.contact.E, E[k]);
+  }
+  expect_study_errors({
+      {"study_E_zero", "base: " + base + "\naxes: {E: [0]}\n", "axes.E: values must be in (0, 1e13] (Pa, material.E)"},
+      {"study_E_big", "base: " + base + "\nextra: [{E: 2e13}]\n", "extra[0].E: values must be in (0, 1e13] (Pa, material.E)"},
+      {"study_E_close", "base: " + base + "\naxes: {E: [1.0e8, 1.0000001e8]}\n",
+       "axes: two values of mu_r, e0, p0 or E agree to 6 significant digits"},
   });
 }
 
