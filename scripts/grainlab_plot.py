@@ -1245,13 +1245,14 @@ def study(out):
                  f"{len(idx['jobs'])} tests at {len(stiffs)} contact stiffnesses E (material.E; k_n = E rbar, SPEC §2): " +
                  ", ".join(f"{E:g} Pa" if E else "the base's" for E in stiffs) +
                  ". Each E's tests have a section of their own below, as the report of a study at that E alone (its "
-                 "headings one level down), with their figures in `figures/E_<E>/` (`figures/E_base/` for the base's): "
+                 "headings one level down), with their figures in `figures/E_<E>/` (`figures/E_1e9/`; `figures/E_base/` for the base's): "
                  "the report's fits group tests by mu_r and the loading, and would pool the stiffnesses, which move "
                  "the states (a softer packing overlaps more: denser, and more of its strain elastic).", ""]
         for E in stiffs:
             sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("E", 0) == E],
                            samples=[s for s in idx.get("samples", []) if s.get("E", 0) == E])
-            part = grading_lines(out, sub_idx, f"figures/E_{E:g}" if E else "figures/E_base")
+            name = f"{E:g}".replace("e+0", "e").replace("e+", "e")  # as the jobs' names: 1e9
+            part = grading_lines(out, sub_idx, f"figures/E_{name}" if E else "figures/E_base")
             lines += [f"## Contact stiffness E = {E:g} Pa" if E else "## The base's contact stiffness"]
             lines += ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
