@@ -545,6 +545,7 @@ class Laboratory {
   // An oedometric stage's stress end (StageConfig::sigma_v, ocr): the sigma_z it ends at, 0 for none; sv_end_ holds
   // the running stage's (run_stage), which shear_end reads.
   Real sigma_v_end(const StageConfig& sc, int k) const;
+  Real sigma_v_max(int k) const;
   bool stress_end(const StageConfig& sc, const Measure& m) const {
     return sv_end_ > 0 && (sc.extension ? m.sz <= sv_end_ : m.sz >= sv_end_);
   }
@@ -1121,11 +1122,16 @@ bool Laboratory::shear_end(const StageConfig& sc, const Measure& m) const {
 Real Laboratory::sigma_v_end(const StageConfig& sc, int k) const {
   if (sc.type != StageType::Triaxial) return 0;
   if (sc.sigma_v > 0) return sc.sigma_v;
-  if (!(sc.ocr > 0)) return 0;
+  return sc.ocr > 0 ? sigma_v_max(k) / sc.ocr : 0;
+}
+
+// sigma_v,max before stage k: the largest sigma_z of the series rows of stages 0..k-1 (0 without a row).
+Real Laboratory::sigma_v_max(int k) const {
   const size_t iz = series_column("sigma_z");
   Real top = 0;
-  for (size_t r = 0; r < lab_.series.rows.size() && lab_.series.stage[r] < k; ++r) top = std::max(top, Real(lab_.series.rows[r][iz]));
-  return top / sc.ocr;
+  for (size_t r = 0; r < lab_.series.rows.size() && lab_.series.stage[r] < k; ++r)
+    top = std::max(top, Real(lab_.series.rows[r][iz]));
+  return top;
 }
 
 // Cyclic stages, at the start of a step: at a peak (q or eps_a at +A while compressing, at -A while extending) the
@@ -1705,7 +1711,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   if (sv_end_ > 0 && done) {
     // The stress end asked for, against where the stage ended: at max_axial_strain short of it, or on its first step
     // (the stress already past it: a loading to less than the sample carries, an unloading to more).
-    const std::string end = sc.ocr > 0 ? "sigma_v,max / ocr = " + sig4(sv_end_ * sc.ocr / 1e3) + " / " + sig4(sc.ocr) + " = " +
+    const std::string end = sc.ocr > 0 ? "sigma_v,max / ocr = " + sig4(sigma_v_max(lab_.stage) / 1e3) + " / " + sig4(sc.ocr) + " = " +
                                              sig4(sv_end_ / 1e3) + " kPa"
                                        : "sigma_v = " + sig4(sv_end_ / 1e3) + " kPa";
     if (!ended_on_stress)
@@ -1981,12 +1987,13 @@ Real Laboratory::stage_k0(size_t k) const {
 // study report's unloading rows read the same rows); NaN without a row.
 Real Laboratory::stage_ocr(size_t k) const {
   const size_t iz = series_column("sigma_z");
-  Real top = 0, last = std::numeric_limits<Real>::quiet_NaN();
-  for (size_t r = 0; r < lab_.series.rows.size() && lab_.series.stage[r] <= int(k); ++r) {
-    top = std::max(top, lab_.series.rows[r][iz]);
-    if (lab_.series.stage[r] == int(k)) last = lab_.series.rows[r][iz];
-  }
-  return last > 0 ? top / last : std::numeric_limits<Real>::quiet_NaN();
+  Real last = std::numeric_limits<Real>::quiet_NaN();
+  for (size_t r = lab_.series.rows.size(); r-- > 0;)
+    if (lab_.series.stage[r] == int(k)) {
+      last = lab_.series.rows[r][iz];
+      break;
+    }
+  return last > 0 ? sigma_v_max(int(k) + 1) / last : std::numeric_limits<Real>::quiet_NaN();
 }
 
 // Every series row of a drained shear: a lateral wall stress further than max_servo_error from its target stops
@@ -2259,7 +2266,7 @@ void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& th
     double sign = 1;
   };
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const Real sv_top = sc.ocr > 0 ? sigma_v_end(sc, k) * sc.ocr : 0;  // sigma_v,max before the stage
+  const Real sv_top = sigma_v_max(k);  // sigma_v,max before the stage (an ocr end's reference)
   const double sv_sign = sc.extension ? -1 : 1;
   const End ends[] = {
       {"max_axial_strain", sc.max_axial_strain, sc.type == StageType::Triaxial ? strain_along(sc, m.eps_a) : nan},
