@@ -512,6 +512,11 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         if (g.has("ocr") && k == 0)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " unloads to sigma_v,max / ocr, sigma_v,max the largest of the "
                                     "stages before, and this is the first stage: give sigma_v");
+        // A deviator end, any drainage (a drained loading's unload-reload loop, an undrained shear to a q)
+        if (g.has("q")) sc.q_end = g.real("q", 0, -1e10, 1e10);
+        if (sc.q_end && (g.has("sigma_v") || g.has("ocr")))
+          g.fail(g.key_path("q"), "= " + fmt(*sc.q_end) + " and " + (g.has("sigma_v") ? "sigma_v = " + fmt(sc.sigma_v) : "ocr = " + fmt(sc.ocr)) +
+                                      " both end the stage at a stress: give one of them");
         if (g.has("ocr") && !sc.extension)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " ends an unloading at sigma_v,max / ocr, and this stage loads "
                                     "(direction: compression): give direction: extension, or sigma_v to load to a stress");
@@ -660,6 +665,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
       // only where set, as affine: the configs of runs without them stay as they were (resume compares them)
       if (sc.sigma_v > 0) e << YAML::Key << "sigma_v" << YAML::Value << sc.sigma_v;
       if (sc.ocr > 0) e << YAML::Key << "ocr" << YAML::Value << sc.ocr;
+      if (sc.q_end) e << YAML::Key << "q" << YAML::Value << *sc.q_end;
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;

@@ -3,6 +3,7 @@
 // are errors too (a typo must not silently fall back to a default).
 #include <yaml-cpp/yaml.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,14 @@ struct StageConfig {
   // as summary.json's OCR takes it); max_axial_strain stays the stage's end should the stress not come first. 0: off.
   Real sigma_v = 0;                // [Pa]
   Real ocr = 0;                    // [-] (> 1, extension only)
+  // triaxial, any drainage: a deviator-stress end (choice, beyond SPEC §6.3): the stage ends on the first step whose q of
+  // the walls (sigma_z - (sigma_x + sigma_y) / 2, the wall loads the servo used) reaches q_end: at or above it in
+  // compression, at or below in extension. A drained loading to a q, an extension back to q = 0 and a reloading is the
+  // unload-reload loop of a triaxial cell, whose secant is E_ur (summary.json's E_sec of the unloading stage). q is not
+  // monotonic along a shear (a dense sample's peak): max_axial_strain stays the end should q not come. Empty: off (0 is
+  // an end: an unloading to the isotropic stress).
+  std::optional<Real> q_end;       // [Pa]
+  bool stress_ended() const { return sigma_v > 0 || ocr > 0 || q_end.has_value(); }
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: csr's or strain reversal)   [Pa]

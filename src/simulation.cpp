@@ -439,7 +439,7 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
   for (int j = 0; j <= last; ++j) {
     YAML::Node x = YAML::Clone(sa[j]), y = YAML::Clone(sb[j]);
     if (j == last)
-      for (const char* key : {"max_axial_strain", "max_steps", "cycles", "sigma_v", "ocr"}) {
+      for (const char* key : {"max_axial_strain", "max_steps", "cycles", "sigma_v", "ocr", "q"}) {
         x.remove(key);
         y.remove(key);
       }
@@ -546,8 +546,11 @@ class Laboratory {
   // the running stage's (run_stage), which shear_end reads.
   Real sigma_v_end(const StageConfig& sc, int k) const;
   Real sigma_v_max(int k) const;
+  // A triaxial stage's stress end met: sigma_z at sv_end_, or q at StageConfig::q_end (reached along the loading: at or
+  // above in compression, at or below in extension).
   bool stress_end(const StageConfig& sc, const Measure& m) const {
-    return sv_end_ > 0 && (sc.extension ? m.sz <= sv_end_ : m.sz >= sv_end_);
+    const auto reached = [&](Real x, Real end) { return sc.extension ? x <= end : x >= end; };
+    return (sv_end_ > 0 && reached(m.sz, sv_end_)) || (sc.q_end && reached(m.q, *sc.q_end));
   }
   Real sv_end_ = 0;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
@@ -583,6 +586,8 @@ class Laboratory {
   Real stage_servo_error(const StageConfig& sc) const;
   Real stage_k0(size_t k) const;
   Real stage_ocr(size_t k) const;
+  const std::vector<double>* last_row(size_t k) const;
+  Real stage_secant_modulus(size_t k, const StageResult& r) const;
   void check_servo(const StageConfig& sc, const Measure& m);
   Real inner_void_ratio() const;
   Sym inner_stress();
@@ -1526,7 +1531,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   overlap_warned_ = false;
   sv_end_ = sigma_v_end(sc, lab_.stage);
   bool ended_on_stress = false;  // the stage's end: its stress end met (else its strain, or max_steps)
-  Real sz_end = 0;               // sigma_z where it ended, as shear_end found it
+  Real s_end = 0;                // the ended-on stress (sigma_z, or q for a q end) where it ended, as shear_end found it
   start_core_share();  // not the stage ends' serial writes (samples, snapshots), where the pool's threads sleep
   int rows_since_flush = 0;
   bool done = false;
@@ -1545,7 +1550,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const bool strain_end = shear_end(sc, m0);
     if (strain_end) {
       ended_on_stress = stress_end(sc, m0);
-      sz_end = m0.sz;
+      s_end = sc.q_end ? m0.q : m0.sz;
     }
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
     if (lateral_servo(sc) && moving_lateral_targets(sc)) {
@@ -1708,24 +1713,28 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   write_summary();
   if (sc.type == StageType::Isotropic && sc.save_sample) save_sample(sc);
   if (sc.type == StageType::Isotropic) warn_graded(sc, res);
-  if (sv_end_ > 0 && done) {
-    // The stress end asked for, against where the stage ended: at max_axial_strain short of it, or on its first step
-    // (the stress already past it: a loading to less than the sample carries, an unloading to more).
-    const std::string end = sc.ocr > 0 ? "sigma_v,max / ocr = " + sig4(sigma_v_max(lab_.stage) / 1e3) + " / " + sig4(sc.ocr) + " = " +
-                                             sig4(sv_end_ / 1e3) + " kPa"
+  if (sc.type == StageType::Triaxial && sc.stress_ended() && done) {
+    // The stress end asked for, against where the stage ended: at max_axial_strain short of it (a q beyond the
+    // sample's peak, a sigma_v beyond the strain), or on its first step (the stress already past it: a loading to less
+    // than the sample carries, an unloading to more).
+    const char* what = sc.q_end ? "q" : "sigma_v";
+    const std::string end = sc.q_end   ? "q = " + sig4(*sc.q_end / 1e3) + " kPa"
+                            : sc.ocr > 0 ? "sigma_v,max / ocr = " + sig4(sigma_v_max(lab_.stage) / 1e3) + " / " + sig4(sc.ocr) +
+                                             " = " + sig4(sv_end_ / 1e3) + " kPa"
                                        : "sigma_v = " + sig4(sv_end_ / 1e3) + " kPa";
     if (!ended_on_stress)
       std::fprintf(stderr,
-                   "grainlab: warning: stage %s ended at max_axial_strain = %g with sigma_v = %s kPa, short of its end %s: "
-                   "raise max_axial_strain\n",
-                   sc.name.c_str(), sc.max_axial_strain, sig4(sz_end / 1e3).c_str(), end.c_str());
+                   "grainlab: warning: stage %s ended at max_axial_strain = %g with %s = %s kPa, short of its end %s: "
+                   "%s\n",
+                   sc.name.c_str(), sc.max_axial_strain, what, sig4(s_end / 1e3).c_str(), end.c_str(),
+                   sc.q_end ? "raise max_axial_strain, or end below the sample's peak q" : "raise max_axial_strain");
     else if (stage_step0_ == 0 && lab_.stage_step == 1)
       std::fprintf(stderr,
-                   "grainlab: warning: stage %s: sigma_v was %s kPa at its start, already past its end %s: it ended on "
+                   "grainlab: warning: stage %s: %s was %s kPa at its start, already past its end %s: it ended on "
                    "its first step\n",
-                   sc.name.c_str(), sig4(sz_end / 1e3).c_str(), end.c_str());
+                   sc.name.c_str(), what, sig4(s_end / 1e3).c_str(), end.c_str());
     else if (!opt_.quiet)
-      std::printf("stage %s: ended at sigma_v = %s kPa, its end %s\n", sc.name.c_str(), sig4(sz_end / 1e3).c_str(),
+      std::printf("stage %s: ended at %s = %s kPa, its end %s\n", sc.name.c_str(), what, sig4(s_end / 1e3).c_str(),
                   end.c_str());
   }
   if (!opt_.quiet) {
@@ -1973,26 +1982,33 @@ Real Laboratory::stage_servo_error(const StageConfig& sc) const {
 // walls, from its last series row (a stage's end always writes one; the series is checkpointed, so a resumed run gives
 // the same); NaN without a row.
 Real Laboratory::stage_k0(size_t k) const {
-  const size_t ix = series_column("sigma_x"), iy = series_column("sigma_y"), iz = series_column("sigma_z");
+  const std::vector<double>* row = last_row(k);
+  if (!row) return std::numeric_limits<Real>::quiet_NaN();
+  return 0.5 * ((*row)[series_column("sigma_x")] + (*row)[series_column("sigma_y")]) / (*row)[series_column("sigma_z")];
+}
+
+// Stage k's last series row (its end's: a stage's end always writes one), null without one.
+const std::vector<double>* Laboratory::last_row(size_t k) const {
   for (size_t r = lab_.series.rows.size(); r-- > 0;)
-    if (lab_.series.stage[r] == int(k)) {
-      const auto& row = lab_.series.rows[r];
-      return 0.5 * (row[ix] + row[iy]) / row[iz];
-    }
-  return std::numeric_limits<Real>::quiet_NaN();
+    if (lab_.series.stage[r] == int(k)) return &lab_.series.rows[r];
+  return nullptr;
+}
+
+// A triaxial stage's secant modulus E_sec = (q - q_0) / eps_a over the stage (eps_a counted from the stage's start,
+// q from the walls, both at its last series row): Young's modulus of a drained stage at constant sigma_3 (the
+// unloading stage of an unload-reload loop: E_ur), the undrained E_u of an undrained one. NaN without a row or strain.
+Real Laboratory::stage_secant_modulus(size_t k, const StageResult& r) const {
+  const std::vector<double>* row = last_row(k);
+  const Real eps = row ? (*row)[series_column("eps_a")] : 0;
+  return eps != 0 ? (r.q - r.q0) / eps : std::numeric_limits<Real>::quiet_NaN();
 }
 
 // The overconsolidation ratio at the end of stage k, OCR = sigma_v,max / sigma_v: the largest sigma_z of the series rows
 // of stages 0..k over that of stage k's last row (1 where the stage ends at the largest vertical stress so far; the
 // study report's unloading rows read the same rows); NaN without a row.
 Real Laboratory::stage_ocr(size_t k) const {
-  const size_t iz = series_column("sigma_z");
-  Real last = std::numeric_limits<Real>::quiet_NaN();
-  for (size_t r = lab_.series.rows.size(); r-- > 0;)
-    if (lab_.series.stage[r] == int(k)) {
-      last = lab_.series.rows[r][iz];
-      break;
-    }
+  const std::vector<double>* row = last_row(k);
+  const Real last = row ? (*row)[series_column("sigma_z")] : std::numeric_limits<Real>::quiet_NaN();
   return last > 0 ? sigma_v_max(int(k) + 1) / last : std::numeric_limits<Real>::quiet_NaN();
 }
 
@@ -2260,20 +2276,26 @@ void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& th
   struct End {
     const char* key;
     double now, reached;  // the new end; where the run is (NaN: not known)
-    // the stress ends (StageConfig::sigma_v, ocr): optional, so one the old config lacks is earlier than any (it
-    // adds an end) and one the new lacks is later; sign -1 where a larger value ends sooner (sigma_v in extension)
+    // the stress ends (StageConfig::sigma_v, ocr, q_end): optional, so one the old config lacks is earlier than any
+    // (it adds an end) and one the new lacks is later; sign -1 where a larger value ends sooner (in extension)
     bool optional = false;
     double sign = 1;
+    const char* unknown = "";  // why `reached` is not known, where it is NaN
   };
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const Real sv_top = sigma_v_max(k);  // sigma_v,max before the stage (an ocr end's reference)
-  const double sv_sign = sc.extension ? -1 : 1;
+  const double along = sc.extension ? -1 : 1;
   const End ends[] = {
       {"max_axial_strain", sc.max_axial_strain, sc.type == StageType::Triaxial ? strain_along(sc, m.eps_a) : nan},
       {"max_steps", double(sc.max_steps), double(lab_.stage_step)},
-      {"cycles", double(sc.cycles), sc.type == StageType::Cyclic ? 0.5 * double(lab_.half_cycles) : nan},
-      {"sigma_v", sc.sigma_v > 0 ? sv_sign * sc.sigma_v : nan, sv_sign * m.sz, true, sv_sign},
-      {"ocr", sc.ocr > 0 ? sc.ocr : nan, m.sz > 0 ? sv_top / m.sz : nan, true, 1}};
+      {"cycles", double(sc.cycles), sc.type == StageType::Cyclic ? 0.5 * double(lab_.half_cycles) : nan, false, 1,
+       "a cyclic stage's peaks are not kept"},
+      {"sigma_v", sc.sigma_v > 0 ? along * sc.sigma_v : nan, along * m.sz, true, along},
+      {"ocr", sc.ocr > 0 ? sc.ocr : nan, m.sz > 0 ? sv_top / m.sz : nan, true, 1},
+      // q rises to a peak and falls (a dense sample's softening) and the steps between series rows are not kept: an
+      // earlier or added q end may have been passed wherever q is now
+      {"q", sc.q_end ? along * *sc.q_end : nan, nan, true, along,
+       "q is not monotonic along a shear, and its steps between series rows are not kept"}};
   for (const End& e : ends) {
     if (e.optional && !(e.now == e.now)) continue;  // no such end now: the stage ends later, if at all
     if (!old[e.key] && !e.optional) continue;
@@ -2284,8 +2306,7 @@ void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& th
     if (old[e.key]) os << "moves stages[" << k << "]." << e.key << " from " << e.sign * before << " to ";
     else os << "adds stages[" << k << "]." << e.key << " = ";
     os << e.sign * e.now
-       << (e.reached == e.reached ? ", which the run has passed" : ", which the run may have passed (a cyclic stage's "
-                                                                   "peaks are not kept)");
+       << (e.reached == e.reached ? ", which the run has passed" : std::string(", which the run may have passed (") + e.unknown + ")");
     if (e.reached == e.reached)
       os << " (" << e.sign * e.reached << (finished ? " where the stage ended)" : " where it stopped)");
     os << ": resumed, it would not be the run this config starts; give an end beyond it, or start a new run from the "
@@ -2343,6 +2364,7 @@ void Laboratory::write_summary() const {
     if (lateral_servo(sc)) js << ", \"servo_error\": " << num(r.servo_error);
     if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Oedometric)
       js << ", \"K0\": " << num(stage_k0(k)) << ", \"OCR\": " << num(stage_ocr(k));
+    if (sc.type == StageType::Triaxial) js << ", \"E_sec\": " << num(stage_secant_modulus(k, r));
     if (sc.type == StageType::Cyclic) js << ", \"quarter_cycle_transits\": " << num(r.quarter_transits);
     // a stress reversal's amplitude and its cyclic stress ratio A / (2 p'_c), whichever of them the config gave
     if (sc.stress_reversal())
@@ -2748,10 +2770,11 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         os << "triaxial " << drainage;
         if (sc.b > 0) os << " (true triaxial, b = " << sc.b << ")";
         if (sc.constant_p) os << " at constant p'";
-        const bool stress_ended = sc.sigma_v > 0 || sc.ocr > 0;  // an oedometer's stress end, the strain a cap
+        const bool stress_ended = sc.stress_ended();  // a stress end, the strain a cap
         if (stress_ended) {
           os << (sc.extension ? " extension" : "") << " to ";
-          if (sc.sigma_v > 0) os << "sigma_v = " << sc.sigma_v / 1e3 << " kPa";
+          if (sc.q_end) os << "q = " << *sc.q_end / 1e3 << " kPa";
+          else if (sc.sigma_v > 0) os << "sigma_v = " << sc.sigma_v / 1e3 << " kPa";
           else os << "sigma_v,max / " << sc.ocr;
           os << " (or eps_a = " << (sc.extension ? "-" : "") << sc.max_axial_strain << ")";
         } else {
@@ -2765,6 +2788,13 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
           w << std::setprecision(4) << "sigma_v = " << sc.sigma_v / 1e3 << " kPa is " << (sc.extension ? "above" : "below")
             << " the " << p_prev / 1e3 << " kPa the stage starts from: it " << (sc.extension ? "unloads" : "loads")
             << " to it at once (ends on its first step)";
+          warn(w.str());
+        }
+        // Right after a consolidation q is 0: a q end on the wrong side of it is met at once.
+        if (sc.q_end && p_prev > 0 && !p_moved && (sc.extension ? *sc.q_end >= 0 : *sc.q_end <= 0)) {
+          std::ostringstream w;
+          w << std::setprecision(4) << "q = " << *sc.q_end / 1e3 << " kPa is " << (sc.extension ? "at or above" : "at or below")
+            << " the q = 0 of the consolidation the stage starts from: it ends on its first step";
           warn(w.str());
         }
         plan.steps.push_back(std::min(need, double(sc.max_steps)));

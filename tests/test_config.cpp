@@ -356,6 +356,15 @@ TEST(Config, RejectsBadInputClearly) {
        "first stage: give sigma_v"},
       {"ocr_sv", "stages:\n  - {type: isotropic}\n  - {type: triaxial, drainage: oedometric, direction: extension, "
        "ocr: 2, sigma_v: 1e5}\n", "stages[1].ocr = 2 and sigma_v = 100000 both end the stage at a vertical stress: give one of them"},
+      // a deviator end: triaxial stages of any drainage, one stress end at most, |q| <= 1e10
+      {"q_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, q: 1e5}\n", "stages[0].q: unknown key"},
+      {"q_iso", "stages:\n  - {type: isotropic, q: 1e5}\n", "stages[0].q: unknown key"},
+      {"q_big", "stages:\n  - {type: triaxial, drainage: drained, q: -2e10}\n",
+       "stages[0].q = -2e10 is outside the allowed range [-1e+10, 1e+10]"},
+      {"q_sv", "stages:\n  - {type: triaxial, drainage: oedometric, sigma_v: 3e5, q: 1e5}\n",
+       "stages[0].q = 100000 and sigma_v = 300000 both end the stage at a stress: give one of them"},
+      {"q_null", "stages:\n  - {type: triaxial, drainage: drained, q: }\n",
+       "stages[0].q: has no value: give one, or leave the key out for its default"},
       // the servo's integral action: [0, 0.5] (WallControl::integral: stable below 1 on an ideal wall)
       {"ki_big", "stages:\n  - {type: triaxial, drainage: drained, servo_integral: 0.8}\n",
        "stages[0].servo_integral = 0.8 is outside the allowed range [0, 0.5]"},

@@ -1495,6 +1495,65 @@ TEST(Lab, OedometricStageEndsAtItsStressOrOcr) {
   expect_same_state(direct, out);
 }
 
+// A deviator end (StageConfig::q_end), the unload-reload loop of a drained triaxial test: the reference sample loaded
+// to q = 100 kPa and unloaded (direction: extension) to q = 20 kPa, rows every step. Each stage ends on the first step
+// that finds q past its end (the wall loads of the step before, its row): every row before that one is short of the
+// end, that one is at or past it (measured 100.009 kPa and 19.96 kPa; q moves 31 Pa a step loading, 48 Pa unloading).
+// summary.json's E_sec is (q - q_0) / eps_a of each stage's last row, and the unloading is stiffer than the first
+// loading (measured E_ur 20.0 MPa against 12.3 MPa: the loading's plastic strain does not come back). Stopped and
+// resumed = uninterrupted byte for byte; extended, a later end (q = 0) goes on to the uninterrupted q = 0 run's
+// state to the bit, an earlier one (40 kPa) is refused: q is not monotonic, so the run may have passed it.
+TEST(Lab, TriaxialStageEndsAtItsDeviator) {
+  const auto stages = [](const std::string& q_unload) {
+    return "  - {name: load, type: triaxial, drainage: drained, axial_strain_rate: 1.0, q: 1.0e5, damping: 0.2}\n"
+           "  - {name: unload, type: triaxial, drainage: drained, direction: extension, axial_strain_rate: 1.0, q: " +
+           q_unload + ", damping: 0.2}\n";
+  };
+  const std::string cfg = on_reference("q_end", stages("2.0e4"), 1), out = tmpdir("q_end");
+  const RunResult r = run(cfg, out);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_TRUE(r.stages[0].converged && r.stages[1].converged);
+  H5Reader h(out + "/run.h5");
+  const auto ea = h.doubles("/series/eps_a"), q = h.doubles("/series/q");
+  size_t turn = 0;  // the last row of the loading stage
+  while (turn + 1 < ea.size() && ea[turn + 1] > 0) ++turn;
+  ASSERT_GT(turn, 20u);
+  ASSERT_GT(ea.size(), turn + 20);
+  const size_t last = q.size() - 1;
+  std::printf("  q ends: q %.5g -> %.5g kPa (%zu rows, eps_a %.4g) -> %.5g kPa (eps_a %.4g); found at %.6g and %.6g kPa\n",
+              q[0] / 1e3, q[turn] / 1e3, turn + 1, ea[turn], q[last] / 1e3, ea[last], q[turn - 1] / 1e3, q[last - 1] / 1e3);
+  for (size_t k = 0; k + 1 < turn; ++k) EXPECT_LT(q[k], 1e5) << "row " << k << " is past the loading's end";
+  EXPECT_GE(q[turn - 1], 1e5);
+  for (size_t k = turn + 1; k + 1 < last; ++k) EXPECT_GT(q[k], 2e4) << "row " << k << " is past the unloading's end";
+  EXPECT_LE(q[last - 1], 2e4);
+  const YAML::Node sum = YAML::LoadFile(out + "/summary.json");
+  const double e_load = sum["stages"][0]["E_sec"].as<double>(), e_unload = sum["stages"][1]["E_sec"].as<double>();
+  EXPECT_EQ(e_load, (q[turn] - sum["stages"][0]["q_0"].as<double>()) / ea[turn]);
+  EXPECT_EQ(e_unload, (q[last] - sum["stages"][1]["q_0"].as<double>()) / ea[last]);
+  std::printf("  E_sec loading %.4g MPa, unloading %.4g MPa\n", e_load / 1e6, e_unload / 1e6);
+  EXPECT_GT(e_unload, e_load);
+  EXPECT_NE(slurp(out + "/config.yaml").find("q: 1.0e+05"), std::string::npos);
+  const std::string stopped = tmpdir("q_end_stopped");
+  ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps + r.stages[1].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
+  std::string err;
+  try {
+    run(on_reference("q_end_40", stages("4.0e4"), 1), out, -1, true);
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  EXPECT_NE(err.find("this config moves stages[1].q from 20000 to 40000, which the run may have passed (q is not "
+                     "monotonic along a shear"), std::string::npos) << err;
+  const std::string c0 = on_reference("q_end_0", stages("0"), 1), direct = tmpdir("q_end_0");
+  const RunResult r0 = run(c0, direct);
+  const RunResult ext = run(c0, out, -1, true);
+  ASSERT_EQ(ext.stages.size(), 2u);
+  EXPECT_EQ(ext.stages[1].steps, r0.stages[1].steps);
+  EXPECT_EQ(slurp(direct + "/series.csv"), slurp(out + "/series.csv"));
+  expect_same_state(direct, out);
+}
+
 // The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
 // sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
 // sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
