@@ -506,17 +506,21 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
             g.fail(g.key_path(key), std::string("ends an oedometric stage at a vertical stress, and this stage is ") +
                                         drainage_name(sc.drainage) + " (give drainage: oedometric, or leave " + key +
                                         " out and end the stage at max_axial_strain)");
-        if (g.has("sigma_v") && g.has("ocr"))
-          g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " and sigma_v = " + fmt(sc.sigma_v) +
-                                        " both end the stage at a vertical stress: give one of them");
         if (g.has("ocr") && k == 0)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " unloads to sigma_v,max / ocr, sigma_v,max the largest of the "
                                     "stages before, and this is the first stage: give sigma_v");
         // A deviator end, any drainage (a drained loading's unload-reload loop, an undrained shear to a q)
+        // or at a stress ratio q/p': in [-1.5, 3], the range of triaxial stress states with sigma_3 >= 0 (q/p' = 3 at
+        // sigma_x = sigma_y = 0, -1.5 at sigma_z = 0)
         if (g.has("q")) sc.q_end = g.real("q", 0, -1e10, 1e10);
-        if (sc.q_end && (g.has("sigma_v") || g.has("ocr")))
-          g.fail(g.key_path("q"), "= " + fmt(*sc.q_end) + " and " + (g.has("sigma_v") ? "sigma_v = " + fmt(sc.sigma_v) : "ocr = " + fmt(sc.ocr)) +
-                                      " both end the stage at a stress: give one of them");
+        if (g.has("stress_ratio")) sc.eta_end = g.real("stress_ratio", 0, -1.5, 3);
+        std::vector<std::string> ends;  // the stress ends given, "key = value"
+        for (const auto& [key, v] : {std::pair<const char*, Real>{"sigma_v", sc.sigma_v}, {"ocr", sc.ocr},
+                                     {"q", sc.q_end.value_or(0)}, {"stress_ratio", sc.eta_end.value_or(0)}})
+          if (g.has(key)) ends.push_back(std::string(key) + " = " + fmt(v));
+        if (ends.size() > 1)
+          g.fail(g.key_path(ends[0].substr(0, ends[0].find(' '))), ends[0].substr(ends[0].find(' ') + 1) + " and " + ends[1] +
+                                                                      " both end the stage at a stress: give one of them");
         if (g.has("ocr") && !sc.extension)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " ends an unloading at sigma_v,max / ocr, and this stage loads "
                                     "(direction: compression): give direction: extension, or sigma_v to load to a stress");
@@ -666,6 +670,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
       if (sc.sigma_v > 0) e << YAML::Key << "sigma_v" << YAML::Value << sc.sigma_v;
       if (sc.ocr > 0) e << YAML::Key << "ocr" << YAML::Value << sc.ocr;
       if (sc.q_end) e << YAML::Key << "q" << YAML::Value << *sc.q_end;
+      if (sc.eta_end) e << YAML::Key << "stress_ratio" << YAML::Value << *sc.eta_end;
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;

@@ -82,7 +82,11 @@ struct StageConfig {
   // monotonic along a shear (a dense sample's peak): max_axial_strain stays the end should q not come. Empty: off (0 is
   // an end: an unloading to the isotropic stress).
   std::optional<Real> q_end;       // [Pa]
-  bool stress_ended() const { return sigma_v > 0 || ocr > 0 || q_end.has_value(); }
+  // The same end at a stress ratio eta = q/p' of the walls (q >= eta p' in compression, q <= eta p' in extension): the
+  // end that scales with the confining pressure, as a study's p0 axis does (an unload-reload loop at the same share of
+  // the strength at each p'_0).
+  std::optional<Real> eta_end;     // [-]
+  bool stress_ended() const { return sigma_v > 0 || ocr > 0 || q_end || eta_end; }
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: csr's or strain reversal)   [Pa]

@@ -439,7 +439,7 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
   for (int j = 0; j <= last; ++j) {
     YAML::Node x = YAML::Clone(sa[j]), y = YAML::Clone(sb[j]);
     if (j == last)
-      for (const char* key : {"max_axial_strain", "max_steps", "cycles", "sigma_v", "ocr", "q"}) {
+      for (const char* key : {"max_axial_strain", "max_steps", "cycles", "sigma_v", "ocr", "q", "stress_ratio"}) {
         x.remove(key);
         y.remove(key);
       }
@@ -546,11 +546,12 @@ class Laboratory {
   // the running stage's (run_stage), which shear_end reads.
   Real sigma_v_end(const StageConfig& sc, int k) const;
   Real sigma_v_max(int k) const;
-  // A triaxial stage's stress end met: sigma_z at sv_end_, or q at StageConfig::q_end (reached along the loading: at or
-  // above in compression, at or below in extension).
+  // A triaxial stage's stress end met: sigma_z at sv_end_, q at StageConfig::q_end, or q/p' at eta_end (q against
+  // eta p': no division), each reached along the loading: at or above in compression, at or below in extension.
   bool stress_end(const StageConfig& sc, const Measure& m) const {
     const auto reached = [&](Real x, Real end) { return sc.extension ? x <= end : x >= end; };
-    return (sv_end_ > 0 && reached(m.sz, sv_end_)) || (sc.q_end && reached(m.q, *sc.q_end));
+    return (sv_end_ > 0 && reached(m.sz, sv_end_)) || (sc.q_end && reached(m.q, *sc.q_end)) ||
+           (sc.eta_end && reached(m.q, *sc.eta_end * m.p));
   }
   Real sv_end_ = 0;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
@@ -1531,7 +1532,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   overlap_warned_ = false;
   sv_end_ = sigma_v_end(sc, lab_.stage);
   bool ended_on_stress = false;  // the stage's end: its stress end met (else its strain, or max_steps)
-  Real s_end = 0;                // the ended-on stress (sigma_z, or q for a q end) where it ended, as shear_end found it
+  Real s_end = 0;                // the ended-on stress (sigma_z, q, q/p') where it ended, as shear_end found it
   start_core_share();  // not the stage ends' serial writes (samples, snapshots), where the pool's threads sleep
   int rows_since_flush = 0;
   bool done = false;
@@ -1550,7 +1551,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const bool strain_end = shear_end(sc, m0);
     if (strain_end) {
       ended_on_stress = stress_end(sc, m0);
-      s_end = sc.q_end ? m0.q : m0.sz;
+      s_end = sc.q_end ? m0.q : sc.eta_end ? m0.q / m0.p : m0.sz;
     }
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
     if (lateral_servo(sc) && moving_lateral_targets(sc)) {
@@ -1717,25 +1718,28 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // The stress end asked for, against where the stage ended: at max_axial_strain short of it (a q beyond the
     // sample's peak, a sigma_v beyond the strain), or on its first step (the stress already past it: a loading to less
     // than the sample carries, an unloading to more).
-    const char* what = sc.q_end ? "q" : "sigma_v";
-    const std::string end = sc.q_end   ? "q = " + sig4(*sc.q_end / 1e3) + " kPa"
+    const bool ratio = sc.eta_end.has_value(), deviator = ratio || sc.q_end;
+    // "q/p' = 0.5", "q = 100 kPa": the stress as it ended, and its end
+    const auto stress = [&](const char* what, Real v) {
+      return std::string(what) + " = " + (ratio ? sig4(v) : sig4(v / 1e3) + " kPa");
+    };
+    const char* what = ratio ? "q/p'" : sc.q_end ? "q" : "sigma_v";
+    const std::string at = stress(what, s_end);
+    const std::string end = ratio      ? stress(what, *sc.eta_end)
+                            : sc.q_end ? stress(what, *sc.q_end)
                             : sc.ocr > 0 ? "sigma_v,max / ocr = " + sig4(sigma_v_max(lab_.stage) / 1e3) + " / " + sig4(sc.ocr) +
                                              " = " + sig4(sv_end_ / 1e3) + " kPa"
-                                       : "sigma_v = " + sig4(sv_end_ / 1e3) + " kPa";
+                                       : stress(what, sv_end_);
     if (!ended_on_stress)
-      std::fprintf(stderr,
-                   "grainlab: warning: stage %s ended at max_axial_strain = %g with %s = %s kPa, short of its end %s: "
-                   "%s\n",
-                   sc.name.c_str(), sc.max_axial_strain, what, sig4(s_end / 1e3).c_str(), end.c_str(),
-                   sc.q_end ? "raise max_axial_strain, or end below the sample's peak q" : "raise max_axial_strain");
+      std::fprintf(stderr, "grainlab: warning: stage %s ended at max_axial_strain = %g with %s, short of its end %s: %s\n",
+                   sc.name.c_str(), sc.max_axial_strain, at.c_str(), end.c_str(),
+                   deviator ? "raise max_axial_strain, or end below the sample's peak" : "raise max_axial_strain");
     else if (stage_step0_ == 0 && lab_.stage_step == 1)
       std::fprintf(stderr,
-                   "grainlab: warning: stage %s: %s was %s kPa at its start, already past its end %s: it ended on "
-                   "its first step\n",
-                   sc.name.c_str(), what, sig4(s_end / 1e3).c_str(), end.c_str());
+                   "grainlab: warning: stage %s: %s at its start, already past its end %s: it ended on its first step\n",
+                   sc.name.c_str(), at.c_str(), end.c_str());
     else if (!opt_.quiet)
-      std::printf("stage %s: ended at %s = %s kPa, its end %s\n", sc.name.c_str(), what, sig4(s_end / 1e3).c_str(),
-                  end.c_str());
+      std::printf("stage %s: ended at %s, its end %s\n", sc.name.c_str(), at.c_str(), end.c_str());
   }
   if (!opt_.quiet) {
     std::printf("stage %s: %s after %ld steps, mu = %.4g, p = %.4g kPa, q = %.4g kPa, e = %.4f\n", sc.name.c_str(),
@@ -2295,7 +2299,9 @@ void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& th
       // q rises to a peak and falls (a dense sample's softening) and the steps between series rows are not kept: an
       // earlier or added q end may have been passed wherever q is now
       {"q", sc.q_end ? along * *sc.q_end : nan, nan, true, along,
-       "q is not monotonic along a shear, and its steps between series rows are not kept"}};
+       "q is not monotonic along a shear, and its steps between series rows are not kept"},
+      {"stress_ratio", sc.eta_end ? along * *sc.eta_end : nan, nan, true, along,
+       "q/p' is not monotonic along a shear, and its steps between series rows are not kept"}};
   for (const End& e : ends) {
     if (e.optional && !(e.now == e.now)) continue;  // no such end now: the stage ends later, if at all
     if (!old[e.key] && !e.optional) continue;
@@ -2774,6 +2780,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         if (stress_ended) {
           os << (sc.extension ? " extension" : "") << " to ";
           if (sc.q_end) os << "q = " << *sc.q_end / 1e3 << " kPa";
+          else if (sc.eta_end) os << "q/p' = " << *sc.eta_end;
           else if (sc.sigma_v > 0) os << "sigma_v = " << sc.sigma_v / 1e3 << " kPa";
           else os << "sigma_v,max / " << sc.ocr;
           os << " (or eps_a = " << (sc.extension ? "-" : "") << sc.max_axial_strain << ")";
@@ -2790,11 +2797,14 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
             << " to it at once (ends on its first step)";
           warn(w.str());
         }
-        // Right after a consolidation q is 0: a q end on the wrong side of it is met at once.
-        if (sc.q_end && p_prev > 0 && !p_moved && (sc.extension ? *sc.q_end >= 0 : *sc.q_end <= 0)) {
+        // Before any shear stage q is 0 (a consolidation's, a sample file's, which one wrote, a gas's): a q or q/p' end on
+        // the wrong side of it is met at once.
+        if (const Real qe = sc.q_end.value_or(sc.eta_end.value_or(0));
+            (sc.q_end || sc.eta_end) && !p_moved && (sc.extension ? qe >= 0 : qe <= 0)) {
           std::ostringstream w;
-          w << std::setprecision(4) << "q = " << *sc.q_end / 1e3 << " kPa is " << (sc.extension ? "at or above" : "at or below")
-            << " the q = 0 of the consolidation the stage starts from: it ends on its first step";
+          w << std::setprecision(4) << (sc.q_end ? "q = " : "q/p' = ") << (sc.q_end ? qe / 1e3 : qe)
+            << (sc.q_end ? " kPa" : "") << " is " << (sc.extension ? "at or above" : "at or below")
+            << " the q = 0 the stage starts from (no shear stage before it): it ends on its first step";
           warn(w.str());
         }
         plan.steps.push_back(std::min(need, double(sc.max_steps)));

@@ -355,14 +355,18 @@ TEST(Config, RejectsBadInputClearly) {
        "stages[0].ocr = 2 unloads to sigma_v,max / ocr, sigma_v,max the largest of the stages before, and this is the "
        "first stage: give sigma_v"},
       {"ocr_sv", "stages:\n  - {type: isotropic}\n  - {type: triaxial, drainage: oedometric, direction: extension, "
-       "ocr: 2, sigma_v: 1e5}\n", "stages[1].ocr = 2 and sigma_v = 100000 both end the stage at a vertical stress: give one of them"},
+       "ocr: 2, sigma_v: 1e5}\n", "stages[1].sigma_v = 100000 and ocr = 2 both end the stage at a stress: give one of them"},
       // a deviator end: triaxial stages of any drainage, one stress end at most, |q| <= 1e10
       {"q_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, q: 1e5}\n", "stages[0].q: unknown key"},
       {"q_iso", "stages:\n  - {type: isotropic, q: 1e5}\n", "stages[0].q: unknown key"},
       {"q_big", "stages:\n  - {type: triaxial, drainage: drained, q: -2e10}\n",
        "stages[0].q = -2e10 is outside the allowed range [-1e+10, 1e+10]"},
       {"q_sv", "stages:\n  - {type: triaxial, drainage: oedometric, sigma_v: 3e5, q: 1e5}\n",
-       "stages[0].q = 100000 and sigma_v = 300000 both end the stage at a stress: give one of them"},
+       "stages[0].sigma_v = 300000 and q = 100000 both end the stage at a stress: give one of them"},
+      {"eta_q", "stages:\n  - {type: triaxial, drainage: undrained, q: 1e5, stress_ratio: 0.5}\n",
+       "stages[0].q = 100000 and stress_ratio = 0.5 both end the stage at a stress: give one of them"},
+      {"eta_big", "stages:\n  - {type: triaxial, drainage: drained, stress_ratio: 3.5}\n",
+       "stages[0].stress_ratio = 3.5 is outside the allowed range [-1.5, 3]"},
       {"q_null", "stages:\n  - {type: triaxial, drainage: drained, q: }\n",
        "stages[0].q: has no value: give one, or leave the key out for its default"},
       // the servo's integral action: [0, 0.5] (WallControl::integral: stable below 1 on an ideal wall)

@@ -1554,6 +1554,49 @@ TEST(Lab, TriaxialStageEndsAtItsDeviator) {
   expect_same_state(direct, out);
 }
 
+// The stress-ratio end (StageConfig::eta_end) and the stress ends' warnings. stress_ratio: 0.3 on the reference sample
+// (rows every step): every row before the one whose q/p' the end step found is short of 0.3, that one at or past it.
+// A stage to q/p' = 2, beyond the sample's strength, ends at its max_axial_strain with the warning that names both;
+// a q end of -10 kPa loading from the consolidation is warned of by the plan and ends the stage on its first step,
+// warned of again.
+TEST(Lab, StressRatioEndAndTheStressEndsWarnings) {
+  const std::string cfg = on_reference("eta_end",
+                                       "  - {name: eta, type: triaxial, drainage: drained, axial_strain_rate: 1.0, "
+                                       "stress_ratio: 0.3, damping: 0.2}\n"
+                                       "  - {name: high, type: triaxial, drainage: drained, axial_strain_rate: 1.0, "
+                                       "stress_ratio: 2, max_axial_strain: 0.004, damping: 0.2}\n", 1);
+  const std::string out = tmpdir("eta_end");
+  testing::internal::CaptureStderr();
+  const RunResult r = run(cfg, out);
+  const std::string err = testing::internal::GetCapturedStderr();
+  ASSERT_EQ(r.stages.size(), 2u);
+  H5Reader h(out + "/run.h5");
+  const auto ea = h.doubles("/series/eps_a"), q = h.doubles("/series/q"), p = h.doubles("/series/p");
+  size_t turn = 0;  // the last row of the first stage
+  while (turn + 1 < ea.size() && ea[turn + 1] > 0) ++turn;
+  ASSERT_GT(turn, 20u);
+  for (size_t k = 0; k + 1 < turn; ++k) EXPECT_LT(q[k], 0.3 * p[k]) << "row " << k << " is past the stage's end";
+  EXPECT_GE(q[turn - 1], 0.3 * p[turn - 1]);
+  std::printf("  q/p' end 0.3: found at %.6g (row before %.6g); %s", q[turn - 1] / p[turn - 1], q[turn - 2] / p[turn - 2],
+              err.c_str());
+  EXPECT_NE(err.find("grainlab: warning: stage high ended at max_axial_strain = 0.004 with q/p' = "), std::string::npos) << err;
+  EXPECT_NE(err.find(", short of its end q/p' = 2: raise max_axial_strain, or end below the sample's peak\n"),
+            std::string::npos) << err;
+  EXPECT_NE(slurp(out + "/config.yaml").find("stress_ratio: 0.3"), std::string::npos);
+  const std::string past = on_reference("q_past", "  - {name: past, type: triaxial, drainage: drained, q: -1.0e4}\n", 1);
+  const std::vector<std::string> w = plan_run(load_run_config(past)).warnings;
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("q = -10 kPa is at or below the q = 0 the stage starts from (no shear stage before it): it ends "
+                      "on its first step"), std::string::npos) << w[0];
+  testing::internal::CaptureStderr();
+  const RunResult rp = run(past, tmpdir("q_past"));
+  const std::string err_past = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(rp.stages.at(0).steps, 1);
+  EXPECT_NE(err_past.find("grainlab: warning: stage past: q = "), std::string::npos) << err_past;
+  EXPECT_NE(err_past.find(" kPa at its start, already past its end q = -10 kPa: it ended on its first step"),
+            std::string::npos) << err_past;
+}
+
 // The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
 // sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
 // sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
