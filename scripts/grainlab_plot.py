@@ -1374,7 +1374,7 @@ def study_lines(out, idx, figs_rel, fits=None):
         m = s["shear"]
         ls = "-" if j["drainage"] == "undrained" else "--"
         lab = job_label(j, s, several_seeds)
-        ax[0].plot(100 * s["eps_a"][m], s["q"][m] / 1e3, ls, color=colors[j["mu_r"]], label=lab)
+        ax[0].plot(100 * s["eps_a_run"][m], s["q"][m] / 1e3, ls, color=colors[j["mu_r"]], label=lab)
         ax[1].plot(s["p"][m] / 1e3, s["q"][m] / 1e3, ls, color=colors[j["mu_r"]])
         ax[2].plot(s["p"][m] / 1e3, s["e"][m], ls, color=colors[j["mu_r"]])
     ax[0].set(xlabel="eps_a [%]", ylabel="q [kPa]", title="deviator stress (solid undrained, dashed drained)")
@@ -1503,6 +1503,7 @@ def study_lines(out, idx, figs_rel, fits=None):
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
              *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
+             *stiffness_section(mono, figs),
              *contacts_section([(j["name"], d) for j, d, _ in mono]),
              *size_classes.report_section(size_tests(out, mono)),
              *fail_lines, *rate_lines, *seed_lines, *samples_section(out, idx["jobs"], idx.get("samples")), *comp_lines, *oed_lines, *cyc_lines]
@@ -1567,6 +1568,158 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
             "| test | mu_r | phi'_max [°] | phi'_cs [°] | (-d)_max ± se (eps_a %) | psi_max [°] | (phi'_max - phi'_cs) / "
             "(-d)_max [°] | Rowe K | phi_f [°] (rms) | phi_mu [°] |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+
+
+# The reference pressure of the stiffness fits E = E_ref (sigma'_3 / P_REF)^m: the hardening-soil model's p_ref
+# (Schanz, Vermeer & Bonnier 1999, "The hardening soil model"), at which its E50_ref and E_ur_ref are given.
+P_REF = 100e3
+
+
+def drained_triaxial(st, direction):
+    """A summary.json stage that is a drained triaxial test at constant sigma_3 (b = 0) in that direction."""
+    return (st.get("type") == "triaxial" and st.get("drainage") == "drained" and st.get("direction") == direction
+            and float(st.get("b", 0) or 0) == 0 and st.get("stress_path", "constant_sigma3") == "constant_sigma3")
+
+
+def stiffness_state(d, s):
+    """The drained triaxial stiffnesses of a run (d its directory, s its series; stages from summary.json). None
+    without a first loading: the first drained compression stage at constant sigma_3 that starts from an isotropic
+    stress (the first stage, from a sample file, or one after an isotropic stage: where the run's q_0 is 0). Else its p'_0 (= sigma'_3), q_peak: the largest
+    q of the walls over the drained compressions from it to the next non-triaxial stage (a reloading goes on to the
+    peak), `rising` where that is their last row (no peak: q still rose), E50 = (q_peak/2) / eps_a50 with eps_a50
+    where the first loading's q first reaches q_peak/2, between the rows about it (None where the loading stopped
+    below it: a loop turned earlier), and `loops`: each drained extension stage right after a compression one, with
+    E_ur (summary.json's E_sec, (q - q_0)/eps_a over the stage; from its last row for a build before it), nu_ur =
+    -eps_r/eps_a over the stage (eps_r from its eps_v and eps_a as the run measures it: (1 - eps_v) = (1 - eps_a)
+    (1 - eps_r)^2) and the q it unloaded from and to."""
+    try:
+        with open(os.path.join(d, "summary.json")) as f:
+            stages = json.load(f).get("stages", [])
+    except (OSError, ValueError):
+        return None
+    k0 = next((k for k, st in enumerate(stages) if drained_triaxial(st, "compression")
+               and (k == 0 or stages[k - 1].get("type") == "isotropic")), None)
+    if k0 is None:
+        return None
+    end = next((k for k in range(k0, len(stages)) if stages[k].get("type") != "triaxial"), len(stages))
+    comp = np.zeros(len(s["q"]), dtype=bool)
+    for st in stages[k0:end]:
+        if drained_triaxial(st, "compression"):
+            comp |= s["stage"] == st["name"]
+    rows = np.flatnonzero(comp)
+    if not len(rows):
+        return None
+    k_peak = rows[int(np.argmax(s["q"][rows]))]
+    q_peak = float(s["q"][k_peak])
+    first = s["stage"] == stages[k0]["name"]
+    q1, e1 = s["q"][first], s["eps_a"][first]
+    hit = np.flatnonzero(q1 >= q_peak / 2)
+    E50 = None
+    if len(hit) and q_peak > 0:
+        k = int(hit[0])
+        eps = e1[k] if k == 0 else e1[k - 1] + (e1[k] - e1[k - 1]) * (q_peak / 2 - q1[k - 1]) / (q1[k] - q1[k - 1])
+        E50 = q_peak / 2 / eps if eps > 0 else None
+    loops = []
+    for k in range(k0 + 1, end):
+        st = stages[k]
+        if not (drained_triaxial(st, "extension") and drained_triaxial(stages[k - 1], "compression")):
+            continue
+        r = np.flatnonzero(s["stage"] == st["name"])
+        if not len(r):
+            continue
+        ea = float(s["eps_a"][r[-1]])
+        ev = float(s["eps_v"][r[-1]]) if "eps_v" in s else float("nan")
+        E = st.get("E_sec")
+        E = float(E) if E is not None else ((float(s["q"][r[-1]]) - float(st["q_0"])) / ea if ea else None)
+        er = 1 - math.sqrt((1 - ev) / (1 - ea)) if math.isfinite(ev) else float("nan")
+        loops.append(dict(E=E, nu=-er / ea if ea else float("nan"), q_from=float(st["q_0"]), q_to=float(st["q"])))
+    return dict(p0=float(stages[k0]["p_0"]), q_peak=q_peak, rising=bool(k_peak == rows[-1]), E50=E50, loops=loops)
+
+
+def power_fit(p, E):
+    """ln E = ln E_ref + m ln(p / P_REF), least squares: (E_ref, its standard error, m, its standard error); None with
+    fewer than 3 points or pressure levels below 2 (no slope; fit's standard errors need 3 points)."""
+    p, E = np.asarray(p, dtype=float), np.asarray(E, dtype=float)
+    if len(p) < 3 or pressure_levels(p) < 2:
+        return None
+    m, c, sm, sc = fit(np.log(p / P_REF), np.log(E))
+    return math.exp(c), math.exp(c) * sc, m, sm
+
+
+def stiffness_section(mono, figs):
+    """The stiffness of the drained compression tests (stiffness_state): E50 of each first loading, E_ur and nu_ur of
+    each unload-reload loop (a drained extension stage after a compression, ended by a q or stress_ratio end), and per
+    mu_r the power laws E = E_ref (sigma'_3 / p_ref)^m of the hardening-soil model over the confining pressures;
+    figures/stiffness.png. Empty without such tests."""
+    rows, pts = [], {}
+    for j, d, s in mono:
+        st = stiffness_state(d, s)
+        if st is None:
+            continue
+        loop = st["loops"][0] if st["loops"] else None
+        ratio = loop["E"] / st["E50"] if loop and st["E50"] and loop["E"] else None
+        E50 = number_text(st["E50"] / 1e6 if st["E50"] else None, ".2f")
+        peak = f"{st['q_peak'] / 1e3:.1f}" + (" (rising)" if st["rising"] else "")
+        if loop:
+            more = f" ({len(st['loops'])} loops: the first)" if len(st["loops"]) > 1 else ""
+            # (round: an int, so that an unloading that ended at q = -0.07 kPa reads 0, not -0)
+            ur = (f"{number_text(loop['E'] / 1e6 if loop['E'] else None, '.2f')} ({round(loop['q_from'] / 1e3)} → "
+                  f"{round(loop['q_to'] / 1e3)}) | {number_text(loop['nu'], '.3f')} | {number_text(ratio, '.2f')}{more}")
+        else:
+            ur = "- | - | -"
+        rows.append(f"| {j['name']} | {j['mu_r']:g} | {st['p0'] / 1e3:.1f} | {peak} | {E50} | {ur} |")
+        g = pts.setdefault(j["mu_r"], {"E50": [], "E_ur": []})
+        if st["E50"]:
+            g["E50"].append((st["p0"], st["E50"]))
+        if loop and loop["E"] and loop["E"] > 0:
+            g["E_ur"].append((st["p0"], loop["E"]))
+    if not rows:
+        return []
+    fit_rows = []
+    fig, ax = plt.subplots(figsize=(6.5, 4.6))
+    murs = sorted(pts)
+    for i, mu_r in enumerate(murs):
+        color = plt.cm.viridis(i / max(1, len(murs) - 1))
+        for key, marker in (("E50", "o"), ("E_ur", "s")):
+            v = pts[mu_r][key]
+            if not v:
+                continue
+            p, E = np.array([x[0] for x in v]), np.array([x[1] for x in v])
+            ax.loglog(p / 1e3, E / 1e6, marker, color=color, mfc="none" if key == "E50" else color,
+                      label=f"{key}, mu_r = {mu_r:g}")
+            f = power_fit(p, E)
+            if f is None:
+                fit_rows.append(f"| {mu_r:g} | {key} | {len(v)} | not fitted: needs 3 tests at 2 pressures or more | | |")
+                continue
+            E_ref, sE, m, sm = f
+            xs = np.array([p.min(), p.max()])
+            ax.loglog(xs / 1e3, E_ref * (xs / P_REF) ** m / 1e6, "-" if key == "E_ur" else "--", color=color, lw=1)
+            fit_rows.append(f"| {mu_r:g} | {key} | {len(v)} | {E_ref / 1e6:.2f} ± {sE / 1e6:.2f} | {m:.3f} ± {sm:.3f} | "
+                            f"{p.min() / 1e3:.0f}–{p.max() / 1e3:.0f} |")
+    ax.set(xlabel="sigma'_3 = p'_0 [kPa]", ylabel="E [MPa]", title="E50 (open) and E_ur (filled) against the confinement")
+    # plain numbers (kPa, MPa), not powers of ten, on the log axes: the tests' pressures on x
+    ax.set_xticks(sorted({round(x[0] / 1e3) for g in pts.values() for v in g.values() for x in v}))
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.yaxis.set_minor_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    legend(ax, fontsize=7)
+    save(fig, figs, "stiffness")
+    return ["## Stiffness (drained triaxial)", "",
+            "The drained compressions at constant sigma_3 that start from an isotropic stress (their first loading): "
+            "E50 = (q_peak/2) / eps_a where the first loading's q (of the walls) first reaches half the test's peak "
+            "(q_peak: the largest q over the test's compressions, a reloading included; '(rising)': q still rose at the "
+            "end, so q_peak is the last q, not a peak; '-' where the loading turned below q_peak/2); and the first "
+            "unload-reload loop's E_ur = Δq / Δeps_a of its unloading (a drained extension stage after a compression, "
+            "ended by a `q` or `stress_ratio` end: summary.json's E_sec, from the q it turned at to the q it ended at) "
+            "and nu_ur = -Δeps_r / Δeps_a over it. Per mu_r, the hardening-soil model's power laws E = E_ref "
+            f"(sigma'_3 / p_ref)^m with p_ref = {P_REF / 1e3:g} kPa (Schanz et al. 1999; c = 0), least squares in "
+            "ln E against ln sigma'_3, ± one standard error; `figures/stiffness.png`. q is the walls', drag included "
+            "(the peak table's q less drag says how much it adds).", "",
+            "| test | mu_r | p'_0 [kPa] | q_peak [kPa] | E50 [MPa] | E_ur [MPa] (q from → to, kPa) | nu_ur | E_ur / E50 |",
+            "|---|---|---|---|---|---|---|---|", *rows, "",
+            *(["| mu_r | modulus | tests | E_ref [MPa] | m | sigma'_3 [kPa] |", "|---|---|---|---|---|---|", *fit_rows, ""]
+              if fit_rows else [])]
 
 
 def sample_count(run_dir):
