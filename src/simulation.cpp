@@ -1612,7 +1612,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
           line << " | eps_a = " << m.eps_a;
           const double steps_left =
               (sc.max_axial_strain - strain_along(sc, m.eps_a)) / std::max(1e-30, sc.axial_strain_rate * e.dt());
-          if (timed) line << " | ETA " << std::setprecision(3) << steps_left / std::max(rate, 1e-9) << " s";
+          // a stress-ended stage's ETA is its strain cap's: an upper bound (the stress may come first)
+          if (timed)
+            line << " | ETA " << (sc.stress_ended() ? "<= " : "") << std::setprecision(3)
+                 << steps_left / std::max(rate, 1e-9) << " s";
         } else if (cyclic) {
           line << " | eps_a = " << m.eps_a << " | cycle " << lab_.cycle << " of " << sc.cycles;
         } else {

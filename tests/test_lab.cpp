@@ -647,15 +647,17 @@ void expect_series_but(const std::string& resumed, const std::string& direct,
 // `before_q0`, and without u0 and p'_c) against the uninterrupted run's: the same but for those. The first stage,
 // finished by the older build, has none of them (null); the second keeps the older start, q_0 = 0 (before q0), u_0 =
 // 0 and p'_c = its own p'_0, and its u and r_u are its own series' (its last row's u, the older start's) where the
-// uninterrupted run's differ.
+// uninterrupted run's differ. E_sec = (q - q_0) / eps_a is of the start too: null for the first, the older start's q_0
+// for the second.
 void expect_summary_of_older(const std::string& resumed, const std::string& direct, bool before_q0) {
   const YAML::Node a = YAML::LoadFile(resumed + "/summary.json"), b = YAML::LoadFile(direct + "/summary.json");
   EXPECT_EQ(a["build"].Scalar(), b["build"].Scalar());
   ASSERT_EQ(a["stages"].size(), 2u);
   ASSERT_EQ(b["stages"].size(), 2u);
-  const std::set<std::string> started = {"p_0", "q_0", "u_0", "p_c", "u", "r_u"};
+  const std::set<std::string> started = {"p_0", "q_0", "u_0", "p_c", "u", "r_u", "E_sec"};
   const auto num = [](const YAML::Node& n) { return std::stod(n.Scalar()); };
   const double u_row = H5Reader(resumed + "/run.h5").doubles("/series/u").back();  // series.csv has 12 digits
+  const double eps_row = H5Reader(resumed + "/run.h5").doubles("/series/eps_a").back();
   for (size_t k = 0; k < 2; ++k) {
     const YAML::Node sa = a["stages"][k], sb = b["stages"][k];
     EXPECT_EQ(sa.size(), sb.size()) << "stage " << k;
@@ -665,7 +667,7 @@ void expect_summary_of_older(const std::string& resumed, const std::string& dire
       const YAML::Node va = sa[key];
       ASSERT_TRUE(va.IsDefined());
       ASSERT_FALSE(kv.second.IsNull());
-      if (!started.count(key) || (key == "p_0" && k == 1) || (key == "q_0" && k == 1 && !before_q0))
+      if (!started.count(key) || (key == "p_0" && k == 1) || ((key == "q_0" || key == "E_sec") && k == 1 && !before_q0))
         EXPECT_EQ(va.Scalar(), kv.second.Scalar());
       else if (k == 0)
         EXPECT_TRUE(va.IsNull()) << "a stage the older build finished: " << va.Scalar();
@@ -673,6 +675,8 @@ void expect_summary_of_older(const std::string& resumed, const std::string& dire
         EXPECT_EQ(num(va), 0.0);
       else if (key == "p_c")
         EXPECT_EQ(num(va), num(sa["p_0"]));
+      else if (key == "E_sec")
+        EXPECT_EQ(num(va), (num(sa["q"]) - num(sa["q_0"])) / eps_row) << "the older start's";
       else if (key == "u") {
         EXPECT_EQ(num(va), u_row) << "the stage's last row's";
         EXPECT_NE(num(va), num(kv.second)) << "the older start's";
