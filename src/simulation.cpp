@@ -2131,7 +2131,7 @@ bool Laboratory::load_newest_checkpoint() {
           std::string m = path;
           m += ": written by a different config (" + why;
           m += " differs); resume with the config that started the run (run.h5 attribute 'config'), or one that only "
-               "appends stages or moves the end (max_axial_strain, max_steps, cycles) of the stage it stopped in";
+               "appends stages or moves the end (max_axial_strain, max_steps, cycles, sigma_v, ocr, q, stress_ratio) of the stage it stopped in";
           throw std::runtime_error(m);
         }
         extends = true;
