@@ -12,6 +12,9 @@ stage name, each stage's eps_a and eps_v from its own start; summary.json's stag
   rose at the end ('(rising)') with two loops (the first's E_ur and '2 loops: the first'), no fit (too few tests);
 - an undrained test and a drained extension test are not in the section; summary.json without E_sec (a build before
   it) gives E_ur from the stage's last row.
+- A study over the contact stiffness (jobs with E, the E axis): the three mu_r = 0.3 tests at E = 1e8 and, ten times
+  stiffer, at 1e9 Pa: a section per E, each with its own tests, fits (30 and 90 MPa; 300 and 900 MPa: not pooled) and
+  figures/E_<E>/stiffness.png.
 The values are printed to 2-3 decimals and exact here, so the strings must match.
 """
 import csv
@@ -37,12 +40,14 @@ def eps_v_of(ea, nu):
 
 
 def test(name, mu_r, p0, E50, E_ur, nu, turn=0.6, rising=False, loops=1, with_esec=True, drainage="drained",
-         direction="compression"):
-    """Stages load (to turn q_peak), then `loops` x (unload to 0, reload: to turn q_peak again, the last to 8 %)."""
+         direction="compression", E=None, into=None):
+    """Stages load (to turn q_peak), then `loops` x (unload to 0, reload: to turn q_peak again, the last to 8 %).
+    into: (study directory, jobs list) to add it to (work's and jobs by default); E: the job's contact stiffness."""
+    study_dir, job_list = into or (work, jobs)
     q_peak = 1.5 * p0
-    run = os.path.join(work, "jobs", name, "run")
+    run = os.path.join(study_dir, "jobs", name, "run")
     os.makedirs(run)
-    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    open(os.path.join(study_dir, "jobs", name, "done"), "w").close()
     rows, stages = [], []
     step = [0]
 
@@ -95,9 +100,10 @@ def test(name, mu_r, p0, E50, E_ur, nu, turn=0.6, rising=False, loops=1, with_es
         w = csv.writer(f)
         w.writerow(["stage"] + cols)
         w.writerows(rows)
-    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": mu_r, "e0": 0, "p0": p0,
-                 "drainage": drainage, "direction": direction, "b": 0, "seed": 1, "count": 300, "csr": 0, "cycles": 0,
-                 "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": ""})
+    job_list.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": mu_r, "e0": 0, "p0": p0,
+                     "drainage": drainage, "direction": direction, "b": 0, "seed": 1, "count": 300, "csr": 0,
+                     "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
+                     **({"E": E} if E else {})})
 
 
 def law(E_ref, m, p0):
@@ -138,6 +144,33 @@ for line in ("| 0.3 | E50 | 3 | 30.00 ± 0.00 | 0.500 ± 0.000 | 50–200 |",
         fails.append(f"fit row missing: {line}\n{sec}")
 if not os.path.isfile(os.path.join(work, "figures", "stiffness.png")):
     fails.append("figures/stiffness.png missing")
+
+# The E axis: a section per contact stiffness, its fits its own
+work_e, jobs_e = work + "_E", []
+shutil.rmtree(work_e, ignore_errors=True)
+for E, f in ((1e8, 1), (1e9, 10)):
+    for p0 in (50e3, 100e3, 200e3):
+        test(f"ur_p{p0 / 1e3:g}_E{E:g}".replace("e+0", "e"), 0.3, p0, f * law(30e6, 0.5, p0), f * law(90e6, 0.6, p0),
+             0.2, E=E, into=(work_e, jobs_e))
+text_e = study_report(work_e, jobs_e)
+for E, name, f in ((1e8, "1e8", 1), (1e9, "1e9", 10)):
+    head = f"## Contact stiffness E = {E:g} Pa"
+    if head not in text_e:
+        fails.append(f"no section '{head}'")
+        continue
+    part = text_e.split(head)[1].split("\n## Contact stiffness")[0]
+    st = part.split("### Stiffness (drained triaxial)")[1].split("\n### ")[0] if "### Stiffness" in part else ""
+    tests = [x.split(" | ")[0][2:] for x in st.splitlines() if x.startswith("| ur_")]
+    if tests != [f"ur_p{p:g}_E{name}" for p in (50, 100, 200)]:
+        fails.append(f"E = {E:g}: the stiffness rows are {tests}")
+    for line in (f"| 0.3 | E50 | 3 | {30 * f:.2f} ± 0.00 | 0.500 ± 0.000 | 50–200 |",
+                 f"| 0.3 | E_ur | 3 | {90 * f:.2f} ± 0.00 | 0.600 ± 0.000 | 50–200 |"):
+        if line not in st.splitlines():
+            fails.append(f"E = {E:g}: fit row missing: {line}")
+    if not os.path.isfile(os.path.join(work_e, "figures", f"E_{name}", "stiffness.png")):
+        fails.append(f"figures/E_{name}/stiffness.png missing")
+    if f"`figures/E_{name}/stiffness.png`" not in st:
+        fails.append(f"E = {E:g}: the section does not name figures/E_{name}/stiffness.png")
 if fails:
     sys.exit("\n".join(fails))
 print("stiffness section: E50, E_ur, nu_ur and the power laws as built")
