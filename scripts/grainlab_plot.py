@@ -1661,12 +1661,14 @@ def stiffness_section(mono, figs):
         E50 = number_text(st["E50"] / 1e6 if st["E50"] else None, ".2f")
         peak = f"{st['q_peak'] / 1e3:.1f}" + (" (rising)" if st["rising"] else "")
         if loop:
-            more = f" ({len(st['loops'])} loops: the first)" if len(st["loops"]) > 1 else ""
-            # (round: an int, so that an unloading that ended at q = -0.07 kPa reads 0, not -0)
-            ur = (f"{number_text(loop['E'] / 1e6 if loop['E'] else None, '.2f')} ({round(loop['q_from'] / 1e3)} → "
-                  f"{round(loop['q_to'] / 1e3)}) | {number_text(loop['nu'], '.3f')} | {number_text(ratio, '.2f')}{more}")
+            # E_ur (q from -> to); round gives an int: an unloading that ended at q = -0.07 kPa reads 0, not -0
+            def span(lp):
+                return (f"{number_text(lp['E'] / 1e6 if lp['E'] else None, '.2f')} ({round(lp['q_from'] / 1e3)} → "
+                        f"{round(lp['q_to'] / 1e3)})")
+            more = ", ".join(span(lp) for lp in st["loops"][1:]) or "-"
+            ur = f"{span(loop)} | {number_text(loop['nu'], '.3f')} | {number_text(ratio, '.2f')} | {more}"
         else:
-            ur = "- | - | -"
+            ur = "- | - | - | -"
         rows.append(f"| {j['name']} | {j['mu_r']:g} | {st['p0'] / 1e3:.1f} | {peak} | {E50} | {ur} |")
         g = pts.setdefault(j["mu_r"], {"E50": [], "E_ur": []})
         if st["E50"]:
@@ -1712,12 +1714,14 @@ def stiffness_section(mono, figs):
             "end, so q_peak is the last q, not a peak; '-' where the loading turned below q_peak/2); and the first "
             "unload-reload loop's E_ur = Δq / Δeps_a of its unloading (a drained extension stage after a compression, "
             "ended by a `q` or `stress_ratio` end: summary.json's E_sec, from the q it turned at to the q it ended at) "
-            "and nu_ur = -Δeps_r / Δeps_a over it. Per mu_r, the hardening-soil model's power laws E = E_ref "
+            "and nu_ur = -Δeps_r / Δeps_a over it, and the E_ur of any further loops (the hardening-soil model takes "
+            "E_ur as independent of the stress level the loop turns at: loops at several levels test it). Per mu_r, the hardening-soil model's power laws E = E_ref "
             f"(sigma'_3 / p_ref)^m with p_ref = {P_REF / 1e3:g} kPa (Schanz et al. 1999; c = 0), least squares in "
             "ln E against ln sigma'_3, ± one standard error; `figures/stiffness.png`. q is the walls', drag included "
             "(the peak table's q less drag says how much it adds).", "",
-            "| test | mu_r | p'_0 [kPa] | q_peak [kPa] | E50 [MPa] | E_ur [MPa] (q from → to, kPa) | nu_ur | E_ur / E50 |",
-            "|---|---|---|---|---|---|---|---|", *rows, "",
+            "| test | mu_r | p'_0 [kPa] | q_peak [kPa] | E50 [MPa] | E_ur [MPa] (q from → to, kPa) | nu_ur | E_ur / E50 "
+            "| further loops: E_ur [MPa] (q from → to) |",
+            "|---|---|---|---|---|---|---|---|---|", *rows, "",
             *(["| mu_r | modulus | tests | E_ref [MPa] | m | sigma'_3 [kPa] |", "|---|---|---|---|---|---|", *fit_rows, ""]
               if fit_rows else [])]
 
