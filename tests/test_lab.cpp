@@ -1439,6 +1439,28 @@ TEST(Lab, OedometricStageHoldsTheLateralWallsAndGivesK0) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
 }
 
+// A stress-ended loading and unloading (two stages) run on the reference sample, rows every step: its result, the
+// series' eps_a and `column`, and `turn`, the loading's last row (the unloading's eps_a counts from 0 below it).
+namespace {
+struct LoadUnload {
+  RunResult r;
+  std::vector<double> ea, v;
+  size_t turn = 0;
+};
+LoadUnload load_unload(const std::string& cfg, const std::string& out, const char* column) {
+  LoadUnload lu{run(cfg, out), {}, {}, 0};
+  EXPECT_EQ(lu.r.stages.size(), 2u);
+  EXPECT_TRUE(lu.r.stages.at(0).converged && lu.r.stages.at(1).converged);
+  H5Reader h(out + "/run.h5");
+  lu.ea = h.doubles("/series/eps_a");
+  lu.v = h.doubles(std::string("/series/") + column);
+  while (lu.turn + 1 < lu.ea.size() && lu.ea[lu.turn + 1] > 0) ++lu.turn;
+  EXPECT_GT(lu.turn, 20u);
+  EXPECT_GT(lu.ea.size(), lu.turn + 20);
+  return lu;
+}
+}  // namespace
+
 // An oedometer's stress ends (StageConfig::sigma_v, ocr), as a lab oedometer loads to a stress and unloads to an OCR:
 // on the reference sample (190 kPa) loaded to sigma_v = 300 kPa and unloaded to OCR 1.5, each stage well inside its
 // max_axial_strain (5 %), rows every step. Each stage ends on the first step that finds sigma_z (the wall loads the
@@ -1455,15 +1477,11 @@ TEST(Lab, OedometricStageEndsAtItsStressOrOcr) {
            "ocr: " + ocr + ", damping: 0.2}\n";
   };
   const std::string cfg = on_reference("oed_sv", stages("1.5"), 1), out = tmpdir("oed_sv");
-  const RunResult r = run(cfg, out);
-  ASSERT_EQ(r.stages.size(), 2u);
-  EXPECT_TRUE(r.stages[0].converged && r.stages[1].converged);
-  H5Reader h(out + "/run.h5");
-  const auto ea = h.doubles("/series/eps_a"), sz = h.doubles("/series/sigma_z");
-  size_t turn = 0;  // the last row of the loading stage
-  while (turn + 1 < ea.size() && ea[turn + 1] > 0) ++turn;
-  ASSERT_GT(turn, 20u);
-  ASSERT_GT(ea.size(), turn + 20);
+  const LoadUnload lu = load_unload(cfg, out, "sigma_z");
+  ASSERT_FALSE(HasFailure());
+  const RunResult& r = lu.r;
+  const std::vector<double>&ea = lu.ea, &sz = lu.v;
+  const size_t turn = lu.turn;
   const double top = *std::max_element(sz.begin(), sz.begin() + turn + 1), end = top / 1.5;
   std::printf("  stress ends: sigma_v %.5g -> %.5g kPa (%zu rows, eps_a %.4g) -> %.5g kPa (OCR %.5g, eps_a %.4g); "
               "last steps' changes %.2g %%, %.2g %%\n", sz[0] / 1e3, sz[turn] / 1e3, turn + 1, ea[turn], sz.back() / 1e3,
@@ -1514,15 +1532,11 @@ TEST(Lab, TriaxialStageEndsAtItsDeviator) {
            q_unload + ", damping: 0.2}\n";
   };
   const std::string cfg = on_reference("q_end", stages("2.0e4"), 1), out = tmpdir("q_end");
-  const RunResult r = run(cfg, out);
-  ASSERT_EQ(r.stages.size(), 2u);
-  EXPECT_TRUE(r.stages[0].converged && r.stages[1].converged);
-  H5Reader h(out + "/run.h5");
-  const auto ea = h.doubles("/series/eps_a"), q = h.doubles("/series/q");
-  size_t turn = 0;  // the last row of the loading stage
-  while (turn + 1 < ea.size() && ea[turn + 1] > 0) ++turn;
-  ASSERT_GT(turn, 20u);
-  ASSERT_GT(ea.size(), turn + 20);
+  const LoadUnload lu = load_unload(cfg, out, "q");
+  ASSERT_FALSE(HasFailure());
+  const RunResult& r = lu.r;
+  const std::vector<double>&ea = lu.ea, &q = lu.v;
+  const size_t turn = lu.turn;
   const size_t last = q.size() - 1;
   std::printf("  q ends: q %.5g -> %.5g kPa (%zu rows, eps_a %.4g) -> %.5g kPa (eps_a %.4g); found at %.6g and %.6g kPa\n",
               q[0] / 1e3, q[turn] / 1e3, turn + 1, ea[turn], q[last] / 1e3, ea[last], q[turn - 1] / 1e3, q[last - 1] / 1e3);
