@@ -498,14 +498,25 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
           g.fail(g.key_path("stress_path"), "= constant_p needs a drained stage (here " + std::string(drainage_name(sc.drainage)) +
                                             ": the walls keep the volume or their place, and p' is the test's result); "
                                             "leave stress_path out or give constant_sigma3");
-        // An oedometer's stress ends: sigma_v loading or unloading to a stress, ocr unloading to sigma_v,max / ocr.
+        // A K path (StageConfig::k_ratio): drained, and the lateral stress is its own (not b's or constant p's)
+        sc.k_ratio = g.real("k_ratio", 0, 0, 1, true);
+        if (g.has("k_ratio") && sc.drainage != Drainage::Drained)
+          g.fail(g.key_path("k_ratio"), "= " + fmt(sc.k_ratio) + " needs a drained stage (here " +
+                                            drainage_name(sc.drainage) + ": the walls keep the volume or their place); "
+                                            "leave k_ratio out or give drainage: drained");
+        if (g.has("k_ratio") && (sc.b > 0 || sc.constant_p))
+          g.fail(g.key_path("k_ratio"), "= " + fmt(sc.k_ratio) + " and " + (sc.b > 0 ? "b = " + fmt(sc.b) : "stress_path: constant_p") +
+                                            " both set the lateral stresses: give one of them");
+        // An oedometer's stress ends: sigma_v loading or unloading to a stress, ocr unloading to sigma_v,max / ocr;
+        // a K path's too (its sigma_v is what it is loaded to, as an oedometer's)
         sc.sigma_v = g.real("sigma_v", 0, 0, 1e10, true);
         sc.ocr = g.real("ocr", 0, 1, 1e6, true);
         for (const char* key : {"sigma_v", "ocr"})
-          if (g.has(key) && sc.drainage != Drainage::Oedometric)
-            g.fail(g.key_path(key), std::string("ends an oedometric stage at a vertical stress, and this stage is ") +
-                                        drainage_name(sc.drainage) + " (give drainage: oedometric, or leave " + key +
-                                        " out and end the stage at max_axial_strain)");
+          if (g.has(key) && sc.drainage != Drainage::Oedometric && !(sc.k_ratio > 0))
+            g.fail(g.key_path(key), std::string("ends an oedometric stage or a K path (k_ratio) at a vertical stress, and "
+                                                "this stage is ") +
+                                        drainage_name(sc.drainage) + " (give drainage: oedometric, or k_ratio, or leave " +
+                                        key + " out and end the stage at max_axial_strain)");
         if (g.has("ocr") && k == 0)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " unloads to sigma_v,max / ocr, sigma_v,max the largest of the "
                                     "stages before, and this is the first stage: give sigma_v");
@@ -666,6 +677,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
         e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression") << YAML::Key << "b"
           << YAML::Value << sc.b;
       if (sc.constant_p) e << YAML::Key << "stress_path" << YAML::Value << "constant_p";
+      if (sc.k_ratio > 0) e << YAML::Key << "k_ratio" << YAML::Value << sc.k_ratio;
       // only where set, as affine: the configs of runs without them stay as they were (resume compares them)
       if (sc.sigma_v > 0) e << YAML::Key << "sigma_v" << YAML::Value << sc.sigma_v;
       if (sc.ocr > 0) e << YAML::Key << "ocr" << YAML::Value << sc.ocr;

@@ -69,6 +69,13 @@ struct StageConfig {
   // the step finds it: the constant-mean-stress tests of the b-effect literature (Thornton 2000, Geotechnique 50(1);
   // Ng 2004, J. Eng. Mech. 130(3)), whose results at several b are then at one p' and one void-ratio state.
   bool constant_p = false;
+  // triaxial, drained: a K path (choice, beyond SPEC §6.3), the anisotropic consolidation of a CAU / CAD test: the
+  // lateral servo holds sigma_x = sigma_y = k_ratio sigma_z, sigma_z as the step finds it, once the path meets that
+  // line, and sigma_3 of the start (p'_0 - q_0/3) until then: max(sigma_3,0, K sigma_z) loading, min(...) unloading
+  // (extension). A target that jumped to K sigma_z at the start would throw the lateral walls off an isotropic sample
+  // (190 -> 133 kPa at K = 0.7), so a K-consolidation from a seating pressure first loads at constant sigma_3, as a
+  // triaxial cell's does. With sigma_v (or ocr) it ends at a vertical stress. 0: off.
+  Real k_ratio = 0;                // [-] (0, 1]
   // triaxial, oedometric: a stress end, as an oedometer loads and unloads (choice, beyond SPEC §6.3): the stage ends on
   // the first step whose sigma_z of the walls reaches sigma_v (at or above it in compression, at or below in extension),
   // or, unloading, falls to sigma_v,max / ocr (sigma_v,max the largest sigma_z of the series rows of the stages before,

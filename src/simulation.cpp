@@ -461,7 +461,7 @@ std::string sig4(double v) {
 // A drained shear servos its lateral walls (start_stage) to lateral_targets.
 bool lateral_servo(const StageConfig& sc) { return sc.type != StageType::Isotropic && sc.drainage == Drainage::Drained; }
 // Whether the lateral targets move with sigma_z (set every step in run_stage); otherwise both are p'_0 throughout.
-bool moving_lateral_targets(const StageConfig& sc) { return sc.b > 0 || sc.constant_p; }
+bool moving_lateral_targets(const StageConfig& sc) { return sc.b > 0 || sc.constant_p || sc.k_ratio > 0; }
 // The lateral walls' servo targets of a drained shear, given the step's sigma_z. sigma_y = sigma_3 and sigma_x =
 // sigma_3 + b (sigma_z - sigma_3) (true triaxial, StageConfig::b; sigma_x = sigma_y at b = 0), with sigma_3 = p'_0
 // (SPEC §6.3; p'_0 - q_0/3, the lateral stress at the start, where a shear starts from an anisotropic stress), or on
@@ -471,7 +471,9 @@ struct LateralTargets {
   Real sx, sy;
 };
 LateralTargets lateral_targets(const StageConfig& sc, Real p0, Real q0, Real sz) {
-  const Real s3 = sc.constant_p ? (3 * p0 - (1 + sc.b) * sz) / (2 - sc.b) : p0 - q0 / 3;
+  Real s3 = sc.constant_p ? (3 * p0 - (1 + sc.b) * sz) / (2 - sc.b) : p0 - q0 / 3;
+  // a K path (StageConfig::k_ratio): the start's sigma_3 until K sigma_z passes it, K sigma_z from there
+  if (sc.k_ratio > 0) s3 = sc.extension ? std::min(s3, sc.k_ratio * sz) : std::max(s3, sc.k_ratio * sz);
   return {s3 + sc.b * (sz - s3), s3};
 }
 
@@ -2027,14 +2029,15 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
   const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m.sz);
   // sigma_3's name: SPEC's p'_0, unless a constant-p' path or an anisotropic start (q0) sets it otherwise (sigma_x's
   // target was then still named p'_0, which it was not)
-  const bool named_s3 = sc.constant_p || lab_.q0 != 0;
+  const bool named_s3 = sc.constant_p || sc.k_ratio > 0 || lab_.q0 != 0;
   std::ostringstream os;
   os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
      << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
      << " kPa against "
-     << (sc.constant_p   ? "sigma_3 on the constant-p' path = "
-         : lab_.q0 != 0 ? "sigma_3 at the shear's start = "
-                        : "p'_0 = ")
+     << (sc.constant_p      ? "sigma_3 on the constant-p' path = "
+         : sc.k_ratio > 0 ? "sigma_3 on the K path = "
+         : lab_.q0 != 0   ? "sigma_3 at the shear's start = "
+                          : "p'_0 = ")
      << t.sy / 1e3
      << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
      << (named_s3 ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")
@@ -2355,7 +2358,8 @@ void Laboratory::write_summary() const {
     if (sc.type == StageType::Triaxial)
       js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
     if (lateral_servo(sc) && sc.type == StageType::Triaxial)
-      js << ", \"stress_path\": \"" << (sc.constant_p ? "constant_p" : "constant_sigma3") << "\"";
+      js << ", \"stress_path\": \"" << (sc.constant_p ? "constant_p" : sc.k_ratio > 0 ? "constant_k" : "constant_sigma3") << "\"";
+    if (sc.k_ratio > 0) js << ", \"k_ratio\": " << num(sc.k_ratio);
     js << ", \"done\": " << (r.converged ? "true" : "false") << ", \"steps\": " << r.steps << ", \"mu\": " << num(r.mu)
        << ", \"p\": " << num(r.p) << ", \"q\": " << num(r.q) << ", \"e\": " << num(r.e);
     // A shear's start (the stress it found: p'_0, q_0) and, undrained, its pore pressures: u_0 it started with, p'_c
@@ -2779,6 +2783,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         os << "triaxial " << drainage;
         if (sc.b > 0) os << " (true triaxial, b = " << sc.b << ")";
         if (sc.constant_p) os << " at constant p'";
+        if (sc.k_ratio > 0) os << " on the K path sigma_3 = " << sc.k_ratio << " sigma_z";
         const bool stress_ended = sc.stress_ended();  // a stress end, the strain a cap
         if (stress_ended) {
           os << (sc.extension ? " extension" : "") << " to ";

@@ -1615,6 +1615,66 @@ TEST(Lab, StressRatioEndAndTheStressEndsWarnings) {
             std::string::npos) << err_past;
 }
 
+// A K path (StageConfig::k_ratio), the anisotropic consolidation of a CAU test: the reference sample (190 kPa)
+// loaded drained with k_ratio 0.7 to sigma_v = 400 kPa, then sheared undrained, rows every 20 steps. Until sigma_z
+// reaches 190 / 0.7 = 271 kPa the lateral stresses hold the start's sigma_3 (within kKTol of it: no jump onto the K
+// line), from 5 % past there both are within kKTol of 0.7 sigma_z (measured within 2e-4 with servo_integral 0.1); the
+// stage ends at sigma_v (within a step's change, as the oedometer's) and the undrained shear starts from its q (q_0 =
+// 0.3 sigma_v, u from 0 there). summary.json names the path; stopped on the K line and resumed = uninterrupted byte for
+// byte (the targets come from the wall loads and p'_0, q_0 the checkpoint restores).
+TEST(Lab, KPathConsolidatesAnisotropically) {
+  const double kKTol = 0.005;
+  const std::string cfg = on_reference("kpath",
+                                       "  - {name: kc, type: triaxial, drainage: drained, k_ratio: 0.7, sigma_v: 4.0e5, "
+                                       "axial_strain_rate: 1.0, damping: 0.2, servo_integral: 0.1}\n"
+                                       "  - {name: cau, type: triaxial, drainage: undrained, axial_strain_rate: 1.0, "
+                                       "max_axial_strain: 0.005, damping: 0.2}\n", 20);
+  const std::string out = tmpdir("kpath");
+  const RunResult r = run(cfg, out);
+  ASSERT_EQ(r.stages.size(), 2u);
+  ASSERT_TRUE(r.stages[0].converged);
+  const std::string csv = slurp(out + "/series.csv");
+  const auto st = csv_column(csv, "stage"), sx = csv_column(csv, "sigma_x"), sy = csv_column(csv, "sigma_y"),
+             sz = csv_column(csv, "sigma_z"), q = csv_column(csv, "q"), u = csv_column(csv, "u");
+  const double s3_0 = std::stod(sx[0]);  // the start's lateral stress (isotropic: sigma_x = sigma_y = sigma_z)
+  int before = 0, on = 0;
+  double worst = 0;
+  size_t last_kc = 0;
+  for (size_t k = 0; k < st.size() && st[k] == "kc"; ++k) {
+    last_kc = k;
+    const double x = std::stod(sx[k]), y = std::stod(sy[k]), z = std::stod(sz[k]);
+    if (z < s3_0 / 0.7) {
+      ++before;
+      EXPECT_NEAR(x, s3_0, kKTol * s3_0) << "row " << k;
+      EXPECT_NEAR(y, s3_0, kKTol * s3_0) << "row " << k;
+    } else if (z > 1.05 * s3_0 / 0.7) {
+      ++on;
+      worst = std::max({worst, std::abs(x / z - 0.7), std::abs(y / z - 0.7)});
+      EXPECT_NEAR(x / z, 0.7, kKTol) << "row " << k;
+      EXPECT_NEAR(y / z, 0.7, kKTol) << "row " << k;
+    }
+  }
+  std::printf("  K path: %d rows at sigma_3,0 = %.4g kPa, %d on the K line (largest |sigma_3/sigma_z - 0.7| %.2g); "
+              "ended at sigma_z = %.5g kPa\n", before, s3_0 / 1e3, on, worst, std::stod(sz[last_kc]) / 1e3);
+  EXPECT_GT(before, 20);
+  EXPECT_GT(on, 20);
+  EXPECT_NEAR(std::stod(sz[last_kc]), 4e5, 1e-3 * 4e5);
+  const YAML::Node sum = YAML::LoadFile(out + "/summary.json");
+  EXPECT_EQ(sum["stages"][0]["stress_path"].as<std::string>(), "constant_k");
+  EXPECT_EQ(sum["stages"][0]["k_ratio"].as<double>(), 0.7);
+  EXPECT_NEAR(sum["stages"][1]["q_0"].as<double>(), 0.3 * 4e5, 0.01 * 4e5);
+  // u from 0 at the K line: its first row, up to 20 steps in, 1.3 kPa measured; from an isotropic start's formula it
+  // would be q_0/3 = 40 kPa
+  EXPECT_LT(std::abs(std::stod(u[last_kc + 1])), 0.1 * 0.3 * 4e5 / 3) << "the undrained shear's u starts at 0";
+  EXPECT_GT(std::stod(q.back()), std::stod(q[last_kc])) << "the undrained shear loads from the K line";
+  EXPECT_NE(plan_run(load_run_config(cfg)).stages.at(0).find("on the K path sigma_3 = 0.7 sigma_z to sigma_v = 400 kPa"),
+            std::string::npos);
+  const std::string stopped = tmpdir("kpath_stopped");
+  ASSERT_TRUE(run(cfg, stopped, long(0.8 * double(r.stages[0].steps))).interrupted);
+  ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), csv);
+}
+
 // The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
 // sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
 // sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
