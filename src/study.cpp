@@ -56,17 +56,19 @@ std::string fmt(double v) {
   return os.str();
 }
 
-// A base's K0 consolidations: its oedometric stages before a shear stage of another drainage (a CK0U or CK0D test:
-// isotropic, oedometric, then the shear). They prepare the anisotropic stress the shear starts from (Laboratory::
+// A base's K0 consolidations: its oedometric stages, and its K paths (drained, k_ratio: a CAU or CAD test's
+// anisotropic consolidation), before a shear stage of another kind (a CK0U or CK0D test: isotropic, oedometric, then
+// the shear). They prepare the anisotropic stress the shear starts from (Laboratory::
 // start_stage), so the study's shear values (drainage, direction, b, stress_path, rate, end strain) leave them as the
 // base gives them; they set the shear's. (They set every stage of an oedometer base, whose stages are all oedometric.)
 std::vector<bool> k0_consolidations(const YAML::Node& stages) {
   std::vector<bool> k0(stages.size(), false);
-  bool shear_after = false;  // a later shear stage that is not oedometric
+  bool shear_after = false;  // a later shear stage that is not such a consolidation
   for (size_t k = stages.size(); k-- > 0;) {
     const YAML::Node st = stages[k];
     if ((st["type"] ? st["type"].as<std::string>() : "isotropic") == "isotropic") continue;
-    if ((st["drainage"] ? st["drainage"].as<std::string>() : "undrained") == "oedometric") k0[k] = shear_after;
+    const std::string drainage = st["drainage"] ? st["drainage"].as<std::string>() : "undrained";
+    if (drainage == "oedometric" || (drainage == "drained" && st["k_ratio"])) k0[k] = shear_after;
     else shear_after = true;
   }
   return k0;

@@ -2,37 +2,47 @@
 # A study of K0-consolidated shears (CK0D, CK0U): its base consolidates isotropically, then K0 (an oedometric stage),
 # then shears. The study's shear values (drainage, direction, end strain) set the shear and leave the K0 stage as the
 # base gives it: they set every non-isotropic stage, so the K0 stage became a drained, undrained or extension shear
-# (and with no drainage axis, the jobs' default drainage was the K0 stage's: every shear oedometric).
+# (and with no drainage axis, the jobs' default drainage was the K0 stage's: every shear oedometric). Likewise a K path
+# (CAU, CAD: a drained stage with k_ratio, ended at sigma_v) before the shear: the drainage axis refused the base, its
+# shear stages' drainages not one (before K paths counted as consolidations).
 set -u
 bin=$1; work=$2
 fail() { echo "study_k0: $*"; exit 1; }
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
-cat > base.yaml <<'YAML'
-sample: {count: 300, seed: 3, density_scaling: 1000, initial_solid_fraction: 0.40}
-stages:
-  - {name: consolidate, type: isotropic, mu: 0.5, max_steps: 20000, ufr_tolerance: 0.05}
-  - {name: k0, type: triaxial, drainage: oedometric, mu: 0.5, axial_strain_rate: 1.0, max_axial_strain: 0.004, damping: 0.2}
-  - {name: shear, type: triaxial, drainage: undrained, mu: 0.5, axial_strain_rate: 1.0, max_axial_strain: 0.005, damping: 0.2}
-output: {every: 100}
-YAML
-printf 'base: base.yaml\naxes: {drainage: [drained, undrained]}\nextra:\n  - {direction: extension, max_axial_strain: 0.004, axial_strain_rate: 2}\n' > study.yaml
-out=$("$bin" study study.yaml --out st --jobs 2 --threads 2 2>&1) || fail "the study failed: $out"
 stages() { "${GRAINLAB_PYTHON:-/usr/bin/python3}" -c "import sys, yaml
 for s in yaml.safe_load(open(sys.argv[1]))['stages']:
     print(s['name'], s.get('drainage'), s.get('direction', '-'), s.get('max_axial_strain'), s.get('axial_strain_rate'))" "$1"; }
-n=0
-for job in st/jobs/shear_*; do
-  n=$((n + 1))
-  [ -f "$job/done" ] || fail "$job did not finish"
-  got=$(stages "$job/job.yaml")
-  printf '%s\n' "$got" | grep -qx "k0 oedometric - 0.004 1.0" || fail "$job: the K0 stage was changed: $got"
-  case $job in
-    *_ext_rate2) want="shear undrained extension 0.004 2" ;;  # the extra job: the base's drainage, its own direction, end, rate
-    *shear_drained_*) want="shear drained - 0.005 1.0" ;;
-    *) want="shear undrained - 0.005 1.0" ;;
-  esac
-  printf '%s\n' "$got" | grep -qx "$want" || fail "$job: the shear is not the job's ($want): $got"
-done
-[ "$n" -eq 3 ] || fail "expected 3 shears: $(ls st/jobs)"
-[ -f st/report.md ] || fail "no report"
+# $1: the consolidation stage (named k0), $2: the line each job's job.yaml must give it
+check_base() {
+  rm -rf st
+  cat > base.yaml <<YAML
+sample: {count: 300, seed: 3, density_scaling: 1000, initial_solid_fraction: 0.40}
+stages:
+  - {name: consolidate, type: isotropic, mu: 0.5, max_steps: 20000, ufr_tolerance: 0.05}
+  - $1
+  - {name: shear, type: triaxial, drainage: undrained, mu: 0.5, axial_strain_rate: 1.0, max_axial_strain: 0.005, damping: 0.2}
+output: {every: 100}
+YAML
+  printf 'base: base.yaml\naxes: {drainage: [drained, undrained]}\nextra:\n  - {direction: extension, max_axial_strain: 0.004, axial_strain_rate: 2}\n' > study.yaml
+  out=$("$bin" study study.yaml --out st --jobs 2 --threads 2 2>&1) || fail "the study failed: $out"
+  n=0
+  for job in st/jobs/shear_*; do
+    n=$((n + 1))
+    [ -f "$job/done" ] || fail "$job did not finish"
+    got=$(stages "$job/job.yaml")
+    printf '%s\n' "$got" | grep -qx "$2" || fail "$job: the consolidation stage was changed ($2): $got"
+    case $job in
+      *_ext_rate2) want="shear undrained extension 0.004 2" ;;  # the extra job: the base's drainage, its own direction, end, rate
+      *shear_drained_*) want="shear drained - 0.005 1.0" ;;
+      *) want="shear undrained - 0.005 1.0" ;;
+    esac
+    printf '%s\n' "$got" | grep -qx "$want" || fail "$job: the shear is not the job's ($want): $got"
+  done
+  [ "$n" -eq 3 ] || fail "expected 3 shears: $(ls st/jobs)"
+  [ -f st/report.md ] || fail "no report"
+}
+check_base "{name: k0, type: triaxial, drainage: oedometric, mu: 0.5, axial_strain_rate: 1.0, max_axial_strain: 0.004, damping: 0.2}" \
+  "k0 oedometric - 0.004 1.0"
+check_base "{name: k0, type: triaxial, drainage: drained, k_ratio: 0.7, sigma_v: 3.0e5, mu: 0.5, axial_strain_rate: 1.0, max_axial_strain: 0.05, damping: 0.2}" \
+  "k0 drained - 0.05 1.0"
 echo "study_k0: ok"
