@@ -1235,25 +1235,54 @@ def study(out):
     if not idx["jobs"] and idx.get("samples"):  # a preparation study: its base has no shear stage
         preparation_report(out, idx)
         return
-    stiffs = sorted({j.get("E", 0) for j in idx["jobs"]})
-    if len(stiffs) < 2:
+    def split_key(j):
+        """What the report's fits may not pool: the contact stiffness (the E axis) and the stage axes' values."""
+        return j.get("E", 0), tuple(sorted(j.get("stage_keys", {}).items()))
+
+    keys = sorted({split_key(j) for j in idx["jobs"]})
+    stiffs = sorted({k[0] for k in keys})
+    if len(keys) < 2:
         lines = grading_lines(out, idx, "figures")
     else:
-        # The E axis (material.E, the contact stiffness): a section per E, as the gradings' below; across them the
-        # oedometric and shear tables of each say what the stiffness moves.
-        lines = [f"# Study report: {idx['study']}", "",
-                 f"{len(idx['jobs'])} tests at {len(stiffs)} contact stiffnesses E (material.E; k_n = E rbar, SPEC §2): " +
-                 ", ".join(f"{E:g} Pa" if E else "the base's" for E in stiffs) +
-                 ". Each E's tests have a section of their own below, as the report of a study at that E alone (its "
-                 "headings one level down), with their figures in `figures/E_<E>/` (`figures/E_1e9/`; `figures/E_base/` for the base's): "
-                 "the report's fits group tests by mu_r and the loading, and would pool the stiffnesses, which move "
-                 "the states (a softer packing overlaps more: denser, and more of its strain elastic).", ""]
-        for E in stiffs:
-            sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("E", 0) == E],
+        # The E axis (material.E, the contact stiffness) and the stage axes (a key of one stage: a K path's k_ratio, a
+        # loop's stress_ratio): a section per value (per combination), as the gradings' below; across them the
+        # sections' tables say what the value moves.
+        if len(stiffs) > 1:
+            lines = [f"# Study report: {idx['study']}", "",
+                     f"{len(idx['jobs'])} tests at {len(stiffs)} contact stiffnesses E (material.E; k_n = E rbar, SPEC §2): " +
+                     ", ".join(f"{E:g} Pa" if E else "the base's" for E in stiffs) +
+                     ". Each E's tests have a section of their own below, as the report of a study at that E alone (its "
+                     "headings one level down), with their figures in `figures/E_<E>/` (`figures/E_1e9/`; `figures/E_base/` for the base's): "
+                     "the report's fits group tests by mu_r and the loading, and would pool the stiffnesses, which move "
+                     "the states (a softer packing overlaps more: denser, and more of its strain elastic).", ""]
+        else:
+            labels = sorted({lab for _, sk in keys for lab, _ in sk})
+            lines = [f"# Study report: {idx['study']}", "",
+                     f"{len(idx['jobs'])} tests over the stage axes " + ", ".join(f"stages.{lab}" for lab in labels) +
+                     " (a key of one stage of the base, set in each job). Each value's tests have a section of their "
+                     "own below, as the report of a study at that value alone (its headings one level down), with their "
+                     "figures in `figures/<stage>.<key>_<value>/`: the report's fits group tests by mu_r and the "
+                     "loading, and would pool the values, which change the test.", ""]
+        heads = {}
+        for j in idx["jobs"]:
+            E, sk = split_key(j)
+            heads[j["name"]] = ", ".join(([f"E = {E:g} Pa" if E else "base E"] if len(stiffs) > 1 else [])
+                                         + [f"{lab} = {v:g}" for lab, v in sk]) or "-"
+        if any(sk for _, sk in keys):
+            lines += across_values_section(out, idx, heads)
+        for key in keys:
+            E, sk = key
+            sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if split_key(j) == key],
                            samples=[s for s in idx.get("samples", []) if s.get("E", 0) == E])
             name = f"{E:g}".replace("e+0", "e").replace("e+", "e")  # as the jobs' names: 1e9
-            part = grading_lines(out, sub_idx, f"figures/E_{name}" if E else "figures/E_base")
-            lines += [f"## Contact stiffness E = {E:g} Pa" if E else "## The base's contact stiffness"]
+            heads, dirs = [], []
+            if len(stiffs) > 1:
+                heads.append(f"Contact stiffness E = {E:g} Pa" if E else "The base's contact stiffness")
+                dirs.append(f"E_{name}" if E else "E_base")
+            heads += [f"stages.{lab} = {v:g}" for lab, v in sk]
+            dirs += [f"{lab}_{v:g}".replace("e+0", "e").replace("e+", "e") for lab, v in sk]
+            part = grading_lines(out, sub_idx, "figures/" + "_".join(dirs))
+            lines += ["## " + ", ".join(heads)]
             lines += ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
@@ -1298,6 +1327,46 @@ def grading_lines(out, idx, figs_rel):
                       "|---|---|---|---|---|---|---|", *crr_rows, ""]
         lines += parts
     return lines
+
+
+def across_values_section(out, idx, heads):
+    """The tests of a study over stage axes side by side (the sections after it report each value apart): per test its
+    section's value(s) (heads: the job's name -> its section heading), the stress its last stage (the test) started
+    from, p'_0 and q_0 (summary.json), that stage's peak of |q| and largest q/p' of the walls, and for an undrained
+    test its strength s_u = |q_peak| / 2 over the consolidation's vertical stress sigma'_v0 = p'_0 + 2 q_0 / 3 (the
+    ratio of SHANSEP and of the CAU against CIU comparison). Empty without such a test."""
+    rows = []
+    for j in idx["jobs"]:
+        d = os.path.join(out, j["dir"])
+        if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
+            continue
+        try:
+            with open(os.path.join(d, "summary.json")) as f:
+                st = [x for x in json.load(f).get("stages", []) if x.get("type") != "isotropic"][-1]
+        except (OSError, ValueError, IndexError):
+            continue
+        s = load(d)
+        m = s["stage"] == st["name"]
+        if st.get("type") != "triaxial" or not m.any():
+            continue
+        ext = st.get("direction") == "extension"
+        q = -s["q"][m] if ext else s["q"][m]
+        k = int(np.argmax(q))
+        p0, q0 = float(st["p_0"]), float(st["q_0"])
+        su = (f"{abs(float(s['q'][m][k])) / 2 / 1e3:.1f} ({abs(float(s['q'][m][k])) / 2 / (p0 + 2 * q0 / 3):.3f})"
+              if st.get("drainage") == "undrained" else "-")
+        M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
+        rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
+                    f"{float(s['q'][m][k]) / 1e3:.1f} | {su} | {M:.3f} |")
+    if not rows:
+        return []
+    return ["## Across the values", "",
+            "Each test's last stage (the shear: a K path or an oedometer before it is its consolidation): the stress it "
+            "started from (p'_0, q_0; summary.json), its peak of |q| and largest |q|/p' of the walls, and an undrained "
+            "test's s_u = |q_peak| / 2 with s_u / sigma'_v0, sigma'_v0 = p'_0 + 2 q_0 / 3 the vertical stress it was "
+            "consolidated to. Each value's section below has its tests' full report.", "",
+            "| section | test | drainage | p'_0 [kPa] | q_0 [kPa] | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | max q/p' (abs) |",
+            "|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def across_gradings_section(out, idx, figs):

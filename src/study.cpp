@@ -32,7 +32,7 @@ namespace {
   throw ConfigError(path + ": " + key + ": " + msg);
 }
 
-std::vector<double> numbers(const YAML::Node& n, const std::string& path, const std::string& key) {
+std::vector<double> numbers(const YAML::Node& n, const std::string& path, const std::string& key, bool signed_ok = false) {
   std::vector<double> out;
   // An absent axis (a study without `axes:` passes a null node for each) or one left blank has no values.
   if (!n || n.IsNull()) return out;
@@ -44,7 +44,7 @@ std::vector<double> numbers(const YAML::Node& n, const std::string& path, const 
     } catch (const YAML::Exception&) {
       fail(path, key, "must be a number or a list of numbers");
     }
-    if (!std::isfinite(x) || x < 0) fail(path, key, "values must be finite and >= 0");
+    if (!std::isfinite(x) || (x < 0 && !signed_ok)) fail(path, key, signed_ok ? "values must be finite" : "values must be finite and >= 0");
     out.push_back(x);
   }
   return out;
@@ -54,6 +54,14 @@ std::string fmt(double v) {
   std::ostringstream os;
   os << v;
   return os.str();
+}
+
+// A number in a job's name: fmt's, without a '+' ("1e9" for 1e+09, "2.5e8")
+std::string name_number(double v) {
+  std::string s = fmt(v);
+  for (const char* from : {"e+0", "e+"})
+    if (const size_t at = s.find(from); at != std::string::npos) s.replace(at, std::strlen(from), "e");
+  return s;
 }
 
 // A base's K0 consolidations: its oedometric stages, and its K paths (drained, k_ratio: a CAU or CAD test's
@@ -153,6 +161,8 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
         s["axial_strain_rate"] = yaml_number(j.strain_rate);
       }
     }
+    for (const StudyJob::StageKey& sk : j.stage_keys)  // a stage axis's value (load_study: shear stages only)
+      if (sk.stage == k) s[sk.key] = yaml_number(sk.value);
     stages.push_back(s);
   }
   c["stages"] = stages;
@@ -388,12 +398,13 @@ Study load_study_unchecked(const std::string& path) {
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>();
+      if (k.rfind("stages.", 0) == 0) continue;  // a stage axis (below)
       if (!std::set<std::string>{"mu_r", "e0", "p0", "E", "drainage", "direction", "b", "stress_path",
                                  "axial_strain_rate", "seed", "count", "grading", "csr", "strain_amplitude"}
                .count(k))
         fail(path, "axes." + k,
              "unknown axis (known: mu_r, e0, p0, E, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
-             "grading, csr, strain_amplitude)");
+             "grading, csr, strain_amplitude, and stages.<stage name>.<key>)");
     }
   // The grading axis: named sieve curves (sample.grading's form), one sample each, in place of the base's sizes: how a
   // sample's e_0 depends on its grading (e_max and e_min fall as Cu rises, Youd 1973: the preparation report's figure
@@ -581,6 +592,65 @@ Study load_study_unchecked(const std::string& path) {
   if (b_axis) need_one("axes.b", "b");
   if (path_axis) need_one("axes.stress_path", "stress_path");
   if (ax && ax["axial_strain_rate"]) need_one("axes.axial_strain_rate", "axial_strain_rate");
+  // Stage axes, `stages.<name>.<key>: [values]`: a key of one stage of the base, from its first shear stage on (the
+  // samples share the preparation; p0, e0 and the other axes set that), that no other axis sets: a K path's k_ratio
+  // (CAU at several K), an unloading's stress_ratio or ocr, a loading's sigma_v. Each value is a shear of the same
+  // sample; the job's config checks the values (their ranges are the stage's).
+  struct StageAxis {
+    size_t stage;
+    std::string stage_name, key, field;
+    std::vector<double> values;
+  };
+  std::vector<StageAxis> stage_axes;
+  size_t first_shear = base_cfg.stages.size();
+  for (size_t k = 0; k < base_cfg.stages.size() && first_shear == base_cfg.stages.size(); ++k)
+    if (base_cfg.stages[k].type != StageType::Isotropic) first_shear = k;
+  if (ax)
+    for (auto it : ax) {
+      const std::string k = it.first.as<std::string>(), field = "axes." + k;
+      if (k.rfind("stages.", 0) != 0) continue;
+      const size_t dot = k.rfind('.');
+      const std::string stage_name = dot > 7 ? k.substr(7, dot - 7) : "", key = k.substr(dot + 1);
+      if (stage_name.empty() || key.empty())
+        fail(path, field, "a stage axis is stages.<stage name>.<key> (stages.kc.k_ratio: [0.5, 0.7])");
+      size_t st = base_cfg.stages.size();
+      std::string names;
+      for (size_t j = 0; j < base_cfg.stages.size(); ++j) {
+        if (base_cfg.stages[j].name == stage_name) st = j;
+        names += (j ? ", " : "") + base_cfg.stages[j].name;
+      }
+      if (st == base_cfg.stages.size())
+        fail(path, field, "the base (" + s.base + ") has no stage named '" + stage_name + "' (its stages: " + names + ")");
+      if (st < first_shear)
+        fail(path, field, "'" + stage_name + "' prepares the sample, which the shears share (p0 and e0 set it): a stage "
+                          "axis sets a stage from the first shear stage on");
+      // what other axes (or an extra job's keys) set, and what makes the stage another kind of stage
+      if (std::set<std::string>{"name", "type", "mu_r", "drainage", "direction", "b", "stress_path", "axial_strain_rate",
+                                "max_axial_strain", "q_amplitude", "csr", "strain_amplitude", "cycles"}.count(key) ||
+          (key == "pressure" && ax["p0"]))
+        fail(path, field, "'" + key + "' is " + (key == "name" || key == "type" ? "what the stage is" : "set by axes." +
+                          (key == "pressure" ? std::string("p0") : key == "q_amplitude" ? std::string("csr") : key) +
+                          " or an extra job's key") + ": a stage axis sets another of the stage's keys");
+      const std::vector<double> v = numbers(it.second, path, field, true);
+      if (v.empty()) fail(path, field, "an empty list: give at least one value, or leave the axis out");
+      for (size_t i = 0; i < v.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+          if (v[i] == v[j])
+            fail(path, field, fmt(v[i]) + " is listed twice (values " + std::to_string(j + 1) + " and " +
+                                  std::to_string(i + 1) + "): an axis lists each value once");
+      stage_axes.push_back({st, stage_name, key, field, v});
+    }
+  // the stage axes' grid: every combination of their values (one empty combination without them)
+  std::vector<std::vector<double>> stage_grid{{}};
+  for (const StageAxis& a : stage_axes) {
+    std::vector<std::vector<double>> next;
+    for (const auto& g : stage_grid)
+      for (double x : a.values) {
+        next.push_back(g);
+        next.back().push_back(x);
+      }
+    stage_grid = std::move(next);
+  }
   struct Point {
     double mu_r, e0, p0;
     long seed, count;
@@ -600,6 +670,7 @@ Study load_study_unchecked(const std::string& path) {
     bool set_mu_r;         // mu_r from the axis or an extra job (every stage's), not the base's
     int grading;           // index in gradings (-1: the base's sizes)
     double E = 0;          // material.E (0: the base's)
+    std::vector<double> stage_values = {};  // one a stage axis (empty: the base's, an extra job)
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -617,9 +688,10 @@ Study load_study_unchecked(const std::string& path) {
                       for (double rate : axis("axial_strain_rate", {0}))
                         for (double csr : axis("csr", {0}))
                           for (double ea : axis("strain_amplitude", {0}))
-                            points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
-                                              direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
-                                              rate, 0, mu_r_axis, gi, E});
+                            for (const std::vector<double>& sv : stage_grid)
+                              points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
+                                                direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
+                                                rate, 0, mu_r_axis, gi, E, sv});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
@@ -725,13 +797,7 @@ Study load_study_unchecked(const std::string& path) {
     else sn << "_file";
     sn << "_n" << pt.count;
     if (pt.grading >= 0) sn << "_g" << gradings[pt.grading].name;
-    if (pt.E > 0) {
-      // "_E1e9" for 1e+09 (a name without a '+'), "_E2.5e8"
-      std::string v = fmt(pt.E);
-      for (const char* from : {"e+0", "e+"})
-        if (const size_t at = v.find(from); at != std::string::npos) v.replace(at, std::strlen(from), "e");
-      sn << "_E" << v;
-    }
+    if (pt.E > 0) sn << "_E" << name_number(pt.E);
     if (!sample_index.count(sn.str())) {
       StudyJob j;
       j.name = sn.str();
@@ -794,6 +860,11 @@ Study load_study_unchecked(const std::string& path) {
       sh.rate_group = sh.name;  // the same test at other rates: the report's rate series
       sh.name += "_rate" + fmt(pt.rate);  // without the axis, the names studies had before it
     }
+    for (size_t a = 0; a < pt.stage_values.size(); ++a) {
+      const StageAxis& sa = stage_axes[a];
+      sh.stage_keys.push_back({sa.stage, sa.stage_name, sa.key, pt.stage_values[a]});
+      sh.name += "_" + sa.stage_name + "-" + sa.key + name_number(pt.stage_values[a]);
+    }
     // The end strain is not in the name: a shear to 30 % is the start of the same shear to 40 %, so raising an extra
     // job's max_axial_strain extends the job that ran (resumed from its checkpoint) instead of starting another.
     sh.strain = pt.strain;
@@ -801,10 +872,16 @@ Study load_study_unchecked(const std::string& path) {
     for (auto& o : s.shears) {
       if (o.name != sh.name) continue;
       dup = true;
-      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate)  // as above
+      const auto values = [](const StudyJob& x) {
+        std::vector<double> v;
+        for (const auto& sk : x.stage_keys) v.push_back(sk.value);
+        return v;
+      };
+      if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate ||
+          values(o) != values(sh))  // as above
         fail(path, "axes",
-             "two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits (job " + sh.name +
-                 "); make them differ sooner or list one of them");
+             "two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits "
+             "(job " + sh.name + "); make them differ sooner or list one of them");
       if (o.strain != sh.strain)
         fail(path, "extra",
              "two jobs differ only in max_axial_strain (job " + sh.name + "): the shorter is the start of the longer; "
@@ -1203,7 +1280,15 @@ int run_study(const Study& s, const StudyOptions& o) {
          << ", \"count\": " << j.count << ", \"csr\": " << j.csr
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude
          << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group)
-         << ", \"max_axial_strain\": " << j.strain << ", \"grading\": " << json_string(j.grading_name)
+         << ", \"max_axial_strain\": " << j.strain;
+      if (!j.stage_keys.empty()) {  // only with a stage axis: study.json as it was without
+        js << ", \"stage_keys\": {";
+        for (size_t a = 0; a < j.stage_keys.size(); ++a)
+          js << (a ? ", " : "") << json_string(j.stage_keys[a].stage_name + "." + j.stage_keys[a].key) << ": "
+             << j.stage_keys[a].value;
+        js << "}";
+      }
+      js << ", \"grading\": " << json_string(j.grading_name)
          << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }

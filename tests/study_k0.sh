@@ -45,4 +45,19 @@ check_base "{name: k0, type: triaxial, drainage: oedometric, mu: 0.5, axial_stra
   "k0 oedometric - 0.004 1.0"
 check_base "{name: k0, type: triaxial, drainage: drained, k_ratio: 0.7, sigma_v: 3.0e5, mu: 0.5, axial_strain_rate: 1.0, max_axial_strain: 0.05, damping: 0.2}" \
   "k0 drained - 0.05 1.0"
+# A stage axis over that K path's k_ratio (CAU at two K): a shear of the one sample each, named by it, the value in its
+# job.yaml and study.json; the report a section per value, after a table across them.
+rm -rf st
+printf 'base: base.yaml\naxes: {stages.k0.k_ratio: [0.6, 0.8]}\n' > study.yaml
+out=$("$bin" study study.yaml --out st --jobs 2 --threads 2 2>&1) || fail "the stage-axis study failed: $out"
+for k in 0.6 0.8; do
+  job=st/jobs/shear_undrained_mur0_ebase_pbase_s3_n300_k0-k_ratio$k
+  [ -f "$job/done" ] || fail "$job did not finish: $(ls st/jobs)"
+  grep -q "k_ratio: $k" "$job/job.yaml" || fail "$job/job.yaml does not set k_ratio $k"
+  grep -q "\"stage_keys\": {\"k0.k_ratio\": $k}" st/study.json || fail "study.json lacks k_ratio $k"
+  grep -qx "## stages.k0.k_ratio = $k" st/report.md || fail "no report section for k_ratio $k"
+  [ -f "st/figures/k0.k_ratio_$k/stress_paths.png" ] || fail "no figures/k0.k_ratio_$k/"
+done
+rows=$(sed -n '/^## Across the values/,/^## stages/p' st/report.md | grep -c '^| k0.k_ratio = ')
+[ "$rows" -eq 2 ] || fail "the table across the values has $rows rows, not 2"
 echo "study_k0: ok"

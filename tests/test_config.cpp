@@ -1093,6 +1093,58 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
   });
 }
 
+// Stage axes, stages.<name>.<key>: each value sets that key of that stage in a shear job of the shared sample (a
+// K path's k_ratio, the shear's max_steps), the grid crossed with the other axes, the job named by it; the rest of the
+// stage and the other stages as the base gives them. Errors: a stage the base lacks, a preparation stage, a key another
+// axis sets, the stage's own range (named by the job), a value twice, an empty list, no key.
+TEST(Config, StudyStageAxisSetsOneStagesKey) {
+  const std::string base = write_tmp("study_stage_base",
+                                     "sample: {count: 300}\nstages:\n"
+                                     "  - {name: seat, type: isotropic, pressure: 2.0e4}\n"
+                                     "  - {name: kc, type: triaxial, drainage: drained, k_ratio: 0.6, sigma_v: 1.0e5}\n"
+                                     "  - {name: cau, type: triaxial, drainage: undrained, max_axial_strain: 0.02}\n");
+  const Study s = load_study(write_tmp("study_stage", "base: " + base + "\naxes: {stages.kc.k_ratio: [0.5, 0.8], "
+                                                      "stages.cau.max_steps: [5000, 9000]}\n"));
+  ASSERT_EQ(s.samples.size(), 1u);
+  ASSERT_EQ(s.shears.size(), 4u);
+  std::set<std::string> names;
+  for (const StudyJob& j : s.shears) {
+    SCOPED_TRACE(j.name);
+    names.insert(j.name);
+    ASSERT_EQ(j.stage_keys.size(), 2u);
+    const RunConfig c = job_run_config(s, j);
+    ASSERT_EQ(c.stages.size(), 2u);
+    EXPECT_EQ(c.stages[0].k_ratio, j.stage_keys[0].value);
+    EXPECT_EQ(c.stages[0].sigma_v, 1e5);
+    EXPECT_EQ(c.stages[0].max_steps, 1000000);
+    EXPECT_EQ(c.stages[1].max_steps, long(j.stage_keys[1].value));
+    EXPECT_EQ(c.stages[1].max_axial_strain, 0.02);
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5_cau-max_steps5000",
+                                          "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5_cau-max_steps9000",
+                                          "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.8_cau-max_steps5000",
+                                          "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.8_cau-max_steps9000"}));
+  expect_study_errors({
+      {"stage_ax_none", "base: " + base + "\naxes: {stages.kx.k_ratio: [0.5]}\n",
+       "axes.stages.kx.k_ratio: the base (" + base + ") has no stage named 'kx' (its stages: seat, kc, cau)"},
+      {"stage_ax_prep", "base: " + base + "\naxes: {stages.seat.pressure: [1.0e5]}\n",
+       "axes.stages.seat.pressure: 'seat' prepares the sample, which the shears share (p0 and e0 set it): a stage axis "
+       "sets a stage from the first shear stage on"},
+      {"stage_ax_taken", "base: " + base + "\naxes: {stages.cau.axial_strain_rate: [2]}\n",
+       "axes.stages.cau.axial_strain_rate: 'axial_strain_rate' is set by axes.axial_strain_rate or an extra job's key: a "
+       "stage axis sets another of the stage's keys"},
+      {"stage_ax_range", "base: " + base + "\naxes: {stages.kc.k_ratio: [1.5]}\n",
+       "(job shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio1.5): stages[0].k_ratio = 1.5 is outside the allowed "
+       "range (0, 1]"},
+      {"stage_ax_twice", "base: " + base + "\naxes: {stages.kc.k_ratio: [0.5, 0.5]}\n",
+       "axes.stages.kc.k_ratio: 0.5 is listed twice"},
+      {"stage_ax_empty", "base: " + base + "\naxes: {stages.kc.k_ratio: []}\n",
+       "axes.stages.kc.k_ratio: an empty list: give at least one value, or leave the axis out"},
+      {"stage_ax_nokey", "base: " + base + "\naxes: {stages.kc: [0.5]}\n",
+       "axes.stages.kc: a stage axis is stages.<stage name>.<key>"},
+  });
+}
+
 TEST(Config, StudySeedZeroIsASeed) {
   const Study s = load_study(write_tmp("study_seed0", "base: " GRAINLAB_SOURCE_DIR
                                                       "/configs/quick-study-base.yaml\naxes: {seed: [0, 1]}\n"));
