@@ -1356,13 +1356,15 @@ def across_values_section(out, idx, heads):
         su = (f"{abs(float(s['q'][m][k])) / 2 / 1e3:.1f} ({abs(float(s['q'][m][k])) / 2 / (p0 + 2 * q0 / 3):.3f})"
               if st.get("drainage") == "undrained" else "-")
         M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
+        rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
-                    f"{float(s['q'][m][k]) / 1e3:.1f} | {su} | {M:.3f} |")
+                    f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | {su} | {M:.3f} |")
     if not rows:
         return []
     return ["## Across the values", "",
             "Each test's last stage (the shear: a K path or an oedometer before it is its consolidation): the stress it "
-            "started from (p'_0, q_0; summary.json), its peak of |q| and largest |q|/p' of the walls, and an undrained "
+            "started from (p'_0, q_0; summary.json), its peak of |q| ('(rising)': q still rose at the stage's end, a "
+            "dilating sample's undrained q, so the 'peak' is its end's) and largest |q|/p' of the walls, and an undrained "
             "test's s_u = |q_peak| / 2 with s_u / sigma'_v0, sigma'_v0 = p'_0 + 2 q_0 / 3 the vertical stress it was "
             "consolidated to. Each value's section below has its tests' full report.", "",
             "| section | test | drainage | p'_0 [kPa] | q_0 [kPa] | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | max q/p' (abs) |",
