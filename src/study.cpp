@@ -619,8 +619,11 @@ Study load_study_unchecked(const std::string& path) {
         if (base_cfg.stages[j].name == stage_name) st = j;
         names += (j ? ", " : "") + base_cfg.stages[j].name;
       }
-      if (st == base_cfg.stages.size())
-        fail(path, field, "the base (" + s.base + ") has no stage named '" + stage_name + "' (its stages: " + names + ")");
+      if (st == base_cfg.stages.size()) {
+        std::string msg = "the base (" + s.base;
+        msg.append(") has no stage named '").append(stage_name).append("' (its stages: ").append(names).append(")");
+        fail(path, field, msg);
+      }
       if (st < first_shear)
         fail(path, field, "'" + stage_name + "' prepares the sample, which the shears share (p0 and e0 set it): a stage "
                           "axis sets a stage from the first shear stage on");
