@@ -466,7 +466,8 @@ bool moving_lateral_targets(const StageConfig& sc) { return sc.b > 0 || sc.const
 // sigma_3 + b (sigma_z - sigma_3) (true triaxial, StageConfig::b; sigma_x = sigma_y at b = 0), with sigma_3 = p'_0
 // (SPEC §6.3; p'_0 - q_0/3, the lateral stress at the start, where a shear starts from an anisotropic stress), or on
 // the constant-p' path (StageConfig::constant_p) the sigma_3 that makes (sigma_x + sigma_y + sigma_z) / 3 = p'_0:
-// sigma_3 (2 - b) + sigma_z (1 + b) = 3 p'_0. Both hold in extension too (b = 0 there).
+// sigma_3 (2 - b) + sigma_z (1 + b) = 3 p'_0. Both hold in extension too (b = 0 there). On a K path
+// (StageConfig::k_ratio) sigma_3 = K sigma_z once that passes the start's sigma_3 along the loading.
 struct LateralTargets {
   Real sx, sy;
 };
@@ -2286,7 +2287,7 @@ void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& th
   struct End {
     const char* key;
     double now, reached;  // the new end; where the run is (NaN: not known)
-    // the stress ends (StageConfig::sigma_v, ocr, q_end): optional, so one the old config lacks is earlier than any
+    // the stress ends (StageConfig::sigma_v, ocr, q_end, eta_end): optional, so one the old config lacks is earlier than any
     // (it adds an end) and one the new lacks is later; sign -1 where a larger value ends sooner (in extension)
     bool optional = false;
     double sign = 1;

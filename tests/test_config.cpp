@@ -793,7 +793,7 @@ TEST(Config, StudyStrainAmplitudeAxisSetsAmplitudeAndRate) {
        "(job shear_undrained_mur0_ebase_pbase_s1_n300_ea0.06): stages[0].strain_amplitude = 0.06 must be below "
        "max_axial_strain = 0.05"},
       {"study_ea_close", "base: " + base + "\naxes: {strain_amplitude: [1e-4, 1.0000001e-4]}\n",
-       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits"},
   });
 }
 
@@ -950,7 +950,7 @@ TEST(Config, StudyBAxisSetsTheTriaxialStages) {
       {"study_b_ext", "base: " + base + "\nextra: [{b: 0.5, direction: extension}]\n",
        "extra[0].b: b = 0.5 needs a drained compression shear, and this job's is drained extension"},
       {"study_b_close", "base: " + base + "\naxes: {b: [0.5, 0.50000001]}\n",
-       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits"},
   });
 }
 
@@ -1011,7 +1011,7 @@ TEST(Config, StudyRateAxisSetsTheTriaxialStages) {
        "extra[0].axial_strain_rate: sets axial_strain_rate of the base's triaxial stages, and the base (" + cyc +
            ") has none"},
       {"study_rate_close", "base: " + base + "\naxes: {axial_strain_rate: [1, 1.0000001]}\n",
-       "axes: two values of csr, strain_amplitude, b or axial_strain_rate agree to 6 significant digits"},
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits"},
   });
 }
 
@@ -1142,6 +1142,9 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
        "axes.stages.kc.k_ratio: an empty list: give at least one value, or leave the axis out"},
       {"stage_ax_nokey", "base: " + base + "\naxes: {stages.kc: [0.5]}\n",
        "axes.stages.kc: a stage axis is stages.<stage name>.<key>"},
+      {"stage_ax_close", "base: " + base + "\naxes: {stages.kc.k_ratio: [0.5, 0.50000001]}\n",
+       "axes: two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits (job "
+       "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5)"},
   });
 }
 
