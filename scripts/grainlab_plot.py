@@ -1880,7 +1880,8 @@ def samples_section(out, jobs, samples=None):
 # The axes of a preparation study's figure: study.json's key, its label, and whether its scale is logarithmic. cu: the
 # grading axis's curve's Cu = D60/D10 (0: the base's sizes, or a study.json from before the axis).
 PREP_AXES = (("count", "spheres", True), ("p0", "p'_0 [kPa]", True), ("mu_r", "mu_r", False),
-             ("e0", "target e_0", False), ("cu", "Cu = D60/D10 of the grading asked", False))
+             ("e0", "target e_0", False), ("cu", "Cu = D60/D10 of the grading asked", False),
+             ("E", "contact stiffness E [Pa]", True))
 
 
 def gas_fraction(run_dir):
@@ -1909,7 +1910,7 @@ def preparation_section(out, samples, figs):
     if not groups:
         return [], False
     rows, stats = [], {}
-    for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[4], k[5], k[0])):  # by mu_r, p0, e0, grading, then size
+    for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[4], k[6], k[5], k[0])):  # mu_r, p0, e0, grading, E, size
         g = sorted(groups[key], key=lambda t: t[0]["seed"])
         col = {c: measured([s.get(c) for _, s in g]) for c in ("e", "e_inner", "e_core", "mu", "steps")}
         col["diff"] = measured([s["e_core"] - s["e_inner"] for _, s in g
@@ -1990,9 +1991,10 @@ def preparation_section(out, samples, figs):
                 a_.errorbar(x[ok], m, yerr=sd if colname == "e_inner" else None, fmt=style, color=c, capsize=3,
                             label=f"{what} ({other})" if other else what)
         a_.set(xlabel=lab, ylabel="e_0", title=f"e_0 against {lab} (interior: mean ± sd over the seeds)")
-        if log:
+        if log and all(t[i] > 0 for t in stats):  # (E = 0: the base's, beside an extra job's)
             a_.set_xscale("log")
-            a_.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+            # the values as numbers (1e+09 for E: a ScalarFormatter wrote "1.0" and an offset "1e9")
+            a_.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
             a_.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
             a_.set_xticks(sorted({t[i] / (1e3 if k == "p0" else 1) for t in stats}))
         a_.grid(alpha=0.3)

@@ -42,4 +42,11 @@ printf 'base: tiny-prep-base.yaml\naxes: {drainage: [drained, undrained]}\n' > b
 printf 'base: tiny-prep-base.yaml\naxes: {direction: [extension]}\n' > bad.yaml
 "$here"/expect_error.sh "bad.yaml: axes.direction: sets the loading direction of the base's triaxial stages" \
   "$bin" validate bad.yaml || fail "a direction axis on a preparation base is not refused"
+# Over the contact stiffness (the E axis): a Preparation row per E, its seeds together (the rows pooled the two E's
+# seeds into one), as prep_check.py recomputes them; the figure's panel against E.
+printf 'base: tiny-prep-base.yaml\naxes: {E: [1.0e8, 1.0e9], seed: [3, 4]}\n' > stiff.yaml
+out=$("$bin" study stiff.yaml --out st_E --jobs 2 2>&1) || fail "the E study failed: $out"
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" "$here"/prep_check.py st_E || fail "the E study's preparation rows do not match the samples"
+[ "$(grep -cE '^\| sample_mur0_ebase_pbase_s\*_n300_E1e[89] \| 300 \| 2 \(3, 4\) \|' st_E/report.md)" -eq 2 ] ||
+  fail "no Preparation row per E: $(sed -n '/## Preparation/,$p' st_E/report.md)"
 echo "study_prep: ok"
