@@ -592,48 +592,53 @@ Study load_study_unchecked(const std::string& path) {
   if (b_axis) need_one("axes.b", "b");
   if (path_axis) need_one("axes.stress_path", "stress_path");
   if (ax && ax["axial_strain_rate"]) need_one("axes.axial_strain_rate", "axial_strain_rate");
-  // Stage axes, `stages.<name>.<key>: [values]`: a key of one stage of the base, from its first shear stage on (the
-  // samples share the preparation; p0, e0 and the other axes set that), that no other axis sets: a K path's k_ratio
-  // (CAU at several K), an unloading's stress_ratio or ocr, a loading's sigma_v. Each value is a shear of the same
-  // sample; the job's config checks the values (their ranges are the stage's).
-  struct StageAxis {
-    size_t stage;
-    std::string stage_name, key, field;
-    std::vector<double> values;
-  };
-  std::vector<StageAxis> stage_axes;
+  // Stage axes, `stages.<name>.<key>: [values]` (and an extra job's `stages.<name>.<key>: value`): a key of one stage
+  // of the base, from its first shear stage on (the samples share the preparation; p0, e0 and the other axes set
+  // that), that no other axis sets: a K path's k_ratio (CAU at several K), an unloading's stress_ratio or ocr, a
+  // loading's sigma_v. Each value is a shear of the same sample; the job's config checks the values (their ranges are
+  // the stage's).
   size_t first_shear = base_cfg.stages.size();
   for (size_t k = 0; k < base_cfg.stages.size() && first_shear == base_cfg.stages.size(); ++k)
     if (base_cfg.stages[k].type != StageType::Isotropic) first_shear = k;
+  // "stages.<name>.<key>" as a StageKey (value 0), checked; field names it in errors
+  const auto stage_key = [&](const std::string& k, const std::string& field) {
+    const size_t dot = k.rfind('.');
+    const std::string stage_name = dot > 7 ? k.substr(7, dot - 7) : "", key = k.substr(dot + 1);
+    if (stage_name.empty() || key.empty())
+      fail(path, field, "a stage axis is stages.<stage name>.<key> (stages.kc.k_ratio: [0.5, 0.7])");
+    size_t st = base_cfg.stages.size();
+    std::string names;
+    for (size_t j = 0; j < base_cfg.stages.size(); ++j) {
+      if (base_cfg.stages[j].name == stage_name) st = j;
+      names += (j ? ", " : "") + base_cfg.stages[j].name;
+    }
+    if (st == base_cfg.stages.size()) {
+      std::string msg = "the base (" + s.base;
+      msg.append(") has no stage named '").append(stage_name).append("' (its stages: ").append(names).append(")");
+      fail(path, field, msg);
+    }
+    if (st < first_shear)
+      fail(path, field, "'" + stage_name + "' prepares the sample, which the shears share (p0 and e0 set it): a stage "
+                        "axis sets a stage from the first shear stage on");
+    // what other axes (or an extra job's keys) set, and what makes the stage another kind of stage
+    if (std::set<std::string>{"name", "type", "mu_r", "drainage", "direction", "b", "stress_path", "axial_strain_rate",
+                              "max_axial_strain", "q_amplitude", "csr", "strain_amplitude", "cycles"}.count(key) ||
+        (key == "pressure" && ax && ax["p0"]))
+      fail(path, field, "'" + key + "' is " + (key == "name" || key == "type" ? "what the stage is" : "set by axes." +
+                        (key == "pressure" ? std::string("p0") : key == "q_amplitude" ? std::string("csr") : key) +
+                        " or an extra job's key") + ": a stage axis sets another of the stage's keys");
+    return StudyJob::StageKey{st, stage_name, key, 0};
+  };
+  struct StageAxis {
+    StudyJob::StageKey at;
+    std::vector<double> values;
+  };
+  std::vector<StageAxis> stage_axes;
   if (ax)
     for (auto it : ax) {
       const std::string k = it.first.as<std::string>(), field = "axes." + k;
       if (k.rfind("stages.", 0) != 0) continue;
-      const size_t dot = k.rfind('.');
-      const std::string stage_name = dot > 7 ? k.substr(7, dot - 7) : "", key = k.substr(dot + 1);
-      if (stage_name.empty() || key.empty())
-        fail(path, field, "a stage axis is stages.<stage name>.<key> (stages.kc.k_ratio: [0.5, 0.7])");
-      size_t st = base_cfg.stages.size();
-      std::string names;
-      for (size_t j = 0; j < base_cfg.stages.size(); ++j) {
-        if (base_cfg.stages[j].name == stage_name) st = j;
-        names += (j ? ", " : "") + base_cfg.stages[j].name;
-      }
-      if (st == base_cfg.stages.size()) {
-        std::string msg = "the base (" + s.base;
-        msg.append(") has no stage named '").append(stage_name).append("' (its stages: ").append(names).append(")");
-        fail(path, field, msg);
-      }
-      if (st < first_shear)
-        fail(path, field, "'" + stage_name + "' prepares the sample, which the shears share (p0 and e0 set it): a stage "
-                          "axis sets a stage from the first shear stage on");
-      // what other axes (or an extra job's keys) set, and what makes the stage another kind of stage
-      if (std::set<std::string>{"name", "type", "mu_r", "drainage", "direction", "b", "stress_path", "axial_strain_rate",
-                                "max_axial_strain", "q_amplitude", "csr", "strain_amplitude", "cycles"}.count(key) ||
-          (key == "pressure" && ax["p0"]))
-        fail(path, field, "'" + key + "' is " + (key == "name" || key == "type" ? "what the stage is" : "set by axes." +
-                          (key == "pressure" ? std::string("p0") : key == "q_amplitude" ? std::string("csr") : key) +
-                          " or an extra job's key") + ": a stage axis sets another of the stage's keys");
+      const StudyJob::StageKey at = stage_key(k, field);
       const std::vector<double> v = numbers(it.second, path, field, true);
       if (v.empty()) fail(path, field, "an empty list: give at least one value, or leave the axis out");
       for (size_t i = 0; i < v.size(); ++i)
@@ -641,16 +646,17 @@ Study load_study_unchecked(const std::string& path) {
           if (v[i] == v[j])
             fail(path, field, fmt(v[i]) + " is listed twice (values " + std::to_string(j + 1) + " and " +
                                   std::to_string(i + 1) + "): an axis lists each value once");
-      stage_axes.push_back({st, stage_name, key, field, v});
+      stage_axes.push_back({at, v});
     }
   // the stage axes' grid: every combination of their values (one empty combination without them)
-  std::vector<std::vector<double>> stage_grid{{}};
+  std::vector<std::vector<StudyJob::StageKey>> stage_grid{{}};
   for (const StageAxis& a : stage_axes) {
-    std::vector<std::vector<double>> next;
+    std::vector<std::vector<StudyJob::StageKey>> next;
     for (const auto& g : stage_grid)
       for (double x : a.values) {
         next.push_back(g);
-        next.back().push_back(x);
+        next.back().push_back(a.at);
+        next.back().back().value = x;
       }
     stage_grid = std::move(next);
   }
@@ -673,7 +679,7 @@ Study load_study_unchecked(const std::string& path) {
     bool set_mu_r;         // mu_r from the axis or an extra job (every stage's), not the base's
     int grading;           // index in gradings (-1: the base's sizes)
     double E = 0;          // material.E (0: the base's)
-    std::vector<double> stage_values = {};  // one a stage axis (empty: the base's, an extra job)
+    std::vector<StudyJob::StageKey> stage_keys = {};  // the stage axes' values, or an extra job's stage keys
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -691,7 +697,7 @@ Study load_study_unchecked(const std::string& path) {
                       for (double rate : axis("axial_strain_rate", {0}))
                         for (double csr : axis("csr", {0}))
                           for (double ea : axis("strain_amplitude", {0}))
-                            for (const std::vector<double>& sv : stage_grid)
+                            for (const std::vector<StudyJob::StageKey>& sv : stage_grid)
                               points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
                                                 direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
                                                 rate, 0, mu_r_axis, gi, E, sv});
@@ -728,6 +734,14 @@ Study load_study_unchecked(const std::string& path) {
         }
         std::string field = key;
         field.append(".").append(f);
+        if (f.rfind("stages.", 0) == 0) {  // a stage's key, as a stage axis sets it
+          StudyJob::StageKey sk = stage_key(f, field);
+          const std::vector<double> v = numbers(it.second, path, field, true);
+          if (v.size() != 1) fail(path, field, "must be one number");
+          sk.value = v[0];
+          pt.stage_keys.push_back(sk);
+          continue;
+        }
         const std::vector<double> vs = numbers(it.second, path, field);
         if (vs.size() != 1) fail(path, field, "must be one number");
         check_axis_values(vs, path, field);
@@ -775,7 +789,7 @@ Study load_study_unchecked(const std::string& path) {
         } else
           fail(path, field,
                "unknown key (known: mu_r, e0, p0, E, drainage, direction, b, stress_path, axial_strain_rate, "
-               "max_axial_strain, seed, count, csr, strain_amplitude)");
+               "max_axial_strain, seed, count, csr, strain_amplitude, and stages.<stage name>.<key>)");
       }
       points.push_back(pt);
     }
@@ -863,11 +877,8 @@ Study load_study_unchecked(const std::string& path) {
       sh.rate_group = sh.name;  // the same test at other rates: the report's rate series
       sh.name += "_rate" + fmt(pt.rate);  // without the axis, the names studies had before it
     }
-    for (size_t a = 0; a < pt.stage_values.size(); ++a) {
-      const StageAxis& sa = stage_axes[a];
-      sh.stage_keys.push_back({sa.stage, sa.stage_name, sa.key, pt.stage_values[a]});
-      sh.name += "_" + sa.stage_name + "-" + sa.key + name_number(pt.stage_values[a]);
-    }
+    sh.stage_keys = pt.stage_keys;
+    for (const StudyJob::StageKey& sk : pt.stage_keys) sh.name += "_" + sk.stage_name + "-" + sk.key + name_number(sk.value);
     // The end strain is not in the name: a shear to 30 % is the start of the same shear to 40 %, so raising an extra
     // job's max_axial_strain extends the job that ran (resumed from its checkpoint) instead of starting another.
     sh.strain = pt.strain;
@@ -876,8 +887,8 @@ Study load_study_unchecked(const std::string& path) {
       if (o.name != sh.name) continue;
       dup = true;
       const auto values = [](const StudyJob& x) {
-        std::vector<double> v;
-        for (const auto& sk : x.stage_keys) v.push_back(sk.value);
+        std::vector<std::tuple<size_t, std::string, double>> v;
+        for (const auto& sk : x.stage_keys) v.emplace_back(sk.stage, sk.key, sk.value);
         return v;
       };
       if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate ||

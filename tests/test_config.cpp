@@ -1095,7 +1095,7 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
 
 // Stage axes, stages.<name>.<key>: each value sets that key of that stage in a shear job of the shared sample (a
 // K path's k_ratio, the shear's max_steps), the grid crossed with the other axes, the job named by it; the rest of the
-// stage and the other stages as the base gives them. Errors: a stage the base lacks, a preparation stage, a key another
+// stage and the other stages as the base gives them. An extra job sets a stage's key the same way. Errors: a stage the base lacks, a preparation stage, a key another
 // axis sets, the stage's own range (named by the job), a value twice, an empty list, no key.
 TEST(Config, StudyStageAxisSetsOneStagesKey) {
   const std::string base = write_tmp("study_stage_base",
@@ -1104,26 +1104,29 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
                                      "  - {name: kc, type: triaxial, drainage: drained, k_ratio: 0.6, sigma_v: 1.0e5}\n"
                                      "  - {name: cau, type: triaxial, drainage: undrained, max_axial_strain: 0.02}\n");
   const Study s = load_study(write_tmp("study_stage", "base: " + base + "\naxes: {stages.kc.k_ratio: [0.5, 0.8], "
-                                                      "stages.cau.max_steps: [5000, 9000]}\n"));
+                                                      "stages.cau.max_steps: [5000, 9000]}\n"
+                                                      "extra: [{stages.kc.k_ratio: 0.65}]\n"));
   ASSERT_EQ(s.samples.size(), 1u);
-  ASSERT_EQ(s.shears.size(), 4u);
+  ASSERT_EQ(s.shears.size(), 5u);
   std::set<std::string> names;
   for (const StudyJob& j : s.shears) {
     SCOPED_TRACE(j.name);
     names.insert(j.name);
-    ASSERT_EQ(j.stage_keys.size(), 2u);
+    const bool extra = j.stage_keys.size() == 1;  // the extra job sets k_ratio alone: max_steps is the base's
+    ASSERT_EQ(j.stage_keys.size(), extra ? 1u : 2u);
     const RunConfig c = job_run_config(s, j);
     ASSERT_EQ(c.stages.size(), 2u);
     EXPECT_EQ(c.stages[0].k_ratio, j.stage_keys[0].value);
     EXPECT_EQ(c.stages[0].sigma_v, 1e5);
     EXPECT_EQ(c.stages[0].max_steps, 1000000);
-    EXPECT_EQ(c.stages[1].max_steps, long(j.stage_keys[1].value));
+    EXPECT_EQ(c.stages[1].max_steps, extra ? 1000000 : long(j.stage_keys[1].value));
     EXPECT_EQ(c.stages[1].max_axial_strain, 0.02);
   }
   EXPECT_EQ(names, (std::set<std::string>{"shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5_cau-max_steps5000",
                                           "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5_cau-max_steps9000",
                                           "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.8_cau-max_steps5000",
-                                          "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.8_cau-max_steps9000"}));
+                                          "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.8_cau-max_steps9000",
+                                          "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.65"}));
   expect_study_errors({
       {"stage_ax_none", "base: " + base + "\naxes: {stages.kx.k_ratio: [0.5]}\n",
        "axes.stages.kx.k_ratio: the base (" + base + ") has no stage named 'kx' (its stages: seat, kc, cau)"},
@@ -1142,6 +1145,10 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
        "axes.stages.kc.k_ratio: an empty list: give at least one value, or leave the axis out"},
       {"stage_ax_nokey", "base: " + base + "\naxes: {stages.kc: [0.5]}\n",
        "axes.stages.kc: a stage axis is stages.<stage name>.<key>"},
+      {"stage_ex_none", "base: " + base + "\nextra: [{stages.kx.k_ratio: 0.5}]\n",
+       "extra[0].stages.kx.k_ratio: the base (" + base + ") has no stage named 'kx'"},
+      {"stage_ex_list", "base: " + base + "\nextra: [{stages.kc.k_ratio: [0.5, 0.6]}]\n",
+       "extra[0].stages.kc.k_ratio: must be one number"},
       {"stage_ax_close", "base: " + base + "\naxes: {stages.kc.k_ratio: [0.5, 0.50000001]}\n",
        "axes: two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits (job "
        "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5)"},
