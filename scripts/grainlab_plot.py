@@ -1653,16 +1653,16 @@ def drained_triaxial(st, direction):
 
 
 def stiffness_state(d, s):
-    """The drained triaxial stiffnesses of a run (d its directory, s its series; stages from summary.json). None
-    without a first loading: the first drained compression stage at constant sigma_3 that starts from an isotropic
-    stress (the first stage, from a sample file, or one after an isotropic stage: where the run's q_0 is 0). Else its p'_0 (= sigma'_3), q_peak: the largest
-    q of the walls over the drained compressions from it to the next non-triaxial stage (a reloading goes on to the
-    peak), `rising` where that is their last row (no peak: q still rose), E50 = (q_peak/2) / eps_a50 with eps_a50
-    where the first loading's q first reaches q_peak/2, between the rows about it (None where the loading stopped
-    below it: a loop turned earlier), and `loops`: each drained extension stage right after a compression one, with
-    E_ur (summary.json's E_sec, (q - q_0)/eps_a over the stage; from its last row for a build before it), nu_ur =
-    -eps_r/eps_a over the stage (eps_r from its eps_v and eps_a as the run measures it: (1 - eps_v) = (1 - eps_a)
-    (1 - eps_r)^2) and the q it unloaded from and to."""
+    """The drained triaxial stiffnesses of a run (d its directory, s its series; stages from summary.json). None without a
+    first loading: the first drained compression stage at constant sigma_3 that starts from an isotropic stress (the
+    first stage, from a sample file, or one after an isotropic stage: where the run's q_0 is 0). Else its p'_0 (=
+    sigma'_3), q_peak: the largest q of the walls over the drained compressions from it to the next non-triaxial stage
+    (a reloading goes on to the peak), `rising` where that is their last row (no peak: q still rose), E50 = (q_peak/2) /
+    eps_a50 with eps_a50 where the first loading's q first reaches q_peak/2, between the rows about it (None where the
+    loading stopped below it: a loop turned earlier), and `loops`: each drained extension stage right after a
+    compression one, with E_ur (summary.json's E_sec, (q - q_0)/eps_a over the stage; from its last row for a build
+    before it), nu_ur = -eps_r/eps_a over the stage (eps_r from its eps_v and eps_a as the run measures it: (1 - eps_v)
+    = (1 - eps_a) (1 - eps_r)^2) and the q it unloaded from and to."""
     try:
         with open(os.path.join(d, "summary.json")) as f:
             stages = json.load(f).get("stages", [])
