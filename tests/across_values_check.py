@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's table across a stage axis's values (grainlab_plot.py across_values_section).
+
+Synthetic CAU tests at k_ratio 0.5 and 1 (study.json's stage_keys), each a K path (drained) then an undrained shear,
+as a run writes them (summary.json's stages with p_0, q_0; series rows by stage name):
+- K = 0.5: the shear starts at p'_0 = 133.3, q_0 = 100 kPa (sigma'_v0 = 200 kPa), peaks at q = 180 kPa at 2 % and
+  softens: s_u = 90 kPa, s_u / sigma'_v0 = 0.450; its largest q/p' is 1.2 (on the softening branch, p' falling);
+- K = 1: p'_0 = 200, q_0 = 0, q rises to 150 kPa at the stage's end: '(rising)', s_u = 75 kPa, 0.375, max q/p' 150/190;
+- a drained test in the same study: no s_u ('-').
+Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
+"""
+import csv
+import json
+import os
+import shutil
+import sys
+
+from synthetic_study import study_report
+
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/across_values_check"
+shutil.rmtree(work, ignore_errors=True)
+cols = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t",
+        "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y",
+        "sigma_z"]
+jobs = []
+
+
+def test(name, K, shear_rows, drainage="undrained"):
+    """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows."""
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    rows, step = [], 0
+
+    def row(stage, st_type, ea, p, q):
+        nonlocal step
+        rows.append([stage, step, step, ea, 0.0, p, q, abs(q) / p, 0.6, 0.1, st_type, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25,
+                     0.25, 0.25, abs(q) / p, 5e-4, p - q / 3, p - q / 3, p + 2 * q / 3])
+        step += 1
+
+    for i in range(11):  # the K path: sigma_z 20 -> 200 kPa, sigma_3 = K sigma_z
+        sz = 20e3 + 18e3 * i
+        s3 = K * sz
+        row("kc", 2, 0.001 * i, (sz + 2 * s3) / 3, sz - s3)
+    p0, q0 = (200e3 + 2 * K * 200e3) / 3, 200e3 - K * 200e3
+    for ea, p, q in shear_rows:
+        row("cau", 1 if drainage == "undrained" else 2, ea, p, q)
+    stages = [{"name": "seat", "type": "isotropic"},
+              {"name": "kc", "type": "triaxial", "drainage": "drained", "direction": "compression", "b": 0,
+               "stress_path": "constant_k", "k_ratio": K, "p_0": 20e3, "q_0": 0},
+              {"name": "cau", "type": "triaxial", "drainage": drainage, "direction": "compression", "b": 0,
+               "p_0": p0, "q_0": q0}]
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": stages}, f)
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        w.writerows(rows)
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.1, "e0": 0, "p0": 0,
+                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
+                 "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
+                 "stage_keys": {"kc.k_ratio": K}})
+
+
+p05, q05 = 400e3 / 3, 100e3
+# K = 0.5: to 180 kPa at 2 %, then softening with p' falling: q/p' reaches 1.2 at the end (q 120, p' 100)
+test("cau_k0.5", 0.5, [(0.0, p05, q05), (0.01, 140e3, 150e3), (0.02, 150e3, 180e3), (0.04, 120e3, 140e3),
+                       (0.06, 100e3, 120e3)])
+# K = 1: q still rising at the end
+test("cau_k1", 1.0, [(0.0, 200e3, 0.0), (0.02, 190e3, 80e3), (0.05, 185e3, 120e3), (0.1, 190e3, 150e3)])
+test("cad_k1", 1.0, [(0.0, 200e3, 0.0), (0.05, 250e3, 150e3), (0.1, 270e3, 200e3)], drainage="drained")
+
+fails = []
+text = study_report(work, jobs)
+if "## Across the values" not in text:
+    sys.exit("no table across the values in report.md")
+sec = text.split("## Across the values")[1].split("\n## ")[0]
+want = ["| kc.k_ratio = 0.5 | cau_k0.5 | undrained | 133.3 | 100.0 | 180.0 | 90.0 (0.450) | 1.200 |",
+        "| kc.k_ratio = 1 | cau_k1 | undrained | 200.0 | 0.0 | 150.0 (rising) | 75.0 (0.375) | 0.789 |",
+        "| kc.k_ratio = 1 | cad_k1 | drained | 200.0 | 0.0 | 200.0 (rising) | - | 0.741 |"]
+for line in want:
+    if line not in sec.splitlines():
+        got = next((x for x in sec.splitlines() if x.startswith(line.split(" | ")[0] + " | " + line.split(" | ")[1])), None)
+        fails.append(f"expected\n  {line}\ngot\n  {got}")
+for head in ("## stages.kc.k_ratio = 0.5", "## stages.kc.k_ratio = 1"):
+    if head not in text.splitlines():
+        fails.append(f"no section '{head}'")
+if text.index("## Across the values") > text.index("## stages.kc.k_ratio = 0.5"):
+    fails.append("the table across the values comes after the sections")
+if fails:
+    sys.exit("\n".join(fails))
+print("across the values: each test's start, peak, s_u / sigma'_v0 and max q/p' as built")
