@@ -1334,17 +1334,22 @@ def across_values_section(out, idx, heads):
     section's value(s) (heads: the job's name -> its section heading), the stress its last stage (the test) started
     from, p'_0 and q_0 (summary.json), that stage's peak of |q| and largest q/p' of the walls, and for an undrained
     test its strength s_u = |q_peak| / 2 over the consolidation's vertical stress sigma'_v0 = p'_0 + 2 q_0 / 3 (the
-    ratio of SHANSEP and of the CAU against CIU comparison). Empty without such a test."""
-    rows = []
+    ratio of SHANSEP and of the CAU against CIU comparison), beside the OCR the stage before it left (summary.json's, an
+    oedometric unloading's). Per mu_r, over three undrained tests or more at two OCRs or more, SHANSEP's s_u /
+    sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms. Empty without such a test."""
+    rows, shansep = [], {}
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
         if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
             continue
         try:
             with open(os.path.join(d, "summary.json")) as f:
-                st = [x for x in json.load(f).get("stages", []) if x.get("type") != "isotropic"][-1]
-        except (OSError, ValueError, IndexError):
+                stages = json.load(f).get("stages", [])
+            k_st = max(k for k, x in enumerate(stages) if x.get("type") != "isotropic")
+        except (OSError, ValueError):
             continue
+        st = stages[k_st]
+        ocr = stages[k_st - 1].get("OCR") if k_st > 0 else None  # an oedometric stage's, the one before the shear
         s = load(d)
         m = s["stage"] == st["name"]
         if st.get("type") != "triaxial" or not m.any():
@@ -1353,22 +1358,40 @@ def across_values_section(out, idx, heads):
         q = -s["q"][m] if ext else s["q"][m]
         k = int(np.argmax(q))
         p0, q0 = float(st["p_0"]), float(st["q_0"])
-        su = (f"{abs(float(s['q'][m][k])) / 2 / 1e3:.1f} ({abs(float(s['q'][m][k])) / 2 / (p0 + 2 * q0 / 3):.3f})"
-              if st.get("drainage") == "undrained" else "-")
+        undrained = st.get("drainage") == "undrained"
+        su = abs(float(s["q"][m][k])) / 2
+        ratio = su / (p0 + 2 * q0 / 3)
+        if undrained and ocr is not None and ocr > 0:
+            shansep.setdefault(j["mu_r"], []).append((float(ocr), ratio))
         M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
-        rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
-                    f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | {su} | {M:.3f} |")
+        rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
+                    f"{number_text(float(ocr) if ocr is not None else None, '.3g')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
+                    f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | "
+                    f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
     if not rows:
         return []
+    fits = []
+    for mu_r, pts in sorted(shansep.items()):
+        x = np.array([t[0] for t in pts])
+        if len(pts) < 3 or pressure_levels(x) < 2:
+            continue
+        m_, c, sm, sc = fit(np.log(x), np.log([t[1] for t in pts]))
+        fits.append(f"| {mu_r:g} | {len(pts)} | {x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | "
+                    f"{m_:.3f} ± {sm:.3f} |")
     return ["## Across the values", "",
             "Each test's last stage (the shear: a K path or an oedometer before it is its consolidation): the stress it "
             "started from (p'_0, q_0; summary.json), its peak of |q| ('(rising)': q still rose at the stage's end, a "
             "dilating sample's undrained q, so the 'peak' is its end's) and largest |q|/p' of the walls, and an undrained "
             "test's s_u = |q_peak| / 2 with s_u / sigma'_v0, sigma'_v0 = p'_0 + 2 q_0 / 3 the vertical stress it was "
-            "consolidated to. Each value's section below has its tests' full report.", "",
-            "| section | test | drainage | p'_0 [kPa] | q_0 [kPa] | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | max q/p' (abs) |",
-            "|---|---|---|---|---|---|---|---|", *rows, ""]
+            "consolidated to; OCR: the one an oedometric stage before the shear left (summary.json). Each value's "
+            "section below has its tests' full report.", "",
+            "| section | test | drainage | OCR | p'_0 [kPa] | q_0 [kPa] | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | "
+            "max q/p' (abs) |",
+            "|---|---|---|---|---|---|---|---|---|", *rows, "",
+            *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r, least squares in ln(s_u / sigma'_v0) "
+               "against ln OCR over the undrained tests, ± one standard error.", "",
+               "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else [])]
 
 
 def across_gradings_section(out, idx, figs):

@@ -6,7 +6,10 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
 - K = 0.5: the shear starts at p'_0 = 133.3, q_0 = 100 kPa (sigma'_v0 = 200 kPa), peaks at q = 180 kPa at 2 % and
   softens: s_u = 90 kPa, s_u / sigma'_v0 = 0.450; its largest q/p' is 1.2 (on the softening branch, p' falling);
 - K = 1: p'_0 = 200, q_0 = 0, q rises to 150 kPa at the stage's end: '(rising)', s_u = 75 kPa, 0.375, max q/p' 150/190;
-- a drained test in the same study: no s_u ('-').
+- a drained test in the same study: no s_u ('-');
+- three undrained tests after an oedometric unloading to OCR 2, 4 and 8 (summary.json's OCR; study.json's stage_keys
+  unload.ocr), at sigma'_v0 = 100 kPa with s_u / sigma'_v0 = 0.25 OCR^0.8 exactly: their OCR column, and SHANSEP's
+  fit S = 0.250 ± 0.000, m = 0.800 ± 0.000 over those three (the K path's tests have no OCR: not in it).
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
 import csv
@@ -25,8 +28,10 @@ cols = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu_r", "stage_t
 jobs = []
 
 
-def test(name, K, shear_rows, drainage="undrained"):
-    """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows."""
+def test(name, K, shear_rows, drainage="undrained", ocr=None):
+    """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows;
+    with ocr, an oedometric unloading to that OCR in the K path's place (its stage_keys unload.ocr), the shear from
+    sigma'_v0 = 100 kPa isotropic."""
     run = os.path.join(work, "jobs", name, "run")
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
@@ -42,12 +47,14 @@ def test(name, K, shear_rows, drainage="undrained"):
         sz = 20e3 + 18e3 * i
         s3 = K * sz
         row("kc", 2, 0.001 * i, (sz + 2 * s3) / 3, sz - s3)
-    p0, q0 = (200e3 + 2 * K * 200e3) / 3, 200e3 - K * 200e3
+    p0, q0 = ((200e3 + 2 * K * 200e3) / 3, 200e3 - K * 200e3) if ocr is None else (100e3, 0.0)
     for ea, p, q in shear_rows:
         row("cau", 1 if drainage == "undrained" else 2, ea, p, q)
-    stages = [{"name": "seat", "type": "isotropic"},
-              {"name": "kc", "type": "triaxial", "drainage": "drained", "direction": "compression", "b": 0,
-               "stress_path": "constant_k", "k_ratio": K, "p_0": 20e3, "q_0": 0},
+    before = ({"name": "kc", "type": "triaxial", "drainage": "drained", "direction": "compression", "b": 0,
+               "stress_path": "constant_k", "k_ratio": K, "p_0": 20e3, "q_0": 0} if ocr is None else
+              {"name": "kc", "type": "triaxial", "drainage": "oedometric", "direction": "extension", "b": 0,
+               "p_0": 200e3, "q_0": 0, "K0": 0.8, "OCR": ocr})
+    stages = [{"name": "seat", "type": "isotropic"}, before,
               {"name": "cau", "type": "triaxial", "drainage": drainage, "direction": "compression", "b": 0,
                "p_0": p0, "q_0": q0}]
     with open(os.path.join(run, "summary.json"), "w") as f:
@@ -59,7 +66,7 @@ def test(name, K, shear_rows, drainage="undrained"):
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.1, "e0": 0, "p0": 0,
                  "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
                  "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
-                 "stage_keys": {"kc.k_ratio": K}})
+                 "stage_keys": {"kc.k_ratio": K} if ocr is None else {"unload.ocr": ocr}})
 
 
 p05, q05 = 400e3 / 3, 100e3
@@ -69,24 +76,32 @@ test("cau_k0.5", 0.5, [(0.0, p05, q05), (0.01, 140e3, 150e3), (0.02, 150e3, 180e
 # K = 1: q still rising at the end
 test("cau_k1", 1.0, [(0.0, 200e3, 0.0), (0.02, 190e3, 80e3), (0.05, 185e3, 120e3), (0.1, 190e3, 150e3)])
 test("cad_k1", 1.0, [(0.0, 200e3, 0.0), (0.05, 250e3, 150e3), (0.1, 270e3, 200e3)], drainage="drained")
+for ocr in (2, 4, 8):  # the peak at 2 %, then softening: s_u = 0.25 OCR^0.8 x 100 kPa
+    q_pk = 2 * 0.25 * ocr ** 0.8 * 100e3
+    test(f"cu_ocr{ocr}", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], ocr=ocr)
 
 fails = []
 text = study_report(work, jobs)
 if "## Across the values" not in text:
     sys.exit("no table across the values in report.md")
 sec = text.split("## Across the values")[1].split("\n## ")[0]
-want = ["| kc.k_ratio = 0.5 | cau_k0.5 | undrained | 133.3 | 100.0 | 180.0 | 90.0 (0.450) | 1.200 |",
-        "| kc.k_ratio = 1 | cau_k1 | undrained | 200.0 | 0.0 | 150.0 (rising) | 75.0 (0.375) | 0.789 |",
-        "| kc.k_ratio = 1 | cad_k1 | drained | 200.0 | 0.0 | 200.0 (rising) | - | 0.741 |"]
+want = ["| kc.k_ratio = 0.5 | cau_k0.5 | undrained | - | 133.3 | 100.0 | 180.0 | 90.0 (0.450) | 1.200 |",
+        "| kc.k_ratio = 1 | cau_k1 | undrained | - | 200.0 | 0.0 | 150.0 (rising) | 75.0 (0.375) | 0.789 |",
+        "| kc.k_ratio = 1 | cad_k1 | drained | - | 200.0 | 0.0 | 200.0 (rising) | - | 0.741 |"]
+for ocr in (2, 4, 8):
+    r = 0.25 * ocr ** 0.8
+    want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {2 * r * 100:.1f} | "
+                f"{r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
+want.append("| 0.1 | 3 | 2–8 | 0.250 ± 0.000 | 0.800 ± 0.000 |")
 for line in want:
     if line not in sec.splitlines():
         got = next((x for x in sec.splitlines() if x.startswith(line.split(" | ")[0] + " | " + line.split(" | ")[1])), None)
         fails.append(f"expected\n  {line}\ngot\n  {got}")
-for head in ("## stages.kc.k_ratio = 0.5", "## stages.kc.k_ratio = 1"):
+for head in ("## stages.kc.k_ratio = 0.5", "## stages.kc.k_ratio = 1", "## stages.unload.ocr = 8"):
     if head not in text.splitlines():
         fails.append(f"no section '{head}'")
 if text.index("## Across the values") > text.index("## stages.kc.k_ratio = 0.5"):
     fails.append("the table across the values comes after the sections")
 if fails:
     sys.exit("\n".join(fails))
-print("across the values: each test's start, peak, s_u / sigma'_v0 and max q/p' as built")
+print("across the values: each test's start, peak, s_u / sigma'_v0, max q/p' and SHANSEP's S and m as built")
