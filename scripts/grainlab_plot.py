@@ -1254,7 +1254,10 @@ def study(out):
                      ". Each E's tests have a section of their own below, as the report of a study at that E alone (its "
                      "headings one level down), with their figures in `figures/E_<E>/` (`figures/E_1e9/`; `figures/E_base/` for the base's): "
                      "the report's fits group tests by mu_r and the loading, and would pool the stiffnesses, which move "
-                     "the states (a softer packing overlaps more: denser, and more of its strain elastic).", ""]
+                     "the states (a softer packing overlaps more: denser, and more of its strain elastic)."
+                     + (" Each section is one E and one value of the stage axes (a key of one stage of the base, set in "
+                        "each job), its figures in `figures/E_<E>_<stage>.<key>_<value>/`."
+                        if any(sk for _, sk in keys) else ""), ""]
         else:
             labels = sorted({lab for _, sk in keys for lab, _ in sk})
             lines = [f"# Study report: {idx['study']}", "",
@@ -1336,7 +1339,8 @@ def across_values_section(out, idx, heads):
     test its strength s_u = |q_peak| / 2 over the consolidation's vertical stress sigma'_v0 = p'_0 + 2 q_0 / 3 (the
     ratio of SHANSEP and of the CAU against CIU comparison), beside the OCR the stage before it left (summary.json's, an
     oedometric unloading's). Per mu_r, over three undrained tests or more at two OCRs or more, SHANSEP's s_u /
-    sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms. Empty without such a test."""
+    sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms (per E too, over the E axis). Empty without
+    such a test."""
     rows, shansep = [], {}
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
@@ -1362,7 +1366,7 @@ def across_values_section(out, idx, heads):
         su = abs(float(s["q"][m][k])) / 2
         ratio = su / (p0 + 2 * q0 / 3)
         if undrained and ocr is not None and ocr > 0:
-            shansep.setdefault(j["mu_r"], []).append((float(ocr), ratio))
+            shansep.setdefault((j.get("E", 0), j["mu_r"]), []).append((float(ocr), ratio))
         M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
@@ -1372,13 +1376,14 @@ def across_values_section(out, idx, heads):
     if not rows:
         return []
     fits = []
-    for mu_r, pts in sorted(shansep.items()):
+    several_E = len({E for E, _ in shansep}) > 1  # the E axis too: a fit per E (the stiffness moves the swelling)
+    for (E, mu_r), pts in sorted(shansep.items()):
         x = np.array([t[0] for t in pts])
         if len(pts) < 3 or pressure_levels(x) < 2:
             continue
         m_, c, sm, sc = fit(np.log(x), np.log([t[1] for t in pts]))
-        fits.append(f"| {mu_r:g} | {len(pts)} | {x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | "
-                    f"{m_:.3f} ± {sm:.3f} |")
+        fits.append(f"| {mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''} | {len(pts)} | "
+                    f"{x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | {m_:.3f} ± {sm:.3f} |")
     return ["## Across the values", "",
             "Each test's last stage (the shear: a K path or an oedometer before it is its consolidation): the stress it "
             "started from (p'_0, q_0; summary.json), its peak of |q| ('(rising)': q still rose at the stage's end, a "
@@ -1389,7 +1394,7 @@ def across_values_section(out, idx, heads):
             "| section | test | drainage | OCR | p'_0 [kPa] | q_0 [kPa] | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | "
             "max q/p' (abs) |",
             "|---|---|---|---|---|---|---|---|---|", *rows, "",
-            *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r, least squares in ln(s_u / sigma'_v0) "
+            *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error.", "",
                "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else [])]
 
