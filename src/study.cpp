@@ -382,17 +382,21 @@ Study load_study_unchecked(const std::string& path) {
   }
   // Axes: the full grid; each axis defaults to the base config's value (drainage: its first shear's).
   const YAML::Node ax = root["axes"];
-  auto axis = [&](const char* k, const std::vector<double>& def) {
-    const std::string key = std::string("axes.") + k;
-    auto v = numbers(ax ? ax[k] : YAML::Node(), path, key);
-    if (ax && ax[k] && v.empty()) fail(path, key, "an empty list: give at least one value, or leave the axis out");
-    check_axis_values(v, path, key);
-    // A value listed twice made one job, the grid smaller than it reads (likely a typo for another value).
+  // An axis's values: given, at least one; a value listed twice made one job, the grid smaller than it reads (likely
+  // a typo for another value).
+  const auto listed_once = [&](const std::vector<double>& v, const std::string& key, bool given) {
+    if (given && v.empty()) fail(path, key, "an empty list: give at least one value, or leave the axis out");
     for (size_t i = 0; i < v.size(); ++i)
       for (size_t j = 0; j < i; ++j)
         if (v[i] == v[j])
           fail(path, key, fmt(v[i]) + " is listed twice (values " + std::to_string(j + 1) + " and " +
                               std::to_string(i + 1) + "): an axis lists each value once");
+  };
+  auto axis = [&](const char* k, const std::vector<double>& def) {
+    const std::string key = std::string("axes.") + k;
+    auto v = numbers(ax ? ax[k] : YAML::Node(), path, key);
+    listed_once(v, key, ax && ax[k]);
+    check_axis_values(v, path, key);
     return v.empty() ? def : v;
   };
   if (ax)
@@ -640,12 +644,7 @@ Study load_study_unchecked(const std::string& path) {
       if (k.rfind("stages.", 0) != 0) continue;
       const StudyJob::StageKey at = stage_key(k, field);
       const std::vector<double> v = numbers(it.second, path, field, true);
-      if (v.empty()) fail(path, field, "an empty list: give at least one value, or leave the axis out");
-      for (size_t i = 0; i < v.size(); ++i)
-        for (size_t j = 0; j < i; ++j)
-          if (v[i] == v[j])
-            fail(path, field, fmt(v[i]) + " is listed twice (values " + std::to_string(j + 1) + " and " +
-                                  std::to_string(i + 1) + "): an axis lists each value once");
+      listed_once(v, field, true);
       stage_axes.push_back({at, v});
     }
   // the stage axes' grid: every combination of their values (one empty combination without them)
