@@ -1618,7 +1618,7 @@ TEST(Lab, StressRatioEndAndTheStressEndsWarnings) {
 // A K path (StageConfig::k_ratio), the anisotropic consolidation of a CAU test: the reference sample (190 kPa)
 // loaded drained with k_ratio 0.7 to sigma_v = 400 kPa, then sheared undrained, rows every 20 steps. Until sigma_z
 // reaches 190 / 0.7 = 271 kPa the lateral stresses hold the start's sigma_3 (within kKTol of it: no jump onto the K
-// line), from 5 % past there both are within kKTol of 0.7 sigma_z (measured within 2e-4 with servo_integral 0.1); the
+// line), from 5 % past there both are within kKTol of 0.7 sigma_z (measured within 3.2e-4 with servo_integral 0.1); the
 // stage ends at sigma_v (within a step's change, as the oedometer's) and the undrained shear starts from its q (q_0 =
 // 0.3 sigma_v, u from 0 there). summary.json names the path; stopped on the K line and resumed = uninterrupted byte for
 // byte (the targets come from the wall loads and p'_0, q_0 the checkpoint restores).
