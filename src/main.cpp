@@ -232,8 +232,10 @@ int main(int argc, char** argv) {
                   "equilibrium, usually far sooner)\n",
                   sp.sample_steps_max);
       if (sp.shear_steps_total > 0)
-        std::printf("  shear tests: %ld to %ld steps each, %.4g in all\n", sp.shear_steps_min, sp.shear_steps_max,
-                    sp.shear_steps_total);
+        std::printf("  shear tests: %ld to %ld steps each, %.4g in all%s\n", sp.shear_steps_min, sp.shear_steps_max,
+                    sp.shear_steps_total,
+                    sp.stress_ended_shears > 0 ? " (at most: a stage that ends at a stress is counted to its strain cap)"
+                                               : "");
       if (sp.capped_shears > 0)
         std::printf("  cyclic tests reversing at q: %ld, at most %ld steps each (max_steps; each ends at its cycles or "
                     "max_axial_strain, how soon depends on the sample)\n",

@@ -974,6 +974,10 @@ StudyPlan plan_study(const Study& s) {
       ++sp.capped_shears;
       sp.capped_steps_max = std::max(sp.capped_steps_max, long(n));
     } else {
+      if (std::any_of(c.stages.begin(), c.stages.end(), [](const StageConfig& st) {
+            return st.type == StageType::Triaxial && st.stress_ended();
+          }))
+        ++sp.stress_ended_shears;
       const bool first = sp.shear_steps_total == 0;
       sp.shear_steps_min = first ? long(n) : std::min(sp.shear_steps_min, long(n));
       sp.shear_steps_max = std::max(sp.shear_steps_max, long(n));

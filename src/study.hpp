@@ -97,6 +97,9 @@ struct StudyPlan {
   // shears with a stage of unknown length (a stress-reversal cyclic stage ends at its cycles or max_axial_strain):
   // how many, and the largest step cap among them; the three above count the others only
   long capped_shears = 0, capped_steps_max = 0;
+  // of the others, those with a stress-ended triaxial stage (StageConfig::stress_ended): counted to its strain cap, so
+  // their steps above are an upper bound
+  long stress_ended_shears = 0;
   double memory_need_max = 0;  // bytes, the largest job
   double inertial_min = 0, inertial_max = 0;  // the shears' estimated inertial numbers at their p'_0
   std::vector<std::string> warnings;  // each names its job

@@ -58,6 +58,9 @@ for k in 0.6 0.8; do
   grep -qx "## stages.k0.k_ratio = $k" st/report.md || fail "no report section for k_ratio $k"
   [ -f "st/figures/k0.k_ratio_$k/stress_paths.png" ] || fail "no figures/k0.k_ratio_$k/"
 done
+# validate counts the K path (ended at sigma_v) to its strain cap: an upper bound, and says so
+"$bin" validate study.yaml | grep -q "in all (at most: a stage that ends at a stress is counted to its strain cap)" ||
+  fail "validate does not call the stress-ended shears' steps an upper bound: $("$bin" validate study.yaml)"
 rows=$(sed -n '/^## Across the values/,/^## stages/p' st/report.md | grep -c '^| k0.k_ratio = ')
 [ "$rows" -eq 2 ] || fail "the table across the values has $rows rows, not 2"
 echo "study_k0: ok"
