@@ -1731,7 +1731,14 @@ def stiffness_state(d, s):
         E = st.get("E_sec")
         E = float(E) if E is not None else ((float(s["q"][r[-1]]) - float(st["q_0"])) / ea if ea else None)
         er = 1 - math.sqrt((1 - ev) / (1 - ea)) if math.isfinite(ev) else float("nan")
-        loops.append(dict(E=E, nu=-er / ea if ea else float("nan"), q_from=float(st["q_0"]), q_to=float(st["q"])))
+        # less the damping's drag (series q_drag): the loading's last row's at the turn, the unloading's last row's at
+        # its end (the drag turns with the walls, so the walls' Δq counts both; NaN: a series without the column)
+        r0 = np.flatnonzero(s["stage"] == stages[k - 1]["name"])
+        less = float("nan")
+        if "q_drag" in s and len(r0) and ea:
+            less = ((float(s["q"][r[-1]]) - float(s["q_drag"][r[-1]])) - (float(st["q_0"]) - float(s["q_drag"][r0[-1]]))) / ea
+        loops.append(dict(E=E, nu=-er / ea if ea else float("nan"), q_from=float(st["q_0"]), q_to=float(st["q"]),
+                          E_less=less))
     return dict(p0=float(stages[k0]["p_0"]), q_peak=q_peak, rising=bool(k_peak == rows[-1]), E50=E50, loops=loops)
 
 
@@ -1765,9 +1772,10 @@ def stiffness_section(mono, figs):
                 return (f"{number_text(lp['E'] / 1e6 if lp['E'] else None, '.2f')} ({round(lp['q_from'] / 1e3)} → "
                         f"{round(lp['q_to'] / 1e3)})")
             more = ", ".join(span(lp) for lp in st["loops"][1:]) or "-"
-            ur = f"{span(loop)} | {number_text(loop['nu'], '.3f')} | {number_text(ratio, '.2f')} | {more}"
+            ur = (f"{span(loop)} | {number_text(loop['E_less'] / 1e6, '.2f')} | {number_text(loop['nu'], '.3f')} | "
+                  f"{number_text(ratio, '.2f')} | {more}")
         else:
-            ur = "- | - | - | -"
+            ur = "- | - | - | - | -"
         rows.append(f"| {j['name']} | {j['mu_r']:g} | {st['p0'] / 1e3:.1f} | {peak} | {E50} | {ur} |")
         g = pts.setdefault(j["mu_r"], {"E50": [], "E_ur": []})
         if st["E50"]:
@@ -1813,14 +1821,16 @@ def stiffness_section(mono, figs):
             "end, so q_peak is the last q, not a peak; '-' where the loading turned below q_peak/2); and the first "
             "unload-reload loop's E_ur = Δq / Δeps_a of its unloading (a drained extension stage after a compression, "
             "ended by a `q` or `stress_ratio` end: summary.json's E_sec, from the q it turned at to the q it ended at) "
-            "and nu_ur = -Δeps_r / Δeps_a over it, and the E_ur of any further loops (the hardening-soil model takes "
+            "and nu_ur = -Δeps_r / Δeps_a over it (E_ur less drag: of the walls' q less the damping's drag, series "
+            "q_drag, at the turn and at the unloading's end; the drag turns with the walls, so the walls' Δq holds "
+            "both), and the E_ur of any further loops (the hardening-soil model takes "
             "E_ur as independent of the stress level the loop turns at: loops at several levels test it). Per mu_r, the hardening-soil model's power laws E = E_ref "
             f"(sigma'_3 / p_ref)^m with p_ref = {P_REF / 1e3:g} kPa (Schanz et al. 1999; c = 0), least squares in "
             "ln E against ln sigma'_3, ± one standard error; `figures/stiffness.png`. q is the walls', drag included "
-            "(the peak table's q less drag says how much it adds).", "",
-            "| test | mu_r | p'_0 [kPa] | q_peak [kPa] | E50 [MPa] | E_ur [MPa] (q from → to, kPa) | nu_ur | E_ur / E50 "
-            "| further loops: E_ur [MPa] (q from → to) |",
-            "|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "(E_ur less drag, and the peak table's q less drag, say how much it adds).", "",
+            "| test | mu_r | p'_0 [kPa] | q_peak [kPa] | E50 [MPa] | E_ur [MPa] (q from → to, kPa) | E_ur less drag [MPa] "
+            "| nu_ur | E_ur / E50 | further loops: E_ur [MPa] (q from → to) |",
+            "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
             *(["| mu_r | modulus | tests | E_ref [MPa] | m | sigma'_3 [kPa] |", "|---|---|---|---|---|---|", *fit_rows, ""]
               if fit_rows else [])]
 
