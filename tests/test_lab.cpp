@@ -90,6 +90,16 @@ RunResult run(const std::string& cfg_path, const std::string& out, long stop_aft
   return run_simulation(cfg, o);
 }
 
+// The error a resume of `out` with cfg stops on ("" where it runs): what an extension the run refuses says.
+std::string resume_error(const std::string& cfg_path, const std::string& out) {
+  try {
+    run(cfg_path, out, -1, true);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
 struct Reference {
   std::string cfg, out;
   RunResult result;
@@ -420,12 +430,7 @@ TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
   ASSERT_FALSE(whole.interrupted);
   ASSERT_FALSE(run(c_short, ext).interrupted);
   const std::string before = slurp(newest_checkpoint(ext));
-  std::string err;
-  try {
-    run(c_changed, ext, -1, true);
-  } catch (const std::exception& e) {
-    err = e.what();
-  }
+  std::string err = resume_error(c_changed, ext);
   EXPECT_NE(err.find("written by a different config (stages[1].mu differs)"), std::string::npos) << err;
   EXPECT_EQ(slurp(newest_checkpoint(ext)), before);
   std::string earlier = kSmall;
@@ -477,12 +482,7 @@ TEST(Lab, ExtendedRunEqualsTheUninterruptedOne) {
                     c_roll = write_config("ext_roll", plain + "  - {name: b, type: isotropic, max_steps: 100, mu_r: 0.3}\n");
   const std::string out = tmpdir("ext_roll");
   run(c_plain, out);
-  err.clear();
-  try {
-    run(c_roll, out, -1, true);
-  } catch (const std::exception& e) {
-    err = e.what();
-  }
+  err = resume_error(c_roll, out);
   EXPECT_NE(err.find("this config extends the run but gives another time step"), std::string::npos) << err;
 }
 
@@ -1500,12 +1500,7 @@ TEST(Lab, OedometricStageEndsAtItsStressOrOcr) {
   ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
   // extended: ocr 1.2 is passed; ocr 2 goes on to the uninterrupted ocr-2 run's state
-  std::string err;
-  try {
-    run(on_reference("oed_sv_12", stages("1.2"), 1), out, -1, true);
-  } catch (const std::exception& e) {
-    err = e.what();
-  }
+  const std::string err = resume_error(on_reference("oed_sv_12", stages("1.2"), 1), out);
   EXPECT_NE(err.find("this config moves stages[1].ocr from 1.5 to 1.2, which the run has passed (1.5"),
             std::string::npos) << err;
   const std::string c2 = on_reference("oed_sv_2", stages("2"), 1), direct = tmpdir("oed_sv_2");
@@ -1555,12 +1550,7 @@ TEST(Lab, TriaxialStageEndsAtItsDeviator) {
   ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps + r.stages[1].steps / 2).interrupted);
   ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
-  std::string err;
-  try {
-    run(on_reference("q_end_40", stages("4.0e4"), 1), out, -1, true);
-  } catch (const std::exception& e) {
-    err = e.what();
-  }
+  const std::string err = resume_error(on_reference("q_end_40", stages("4.0e4"), 1), out);
   EXPECT_NE(err.find("this config moves stages[1].q from 20000 to 40000, which the run may have passed (q is not "
                      "monotonic along a shear"), std::string::npos) << err;
   const std::string c0 = on_reference("q_end_0", stages("0"), 1), direct = tmpdir("q_end_0");
