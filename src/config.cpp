@@ -507,16 +507,31 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         if (g.has("k_ratio") && (sc.b > 0 || sc.constant_p))
           g.fail(g.key_path("k_ratio"), "= " + fmt(sc.k_ratio) + " and " + (sc.b > 0 ? "b = " + fmt(sc.b) : "stress_path: constant_p") +
                                             " both set the lateral stresses: give one of them");
+        // A linear stress path (StageConfig::lateral_slope): drained; b sets sigma_2 on it, as on the standard path.
+        // [-5, 5]: every direction of the (sigma_a, sigma_r) plane within 11 degrees of pure lateral loading, which the
+        // strain-controlled axial walls cannot follow (dsigma_a = 0 there).
+        if (g.has("lateral_slope")) {
+          sc.lateral_slope = g.real("lateral_slope", 0, -5, 5);
+          if (sc.drainage != Drainage::Drained)
+            g.fail(g.key_path("lateral_slope"), "= " + fmt(*sc.lateral_slope) + " needs a drained stage (here " +
+                                                    drainage_name(sc.drainage) + ": the walls keep the volume or their "
+                                                    "place); leave lateral_slope out or give drainage: drained");
+          if (sc.constant_p || sc.k_ratio > 0)
+            g.fail(g.key_path("lateral_slope"), "= " + fmt(*sc.lateral_slope) + " and " +
+                                                    (sc.constant_p ? "stress_path: constant_p" : "k_ratio = " + fmt(sc.k_ratio)) +
+                                                    " both set the lateral stresses: give one of them (constant p' is "
+                                                    "lateral_slope: -0.5)");
+        }
         // An oedometer's stress ends: sigma_v loading or unloading to a stress, ocr unloading to sigma_v,max / ocr;
-        // a K path's too (its sigma_v is what it is loaded to, as an oedometer's)
+        // a K path's and a linear path's too (its sigma_v is what it is loaded to, as an oedometer's)
         sc.sigma_v = g.real("sigma_v", 0, 0, 1e10, true);
         sc.ocr = g.real("ocr", 0, 1, 1e6, true);
         for (const char* key : {"sigma_v", "ocr"})
-          if (g.has(key) && sc.drainage != Drainage::Oedometric && !(sc.k_ratio > 0))
-            g.fail(g.key_path(key), std::string("ends an oedometric stage or a K path (k_ratio) at a vertical stress, and "
-                                                "this stage is ") +
-                                        drainage_name(sc.drainage) + " (give drainage: oedometric, or k_ratio, or leave " +
-                                        key + " out and end the stage at max_axial_strain)");
+          if (g.has(key) && sc.drainage != Drainage::Oedometric && !(sc.k_ratio > 0) && !sc.lateral_slope)
+            g.fail(g.key_path(key), std::string("ends an oedometric stage, a K path (k_ratio) or a linear path "
+                                                "(lateral_slope) at a vertical stress, and this stage is ") +
+                                        drainage_name(sc.drainage) + " (give drainage: oedometric, or k_ratio, or "
+                                        "lateral_slope, or leave " + key + " out and end the stage at max_axial_strain)");
         if (g.has("ocr") && k == 0)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " unloads to sigma_v,max / ocr, sigma_v,max the largest of the "
                                     "stages before, and this is the first stage: give sigma_v");
@@ -678,6 +693,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
           << YAML::Value << sc.b;
       if (sc.constant_p) e << YAML::Key << "stress_path" << YAML::Value << "constant_p";
       if (sc.k_ratio > 0) e << YAML::Key << "k_ratio" << YAML::Value << sc.k_ratio;
+      if (sc.lateral_slope) e << YAML::Key << "lateral_slope" << YAML::Value << *sc.lateral_slope;
       // only where set, as affine: the configs of runs without them stay as they were (resume compares them)
       if (sc.sigma_v > 0) e << YAML::Key << "sigma_v" << YAML::Value << sc.sigma_v;
       if (sc.ocr > 0) e << YAML::Key << "ocr" << YAML::Value << sc.ocr;

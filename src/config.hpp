@@ -76,6 +76,16 @@ struct StageConfig {
   // (190 -> 133 kPa at K = 0.7), so a K-consolidation from a seating pressure first loads at constant sigma_3, as a
   // triaxial cell's does. With sigma_v (or ocr) it ends at a vertical stress. 0: off.
   Real k_ratio = 0;                // [-] (0, 1]
+  // triaxial, drained: a linear stress path (choice, beyond SPEC §6.3), the stress-path cell's "dsigma_r / dsigma_a":
+  // the lateral servo holds sigma_3 = sigma_3,0 + lateral_slope (sigma_z - sigma_z,0) from the start's stresses
+  // (sigma_3,0 = p'_0 - q_0/3, sigma_z,0 = p'_0 + 2 q_0/3), sigma_z as the step finds it; sigma_2 from b as elsewhere.
+  // dq/dp' = 3 (1 - slope) / (1 + 2 slope): 0 is the standard drained test (dq/dp' = 3), -1/2 constant p', 1 an
+  // isotropic loading driven by the axial walls, beyond 1 or below -1/2 q falls or p' falls as the axial stress rises.
+  // The axial walls are strain-controlled, so every direction but pure lateral loading (dsigma_a = 0) is reachable:
+  // with direction: extension the path runs the other way. Small stress probes along several slopes from one state
+  // are the response envelope of that state (Calvetti et al. 2003, Geotechnique 53(5); Tamagnini et al. 2005).
+  // With sigma_v (or ocr, q, stress_ratio) it ends at a stress. Empty: off.
+  std::optional<Real> lateral_slope;  // [-] [-5, 5]
   // triaxial, oedometric: a stress end, as an oedometer loads and unloads (choice, beyond SPEC §6.3): the stage ends on
   // the first step whose sigma_z of the walls reaches sigma_v (at or above it in compression, at or below in extension),
   // or, unloading, falls to sigma_v,max / ocr (sigma_v,max the largest sigma_z of the series rows of the stages before,

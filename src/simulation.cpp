@@ -461,13 +461,17 @@ std::string sig4(double v) {
 // A drained shear servos its lateral walls (start_stage) to lateral_targets.
 bool lateral_servo(const StageConfig& sc) { return sc.type != StageType::Isotropic && sc.drainage == Drainage::Drained; }
 // Whether the lateral targets move with sigma_z (set every step in run_stage); otherwise both are p'_0 throughout.
-bool moving_lateral_targets(const StageConfig& sc) { return sc.b > 0 || sc.constant_p || sc.k_ratio > 0; }
+bool moving_lateral_targets(const StageConfig& sc) {
+  return sc.b > 0 || sc.constant_p || sc.k_ratio > 0 || sc.lateral_slope.has_value();
+}
 // The lateral walls' servo targets of a drained shear, given the step's sigma_z. sigma_y = sigma_3 and sigma_x =
 // sigma_3 + b (sigma_z - sigma_3) (true triaxial, StageConfig::b; sigma_x = sigma_y at b = 0), with sigma_3 = p'_0
 // (SPEC §6.3; p'_0 - q_0/3, the lateral stress at the start, where a shear starts from an anisotropic stress), or on
 // the constant-p' path (StageConfig::constant_p) the sigma_3 that makes (sigma_x + sigma_y + sigma_z) / 3 = p'_0:
 // sigma_3 (2 - b) + sigma_z (1 + b) = 3 p'_0. Both hold in extension too (b = 0 there). On a K path
-// (StageConfig::k_ratio) sigma_3 = K sigma_z once that passes the start's sigma_3 along the loading.
+// (StageConfig::k_ratio) sigma_3 = K sigma_z once that passes the start's sigma_3 along the loading; on a linear path
+// (StageConfig::lateral_slope) sigma_3 = sigma_3,0 + slope (sigma_z - sigma_z,0), the start's sigma_z,0 = p'_0 + 2 q_0/3
+// (at slope -1/2 and b = 0 the constant-p' path's sigma_3, algebraically).
 struct LateralTargets {
   Real sx, sy;
 };
@@ -475,6 +479,7 @@ LateralTargets lateral_targets(const StageConfig& sc, Real p0, Real q0, Real sz)
   Real s3 = sc.constant_p ? (3 * p0 - (1 + sc.b) * sz) / (2 - sc.b) : p0 - q0 / 3;
   // a K path (StageConfig::k_ratio): the start's sigma_3 until K sigma_z passes it, K sigma_z from there
   if (sc.k_ratio > 0) s3 = sc.extension ? std::min(s3, sc.k_ratio * sz) : std::max(s3, sc.k_ratio * sz);
+  if (sc.lateral_slope) s3 += *sc.lateral_slope * (sz - (p0 + 2 * q0 / 3));
   return {s3 + sc.b * (sz - s3), s3};
 }
 
@@ -1563,12 +1568,15 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m0.sz);
       // On the constant-p' path sigma_3 falls as sigma_z rises; at sigma_z = 3 p'_0 / (1 + b) it would reach 0
       // (q/p' = 3 at b = 0: beyond any frictional packing's strength, so a packing there is no longer a soil sample).
+      // A linear path of negative slope does the same, and one of slope above 1 in extension.
       if (t.sy < 0.01 * lab_.p0) {
         std::ostringstream os;
         os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << e.step_count() << " (eps_a = "
-           << m0.eps_a << "): on the constant-p' path sigma_3 would be " << t.sy / 1e3 << " kPa with sigma_z = "
-           << m0.sz / 1e3 << " kPa (p'_0 = " << lab_.p0 / 1e3 << " kPa): the lateral walls cannot hold p'_0 with a "
-           << "positive confinement";
+           << m0.eps_a << "): on the " << (sc.lateral_slope ? "linear" : "constant-p'") << " path sigma_3 would be "
+           << t.sy / 1e3 << " kPa with sigma_z = " << m0.sz / 1e3 << " kPa (p'_0 = " << lab_.p0 / 1e3 << " kPa";
+        if (sc.lateral_slope) os << ", lateral_slope " << *sc.lateral_slope;
+        os << "): the lateral walls cannot hold " << (sc.lateral_slope ? "the path" : "p'_0")
+           << " with a positive confinement" << (sc.lateral_slope ? ": end the stage before (sigma_v, q)" : "");
         stop_run(os.str());
       }
       for (int k = 0; k < 4; ++k) e.wall_control(k).target_stress = k < 2 ? t.sx : t.sy;
@@ -2030,13 +2038,14 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
   const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m.sz);
   // sigma_3's name: SPEC's p'_0, unless a constant-p' path or an anisotropic start (q0) sets it otherwise (sigma_x's
   // target was then still named p'_0, which it was not)
-  const bool named_s3 = sc.constant_p || sc.k_ratio > 0 || lab_.q0 != 0;
+  const bool named_s3 = sc.constant_p || sc.k_ratio > 0 || sc.lateral_slope || lab_.q0 != 0;
   std::ostringstream os;
   os << std::setprecision(4) << "stage '" << sc.name << "' stopped at step " << eng_->step_count()
      << " (eps_a = " << m.eps_a << "): the lateral walls' servo lost its target, sigma_y = " << m.sy / 1e3
      << " kPa against "
      << (sc.constant_p      ? "sigma_3 on the constant-p' path = "
          : sc.k_ratio > 0 ? "sigma_3 on the K path = "
+         : sc.lateral_slope ? "sigma_3 on the linear path = "
          : lab_.q0 != 0   ? "sigma_3 at the shear's start = "
                           : "p'_0 = ")
      << t.sy / 1e3
@@ -2359,8 +2368,13 @@ void Laboratory::write_summary() const {
     if (sc.type == StageType::Triaxial)
       js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
     if (lateral_servo(sc) && sc.type == StageType::Triaxial)
-      js << ", \"stress_path\": \"" << (sc.constant_p ? "constant_p" : sc.k_ratio > 0 ? "constant_k" : "constant_sigma3") << "\"";
+      js << ", \"stress_path\": \""
+         << (sc.constant_p ? "constant_p" : sc.k_ratio > 0 ? "constant_k" : sc.lateral_slope ? "linear" : "constant_sigma3") << "\"";
     if (sc.k_ratio > 0) js << ", \"k_ratio\": " << num(sc.k_ratio);
+    // a linear path's slope, and its dq/dp' (null at -1/2: constant p')
+    if (sc.lateral_slope)
+      js << ", \"lateral_slope\": " << num(*sc.lateral_slope) << ", \"dq_dp\": "
+         << num(3 * (1 - *sc.lateral_slope) / (1 + 2 * *sc.lateral_slope));
     js << ", \"done\": " << (r.converged ? "true" : "false") << ", \"steps\": " << r.steps << ", \"mu\": " << num(r.mu)
        << ", \"p\": " << num(r.p) << ", \"q\": " << num(r.q) << ", \"e\": " << num(r.e);
     // A shear's start (the stress it found: p'_0, q_0) and, undrained, its pore pressures: u_0 it started with, p'_c
@@ -2785,6 +2799,11 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         if (sc.b > 0) os << " (true triaxial, b = " << sc.b << ")";
         if (sc.constant_p) os << " at constant p'";
         if (sc.k_ratio > 0) os << " on the K path sigma_3 = " << sc.k_ratio << " sigma_z";
+        if (const auto ls = sc.lateral_slope) {
+          os << " on the linear path dsigma_3/dsigma_z = " << *ls;
+          if (*ls == Real(-0.5)) os << " (constant p')";
+          else os << " (dq/dp' = " << 3 * (1 - *ls) / (1 + 2 * *ls) << ")";
+        }
         const bool stress_ended = sc.stress_ended();  // a stress end, the strain a cap
         if (stress_ended) {
           os << (sc.extension ? " extension" : "") << " to ";

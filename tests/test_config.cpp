@@ -342,8 +342,9 @@ TEST(Config, RejectsBadInputClearly) {
       {"drain_bad", "stages:\n  - {type: triaxial, drainage: wet}\n", "stages[0].drainage"},
       // an oedometer's stress ends: an oedometric stage's or a K path's; ocr unloads from an earlier stage's sigma_v,max
       {"sv_drained", "stages:\n  - {type: triaxial, drainage: drained, sigma_v: 3e5}\n",
-       "stages[0].sigma_v: ends an oedometric stage or a K path (k_ratio) at a vertical stress, and this stage is drained "
-       "(give drainage: oedometric, or k_ratio, or leave sigma_v out and end the stage at max_axial_strain)"},
+       "stages[0].sigma_v: ends an oedometric stage, a K path (k_ratio) or a linear path (lateral_slope) at a vertical "
+       "stress, and this stage is drained (give drainage: oedometric, or k_ratio, or lateral_slope, or leave sigma_v out "
+       "and end the stage at max_axial_strain)"},
       // a K path: drained, (0, 1], the lateral stresses its own
       {"k_undrained", "stages:\n  - {type: triaxial, k_ratio: 0.7}\n",
        "stages[0].k_ratio = 0.7 needs a drained stage (here undrained: the walls keep the volume or their place)"},
@@ -355,6 +356,20 @@ TEST(Config, RejectsBadInputClearly) {
        "stages[0].k_ratio = 1.5 is outside the allowed range (0, 1]"},
       {"k_cyc", "stages:\n  - {type: cyclic, drainage: drained, q_amplitude: 3e4, k_ratio: 0.7}\n",
        "stages[0].k_ratio: unknown key"},
+      // a linear path: drained, [-5, 5], the lateral stresses its own (b sets sigma_2 on it)
+      {"ls_undrained", "stages:\n  - {type: triaxial, lateral_slope: 0.5}\n",
+       "stages[0].lateral_slope = 0.5 needs a drained stage (here undrained: the walls keep the volume or their place)"},
+      {"ls_oed", "stages:\n  - {type: triaxial, drainage: oedometric, lateral_slope: 0.5}\n",
+       "stages[0].lateral_slope = 0.5 needs a drained stage (here oedometric"},
+      {"ls_k", "stages:\n  - {type: triaxial, drainage: drained, k_ratio: 0.7, lateral_slope: 0.5}\n",
+       "stages[0].lateral_slope = 0.5 and k_ratio = 0.7 both set the lateral stresses: give one of them"},
+      {"ls_cp", "stages:\n  - {type: triaxial, drainage: drained, stress_path: constant_p, lateral_slope: 0.5}\n",
+       "stages[0].lateral_slope = 0.5 and stress_path: constant_p both set the lateral stresses: give one of them "
+       "(constant p' is lateral_slope: -0.5)"},
+      {"ls_big", "stages:\n  - {type: triaxial, drainage: drained, lateral_slope: -6}\n",
+       "stages[0].lateral_slope = -6 is outside the allowed range [-5, 5]"},
+      {"ls_cyc", "stages:\n  - {type: cyclic, drainage: drained, q_amplitude: 3e4, lateral_slope: 0.5}\n",
+       "stages[0].lateral_slope: unknown key"},
       {"sv_zero", "stages:\n  - {type: triaxial, drainage: oedometric, sigma_v: 0}\n",
        "stages[0].sigma_v = 0 is outside the allowed range (0, 1e+10]"},
       {"sv_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, sigma_v: 3e5}\n", "stages[0].sigma_v: unknown key"},

@@ -1665,6 +1665,72 @@ TEST(Lab, KPathConsolidatesAnisotropically) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), csv);
 }
 
+// A linear stress path (StageConfig::lateral_slope): sigma_3 = sigma_3,0 + slope (sigma_z - sigma_z,0) from the start's
+// stresses, ended at a sigma_v, on the reference sample (rows every 5 steps, servo_integral 0.1). Two directions no
+// other path reaches: slope -1 loading (p' falls as q rises: dq/dp' = -6) and slope 2 unloading (direction: extension;
+// sigma_3 falls twice as fast as sigma_z: q rises while p' falls, dq/dp' = -0.6). Every row past the first 2e-4 of
+// strain holds sigma_x and sigma_y within kPathTol p'_0 of the path's target at its sigma_z (measured below); the end
+// at sigma_v within a step's change (kEndTol), and the path's (q - q_0)/(p' - p'_0) there within kSlopeTol of its
+// dq/dp' (the servo's lag is a share of the increments). summary.json and config.yaml name the path, validate's plan
+// says it; interrupted halfway and resumed = uninterrupted byte for byte (the targets come from p'_0 and q_0, which a
+// checkpoint holds).
+TEST(Lab, LinearStressPathHoldsItsSlope) {
+  const double kPathTol = 0.005, kEndTol = 1e-3, kSlopeTol = 0.03;
+  struct Case {
+    std::string tag;
+    double slope, sigma_v;
+    bool extension;
+  };
+  for (const Case& c : {Case{"m1", -1, 2.3e5, false}, Case{"p2", 2, 1.7e5, true}}) {
+    SCOPED_TRACE(c.tag);
+    std::ostringstream stage;
+    stage << "  - {name: probe, type: triaxial, drainage: drained, lateral_slope: " << c.slope << ", sigma_v: " << c.sigma_v
+          << (c.extension ? ", direction: extension" : "")
+          << ", axial_strain_rate: 1.0, max_axial_strain: 0.02, damping: 0.2, servo_integral: 0.1}\n";
+    const std::string cfg = on_reference("lin_" + c.tag, stage.str(), 5);
+    const std::string out = tmpdir("lin_" + c.tag);
+    const RunResult r = run(cfg, out);
+    ASSERT_TRUE(r.stages.at(0).converged);
+    const YAML::Node sum = YAML::LoadFile(out + "/summary.json");
+    const YAML::Node s0 = sum["stages"][0];
+    EXPECT_EQ(s0["stress_path"].as<std::string>(), "linear");
+    EXPECT_EQ(s0["lateral_slope"].as<double>(), c.slope);
+    const double dqdp = 3 * (1 - c.slope) / (1 + 2 * c.slope);
+    EXPECT_DOUBLE_EQ(s0["dq_dp"].as<double>(), dqdp);
+    const double p0 = s0["p_0"].as<double>(), q0 = s0["q_0"].as<double>();
+    ASSERT_EQ(q0, 0);  // from a sample file: SPEC's isotropic start
+    H5Reader h(out + "/run.h5");
+    const auto sx = h.doubles("/series/sigma_x"), sy = h.doubles("/series/sigma_y"), sz = h.doubles("/series/sigma_z"),
+               ea = h.doubles("/series/eps_a");
+    double worst = 0;
+    int rows = 0;
+    for (size_t k = 0; k < sz.size(); ++k) {
+      if (std::abs(ea[k]) < 2e-4) continue;
+      ++rows;
+      const double target = p0 + c.slope * (sz[k] - p0);
+      worst = std::max({worst, std::abs(sx[k] - target) / p0, std::abs(sy[k] - target) / p0});
+      EXPECT_NEAR(sx[k], target, kPathTol * p0) << "row " << k;
+      EXPECT_NEAR(sy[k], target, kPathTol * p0) << "row " << k;
+    }
+    const double p_end = (sx.back() + sy.back() + sz.back()) / 3, q_end = sz.back() - 0.5 * (sx.back() + sy.back());
+    std::printf("  slope %g: %d rows, largest |sigma_3 - target| / p'_0 %.2g; end sigma_z %.5g kPa, p' %.4g -> %.4g kPa, "
+                "q %.4g kPa: dq/dp' %.4g (path %.4g)\n", c.slope, rows, worst, sz.back() / 1e3, p0 / 1e3, p_end / 1e3,
+                q_end / 1e3, q_end / (p_end - p0), dqdp);
+    EXPECT_GT(rows, 10);  // the elastic unloading is stiff: 23 rows measured there, 387 loading
+    EXPECT_NEAR(sz.back(), c.sigma_v, kEndTol * c.sigma_v);
+    EXPECT_NEAR(q_end / (p_end - p0), dqdp, kSlopeTol * std::abs(dqdp));
+    EXPECT_NE(slurp(out + "/config.yaml").find("lateral_slope: " + std::string(c.slope < 0 ? "-1" : "2")), std::string::npos);
+    std::ostringstream plan;
+    plan << "on the linear path dsigma_3/dsigma_z = " << c.slope << " (dq/dp' = " << dqdp << ")";
+    EXPECT_NE(plan_run(load_run_config(cfg)).stages.at(0).find(plan.str()), std::string::npos) << plan.str();
+    if (c.extension) continue;  // one resume is enough: both cases set their targets the same way
+    const std::string stopped = tmpdir("lin_stopped");
+    ASSERT_TRUE(run(cfg, stopped, long(0.5 * double(r.stages[0].steps))).interrupted);
+    ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+    EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
+  }
+}
+
 // The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
 // sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
 // sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
