@@ -540,9 +540,12 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         // sigma_x = sigma_y = 0, -1.5 at sigma_z = 0)
         if (g.has("q")) sc.q_end = g.real("q", 0, -1e10, 1e10);
         if (g.has("stress_ratio")) sc.eta_end = g.real("stress_ratio", 0, -1.5, 3);
+        // a stress probe's end: the size of the stress increment from the start (StageConfig::dsigma_end)
+        if (g.has("stress_increment")) sc.dsigma_end = g.real("stress_increment", 0, 0, 1e10, true);
         std::vector<std::string> ends;  // the stress ends given, "key = value"
         for (const auto& [key, v] : {std::pair<const char*, Real>{"sigma_v", sc.sigma_v}, {"ocr", sc.ocr},
-                                     {"q", sc.q_end.value_or(0)}, {"stress_ratio", sc.eta_end.value_or(0)}})
+                                     {"q", sc.q_end.value_or(0)}, {"stress_ratio", sc.eta_end.value_or(0)},
+                                     {"stress_increment", sc.dsigma_end.value_or(0)}})
           if (g.has(key)) ends.push_back(std::string(key) + " = " + fmt(v));
         if (ends.size() > 1)
           g.fail(g.key_path(ends[0].substr(0, ends[0].find(' '))), ends[0].substr(ends[0].find(' ') + 1) + " and " + ends[1] +
@@ -699,6 +702,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
       if (sc.ocr > 0) e << YAML::Key << "ocr" << YAML::Value << sc.ocr;
       if (sc.q_end) e << YAML::Key << "q" << YAML::Value << *sc.q_end;
       if (sc.eta_end) e << YAML::Key << "stress_ratio" << YAML::Value << *sc.eta_end;
+      if (sc.dsigma_end) e << YAML::Key << "stress_increment" << YAML::Value << *sc.dsigma_end;
       if (sc.type == StageType::Cyclic) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;

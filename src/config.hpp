@@ -103,7 +103,13 @@ struct StageConfig {
   // end that scales with the confining pressure, as a study's p0 axis does (an unload-reload loop at the same share of
   // the strength at each p'_0).
   std::optional<Real> eta_end;     // [-]
-  bool stress_ended() const { return sigma_v > 0 || ocr > 0 || q_end || eta_end; }
+  // The end of a stress probe (choice, beyond SPEC §6.3): the stage ends on the first step whose stress increment from
+  // the start's, |sigma - sigma_0| = sqrt(dsigma_x^2 + dsigma_y^2 + dsigma_z^2) of the walls (sigma_0: sigma_3,0 =
+  // p'_0 - q_0/3 laterally, sigma_z,0 = p'_0 + 2 q_0/3 axially, as the lateral targets take it), reaches it: one end
+  // for probes of every direction (lateral_slope, direction), loading or unloading, where a sigma_v or a q differs
+  // between them (and a q does not change along slope 1). Empty: off.
+  std::optional<Real> dsigma_end;  // [Pa] (> 0)
+  bool stress_ended() const { return sigma_v > 0 || ocr > 0 || q_end || eta_end || dsigma_end; }
   // cyclic (StageType::Cyclic): compression first; a cycle is 0 -> +A -> -A -> 0 of the controlled quantity
   long cycles = 1;                 // [-]
   Real q_amplitude = 0;            // A in deviator stress q (stress reversal; 0: csr's or strain reversal)   [Pa]

@@ -406,8 +406,8 @@ std::string with_checkpoint_cadence_of(const std::string& config, const std::str
 
 // Empty when the config `now` only extends `then` (both as config_fingerprint writes them) for a run whose newest
 // checkpoint lies in stage k (k = the number of stages: finished): every key outside `stages` the same, the
-// stages before k the same, stage k the same but for its end (max_axial_strain, max_steps, cycles; an oedometric stage's
-// sigma_v and ocr: refuse_passed_end judges whether the run has passed the moved end), the stages after k
+// stages before k the same, stage k the same but for its end (max_axial_strain, max_steps, cycles; the stress ends sigma_v,
+// ocr, q, stress_ratio, stress_increment: refuse_passed_end judges whether the run has passed the moved end), the stages after k
 // (not started) free, and stages appended. Otherwise the first difference, named as a config key.
 std::string extension_mismatch(const std::string& then, const std::string& now, int k) {
   const YAML::Node a = YAML::Load(then), b = YAML::Load(now);
@@ -439,7 +439,8 @@ std::string extension_mismatch(const std::string& then, const std::string& now, 
   for (int j = 0; j <= last; ++j) {
     YAML::Node x = YAML::Clone(sa[j]), y = YAML::Clone(sb[j]);
     if (j == last)
-      for (const char* key : {"max_axial_strain", "max_steps", "cycles", "sigma_v", "ocr", "q", "stress_ratio"}) {
+      for (const char* key :
+           {"max_axial_strain", "max_steps", "cycles", "sigma_v", "ocr", "q", "stress_ratio", "stress_increment"}) {
         x.remove(key);
         y.remove(key);
       }
@@ -556,10 +557,17 @@ class Laboratory {
   Real sigma_v_max(int k) const;
   // A triaxial stage's stress end met: sigma_z at sv_end_, q at StageConfig::q_end, or q/p' at eta_end (q against
   // eta p': no division), each reached along the loading: at or above in compression, at or below in extension.
+  // A stress probe's end (StageConfig::dsigma_end): |sigma - sigma_0| reached, whichever the direction.
   bool stress_end(const StageConfig& sc, const Measure& m) const {
     const auto reached = [&](Real x, Real end) { return sc.extension ? x <= end : x >= end; };
     return (sv_end_ > 0 && reached(m.sz, sv_end_)) || (sc.q_end && reached(m.q, *sc.q_end)) ||
-           (sc.eta_end && reached(m.q, *sc.eta_end * m.p));
+           (sc.eta_end && reached(m.q, *sc.eta_end * m.p)) || (sc.dsigma_end && stress_increment(m) >= *sc.dsigma_end);
+  }
+  // |sigma - sigma_0| of the walls, sigma_0 the shear's start as the lateral targets take it (p'_0 - q_0/3 laterally,
+  // p'_0 + 2 q_0/3 axially)
+  Real stress_increment(const Measure& m) const {
+    const Real s3 = lab_.p0 - lab_.q0 / 3, sz = lab_.p0 + 2 * lab_.q0 / 3;
+    return std::sqrt((m.sx - s3) * (m.sx - s3) + (m.sy - s3) * (m.sy - s3) + (m.sz - sz) * (m.sz - sz));
   }
   Real sv_end_ = 0;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
@@ -1540,7 +1548,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   overlap_warned_ = false;
   sv_end_ = sigma_v_end(sc, lab_.stage);
   bool ended_on_stress = false;  // the stage's end: its stress end met (else its strain, or max_steps)
-  Real s_end = 0;                // the ended-on stress (sigma_z, q, q/p') where it ended, as shear_end found it
+  Real s_end = 0;                // the ended-on stress (sigma_z, q, q/p', |dsigma|) where it ended, as shear_end found it
   start_core_share();  // not the stage ends' serial writes (samples, snapshots), where the pool's threads sleep
   int rows_since_flush = 0;
   bool done = false;
@@ -1559,7 +1567,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const bool strain_end = shear_end(sc, m0);
     if (strain_end) {
       ended_on_stress = stress_end(sc, m0);
-      s_end = sc.q_end ? m0.q : sc.eta_end ? m0.q / m0.p : m0.sz;
+      s_end = sc.q_end ? m0.q : sc.eta_end ? m0.q / m0.p : sc.dsigma_end ? stress_increment(m0) : m0.sz;
     }
     const bool turn = cyclic && !strain_end && cyclic_turn(sc, m0);
     if (lateral_servo(sc) && moving_lateral_targets(sc)) {
@@ -1737,10 +1745,11 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const auto stress = [&](const char* what, Real v) {
       return std::string(what) + " = " + (ratio ? sig4(v) : sig4(v / 1e3) + " kPa");
     };
-    const char* what = ratio ? "q/p'" : sc.q_end ? "q" : "sigma_v";
+    const char* what = ratio ? "q/p'" : sc.q_end ? "q" : sc.dsigma_end ? "|sigma - sigma_0|" : "sigma_v";
     const std::string at = stress(what, s_end);
     const std::string end = ratio      ? stress(what, *sc.eta_end)
                             : sc.q_end ? stress(what, *sc.q_end)
+                            : sc.dsigma_end ? stress(what, *sc.dsigma_end)
                             : sc.ocr > 0 ? "sigma_v,max / ocr = " + sig4(sigma_v_max(lab_.stage) / 1e3) + " / " + sig4(sc.ocr) +
                                              " = " + sig4(sv_end_ / 1e3) + " kPa"
                                        : stress(what, sv_end_);
@@ -2144,7 +2153,8 @@ bool Laboratory::load_newest_checkpoint() {
           std::string m = path;
           m += ": written by a different config (" + why;
           m += " differs); resume with the config that started the run (run.h5 attribute 'config'), or one that only "
-               "appends stages or moves the end (max_axial_strain, max_steps, cycles, sigma_v, ocr, q, stress_ratio) of the stage it stopped in";
+               "appends stages or moves the end (max_axial_strain, max_steps, cycles, sigma_v, ocr, q, stress_ratio, "
+               "stress_increment) of the stage it stopped in";
           throw std::runtime_error(m);
         }
         extends = true;
@@ -2317,7 +2327,9 @@ void Laboratory::refuse_passed_end(const std::string& path, const YAML::Node& th
       {"q", sc.q_end ? along * *sc.q_end : nan, nan, true, along,
        "q is not monotonic along a shear, and its steps between series rows are not kept"},
       {"stress_ratio", sc.eta_end ? along * *sc.eta_end : nan, nan, true, along,
-       "q/p' is not monotonic along a shear, and its steps between series rows are not kept"}};
+       "q/p' is not monotonic along a shear, and its steps between series rows are not kept"},
+      {"stress_increment", sc.dsigma_end ? *sc.dsigma_end : nan, nan, true, 1,
+       "|sigma - sigma_0| is not monotonic along a shear, and its steps between series rows are not kept"}};
   for (const End& e : ends) {
     if (e.optional && !(e.now == e.now)) continue;  // no such end now: the stage ends later, if at all
     if (!old[e.key] && !e.optional) continue;
@@ -2809,6 +2821,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
           os << (sc.extension ? " extension" : "") << " to ";
           if (sc.q_end) os << "q = " << *sc.q_end / 1e3 << " kPa";
           else if (sc.eta_end) os << "q/p' = " << *sc.eta_end;
+          else if (sc.dsigma_end) os << "|sigma - sigma_0| = " << *sc.dsigma_end / 1e3 << " kPa";
           else if (sc.sigma_v > 0) os << "sigma_v = " << sc.sigma_v / 1e3 << " kPa";
           else os << "sigma_v,max / " << sc.ocr;
           os << " (or eps_a = " << (sc.extension ? "-" : "") << sc.max_axial_strain << ")";

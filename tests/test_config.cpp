@@ -393,6 +393,11 @@ TEST(Config, RejectsBadInputClearly) {
        "stages[0].q = 100000 and stress_ratio = 0.5 both end the stage at a stress: give one of them"},
       {"eta_big", "stages:\n  - {type: triaxial, drainage: drained, stress_ratio: 3.5}\n",
        "stages[0].stress_ratio = 3.5 is outside the allowed range [-1.5, 3]"},
+      // a stress probe's end: > 0, one stress end
+      {"ds_zero", "stages:\n  - {type: triaxial, drainage: drained, stress_increment: 0}\n",
+       "stages[0].stress_increment = 0 is outside the allowed range (0, 1e+10]"},
+      {"ds_q", "stages:\n  - {type: triaxial, drainage: drained, q: 1e5, stress_increment: 1e4}\n",
+       "stages[0].q = 100000 and stress_increment = 10000 both end the stage at a stress: give one of them"},
       {"q_null", "stages:\n  - {type: triaxial, drainage: drained, q: }\n",
        "stages[0].q: has no value: give one, or leave the key out for its default"},
       // the servo's integral action: [0, 0.5] (WallControl::integral: stable below 1 on an ideal wall)

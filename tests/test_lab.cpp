@@ -1675,17 +1675,18 @@ TEST(Lab, KPathConsolidatesAnisotropically) {
 // says it; interrupted halfway and resumed = uninterrupted byte for byte (the targets come from p'_0 and q_0, which a
 // checkpoint holds).
 TEST(Lab, LinearStressPathHoldsItsSlope) {
-  const double kPathTol = 0.005, kEndTol = 1e-3, kSlopeTol = 0.03;
+  const double kPathTol = 0.005, kEndTol = 1e-3, kSlopeTol = 0.03;  // kEndTol: sigma_v's, a step's change of it
   struct Case {
     std::string tag;
     double slope, sigma_v;
     bool extension;
   };
+  // the unloading ends at a stress probe's end, |sigma - sigma_0| = sqrt(2 (2 x 20)^2 + 20^2) = 60 kPa: sigma_z = 170
   for (const Case& c : {Case{"m1", -1, 2.3e5, false}, Case{"p2", 2, 1.7e5, true}}) {
     SCOPED_TRACE(c.tag);
     std::ostringstream stage;
-    stage << "  - {name: probe, type: triaxial, drainage: drained, lateral_slope: " << c.slope << ", sigma_v: " << c.sigma_v
-          << (c.extension ? ", direction: extension" : "")
+    stage << "  - {name: probe, type: triaxial, drainage: drained, lateral_slope: " << c.slope
+          << (c.extension ? ", stress_increment: 6.0e4, direction: extension" : ", sigma_v: " + std::to_string(c.sigma_v))
           << ", axial_strain_rate: 1.0, max_axial_strain: 0.02, damping: 0.2, servo_integral: 0.1}\n";
     const std::string cfg = on_reference("lin_" + c.tag, stage.str(), 5);
     const std::string out = tmpdir("lin_" + c.tag);
@@ -1717,13 +1718,39 @@ TEST(Lab, LinearStressPathHoldsItsSlope) {
                 "q %.4g kPa: dq/dp' %.4g (path %.4g)\n", c.slope, rows, worst, sz.back() / 1e3, p0 / 1e3, p_end / 1e3,
                 q_end / 1e3, q_end / (p_end - p0), dqdp);
     EXPECT_GT(rows, 10);  // the elastic unloading is stiff: 23 rows measured there, 387 loading
-    EXPECT_NEAR(sz.back(), c.sigma_v, kEndTol * c.sigma_v);
+    if (c.extension) {
+      // past 60 kPa by less than the last rows' change (5 steps; a step of this stiff unloading is ~0.5 kPa of it)
+      const auto dsigma = [&](size_t k) {
+        return std::sqrt((sx[k] - p0) * (sx[k] - p0) + (sy[k] - p0) * (sy[k] - p0) + (sz[k] - p0) * (sz[k] - p0));
+      };
+      const size_t n = sz.size();
+      EXPECT_GE(dsigma(n - 1), 6e4);
+      EXPECT_LT(dsigma(n - 1) - 6e4, dsigma(n - 1) - dsigma(n - 2));
+      EXPECT_NEAR(sz.back(), c.sigma_v, kPathTol * p0);  // where the path meets the increment's sphere, to the servo's lag
+    } else {
+      EXPECT_NEAR(sz.back(), c.sigma_v, kEndTol * c.sigma_v);
+    }
     EXPECT_NEAR(q_end / (p_end - p0), dqdp, kSlopeTol * std::abs(dqdp));
     EXPECT_NE(slurp(out + "/config.yaml").find("lateral_slope: " + std::string(c.slope < 0 ? "-1" : "2")), std::string::npos);
     std::ostringstream plan;
     plan << "on the linear path dsigma_3/dsigma_z = " << c.slope << " (dq/dp' = " << dqdp << ")";
     EXPECT_NE(plan_run(load_run_config(cfg)).stages.at(0).find(plan.str()), std::string::npos) << plan.str();
-    if (c.extension) continue;  // one resume is enough: both cases set their targets the same way
+    if (c.extension) {
+      // The increment end moved later resumes the finished probe to it; moved earlier, refused (not monotonic).
+      const auto probe = [&](const std::string& ds) {
+        return on_reference("lin_" + c.tag + ds, "  - {name: probe, type: triaxial, drainage: drained, lateral_slope: 2, "
+                            "stress_increment: " + ds + ", direction: extension, axial_strain_rate: 1.0, max_axial_strain: "
+                            "0.02, damping: 0.2, servo_integral: 0.1}\n", 5);
+      };
+      const std::string err = resume_error(probe("5.0e4"), out);
+      EXPECT_NE(err.find("this config moves stages[0].stress_increment from 60000 to 50000, which the run may have passed "
+                         "(|sigma - sigma_0| is not monotonic"), std::string::npos) << err;
+      ASSERT_FALSE(run(probe("7.0e4"), out, -1, true).interrupted);
+      H5Reader h7(out + "/run.h5");
+      const auto sz7 = h7.doubles("/series/sigma_z");
+      EXPECT_NEAR(sz7.back(), p0 - 7e4 / 3, kPathTol * p0);  // |dsigma| = 3 |dsigma_z| at slope 2
+      continue;  // one interrupted run is enough: both cases set their targets the same way
+    }
     const std::string stopped = tmpdir("lin_stopped");
     ASSERT_TRUE(run(cfg, stopped, long(0.5 * double(r.stages[0].steps))).interrupted);
     ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
