@@ -508,19 +508,48 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
           g.fail(g.key_path("k_ratio"), "= " + fmt(sc.k_ratio) + " and " + (sc.b > 0 ? "b = " + fmt(sc.b) : "stress_path: constant_p") +
                                             " both set the lateral stresses: give one of them");
         // A linear stress path (StageConfig::lateral_slope): drained; b sets sigma_2 on it, as on the standard path.
-        // [-5, 5]: every direction of the (sigma_a, sigma_r) plane within 11 degrees of pure lateral loading, which the
-        // strain-controlled axial walls cannot follow (dsigma_a = 0 there).
-        if (g.has("lateral_slope")) {
+        // [-5, 5]: every direction but those within 11 degrees of pure lateral loading or unloading in the (sigma_a,
+        // sigma_r) plane (8.05 in the Rendulic plane), which the strain-controlled axial walls cannot follow (dsigma_a = 0
+        // there). Or as a probe's direction in the Rendulic plane (StageConfig::stress_direction), which sets the
+        // slope and the direction both.
+        const bool by_angle = g.has("stress_direction");
+        const std::string path_key = by_angle ? "stress_direction" : "lateral_slope";
+        if (by_angle) {
+          const Real th = g.real("stress_direction", 0, 0, 360), rad = th * Real(M_PI / 180);
+          // 90 and 270 the standard path to the bit (cos(pi/2) is 6e-17 in double)
+          const Real slope = th == 90 || th == 270 ? Real(0) : std::cos(rad) / (std::sqrt(Real(2)) * std::sin(rad));
+          const bool unloading = std::sin(rad) < 0;
+          if (!(std::abs(slope) <= 5))
+            g.fail(g.key_path(path_key), "= " + fmt(th) + " is within 8.05 degrees of pure lateral loading or unloading (0, "
+                                         "180), which the strain-controlled axial walls cannot follow (dsigma_a = 0 "
+                                         "there): give a direction in [8.05, 171.95] or [188.05, 351.95]");
+          if (g.has("lateral_slope"))
+            g.fail(g.key_path(path_key), "= " + fmt(th) + " and lateral_slope = " + fmt(g.real("lateral_slope", 0, -5, 5)) +
+                                             " both set the path: give one of them");
+          if (g.has("direction") && sc.extension != unloading)
+            g.fail(g.key_path(path_key), "= " + fmt(th) + " unloads the axial walls where sin(theta) < 0 and loads them "
+                                         "elsewhere, and direction = " + (sc.extension ? "extension" : "compression") +
+                                         " says otherwise: leave direction out");
+          if (sc.b > 0)
+            g.fail(g.key_path(path_key), "= " + fmt(th) + " is a direction of the Rendulic plane (sigma_x = sigma_y), and "
+                                         "b = " + fmt(sc.b) + " parts sigma_x from sigma_y: give one of them");
+          sc.stress_direction = th;
+          sc.lateral_slope = slope;
+          sc.extension = unloading;
+        } else if (g.has("lateral_slope")) {
           sc.lateral_slope = g.real("lateral_slope", 0, -5, 5);
+        }
+        if (sc.lateral_slope) {
+          const std::string v = fmt(by_angle ? *sc.stress_direction : *sc.lateral_slope);
           if (sc.drainage != Drainage::Drained)
-            g.fail(g.key_path("lateral_slope"), "= " + fmt(*sc.lateral_slope) + " needs a drained stage (here " +
-                                                    drainage_name(sc.drainage) + ": the walls keep the volume or their "
-                                                    "place); leave lateral_slope out or give drainage: drained");
+            g.fail(g.key_path(path_key), "= " + v + " needs a drained stage (here " + drainage_name(sc.drainage) +
+                                             ": the walls keep the volume or their place); leave " + path_key +
+                                             " out or give drainage: drained");
           if (sc.constant_p || sc.k_ratio > 0)
-            g.fail(g.key_path("lateral_slope"), "= " + fmt(*sc.lateral_slope) + " and " +
-                                                    (sc.constant_p ? "stress_path: constant_p" : "k_ratio = " + fmt(sc.k_ratio)) +
-                                                    " both set the lateral stresses: give one of them (constant p' is "
-                                                    "lateral_slope: -0.5)");
+            g.fail(g.key_path(path_key), "= " + v + " and " +
+                                             (sc.constant_p ? "stress_path: constant_p" : "k_ratio = " + fmt(sc.k_ratio)) +
+                                             " both set the lateral stresses: give one of them (constant p' is "
+                                             "lateral_slope: -0.5)");
         }
         // An oedometer's stress ends: sigma_v loading or unloading to a stress, ocr unloading to sigma_v,max / ocr;
         // a K path's and a linear path's too (its sigma_v is what it is loaded to, as an oedometer's)
@@ -696,7 +725,8 @@ std::string resolved_config_yaml(const RunConfig& c) {
           << YAML::Value << sc.b;
       if (sc.constant_p) e << YAML::Key << "stress_path" << YAML::Value << "constant_p";
       if (sc.k_ratio > 0) e << YAML::Key << "k_ratio" << YAML::Value << sc.k_ratio;
-      if (sc.lateral_slope) e << YAML::Key << "lateral_slope" << YAML::Value << *sc.lateral_slope;
+      if (sc.stress_direction) e << YAML::Key << "stress_direction" << YAML::Value << *sc.stress_direction;
+      else if (sc.lateral_slope) e << YAML::Key << "lateral_slope" << YAML::Value << *sc.lateral_slope;
       // only where set, as affine: the configs of runs without them stay as they were (resume compares them)
       if (sc.sigma_v > 0) e << YAML::Key << "sigma_v" << YAML::Value << sc.sigma_v;
       if (sc.ocr > 0) e << YAML::Key << "ocr" << YAML::Value << sc.ocr;

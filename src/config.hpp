@@ -86,6 +86,13 @@ struct StageConfig {
   // are the response envelope of that state (Calvetti et al. 2003, Geotechnique 53(5); Tamagnini et al. 2005).
   // With sigma_v (or ocr, q, stress_ratio) it ends at a stress. Empty: off.
   std::optional<Real> lateral_slope;  // [-] [-5, 5]
+  // triaxial, drained: a stress probe's direction (choice, beyond SPEC §6.3), the angle theta of (sqrt2 dsigma_r,
+  // dsigma_a) in the Rendulic plane, counterclockwise from the sqrt2 sigma_r axis, in degrees: 90 axial loading at
+  // constant sigma_3, 270 axial unloading, 35.26 isotropic loading, 125.26 loading at constant p'. It sets the linear
+  // path and the direction, lateral_slope = cot(theta) / sqrt2 and extension where sin(theta) < 0: one number per
+  // probe, as a study's stage axis sweeps (Calvetti et al. 2003's response envelopes; Darve's directional analysis).
+  // Empty: off.
+  std::optional<Real> stress_direction;  // [deg] [0, 360], not within 8.05 of 0, 180, 360
   // triaxial, oedometric: a stress end, as an oedometer loads and unloads (choice, beyond SPEC §6.3): the stage ends on
   // the first step whose sigma_z of the walls reaches sigma_v (at or above it in compression, at or below in extension),
   // or, unloading, falls to sigma_v,max / ocr (sigma_v,max the largest sigma_z of the series rows of the stages before,

@@ -2387,6 +2387,7 @@ void Laboratory::write_summary() const {
     if (sc.lateral_slope)
       js << ", \"lateral_slope\": " << num(*sc.lateral_slope) << ", \"dq_dp\": "
          << num(3 * (1 - *sc.lateral_slope) / (1 + 2 * *sc.lateral_slope));
+    if (sc.stress_direction) js << ", \"stress_direction\": " << num(*sc.stress_direction);
     js << ", \"done\": " << (r.converged ? "true" : "false") << ", \"steps\": " << r.steps << ", \"mu\": " << num(r.mu)
        << ", \"p\": " << num(r.p) << ", \"q\": " << num(r.q) << ", \"e\": " << num(r.e);
     // A shear's start (the stress it found: p'_0, q_0) and, undrained, its pore pressures: u_0 it started with, p'_c

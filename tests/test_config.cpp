@@ -124,6 +124,32 @@ TEST(Config, AGradingReadsBackFromTheResolvedConfig) {
   EXPECT_TRUE(few.warnings.empty());
 }
 
+// A stress probe's direction (StageConfig::stress_direction) sets the linear path and the direction: cot(theta) / sqrt2,
+// extension where sin(theta) < 0; 90 and 270 exactly the standard path (slope 0); 125.26 deg constant p' (slope -1/2
+// to 1e-5, the angle's 5 digits). The resolved config gives the angle (not the slope) and its direction, and reads back
+// to the same text.
+TEST(Config, AStressDirectionSetsTheLinearPath) {
+  const auto stage = [](const std::string& th) {
+    const RunConfig c = load_run_config(write_tmp("sdir", "stages:\n  - {name: probe, type: triaxial, drainage: drained, "
+                                                          "stress_direction: " + th + ", stress_increment: 1.0e4}\n"));
+    return c;
+  };
+  for (const char* th : {"90", "270"}) {
+    const RunConfig c = stage(th);
+    EXPECT_EQ(*c.stages[0].lateral_slope, 0) << th;
+    EXPECT_EQ(c.stages[0].extension, std::string(th) == "270");
+  }
+  EXPECT_NEAR(*stage("125.26439").stages[0].lateral_slope, -0.5, 1e-5);
+  const RunConfig c = stage("300");
+  EXPECT_NEAR(*c.stages[0].lateral_slope, std::cos(300 * M_PI / 180) / (std::sqrt(2.0) * std::sin(300 * M_PI / 180)), 1e-15);
+  EXPECT_TRUE(c.stages[0].extension);
+  const std::string text = resolved_config_yaml(c);
+  EXPECT_NE(text.find("direction: extension"), std::string::npos) << text;
+  EXPECT_NE(text.find("stress_direction: 300"), std::string::npos) << text;
+  EXPECT_EQ(text.find("lateral_slope"), std::string::npos) << text;
+  EXPECT_EQ(resolved_config_yaml(parse_run_config(YAML::Load(text), "config.yaml")), text);
+}
+
 // numerics.fines_mass_radius: read, written back only where set (a run without it resolves as every earlier build's),
 // and the plan's account of it checked against the radii: the spheres under the radius, their share of the solid mass,
 // the sample's mass factor, and the stable limit against SPEC §1's masses, (r_f / r_min)^1.5 without rolling (the
@@ -370,6 +396,23 @@ TEST(Config, RejectsBadInputClearly) {
        "stages[0].lateral_slope = -6 is outside the allowed range [-5, 5]"},
       {"ls_cyc", "stages:\n  - {type: cyclic, drainage: drained, q_amplitude: 3e4, lateral_slope: 0.5}\n",
        "stages[0].lateral_slope: unknown key"},
+      // a probe's direction: reachable by the axial walls, one path, its direction its own, axisymmetric, drained
+      {"sd_lateral", "stages:\n  - {type: triaxial, drainage: drained, stress_direction: 175}\n",
+       "stages[0].stress_direction = 175 is within 8.05 degrees of pure lateral loading or unloading (0, 180), which the "
+       "strain-controlled axial walls cannot follow (dsigma_a = 0 there): give a direction in [8.05, 171.95] or "
+       "[188.05, 351.95]"},
+      {"sd_range", "stages:\n  - {type: triaxial, drainage: drained, stress_direction: 400}\n",
+       "stages[0].stress_direction = 400 is outside the allowed range [0, 360]"},
+      {"sd_ls", "stages:\n  - {type: triaxial, drainage: drained, stress_direction: 90, lateral_slope: 0.5}\n",
+       "stages[0].stress_direction = 90 and lateral_slope = 0.5 both set the path: give one of them"},
+      {"sd_dir", "stages:\n  - {type: triaxial, drainage: drained, stress_direction: 270, direction: compression}\n",
+       "stages[0].stress_direction = 270 unloads the axial walls where sin(theta) < 0 and loads them elsewhere, and "
+       "direction = compression says otherwise: leave direction out"},
+      {"sd_b", "stages:\n  - {type: triaxial, drainage: drained, stress_direction: 90, b: 0.5}\n",
+       "stages[0].stress_direction = 90 is a direction of the Rendulic plane (sigma_x = sigma_y), and b = 0.5 parts "
+       "sigma_x from sigma_y: give one of them"},
+      {"sd_undrained", "stages:\n  - {type: triaxial, stress_direction: 90}\n",
+       "stages[0].stress_direction = 90 needs a drained stage (here undrained"},
       {"sv_zero", "stages:\n  - {type: triaxial, drainage: oedometric, sigma_v: 0}\n",
        "stages[0].sigma_v = 0 is outside the allowed range (0, 1e+10]"},
       {"sv_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, sigma_v: 3e5}\n", "stages[0].sigma_v: unknown key"},
