@@ -481,7 +481,8 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
       // A cyclic stage's loops (E_eq, G_eq, D, r_u) are read as triaxial ones: an oedometric cycle is another test.
       if (sc.type == StageType::Cyclic && sc.drainage == Drainage::Oedometric)
         g.fail(g.key_path("drainage"), "= oedometric is for triaxial stages (a cyclic stage is drained or undrained)");
-      sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, true);
+      // 0 on a triaxial stage: a rest (StageConfig::axial_strain_rate)
+      sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, sc.type == StageType::Cyclic);
       sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
       sc.max_servo_error = g.real("max_servo_error", 0.25, 0, 1, true);
       if (sc.type == StageType::Triaxial) {
@@ -579,6 +580,19 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         if (ends.size() > 1)
           g.fail(g.key_path(ends[0].substr(0, ends[0].find(' '))), ends[0].substr(ends[0].find(' ') + 1) + " and " + ends[1] +
                                                                       " both end the stage at a stress: give one of them");
+        // A rest holds the axial walls and ends at max_steps: nothing moves the stress along a path to an end
+        if (sc.axial_strain_rate == 0) {
+          std::string moving;
+          for (const char* key : {"sigma_v", "ocr", "q", "stress_ratio", "stress_increment", "lateral_slope",
+                                  "stress_direction", "k_ratio", "stress_path"})
+            if (g.has(key) && moving.empty()) moving = key;
+          if (sc.b > 0) moving = "b";
+          if (!moving.empty())
+            g.fail(g.key_path("axial_strain_rate"), "= 0 is a rest (the axial walls held, the lateral ones as the drainage "
+                                                     "holds them, for max_steps steps), and " + moving +
+                                                     " moves the stress or ends the stage at one: leave " + moving +
+                                                     " out, or give the stage a rate");
+        }
         if (g.has("ocr") && !sc.extension)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " ends an unloading at sigma_v,max / ocr, and this stage loads "
                                     "(direction: compression): give direction: extension, or sigma_v to load to a stress");

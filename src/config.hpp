@@ -46,7 +46,12 @@ struct StageConfig {
   Real servo_integral = 0;         // see WallControl::integral; 0 = off, [0, 0.5]   [-]
   // triaxial shear (SPEC §6.3)
   Drainage drainage = Drainage::Undrained;
-  Real axial_strain_rate = 1.0;    // [1/s]
+  // [1/s]. 0 on a triaxial stage: a rest (choice, beyond SPEC §6.3): the axial walls held where they are, the lateral
+  // walls as the drainage holds them (drained: servoed to the start's sigma_3; undrained: the volume; oedometric:
+  // held), for max_steps steps, the stage done then. The sample relaxes at fixed strain (the stress relaxation test), and
+  // the stage after it starts from the state it rests in: a probe from a sheared state starts at rest, not with the
+  // walls' dynamic overstress and the damping's drag of the loading.
+  Real axial_strain_rate = 1.0;
   Real max_axial_strain = 0.05;    // [-] cyclic: the stage ends when |eps_a| reaches it (large strain, liquefaction)
   // drained shear: the run stops (exit 3, like a blow-up) when a lateral wall stress on a series row is further than
   // this from its servo target, relative (Laboratory::servo_error): sigma_3 = p'_0 not held is not the test asked for,

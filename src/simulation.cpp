@@ -1131,6 +1131,8 @@ bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) con
 // triaxial, eps_a (-eps_a in extension) reached; cyclic, |eps_a| at max_axial_strain (the sample liquefied or failed), or the cycles
 // done: after the last extension peak, back at the level the stage started from (q or eps_a = 0).
 bool Laboratory::shear_end(const StageConfig& sc, const Measure& m) const {
+  // a rest (axial_strain_rate 0) ends on its last step, done
+  if (sc.type == StageType::Triaxial && sc.axial_strain_rate == 0) return lab_.stage_step + 1 >= sc.max_steps;
   if (sc.type == StageType::Triaxial) return strain_along(sc, m.eps_a) >= sc.max_axial_strain || stress_end(sc, m);
   if (sc.type != StageType::Cyclic) return false;
   if (std::abs(m.eps_a) >= sc.max_axial_strain) return true;
@@ -1630,7 +1632,9 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         if (sc.type == StageType::Triaxial) {
           line << " | eps_a = " << m.eps_a;
           const double steps_left =
-              (sc.max_axial_strain - strain_along(sc, m.eps_a)) / std::max(1e-30, sc.axial_strain_rate * e.dt());
+              sc.axial_strain_rate == 0
+                  ? double(sc.max_steps - lab_.stage_step)  // a rest
+                  : (sc.max_axial_strain - strain_along(sc, m.eps_a)) / std::max(1e-30, sc.axial_strain_rate * e.dt());
           // a stress-ended stage's ETA is its strain cap's: an upper bound (the stress may come first)
           if (timed)
             line << " | ETA " << (sc.stress_ended() ? "<= " : "") << std::setprecision(3)
@@ -1789,8 +1793,8 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // How much of the walls' q the local damping's drag carries (series q_drag) at the stage's final row: on a flowing
     // sample the walls' stress overstates the material's by it, and it falls with the strain rate and the damping
     // (configs/damping-drag.yaml: 11.9 / 4.4 / 1.3 % of q at 4 / 1 / 0.25 per s, 2 000 spheres, damping 0.2).
-    if (sc.type == StageType::Triaxial && sc.damping > 0 && !lab_.series.rows.empty() &&
-        lab_.series.stage.back() == lab_.stage) {
+    if (sc.type == StageType::Triaxial && sc.damping > 0 && sc.axial_strain_rate > 0 && !lab_.series.rows.empty() &&
+        lab_.series.stage.back() == lab_.stage) {  // (a rest ends at rest: no drag to speak of)
       const auto& row = lab_.series.rows.back();
       const double q = row[series_column("q")], p = row[series_column("p")];
       const double qd = row[series_column("q_drag")], pd = row[series_column("p_drag")];
@@ -2804,7 +2808,12 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
     } else {
       const char* drainage = drainage_name(sc.drainage);
       const double strain_step = sc.axial_strain_rate * plan.dt;  // eps_a per step: the axial walls move at 1/2 rate H0
-      if (sc.type == StageType::Triaxial) {
+      if (sc.type == StageType::Triaxial && sc.axial_strain_rate == 0) {
+        // a rest: max_steps steps, the axial walls held
+        os << "triaxial " << drainage << " rest: the axial walls held, " << std::setprecision(6) << sc.max_steps
+           << " steps (" << double(sc.max_steps) * plan.dt << " s), mu = " << sc.mu << ", mu_r = " << sc.mu_r;
+        plan.steps.push_back(double(sc.max_steps));
+      } else if (sc.type == StageType::Triaxial) {
         // The stage ends on the step whose start finds eps_a >= max_axial_strain (-eps_a in extension), one after the
         // strain is reached.
         const double need = std::ceil(sc.max_axial_strain / strain_step) + 1;

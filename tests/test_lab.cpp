@@ -1758,6 +1758,59 @@ TEST(Lab, LinearStressPathHoldsItsSlope) {
   }
 }
 
+// A rest (axial_strain_rate 0): after a drained loading to q/p' = 0.4, 3 000 steps with the axial walls held and the
+// lateral servo on sigma_3: eps_a 0 to the bit on every row (the walls do not move), sigma_3 within kPathTol of its
+// target, the kinetic / elastic energy ratio falls below kRestKe of the loading's last row's (the sample comes to
+// rest: measured below) and q relaxes (falls) at fixed strain; the stage is done at max_steps. validate's plan says it;
+// interrupted halfway through the rest and resumed = uninterrupted byte for byte; max_steps moved later extends the
+// finished rest to the state of a run of the longer rest from the start, to the bit (its series keeps the shorter
+// rest's final row, off the output grid).
+TEST(Lab, ARestHoldsTheAxialWallsAndTheSampleRelaxes) {
+  const double kPathTol = 0.005, kRestKe = 0.05;
+  const auto cfg = [](const std::string& tag, long rest_steps) {
+    return on_reference("rest_" + tag,
+                        "  - {name: load, type: triaxial, drainage: drained, stress_ratio: 0.4, axial_strain_rate: 1.0, "
+                        "damping: 0.2, servo_integral: 0.1}\n"
+                        "  - {name: rest, type: triaxial, drainage: drained, axial_strain_rate: 0, max_steps: " +
+                            std::to_string(rest_steps) + ", damping: 0.2, servo_integral: 0.1}\n", 20);
+  };
+  const std::string c = cfg("3000", 3000), out = tmpdir("rest");
+  const RunResult r = run(c, out);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_TRUE(r.stages[1].converged);
+  EXPECT_EQ(r.stages[1].steps, 3000);
+  const std::string csv = slurp(out + "/series.csv");
+  const auto st = csv_column(csv, "stage"), ea = csv_column(csv, "eps_a"), sy = csv_column(csv, "sigma_y"),
+             q = csv_column(csv, "q"), ke = csv_column(csv, "ke_ratio");
+  size_t first = 0;
+  while (first < st.size() && st[first] != "rest") ++first;
+  ASSERT_GT(first, 0u);
+  ASSERT_GT(st.size() - first, 100u);
+  const double s3 = std::stod(sy[first - 1]);  // the lateral stress the loading held (sigma_3 = p'_0 of the sample)
+  for (size_t k = first; k < st.size(); ++k) {
+    EXPECT_EQ(ea[k], "0") << "row " << k;
+    EXPECT_NEAR(std::stod(sy[k]), s3, kPathTol * s3) << "row " << k;
+  }
+  const double ke0 = std::stod(ke[first - 1]), ke1 = std::stod(ke.back());
+  std::printf("  rest: q %.5g -> %.5g kPa at eps_a = 0, kinetic / elastic energy %.3g -> %.3g (%.2g)\n",
+              std::stod(q[first - 1]) / 1e3, std::stod(q.back()) / 1e3, ke0, ke1, ke1 / ke0);
+  EXPECT_LT(ke1, kRestKe * ke0);
+  EXPECT_LT(std::stod(q.back()), std::stod(q[first - 1]));
+  EXPECT_NE(plan_run(load_run_config(c)).stages.at(1).find("triaxial drained rest: the axial walls held, 3000 steps"),
+            std::string::npos);
+  const std::string stopped = tmpdir("rest_stopped");
+  ASSERT_TRUE(run(c, stopped, r.stages[0].steps + 1500).interrupted);
+  ASSERT_FALSE(run(c, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), csv);
+  // a longer rest extends the finished one: 4 000 steps in all, as a run of 4 000 from the start
+  const std::string c4 = cfg("4000", 4000), direct = tmpdir("rest_4000");
+  const RunResult r4 = run(c4, direct);
+  const RunResult ext = run(c4, out, -1, true);
+  ASSERT_EQ(ext.stages.size(), 2u);
+  EXPECT_EQ(ext.stages[1].steps, 4000);
+  expect_same_state(direct, out);
+}
+
 // The constant-p' path (StageConfig::constant_p): the lateral walls' targets move with sigma_z so that p' = (sigma_x +
 // sigma_y + sigma_z) / 3 stays p'_0, at the stage's b (sigma_x = sigma_3 + b (sigma_z - sigma_3)). On the reference
 // sample to 2 % with servo_integral 0.1, rows every 20 steps: b = 0 and 0.5 in compression, b = 0 in extension.
