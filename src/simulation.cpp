@@ -1307,8 +1307,11 @@ void Laboratory::start_stage(const StageConfig& sc) {
   // axial load does, dp = dq/3, so u = p'_0 + (q - q_0)/3 - p' is 0 at the start (undrained), and a stress reversal
   // cycles about q_0. SPEC §6.3 starts from an isotropic stress, q_0 = 0: there (after an isotropic stage, or from a
   // sample file, which an isotropic stage wrote) exactly SPEC's formulas, and the bits of earlier runs.
-  lab_.q0 = sc.type != StageType::Isotropic && lab_.stage > 0 &&
-                    cfg_.stages[size_t(lab_.stage - 1)].type != StageType::Isotropic
+  // A linear path (a stress probe) starts from the stress it finds whatever came before: its increments are from there,
+  // and a consolidation's q within its tolerance (~1 % of p') is a fifth of a 5 kPa probe at 100 kPa.
+  lab_.q0 = (sc.type != StageType::Isotropic && lab_.stage > 0 &&
+             cfg_.stages[size_t(lab_.stage - 1)].type != StageType::Isotropic) ||
+                    sc.lateral_slope
                 ? m0.q
                 : 0;
   lab_.aspect = (e.wall_position(1) - e.wall_position(0)) / (e.wall_position(3) - e.wall_position(2));
