@@ -1223,6 +1223,147 @@ def size_tests(out, runs):
             for j, d, _ in runs]
 
 
+# The stage key whose values are a response envelope's directions (StageConfig::stress_direction): a study with a stage
+# axis over it is a probe study, whose report is the envelopes (probe_report), not a section per direction.
+PROBE_KEY = "stress_direction"
+
+
+def rendulic_angle(x, y):
+    """The direction of (x, y) = (sqrt2 d_r, d_a) in the Rendulic plane, in degrees in [0, 360): 90 axial loading."""
+    return math.degrees(math.atan2(y, x)) % 360.0
+
+
+def probe_increments(run_dir):
+    """A stress probe's increments: the run's last stage (a linear path) from its start to its last series row. The start
+    is summary.json's p_0 and q_0 of that stage, the stresses the run measured there and took its lateral targets and
+    its stress_increment end from (sigma_a,0 = p_0 + 2 q_0/3, sigma_r,0 = p_0 - q_0/3); the strains count from the stage's
+    start (series eps_a and eps_v of a stage are its own), the radial one from H and V: (1 - eps_v) = (1 - eps_a)
+    (1 - eps_r)^2. The drag: the change of the local damping's drag (series p_drag, q_drag) from the stage's first row
+    to its last, whose share of the walls' increment the report gives (the walls' stress includes it). None where the
+    run's last stage is not a linear path or has no row."""
+    with open(os.path.join(run_dir, "summary.json")) as f:
+        st = json.load(f)["stages"][-1]
+    if st.get("stress_path") != "linear":
+        return None
+    s = load(run_dir)
+    rows = np.flatnonzero(s["stage"] == st["name"])
+    if len(rows) == 0:
+        return None
+    k0, k = rows[0], rows[-1]
+    p0, q0 = st["p_0"], st["q_0"]
+    dsa = s["sigma_z"][k] - (p0 + 2 * q0 / 3)
+    dsr = 0.5 * (s["sigma_x"][k] + s["sigma_y"][k]) - (p0 - q0 / 3)
+    ea, ev = s["eps_a"][k], s["eps_v"][k]
+    er = 1 - math.sqrt((1 - ev) / (1 - ea))
+    drag = None
+    if "p_drag" in s and "q_drag" in s:
+        dp, dq = s["p_drag"][k] - s["p_drag"][k0], s["q_drag"][k] - s["q_drag"][k0]
+        drag = math.hypot(math.sqrt(2) * (dp - dq / 3), dp + 2 * dq / 3) / max(math.hypot(math.sqrt(2) * dsr, dsa), 1e-300)
+    ds, de = (math.sqrt(2) * dsr, dsa), (math.sqrt(2) * er, ea)
+    nds, nde = math.hypot(*ds), math.hypot(*de)
+    return {"theta": st.get("stress_direction"), "slope": st.get("lateral_slope"), "p0": p0, "q0": q0,
+            "e": s["e"][rows[0]], "dsa": dsa, "dsr": dsr, "dea": ea, "der": er, "ds": ds, "de": de,
+            "theta_s": rendulic_angle(*ds), "theta_e": rendulic_angle(*de),
+            "modulus": nds / nde if nde > 0 else float("inf"),
+            "work": (ds[0] * de[0] + ds[1] * de[1]) / (nds * nde) if nds > 0 and nde > 0 else float("nan"),
+            "drag": drag, "steps": st.get("steps")}
+
+
+def probe_report(out, idx):
+    """Report of a probe study (a stage axis over PROBE_KEY): per state the probes start from (the jobs that differ in
+    the probe's direction alone), the response envelope: each probe's stress increment and strain response in the
+    Rendulic plane, the stiffness along it, the second-order work, and figures/response_envelopes.png."""
+    def state_key(j):
+        sk = tuple(sorted((k, v) for k, v in j.get("stage_keys", {}).items() if k.rsplit(".", 1)[-1] != PROBE_KEY))
+        return (j.get("E", 0), sk, j["mu_r"], j.get("p0", 0), j.get("e0", 0), j.get("seed"), j.get("count"),
+                j.get("grading", ""))
+
+    states, missing = {}, []
+    for j in idx["jobs"]:
+        d = os.path.join(out, j["dir"])
+        inc = None
+        if os.path.isfile(os.path.join(out, "jobs", j["name"], "done")) and os.path.isfile(os.path.join(d, "series.csv")):
+            inc = probe_increments(d)
+        if inc is None:
+            missing.append(j["name"])
+            continue
+        states.setdefault(state_key(j), []).append((j, inc))
+    figs = os.path.join(out, "figures")
+    os.makedirs(figs, exist_ok=True)
+    several = len(states) > 1
+    lines = [f"# Study report: {idx['study']}", "",
+             f"{sum(len(v) for v in states.values())} stress probes from {len(states)} state(s)"
+             + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ". Figure: "
+             "`figures/response_envelopes.png`.", "",
+             "## Response envelopes", "",
+             "Each probe is a drained stage on a linear stress path (stress_direction: theta, the direction of (sqrt2 "
+             "dsigma_r, dsigma_a) in the Rendulic plane, counterclockwise from the sqrt2 sigma_r axis: 90 axial loading at "
+             "constant sigma_3, 270 axial unloading, 35.26 isotropic loading, 125.26 constant p'), ended at a stress "
+             "increment |sigma - sigma_0|, from the state the base's stages before it leave (the same for every probe "
+             "of a state: they differ in the probe alone). Increments are of the walls' stresses from the probe's start "
+             "(summary.json p_0, q_0: sigma_a,0 = p_0 + 2 q_0/3, sigma_r,0 = p_0 - q_0/3) to its last row, strains from "
+             "its start (eps_r from H and V). theta_sigma is the direction the probe reached (the servo's lag turns it "
+             "from theta), theta_eps the strain response's, (sqrt2 deps_r, deps_a) (compression positive); "
+             "|dsigma|/|deps| the stiffness along the probe; d2W = dsigma : deps / (|dsigma| |deps|), the normalised "
+             "second-order work, the cosine between the two: <= 0 is a direction in which the state is unstable "
+             "(Hill's condition; Darve & Laouafa 2000, Nicot et al. 2007); drag the share of |dsigma| that the local "
+             "damping's drag changed by over the probe (series p_drag, q_drag): the walls' increment overstates the "
+             "material's by up to it. An elastic state's envelope is an ellipse about the origin; plastic loading "
+             "stretches the half that loads it (incremental non-linearity: Darve 1990).", ""]
+    fig, ax = plt.subplots(1, 2, figsize=(12, 5))
+    ax[1].remove()
+    ax[1] = fig.add_subplot(1, 2, 2, projection="polar")
+    colors = plt.cm.viridis(np.linspace(0, 0.9, max(1, len(states))))
+    for n, (key, probes) in enumerate(sorted(states.items(), key=lambda kv: str(kv[0]))):
+        probes.sort(key=lambda t: t[1]["theta"] if t[1]["theta"] is not None else t[1]["theta_s"])
+        E, sk, mu_r, p0, e0, seed, count, grading = key
+        first = probes[0][1]
+        name = (", ".join([f"stages.{k} = {v:g}" for k, v in sk] + [f"mu_r = {mu_r:g}"]
+                          + ([f"E = {E:g} Pa"] if E else []) + ([f"p0 = {p0 / 1e3:g} kPa"] if p0 else [])
+                          + ([f"e0 = {e0:g}"] if e0 else []) + ([f"grading {grading}"] if grading else [])))
+        eta = first["q0"] / first["p0"] if first["p0"] else float("nan")
+        rows = []
+        for j, c in probes:
+            rows.append(f"| {j['name']} | {number_text(c['theta'], '.1f')} | {number_text(c['slope'], '.3f')} | "
+                        f"{c['theta_s']:.1f} | {c['dsa'] / 1e3:.2f} | {math.sqrt(2) * c['dsr'] / 1e3:.2f} | "
+                        f"{1e4 * c['dea']:.3f} | {1e4 * math.sqrt(2) * c['der']:.3f} | {c['theta_e']:.1f} | "
+                        f"{c['modulus'] / 1e6:.1f} | {c['work']:+.3f} | "
+                        f"{number_text(100 * c['drag'] if c['drag'] is not None else None, '.1f')} |")
+        mods = [(c["modulus"], c["theta_s"]) for _, c in probes]
+        hi, lo = max(mods), min(mods)
+        unstable = [f"{c['theta_s']:.1f}" for _, c in probes if not c["work"] > 0]
+        lines += [f"### {name}" if several else f"### State: {name}", "",
+                  f"The probes start at p'_0 = {first['p0'] / 1e3:.2f} kPa, q_0 = {first['q0'] / 1e3:.2f} kPa (q/p' "
+                  f"{eta:.3f}), e = {first['e']:.4f} (the first probe's; every probe of the state starts there).", "",
+                  "| test | theta [°] | lateral_slope | theta_sigma [°] | dsigma_a [kPa] | sqrt2 dsigma_r [kPa] | "
+                  "deps_a [1e-4] | sqrt2 deps_r [1e-4] | theta_eps [°] | |dsigma|/|deps| [MPa] | d2W | drag [%] |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+                  f"Stiffest along theta_sigma = {hi[1]:.1f}° ({hi[0] / 1e6:.1f} MPa), softest along {lo[1]:.1f}° "
+                  f"({lo[0] / 1e6:.1f} MPa): {hi[0] / lo[0]:.1f}x. "
+                  + (f"d2W <= 0 along {', '.join(unstable)}°: the state is unstable there (a stress probe in such a "
+                     "direction is not controllable: the strain runs on)." if unstable
+                     else "d2W > 0 in every direction probed: stable (Hill's condition) along each."), ""]
+        col = colors[n]
+        x = [1e4 * c["de"][0] for _, c in probes]
+        y = [1e4 * c["de"][1] for _, c in probes]
+        ax[0].plot(x + x[:1], y + y[:1], "-o", color=col, ms=4, label=name)
+        for xi, yi in zip(x, y):
+            ax[0].plot([0, xi], [0, yi], ":", color=col, lw=0.6)
+        th = [math.radians(c["theta_s"]) for _, c in probes]
+        mv = [c["modulus"] / 1e6 for _, c in probes]
+        ax[1].plot(th + th[:1], mv + mv[:1], "-o", color=col, ms=4)
+    ax[0].axhline(0, color="0.7", lw=0.5)
+    ax[0].axvline(0, color="0.7", lw=0.5)
+    ax[0].set(xlabel="sqrt2 deps_r [1e-4]", ylabel="deps_a [1e-4]", title="strain response envelopes (Rendulic)")
+    ax[0].set_aspect("equal", adjustable="datalim")
+    ax[1].set_title("|dsigma|/|deps| [MPa] against theta_sigma", fontsize=10)
+    legend(ax[0], fontsize=7)
+    save(fig, figs, "response_envelopes")
+    lines += samples_section(out, idx["jobs"], idx.get("samples"))
+    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+    print(os.path.join(out, "report.md"))
+
+
 def study(out):
     """Report of a `grainlab study` directory: report.md + figures/ (stress paths, peaks, critical states,
     critical-state lines per mu_r, stress-force-fabric shares). A study over several gradings (the grading axis) gets
@@ -1234,6 +1375,9 @@ def study(out):
     idx = json.load(open(os.path.join(out, "study.json")))
     if not idx["jobs"] and idx.get("samples"):  # a preparation study: its base has no shear stage
         preparation_report(out, idx)
+        return
+    if any(k.rsplit(".", 1)[-1] == PROBE_KEY for j in idx["jobs"] for k in j.get("stage_keys", {})):
+        probe_report(out, idx)  # a probe study: response envelopes
         return
     def split_key(j):
         """What the report's fits may not pool: the contact stiffness (the E axis) and the stage axes' values."""
