@@ -542,10 +542,12 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         }
         if (sc.lateral_slope) {
           const std::string v = fmt(by_angle ? *sc.stress_direction : *sc.lateral_slope);
-          if (sc.drainage != Drainage::Drained)
-            g.fail(g.key_path(path_key), "= " + v + " needs a drained stage (here " + drainage_name(sc.drainage) +
-                                             ": the walls keep the volume or their place); leave " + path_key +
-                                             " out or give drainage: drained");
+          if (sc.drainage != Drainage::Drained) {
+            std::string msg = "= " + v + " needs a drained stage (here ";
+            msg.append(drainage_name(sc.drainage)).append(": the walls keep the volume or their place); leave ");
+            msg.append(path_key).append(" out or give drainage: drained");
+            g.fail(g.key_path(path_key), msg);
+          }
           if (sc.constant_p || sc.k_ratio > 0)
             g.fail(g.key_path(path_key), "= " + v + " and " +
                                              (sc.constant_p ? "stress_path: constant_p" : "k_ratio = " + fmt(sc.k_ratio)) +
@@ -587,11 +589,13 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
                                   "stress_direction", "k_ratio", "stress_path"})
             if (g.has(key) && moving.empty()) moving = key;
           if (sc.b > 0) moving = "b";
-          if (!moving.empty())
-            g.fail(g.key_path("axial_strain_rate"), "= 0 is a rest (the axial walls held, the lateral ones as the drainage "
-                                                     "holds them, for max_steps steps), and " + moving +
-                                                     " moves the stress or ends the stage at one: leave " + moving +
-                                                     " out, or give the stage a rate");
+          if (!moving.empty()) {
+            std::string msg = "= 0 is a rest (the axial walls held, the lateral ones as the drainage holds them, for "
+                              "max_steps steps), and ";
+            msg.append(moving).append(" moves the stress or ends the stage at one: leave ").append(moving);
+            msg.append(" out, or give the stage a rate");
+            g.fail(g.key_path("axial_strain_rate"), msg);
+          }
         }
         if (g.has("ocr") && !sc.extension)
           g.fail(g.key_path("ocr"), "= " + fmt(sc.ocr) + " ends an unloading at sigma_v,max / ocr, and this stage loads "
