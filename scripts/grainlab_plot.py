@@ -1269,6 +1269,106 @@ def probe_increments(run_dir):
             "drag": drag, "steps": st.get("steps")}
 
 
+# The response envelope's incremental law (probe_fit): a linear part and one plastic mechanism, Rendulic coordinates.
+ENVELOPE_LINEAR_TOL = 0.05  # an elastic (linear) fit within this rms share of the mean |deps|: incrementally linear
+
+
+def rendulic_to_pq():
+    """A, B with (p, q) = A (sqrt2 s_r, s_a) and (eps_v, eps_q) = B (sqrt2 e_r, e_a) (eps_q = 2/3 (e_a - e_r))."""
+    r2 = math.sqrt(2)
+    return np.array([[r2 / 3, 1 / 3], [-1 / r2, 1.0]]), np.array([[r2, 1.0], [-r2 / 3, 2 / 3]])
+
+
+def elastic_constants(C):
+    """K, G [Pa] and the coupling dp -> deps_q over dp -> deps_v (0 for isotropic elasticity) of a compliance C in
+    Rendulic coordinates: (deps_v, deps_q) = D (dp, dq), D = B C A^-1, K = 1/D_pp, G = 1/(3 D_qq)."""
+    A, B = rendulic_to_pq()
+    D = B @ C @ np.linalg.inv(A)
+    coupling = D[1, 0] / D[0, 0]
+    return 1 / D[0, 0], 1 / (3 * D[1, 1]), coupling if abs(coupling) >= 5e-4 else 0.0  # printed to 3 digits: no -0.000
+
+
+def probe_fit(ds, de):
+    """Least squares of the probes' responses de (n x 2) to their increments ds (n x 2), Rendulic coordinates: a
+    symmetric linear compliance C (elasticity), and C plus one plastic mechanism h <n . ds> m (n the loading direction,
+    m the flow direction, unit vectors at angles a_n, a_m; h >= 0, 1/h the plastic modulus): the elastoplastic law of
+    one yield surface (Darve 1990's incrementally bilinear class), non-associated where m != n. Returns the linear fit
+    (C, rms) and, where the linear fit misses by more than ENVELOPE_LINEAR_TOL of the mean |de|, the elastoplastic one
+    (C, a_n, a_m, h, rms); rms relative to the mean |de|. Several starts of a_n (every 30 deg), the best kept."""
+    from scipy.optimize import least_squares
+
+    ds, de = np.asarray(ds, float), np.asarray(de, float)
+    scale = np.mean(np.hypot(de[:, 0], de[:, 1]))
+    # linear: de = C ds with C symmetric (c11, c12, c22): linear least squares
+    M = np.zeros((2 * len(ds), 3))
+    M[0::2, 0], M[0::2, 1] = ds[:, 0], ds[:, 1]
+    M[1::2, 1], M[1::2, 2] = ds[:, 0], ds[:, 1]
+    c, *_ = np.linalg.lstsq(M, de.reshape(-1), rcond=None)
+    C_lin = np.array([[c[0], c[1]], [c[1], c[2]]])
+    rms_lin = math.sqrt(np.mean(np.sum((ds @ C_lin.T - de) ** 2, axis=1))) / scale
+    out = {"linear": (C_lin, rms_lin), "plastic": None}
+    if rms_lin <= ENVELOPE_LINEAR_TOL:
+        return out
+    c_scale = np.max(np.abs(c))
+
+    def model(x):
+        C = np.array([[x[0], x[1]], [x[1], x[2]]]) * c_scale
+        n = np.array([math.cos(x[3]), math.sin(x[3])])
+        m = np.array([math.cos(x[4]), math.sin(x[4])])
+        load = np.maximum(ds @ n, 0.0)
+        return ds @ C.T + (x[5] * c_scale) * load[:, None] * m[None, :]
+
+    best = None
+    for a0 in np.radians(np.arange(0, 360, 30)):
+        # start: the softest probes' response direction for m, the linear fit for C, h from the largest excess
+        x0 = [c[0] / c_scale, c[1] / c_scale, c[2] / c_scale, a0, a0, 1.0]
+        r = least_squares(lambda x: ((model(x) - de) / scale).reshape(-1), x0,
+                          bounds=([-np.inf] * 5 + [0.0], [np.inf] * 6), x_scale="jac", max_nfev=4000)
+        if best is None or r.cost < best.cost:
+            best = r
+    x = best.x
+    C = np.array([[x[0], x[1]], [x[1], x[2]]]) * c_scale
+    rms = math.sqrt(np.mean(np.sum((model(x) - de) ** 2, axis=1))) / scale
+    out["plastic"] = (C, math.degrees(x[3]) % 360, math.degrees(x[4]) % 360, x[5] * c_scale, rms)
+    return out
+
+
+PLASTIC_FIT_MIN_PROBES = 7  # the elastoplastic law has 6 parameters: more probes than that, 2 equations each
+# A plastic mechanism's fit is given where it misses by at most this share of the mean |deps|; beyond, the envelope is
+# not one yield surface's and its n, m and H would describe nothing (configs/probe-study.yaml's: 46-78 %)
+PLASTIC_FIT_TOL = 0.2
+
+
+def probe_fit_text(probes):
+    """The report's lines on a state's incremental law (probe_fit) and the flow direction to draw (None: none)."""
+    ds = [c["ds"] for _, c in probes]
+    de = [c["de"] for _, c in probes]
+    f = probe_fit(ds, de) if len(probes) >= 3 else None
+    if f is None:
+        return "Too few probes (3 or more) for an incremental law.", None
+    C, rms = f["linear"]
+    K, G, cpl = elastic_constants(C)
+    text = (f"Incremental law (least squares over the {len(probes)} probes): a linear one, deps = C dsigma (elasticity, "
+            f"C symmetric), misses by {100 * rms:.1f} % of the mean |deps| (K = {K / 1e6:.1f} MPa, G = {G / 1e6:.1f} "
+            f"MPa, coupling {cpl:+.3f})")
+    if f["plastic"] is None:
+        return text + f": within {100 * ENVELOPE_LINEAR_TOL:g} %, incrementally linear (elastic).", None
+    if len(probes) < PLASTIC_FIT_MIN_PROBES:
+        return text + f"; {PLASTIC_FIT_MIN_PROBES} probes or more would fit a plastic mechanism.", None
+    Cp, an, am, h, rms_p = f["plastic"]
+    if h > 0 and rms_p > PLASTIC_FIT_TOL:
+        return (text + f"; with one plastic mechanism, deps = C dsigma + <n . dsigma> m / H, it still misses by "
+                f"{100 * rms_p:.1f} % (more than {100 * PLASTIC_FIT_TOL:g} %): the envelope is not one yield surface's "
+                "(its plastic part does not grow as <n . dsigma> across the loading half), and no such law is given."), None
+    Kp, Gp, cplp = elastic_constants(Cp)
+    gap = (am - an + 180) % 360 - 180
+    return (text + f"; with one plastic mechanism, deps = C dsigma + <n . dsigma> m / H, it fits to {100 * rms_p:.1f} %: "
+            f"K = {Kp / 1e6:.1f} MPa, G = {Gp / 1e6:.1f} MPa, coupling {cplp:+.3f}, loading direction n at "
+            f"{an:.1f}°, flow direction m at {am:.1f}° ({'associated' if abs(gap) < 0.5 else f'non-associated by {gap:+.1f}°'}"
+            f"), plastic modulus H = {1 / h / 1e6:.2f} MPa." if h > 0 else
+            text + f"; one plastic mechanism does no better ({100 * rms_p:.1f} %)."), (am if h > 0 else None)
+
+
 def probe_report(out, idx):
     """Report of a probe study (a stage axis over PROBE_KEY): per state the probes start from (the jobs that differ in
     the probe's direction alone), the response envelope: each probe's stress increment and strain response in the
@@ -1309,7 +1409,13 @@ def probe_report(out, idx):
              "(Hill's condition; Darve & Laouafa 2000, Nicot et al. 2007); drag the share of |dsigma| that the local "
              "damping's drag changed by over the probe (series p_drag, q_drag): the walls' increment overstates the "
              "material's by up to it. An elastic state's envelope is an ellipse about the origin; plastic loading "
-             "stretches the half that loads it (incremental non-linearity: Darve 1990).", ""]
+             "stretches the half that loads it (incremental non-linearity: Darve 1990). Each state's incremental law "
+             "is fitted to its probes: first linear (deps = C dsigma, C symmetric: drained elasticity, given as K, G "
+             "and the coupling of dp into deps_q, 0 where isotropic), then, where that misses by more than "
+             f"{100 * ENVELOPE_LINEAR_TOL:g} % of the mean |deps|, with one plastic mechanism, deps = C dsigma + "
+             "<n . dsigma> m / H, the elastoplastic law of one yield surface: its loading direction n (the yield "
+             "surface's normal), flow direction m (dashed in the figure) and plastic modulus H; m != n is a "
+             "non-associated flow rule (Calvetti et al. 2003 found it so in their envelopes).", ""]
     fig, ax = plt.subplots(1, 2, figsize=(12, 5))
     ax[1].remove()
     ax[1] = fig.add_subplot(1, 2, 2, projection="polar")
@@ -1329,8 +1435,10 @@ def probe_report(out, idx):
                         f"{1e4 * c['dea']:.3f} | {1e4 * math.sqrt(2) * c['der']:.3f} | {c['theta_e']:.1f} | "
                         f"{c['modulus'] / 1e6:.1f} | {c['work']:+.3f} | "
                         f"{number_text(100 * c['drag'] if c['drag'] is not None else None, '.1f')} |")
-        mods = [(c["modulus"], c["theta_s"]) for _, c in probes]
+        mods = [(c["modulus"], c["theta_s"], c["theta_e"], c["dea"], c["der"]) for _, c in probes]
         hi, lo = max(mods), min(mods)
+        # the softest probe's response: the flow direction, and its dilatancy deps_v / deps_q (< 0 dilates)
+        dev, deq = lo[3] + 2 * lo[4], 2 / 3 * (lo[3] - lo[4])
         unstable = [f"{c['theta_s']:.1f}" for _, c in probes if not c["work"] > 0]
         lines += [f"### {name}" if several else f"### State: {name}", "",
                   f"The probes start at p'_0 = {first['p0'] / 1e3:.2f} kPa, q_0 = {first['q0'] / 1e3:.2f} kPa (q/p' "
@@ -1339,16 +1447,22 @@ def probe_report(out, idx):
                   "deps_a [1e-4] | sqrt2 deps_r [1e-4] | theta_eps [°] | |dsigma|/|deps| [MPa] | d2W | drag [%] |",
                   "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
                   f"Stiffest along theta_sigma = {hi[1]:.1f}° ({hi[0] / 1e6:.1f} MPa), softest along {lo[1]:.1f}° "
-                  f"({lo[0] / 1e6:.1f} MPa): {hi[0] / lo[0]:.1f}x. "
+                  f"({lo[0] / 1e6:.1f} MPa): {hi[0] / lo[0]:.1f}x; the softest strains along theta_eps = {lo[2]:.1f}° "
+                  f"(deps_v/deps_q = {number_text(dev / deq if deq else None, '+.3f')}). "
                   + (f"d2W <= 0 along {', '.join(unstable)}°: the state is unstable there (a stress probe in such a "
                      "direction is not controllable: the strain runs on)." if unstable
                      else "d2W > 0 in every direction probed: stable (Hill's condition) along each."), ""]
+        law, flow = probe_fit_text(probes)
+        lines += [law, ""]
         col = colors[n]
         x = [1e4 * c["de"][0] for _, c in probes]
         y = [1e4 * c["de"][1] for _, c in probes]
         ax[0].plot(x + x[:1], y + y[:1], "-o", color=col, ms=4, label=name)
         for xi, yi in zip(x, y):
             ax[0].plot([0, xi], [0, yi], ":", color=col, lw=0.6)
+        if flow is not None:  # the fitted flow direction m through the origin
+            r = max(math.hypot(a, b) for a, b in zip(x, y))
+            ax[0].plot([0, r * math.cos(math.radians(flow))], [0, r * math.sin(math.radians(flow))], "--", color=col, lw=1)
         th = [math.radians(c["theta_s"]) for _, c in probes]
         mv = [c["modulus"] / 1e6 for _, c in probes]
         ax[1].plot(th + th[:1], mv + mv[:1], "-o", color=col, ms=4)

@@ -9,6 +9,8 @@ eps_v from its own start; summary.json's last stage a linear path with p_0, q_0,
 - state B (stages.load.stress_ratio = 0.6): the same elasticity plus a plastic strain h <n . dsigma> m in the Rendulic
   plane, loading direction n at 100 deg, flow direction m at 160 deg (non-associated, dilatant), h = 4e-7 / Pa: the
   probes that load it are softer and some have d2W <= 0 (computed here), which the report must list, and no other.
+- The incremental law fitted to each state's probes: A's linear fit exact (K 40.0, G 30.0 MPa: incrementally
+  linear), B's with one plastic mechanism exact (K, G, n at 100.0 deg, m at 160.0 deg, H = 1/h = 2.50 MPa).
 Each row's reached direction, increments, strain response, its direction, |dsigma|/|deps| and d2W, and the drag's
 share (p_drag, q_drag change by 1 % and 2 % of dp' and dq) are checked against the values computed here from the
 stresses and strains the series holds, to the printed digits (within half a unit of the last); so are the stiffest /
@@ -116,12 +118,18 @@ if seen != 2 * len(THETAS):
     fail.append(f"{seen} probe rows, not {2 * len(THETAS)}")
 for eta in (0.3, 0.6):
     names = [n for n in expect if f"ratio{eta:g}_" in n]
-    mods = [(expect[n][8], expect[n][2]) for n in names]
+    mods = [(expect[n][8], expect[n][2], n) for n in names]
     hi, lo = max(mods), min(mods)
+
+    def softest(n):
+        """the softest probe's strain direction and dilatancy deps_v / deps_q, from its eps_a and exact eps_r"""
+        dea, der = expect[n][5] / 1e4, expect[n][6] / 1e4 / math.sqrt(2)
+        return f"theta_eps = {expect[n][7]:.1f}° (deps_v/deps_q = {(dea + 2 * der) / (2 / 3 * (dea - der)):+.3f})"
     # an elastic envelope is symmetric: theta and theta + 180 tie, and the last bit picks one; either is right
     lines = {f"Stiffest along theta_sigma = {a:.1f}° ({hi[0]:.1f} MPa), softest along {b:.1f}° ({lo[0]:.1f} MPa): "
-             f"{hi[0] / lo[0]:.1f}x." for a in [t for m, t in mods if abs(m - hi[0]) <= 1e-9 * hi[0]]
-             for b in [t for m, t in mods if abs(m - lo[0]) <= 1e-9 * lo[0]]}
+             f"{hi[0] / lo[0]:.1f}x; the softest strains along {softest(n)}."
+             for a in [t for m, t, _ in mods if abs(m - hi[0]) <= 1e-9 * hi[0]]
+             for b, n in [(t, n) for m, t, n in mods if abs(m - lo[0]) <= 1e-9 * lo[0]]}
     if not any(x in report for x in lines):
         fail.append(f"state {eta}: none of the lines {sorted(lines)}")
     bad = [f"{expect[n][2]:.1f}" for n in sorted(names, key=lambda n: expect[n][0]) if not expect[n][9] > 0]
@@ -135,6 +143,16 @@ for eta in (0.3, 0.6):
         fail.append(f"state {eta}: no '{want}' in its section")
     if f"The probes start at p'_0 = {P0[eta][0] / 1e3:.2f} kPa, q_0 = {P0[eta][1] / 1e3:.2f} kPa" not in section:
         fail.append(f"state {eta}: its start is not named")
+    # the incremental law: A linear (K, G back), B one plastic mechanism (K, G, n, m, H back)
+    want = ("misses by 0.0 % of the mean |deps| (K = 40.0 MPa, G = 30.0 MPa" if eta == 0.3 else
+            "it fits to 0.0 %: K = 40.0 MPa, G = 30.0 MPa")
+    if want not in section:
+        fail.append(f"state {eta}: no '{want}' in its incremental law")
+    want = ("incrementally linear (elastic)" if eta == 0.3 else
+            "loading direction n at 100.0°, flow direction m at 160.0° (non-associated by +60.0°), plastic modulus "
+            "H = 2.50 MPa")
+    if want not in section:
+        fail.append(f"state {eta}: no '{want}' in its incremental law")
 if not os.path.isfile(os.path.join(work, "figures", "response_envelopes.png")):
     fail.append("no figures/response_envelopes.png")
 if fail:
