@@ -589,6 +589,10 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
                                   "stress_direction", "k_ratio", "stress_path"})
             if (g.has(key) && moving.empty()) moving = key;
           if (sc.b > 0) moving = "b";
+          // its length is max_steps: not left to the 1e6 default meant as a cap
+          if (!g.has("max_steps"))
+            g.fail(g.key_path("axial_strain_rate"), "= 0 is a rest (the axial walls held, the lateral ones as the "
+                                                     "drainage holds them, for max_steps steps): give max_steps, its length");
           if (!moving.empty()) {
             std::string msg = "= 0 is a rest (the axial walls held, the lateral ones as the drainage holds them, for "
                               "max_steps steps), and ";

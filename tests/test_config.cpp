@@ -397,10 +397,13 @@ TEST(Config, RejectsBadInputClearly) {
       {"ls_cyc", "stages:\n  - {type: cyclic, drainage: drained, q_amplitude: 3e4, lateral_slope: 0.5}\n",
        "stages[0].lateral_slope: unknown key"},
       // a rest (axial_strain_rate 0): a triaxial stage's, without a path or a stress end
-      {"rest_q", "stages:\n  - {type: triaxial, drainage: drained, axial_strain_rate: 0, q: 1e4}\n",
+      {"rest_len", "stages:\n  - {type: triaxial, drainage: drained, axial_strain_rate: 0}\n",
+       "stages[0].axial_strain_rate = 0 is a rest (the axial walls held, the lateral ones as the drainage holds them, "
+       "for max_steps steps): give max_steps, its length"},
+      {"rest_q", "stages:\n  - {type: triaxial, drainage: drained, axial_strain_rate: 0, max_steps: 10, q: 1e4}\n",
        "stages[0].axial_strain_rate = 0 is a rest (the axial walls held, the lateral ones as the drainage holds them, for "
        "max_steps steps), and q moves the stress or ends the stage at one: leave q out, or give the stage a rate"},
-      {"rest_k", "stages:\n  - {type: triaxial, drainage: drained, axial_strain_rate: 0, k_ratio: 0.5}\n",
+      {"rest_k", "stages:\n  - {type: triaxial, drainage: drained, axial_strain_rate: 0, max_steps: 10, k_ratio: 0.5}\n",
        "stages[0].axial_strain_rate = 0 is a rest"},
       {"rest_cyc", "stages:\n  - {type: cyclic, q_amplitude: 1e4, axial_strain_rate: 0}\n",
        "stages[0].axial_strain_rate = 0 is outside the allowed range (0, 1e+06]"},
