@@ -2919,7 +2919,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
           << "; set liquefaction_da_strain below it";
         warn(w.str());
       }
-      if (p_prev > 0) {
+      if (p_prev > 0 && sc.axial_strain_rate > 0) {  // (a rest strains nothing)
         // Advice, not a warning: a fast shear is a choice (the tests' miniatures make it); the series
         // reports the measured I of every row.
         const double I = sc.axial_strain_rate * d_mean * std::sqrt(density * scaling / p_prev);
