@@ -161,8 +161,24 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
         s["axial_strain_rate"] = yaml_number(j.strain_rate);
       }
     }
-    for (const StudyJob::StageKey& sk : j.stage_keys)  // a stage axis's value (load_study: shear stages only)
-      if (sk.stage == k) s[sk.key] = yaml_number(sk.value);
+    for (const StudyJob::StageKey& sk : j.stage_keys) {  // a stage axis's value (load_study: shear stages only)
+      if (sk.stage != k) continue;
+      // a slower rate or a longer end scales the stage's step cap up as the axes do (never down), unless the job
+      // sets that cap itself
+      const bool own_cap = std::any_of(j.stage_keys.begin(), j.stage_keys.end(),
+                                       [&](const StudyJob::StageKey& o) { return o.stage == k && o.key == "max_steps"; });
+      const StageConfig def;
+      const double old_cap = s["max_steps"] ? s["max_steps"].as<double>() : double(def.max_steps);
+      if (sk.key == "axial_strain_rate" && !own_cap && sk.value > 0) {
+        const double old_rate = s["axial_strain_rate"] ? s["axial_strain_rate"].as<double>() : def.axial_strain_rate;
+        if (old_rate > sk.value) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (old_rate / sk.value))));
+      }
+      if (sk.key == "max_axial_strain" && !own_cap) {
+        const double old_end = s["max_axial_strain"] ? s["max_axial_strain"].as<double>() : def.max_axial_strain;
+        if (sk.value > old_end) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (sk.value / old_end))));
+      }
+      s[sk.key] = yaml_number(sk.value);
+    }
     stages.push_back(s);
   }
   c["stages"] = stages;
@@ -624,10 +640,20 @@ Study load_study_unchecked(const std::string& path) {
     if (st < first_shear)
       fail(path, field, "'" + stage_name + "' prepares the sample, which the shears share (p0 and e0 set it): a stage "
                         "axis sets a stage from the first shear stage on");
-    // what other axes (or an extra job's keys) set, and what makes the stage another kind of stage
-    if (std::set<std::string>{"name", "type", "mu_r", "drainage", "direction", "b", "stress_path", "axial_strain_rate",
-                              "max_axial_strain", "q_amplitude", "csr", "strain_amplitude", "cycles"}.count(key) ||
-        (key == "pressure" && ax && ax["p0"]))
+    // what other axes (or an extra job's keys) set, and what makes the stage another kind of stage. A stage's rate
+    // and end strain are its own where neither the study's axes nor an extra job set every triaxial stage's (a probe's
+    // rate after a rest, whose rate is 0: the axial_strain_rate axis refuses that base)
+    const auto study_sets = [&](const char* shear_key) {
+      if (ax && ax[shear_key]) return true;
+      if (const YAML::Node ex = root["extra"]; ex && ex.IsSequence())
+        for (const auto& e : ex)
+          if (e.IsMap() && e[shear_key]) return true;
+      return false;
+    };
+    if (std::set<std::string>{"name", "type", "mu_r", "drainage", "direction", "b", "stress_path", "q_amplitude", "csr",
+                              "strain_amplitude", "cycles"}.count(key) ||
+        (key == "pressure" && ax && ax["p0"]) || (key == "axial_strain_rate" && study_sets("axial_strain_rate")) ||
+        (key == "max_axial_strain" && study_sets("max_axial_strain")))
       fail(path, field, "'" + key + "' is " + (key == "name" || key == "type" ? "what the stage is" : "set by axes." +
                         (key == "pressure" ? std::string("p0") : key == "q_amplitude" ? std::string("csr") : key) +
                         " or an extra job's key") + ": a stage axis sets another of the stage's keys");

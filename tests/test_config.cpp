@@ -1196,6 +1196,25 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
     EXPECT_EQ(c.stages[1].max_steps, extra ? 1000000 : long(j.stage_keys[1].value));
     EXPECT_EQ(c.stages[1].max_axial_strain, 0.02);
   }
+  // A stage's own rate and end strain, where no axis or extra job sets every triaxial stage's: the step cap scaled up as
+  // the axes scale it (0.5/s: twice the default 1e6; an end of 0.04 against 0.02: twice), unless the job sets it too.
+  const Study r = load_study(write_tmp("study_stage_rate", "base: " + base + "\naxes: {stages.cau.axial_strain_rate: [0.5, 2], "
+                                                           "stages.cau.max_axial_strain: [0.04]}\n"
+                                                           "extra: [{stages.cau.axial_strain_rate: 0.25, stages.cau.max_steps: 7000}]\n"));
+  ASSERT_EQ(r.shears.size(), 3u);
+  for (const StudyJob& j : r.shears) {
+    SCOPED_TRACE(j.name);
+    const RunConfig c = job_run_config(r, j);
+    EXPECT_EQ(c.stages[0].axial_strain_rate, 1.0);  // the K path keeps the base's
+    EXPECT_EQ(c.stages[1].axial_strain_rate, j.stage_keys[0].value);
+    if (j.stage_keys[1].key == "max_steps") {
+      EXPECT_EQ(c.stages[1].max_steps, 7000);
+      EXPECT_EQ(c.stages[1].max_axial_strain, 0.02);
+    } else {
+      EXPECT_EQ(c.stages[1].max_axial_strain, 0.04);
+      EXPECT_EQ(c.stages[1].max_steps, j.stage_keys[0].value == 0.5 ? 4000000 : 2000000);
+    }
+  }
   EXPECT_EQ(names, (std::set<std::string>{"shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5_cau-max_steps5000",
                                           "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5_cau-max_steps9000",
                                           "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.8_cau-max_steps5000",
@@ -1207,9 +1226,13 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
       {"stage_ax_prep", "base: " + base + "\naxes: {stages.seat.pressure: [1.0e5]}\n",
        "axes.stages.seat.pressure: 'seat' prepares the sample, which the shears share (p0 and e0 set it): a stage axis "
        "sets a stage from the first shear stage on"},
-      {"stage_ax_taken", "base: " + base + "\naxes: {stages.cau.axial_strain_rate: [2]}\n",
+      {"stage_ax_taken", "base: " + base + "\naxes: {axial_strain_rate: [1], stages.cau.axial_strain_rate: [2]}\n",
        "axes.stages.cau.axial_strain_rate: 'axial_strain_rate' is set by axes.axial_strain_rate or an extra job's key: a "
        "stage axis sets another of the stage's keys"},
+      {"stage_ex_taken", "base: " + base + "\naxes: {stages.cau.max_axial_strain: [0.1]}\nextra: [{max_axial_strain: 0.2}]\n",
+       "axes.stages.cau.max_axial_strain: 'max_axial_strain' is set by axes.max_axial_strain or an extra job's key"},
+      {"stage_ax_direction", "base: " + base + "\naxes: {stages.cau.direction: [1]}\n",
+       "axes.stages.cau.direction: 'direction' is set by axes.direction or an extra job's key"},
       {"stage_ax_range", "base: " + base + "\naxes: {stages.kc.k_ratio: [1.5]}\n",
        "(job shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio1.5): stages[0].k_ratio = 1.5 is outside the allowed "
        "range (0, 1]"},
