@@ -1822,6 +1822,26 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       }
     }
   }
+  // A rest's end is the state the stage after it starts from: its relaxation, and a warning where the sample is not at
+  // rest yet (the skeleton's kinetic over elastic energy, series ke_ratio, above the isotropic stages' default
+  // ke_tolerance): a probe after it would start on a moving sample.
+  if (sc.type == StageType::Triaxial && sc.axial_strain_rate == 0 && done && !lab_.series.rows.empty() &&
+      lab_.series.stage.back() == lab_.stage) {
+    size_t first = lab_.series.rows.size() - 1;
+    while (first > 0 && lab_.series.stage[first - 1] == lab_.stage) --first;
+    const size_t iq = series_column("q");
+    const double q0 = lab_.series.rows[first][iq], q1 = lab_.series.rows.back()[iq];
+    const double ke = lab_.series.rows.back()[series_column("ke_ratio")], ke_max = StageConfig{}.ke_tolerance;
+    if (!opt_.quiet)
+      std::printf("stage %s: rested at fixed strain: q %.4g -> %.4g kPa, kinetic / elastic energy %.2g at its end\n",
+                  sc.name.c_str(), q0 / 1e3, q1 / 1e3, ke);
+    if (ke > ke_max)
+      std::fprintf(stderr,
+                   "grainlab: warning: stage %s: not at rest at its end (the skeleton's kinetic / elastic energy %.2g, "
+                   "above %g, an isotropic stage's default ke_tolerance): the stage after it starts from a moving "
+                   "sample; raise its max_steps\n",
+                   sc.name.c_str(), ke, ke_max);
+  }
   return true;
 }
 

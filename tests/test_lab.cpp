@@ -1777,7 +1777,9 @@ TEST(Lab, ARestHoldsTheAxialWallsAndTheSampleRelaxes) {
                             std::to_string(rest_steps) + ", damping: 0.2, servo_integral: 0.1}\n", 20);
   };
   const std::string c = cfg("3000", 3000), out = tmpdir("rest");
+  testing::internal::CaptureStderr();
   const RunResult r = run(c, out);
+  EXPECT_EQ(testing::internal::GetCapturedStderr().find("not at rest"), std::string::npos);
   ASSERT_EQ(r.stages.size(), 2u);
   EXPECT_TRUE(r.stages[1].converged);
   EXPECT_EQ(r.stages[1].steps, 3000);
@@ -1804,6 +1806,13 @@ TEST(Lab, ARestHoldsTheAxialWallsAndTheSampleRelaxes) {
   ASSERT_TRUE(run(c, stopped, r.stages[0].steps + 1500).interrupted);
   ASSERT_FALSE(run(c, stopped, -1, true).interrupted);
   EXPECT_EQ(slurp(stopped + "/series.csv"), csv);
+  // a rest too short to come to rest is warned of (20 steps after the loading: kinetic / elastic energy still ~ the
+  // loading's); the 3 000-step one above is not
+  testing::internal::CaptureStderr();
+  run(cfg("20", 20), tmpdir("rest_20"));
+  const std::string short_err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(short_err.find("grainlab: warning: stage rest: not at rest at its end (the skeleton's kinetic / elastic "
+                           "energy "), std::string::npos) << short_err;
   // a longer rest extends the finished one: 4 000 steps in all, as a run of 4 000 from the start
   const std::string c4 = cfg("4000", 4000), direct = tmpdir("rest_4000");
   const RunResult r4 = run(c4, direct);
