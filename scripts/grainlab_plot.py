@@ -1340,33 +1340,58 @@ PLASTIC_FIT_TOL = 0.2
 
 
 def probe_fit_text(probes):
-    """The report's lines on a state's incremental law (probe_fit) and the flow direction to draw (None: none)."""
+    """The report's lines on a state's incremental law (probe_fit), the flow direction to draw (None: none) and whether
+    the state is incrementally linear (its envelope an ellipse: no loading sector to speak of)."""
     ds = [c["ds"] for _, c in probes]
     de = [c["de"] for _, c in probes]
     f = probe_fit(ds, de) if len(probes) >= 3 else None
     if f is None:
-        return "Too few probes (3 or more) for an incremental law.", None
+        return "Too few probes (3 or more) for an incremental law.", None, False
     C, rms = f["linear"]
     K, G, cpl = elastic_constants(C)
     text = (f"Incremental law (least squares over the {len(probes)} probes): a linear one, deps = C dsigma (elasticity, "
             f"C symmetric), misses by {100 * rms:.1f} % of the mean |deps| (K = {K / 1e6:.1f} MPa, G = {G / 1e6:.1f} "
             f"MPa, coupling {cpl:+.3f})")
     if f["plastic"] is None:
-        return text + f": within {100 * ENVELOPE_LINEAR_TOL:g} %, incrementally linear (elastic).", None
+        return text + f": within {100 * ENVELOPE_LINEAR_TOL:g} %, incrementally linear (elastic).", None, True
     if len(probes) < PLASTIC_FIT_MIN_PROBES:
-        return text + f"; {PLASTIC_FIT_MIN_PROBES} probes or more would fit a plastic mechanism.", None
+        return text + f"; {PLASTIC_FIT_MIN_PROBES} probes or more would fit a plastic mechanism.", None, False
     Cp, an, am, h, rms_p = f["plastic"]
     if h > 0 and rms_p > PLASTIC_FIT_TOL:
         return (text + f"; with one plastic mechanism, deps = C dsigma + <n . dsigma> m / H, it still misses by "
                 f"{100 * rms_p:.1f} % (more than {100 * PLASTIC_FIT_TOL:g} %): the envelope is not one yield surface's "
-                "(its plastic part does not grow as <n . dsigma> across the loading half), and no such law is given."), None
+                "(its plastic part does not grow as <n . dsigma> across the loading half), and no such law is given."), None, False
     Kp, Gp, cplp = elastic_constants(Cp)
     gap = (am - an + 180) % 360 - 180
     return (text + f"; with one plastic mechanism, deps = C dsigma + <n . dsigma> m / H, it fits to {100 * rms_p:.1f} %: "
             f"K = {Kp / 1e6:.1f} MPa, G = {Gp / 1e6:.1f} MPa, coupling {cplp:+.3f}, loading direction n at "
             f"{an:.1f}°, flow direction m at {am:.1f}° ({'associated' if abs(gap) < 0.5 else f'non-associated by {gap:+.1f}°'}"
             f"), plastic modulus H = {1 / h / 1e6:.2f} MPa." if h > 0 else
-            text + f"; one plastic mechanism does no better ({100 * rms_p:.1f} %)."), (am if h > 0 else None)
+            text + f"; one plastic mechanism does no better ({100 * rms_p:.1f} %)."), (am if h > 0 else None), False
+
+
+def soft_sectors(probes):
+    """The loading sectors of an envelope: the runs of consecutive probes (by direction, around the circle) whose
+    |dsigma|/|deps| lies below the geometric mean of the stiffest's and the softest's, as (first, last) theta_sigma.
+    Plastic loading softens a half-plane's probes by an order of magnitude or more; the sector is that half, its
+    middle the yield surface's normal to within the probes' spacing (what one mechanism's n would be, fitted or not)."""
+    th = [c["theta_s"] for _, c in probes]
+    mod = [c["modulus"] for _, c in probes]
+    order = sorted(range(len(th)), key=lambda i: th[i])
+    cut = math.sqrt(max(mod) * min(mod))
+    soft = [mod[i] < cut for i in order]
+    if all(soft) or not any(soft):
+        return []
+    start = soft.index(False)  # walk the circle from a stiff probe, so no run is split at the wrap
+    runs, cur = [], None
+    for k in range(1, len(order) + 1):
+        i = (start + k) % len(order)
+        if soft[i]:
+            cur = [order[i], order[i]] if cur is None else [cur[0], order[i]]
+        elif cur is not None:
+            runs.append((th[cur[0]], th[cur[1]]))
+            cur = None
+    return runs
 
 
 def probe_report(out, idx):
@@ -1452,7 +1477,12 @@ def probe_report(out, idx):
                   + (f"d2W <= 0 along {', '.join(unstable)}°: the state is unstable there (a stress probe in such a "
                      "direction is not controllable: the strain runs on)." if unstable
                      else "d2W > 0 in every direction probed: stable (Hill's condition) along each."), ""]
-        law, flow = probe_fit_text(probes)
+        law, flow, linear = probe_fit_text(probes)
+        sectors = [] if linear else soft_sectors(probes)
+        if sectors:
+            law += (" Soft sector(s), |dsigma|/|deps| below the geometric mean of the stiffest and the softest: "
+                    + ", ".join(f"theta_sigma {a:.1f}° to {b:.1f}° (middle {((a + ((b - a) % 360) / 2) % 360):.1f}°)"
+                                for a, b in sectors) + ".")
         lines += [law, ""]
         col = colors[n]
         x = [1e4 * c["de"][0] for _, c in probes]

@@ -153,6 +153,11 @@ for eta in (0.3, 0.6):
             "H = 2.50 MPa")
     if want not in section:
         fail.append(f"state {eta}: no '{want}' in its incremental law")
+    # the loading sector: none for the elastic state; B's probes softer than the geometric mean, 20 to 150 deg
+    want = None if eta == 0.3 else "Soft sector(s), |dsigma|/|deps| below the geometric mean of the stiffest and the " \
+        "softest: theta_sigma 20.4° to 149.5° (middle 84.9°)."
+    if (want is None and "Soft sector" in section) or (want is not None and want not in section):
+        fail.append(f"state {eta}: its soft sector is not {want}")
 if not os.path.isfile(os.path.join(work, "figures", "response_envelopes.png")):
     fail.append("no figures/response_envelopes.png")
 if fail:
