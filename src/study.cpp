@@ -85,6 +85,20 @@ std::vector<bool> k0_consolidations(const YAML::Node& stages) {
 // The base config with the study's values applied (YAML node surgery, then validated by the loader). base_sample: the
 // base's own sample.file, absolute (a base that starts from a saved sample: its sample jobs consolidate that sample
 // again at their p0 and mu_r; it has no seed or count to set).
+// Sets a triaxial stage's axial_strain_rate (or max_axial_strain) to v and scales its step cap up with the duration (the
+// old rate over v; v over the old end), never down: the cap the base gave its rate or end covers the same strain at a
+// slower rate or a longer end, so the slow tests of a rate series are not cut short by a cap meant for the fast one.
+// own_cap: the job sets the stage's max_steps itself (left alone).
+void set_with_cap(YAML::Node& s, const char* key, double v, bool own_cap = false) {
+  const StageConfig def;
+  const bool rate = std::string(key) == "axial_strain_rate";
+  const double old = s[key] ? s[key].as<double>() : rate ? def.axial_strain_rate : def.max_axial_strain;
+  const double old_cap = s["max_steps"] ? s["max_steps"].as<double>() : double(def.max_steps);
+  const double longer = rate ? (v > 0 ? old / v : 0) : v / old;  // the duration's factor (a rest's 0 rate: none)
+  if (!own_cap && longer > 1) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * longer)));
+  s[key] = yaml_number(v);
+}
+
 YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only, const std::string& sample_file,
                       const std::string& base_sample = "") {
   YAML::Node c = YAML::Clone(base);
@@ -136,23 +150,8 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
       if (type == "triaxial" && j.set_direction) s["direction"] = j.direction;
       if (type == "triaxial" && j.set_b) s["b"] = yaml_number(j.b);
       if (type == "triaxial" && j.set_stress_path) s["stress_path"] = j.stress_path;
-      if (type == "triaxial" && j.rate > 0) {
-        // The step cap the base gave its rate covers the same strain at a slower one: scaled up with the duration
-        // (never down), so that the slow tests of a rate series are not cut short by a cap meant for the fast one.
-        const StageConfig def;
-        const double old_rate = s["axial_strain_rate"] ? s["axial_strain_rate"].as<double>() : def.axial_strain_rate;
-        const double old_cap = s["max_steps"] ? s["max_steps"].as<double>() : double(def.max_steps);
-        s["axial_strain_rate"] = yaml_number(j.rate);
-        if (old_rate > j.rate) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (old_rate / j.rate))));
-      }
-      if (type == "triaxial" && j.strain > 0) {
-        // Likewise for a longer shear: the cap scaled up with the strain (never down).
-        const StageConfig def;
-        const double old_end = s["max_axial_strain"] ? s["max_axial_strain"].as<double>() : def.max_axial_strain;
-        const double old_cap = s["max_steps"] ? s["max_steps"].as<double>() : double(def.max_steps);
-        s["max_axial_strain"] = yaml_number(j.strain);
-        if (j.strain > old_end) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (j.strain / old_end))));
-      }
+      if (type == "triaxial" && j.rate > 0) set_with_cap(s, "axial_strain_rate", j.rate);
+      if (type == "triaxial" && j.strain > 0) set_with_cap(s, "max_axial_strain", j.strain);
       if (type == "cyclic" && j.q_amplitude > 0 && s["q_amplitude"]) s["q_amplitude"] = yaml_number(j.q_amplitude);
       // a stage that gives its amplitude as csr takes the axis's csr as it is (the run applies it at the stage's p'_c)
       if (type == "cyclic" && j.csr > 0 && s["csr"]) s["csr"] = yaml_number(j.csr);
@@ -163,21 +162,15 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
     }
     for (const StudyJob::StageKey& sk : j.stage_keys) {  // a stage axis's value (load_study: shear stages only)
       if (sk.stage != k) continue;
-      // a slower rate or a longer end scales the stage's step cap up as the axes do (never down), unless the job
-      // sets that cap itself
-      const bool own_cap = std::any_of(j.stage_keys.begin(), j.stage_keys.end(),
-                                       [&](const StudyJob::StageKey& o) { return o.stage == k && o.key == "max_steps"; });
-      const StageConfig def;
-      const double old_cap = s["max_steps"] ? s["max_steps"].as<double>() : double(def.max_steps);
-      if (sk.key == "axial_strain_rate" && !own_cap && sk.value > 0) {
-        const double old_rate = s["axial_strain_rate"] ? s["axial_strain_rate"].as<double>() : def.axial_strain_rate;
-        if (old_rate > sk.value) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (old_rate / sk.value))));
+      // a slower rate or a longer end scales the stage's step cap up as the axes do, unless the job sets that cap
+      if (sk.key == "axial_strain_rate" || sk.key == "max_axial_strain") {
+        const bool own_cap = std::any_of(j.stage_keys.begin(), j.stage_keys.end(), [&](const StudyJob::StageKey& o) {
+          return o.stage == k && o.key == "max_steps";
+        });
+        set_with_cap(s, sk.key.c_str(), sk.value, own_cap);
+      } else {
+        s[sk.key] = yaml_number(sk.value);
       }
-      if (sk.key == "max_axial_strain" && !own_cap) {
-        const double old_end = s["max_axial_strain"] ? s["max_axial_strain"].as<double>() : def.max_axial_strain;
-        if (sk.value > old_end) s["max_steps"] = long(std::min(1e12, std::ceil(old_cap * (sk.value / old_end))));
-      }
-      s[sk.key] = yaml_number(sk.value);
     }
     stages.push_back(s);
   }
