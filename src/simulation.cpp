@@ -605,6 +605,12 @@ class Laboratory {
   Real stage_ocr(size_t k) const;
   const std::vector<double>* last_row(size_t k) const;
   Real stage_secant_modulus(size_t k, const StageResult& r) const;
+  // A linear path's increments over stage k, in the Rendulic plane: (sqrt2 dsigma_r, dsigma_a) from the start's
+  // stresses (p_0, q_0) and (sqrt2 deps_r, deps_a) from its start, at its last series row; NaN without one.
+  struct ProbeIncrements {
+    Real ds_r, ds_a, de_r, de_a;
+  };
+  ProbeIncrements probe_increments(size_t k, const StageResult& r) const;
   void check_servo(const StageConfig& sc, const Measure& m);
   Real inner_void_ratio() const;
   Sym inner_stress();
@@ -1774,6 +1780,15 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   if (!opt_.quiet) {
     std::printf("stage %s: %s after %ld steps, mu = %.4g, p = %.4g kPa, q = %.4g kPa, e = %.4f\n", sc.name.c_str(),
                 done ? "done" : "NOT converged (max_steps reached)", lab_.stage_step, lab_.mu, m.p / 1e3, m.q / 1e3, m.e);
+    // a probe's (a linear path's) increments, directions and stiffness, as the study report gives them
+    if (sc.lateral_slope) {
+      const ProbeIncrements pi = probe_increments(size_t(lab_.stage), res);
+      const auto angle = [](Real x, Real y) { return std::fmod(std::atan2(y, x) * 180 / M_PI + 360, 360.0); };
+      std::printf("stage %s: dsigma (sqrt2 r, a) = (%.4g, %.4g) kPa along %.4g deg, deps = (%.4g, %.4g) x 1e-4 along "
+                  "%.4g deg: |dsigma|/|deps| = %.4g MPa\n",
+                  sc.name.c_str(), pi.ds_r / 1e3, pi.ds_a / 1e3, angle(pi.ds_r, pi.ds_a), pi.de_r * 1e4, pi.de_a * 1e4,
+                  angle(pi.de_r, pi.de_a), std::hypot(pi.ds_r, pi.ds_a) / std::hypot(pi.de_r, pi.de_a) / 1e6);
+    }
     if (sc.type == StageType::Cyclic)
       std::printf("stage %s: cycle %.4g of %ld%s, eps_a = %.4g, p'/p'_0 = %.4g\n", sc.name.c_str(), lab_.cycle, sc.cycles,
                   std::abs(m.eps_a) >= sc.max_axial_strain ? " (stopped at |eps_a| = max_axial_strain)" : "", m.eps_a,
@@ -2055,6 +2070,20 @@ Real Laboratory::stage_secant_modulus(size_t k, const StageResult& r) const {
   const std::vector<double>* row = last_row(k);
   const Real eps = row ? (*row)[series_column("eps_a")] : 0;
   return eps != 0 ? (r.q - r.q0) / eps : std::numeric_limits<Real>::quiet_NaN();
+}
+
+// A probe's increments (StageConfig::lateral_slope's stage): the stresses from p_0 and q_0 (sigma_a,0 = p_0 + 2 q_0/3,
+// sigma_r,0 = p_0 - q_0/3: those the lateral targets and stress_increment take), the strains of the stage's own start,
+// eps_r from the box's height and volume, (1 - eps_v) = (1 - eps_a) (1 - eps_r)^2, as the study report takes them.
+Laboratory::ProbeIncrements Laboratory::probe_increments(size_t k, const StageResult& r) const {
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  const std::vector<double>* row = last_row(k);
+  if (!row) return {nan, nan, nan, nan};
+  const auto col = [&](const char* c) { return Real((*row)[series_column(c)]); };
+  const Real ea = col("eps_a"), ev = col("eps_v");
+  const Real er = 1 - std::sqrt((1 - ev) / (1 - ea));
+  return {Real(std::sqrt(2.0)) * (0.5 * (col("sigma_x") + col("sigma_y")) - (r.p0 - r.q0 / 3)),
+          col("sigma_z") - (r.p0 + 2 * r.q0 / 3), Real(std::sqrt(2.0)) * er, ea};
 }
 
 // The overconsolidation ratio at the end of stage k, OCR = sigma_v,max / sigma_v: the largest sigma_z of the series rows
@@ -2433,6 +2462,12 @@ void Laboratory::write_summary() const {
     if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Oedometric)
       js << ", \"K0\": " << num(stage_k0(k)) << ", \"OCR\": " << num(stage_ocr(k));
     if (sc.type == StageType::Triaxial) js << ", \"E_sec\": " << num(stage_secant_modulus(k, r));
+    // a linear path's (a probe's) increments in the Rendulic plane, [Pa] and [-]
+    if (sc.lateral_slope) {
+      const ProbeIncrements pi = probe_increments(k, r);
+      js << ", \"dsigma_rendulic\": [" << num(pi.ds_r) << ", " << num(pi.ds_a) << "], \"deps_rendulic\": ["
+         << num(pi.de_r) << ", " << num(pi.de_a) << "]";
+    }
     if (sc.type == StageType::Cyclic) js << ", \"quarter_cycle_transits\": " << num(r.quarter_transits);
     // a stress reversal's amplitude and its cyclic stress ratio A / (2 p'_c), whichever of them the config gave
     if (sc.stress_reversal())

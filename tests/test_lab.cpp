@@ -1720,6 +1720,14 @@ TEST(Lab, LinearStressPathHoldsItsSlope) {
                 "q %.4g kPa: dq/dp' %.4g (path %.4g)\n", c.slope, rows, worst, sz.back() / 1e3, p0 / 1e3, p_end / 1e3,
                 (q_end + q0) / 1e3, q_end / (p_end - p0), dqdp);
     EXPECT_GT(rows, 10);  // the elastic unloading is stiff: 23 rows measured there, 387 loading
+    // summary.json's increments in the Rendulic plane: the last row's, from the start's stresses and strains (eps_r
+    // from H and V: (1 - eps_v) = (1 - eps_a)(1 - eps_r)^2), to the bit of the same arithmetic
+    const auto ev = h.doubles("/series/eps_v");
+    const double er = 1 - std::sqrt((1 - ev.back()) / (1 - ea.back()));
+    EXPECT_EQ(s0["dsigma_rendulic"][0].as<double>(), std::sqrt(2.0) * (0.5 * (sx.back() + sy.back()) - s30));
+    EXPECT_EQ(s0["dsigma_rendulic"][1].as<double>(), sz.back() - sz0);
+    EXPECT_EQ(s0["deps_rendulic"][0].as<double>(), std::sqrt(2.0) * er);
+    EXPECT_EQ(s0["deps_rendulic"][1].as<double>(), ea.back());
     if (c.extension) {
       // past 60 kPa by less than the last rows' change (5 steps; a step of this stiff unloading is ~0.5 kPa of it)
       const auto dsigma = [&](size_t k) {
