@@ -1234,16 +1234,14 @@ def rendulic_angle(x, y):
 
 
 def probe_increments(run_dir):
-    """A stress probe's increments: the run's last stage (a linear path) from its start to its last series row. The start
-    is summary.json's p_0 and q_0 of that stage, the stresses the run measured there and took its lateral targets and
-    its stress_increment end from (sigma_a,0 = p_0 + 2 q_0/3, sigma_r,0 = p_0 - q_0/3); the strains count from the stage's
-    start (series eps_a and eps_v of a stage are its own), the radial one from H and V: (1 - eps_v) = (1 - eps_a)
-    (1 - eps_r)^2. The drag: the change of the local damping's drag (series p_drag, q_drag) from the stage's first row
-    to its last, whose share of the walls' increment the report gives (the walls' stress includes it). None where the
-    run's last stage is not a linear path or has no row."""
+    """A stress probe's increments: the run's last stage (a linear path), summary.json's dsigma_rendulic (sqrt2 dsigma_r,
+    dsigma_a) from the stresses it started at and deps_rendulic (sqrt2 deps_r, deps_a) from its start, at its last series
+    row (the run's arithmetic, Laboratory::probe_increments). The drag: the change of the local damping's drag (series
+    p_drag, q_drag) from the stage's first row to its last, whose share of the walls' increment the report gives (the
+    walls' stress includes it). None where the run's last stage is not a linear path or has no row."""
     with open(os.path.join(run_dir, "summary.json")) as f:
         st = json.load(f)["stages"][-1]
-    if st.get("stress_path") != "linear":
+    if st.get("stress_path") != "linear" or st.get("dsigma_rendulic") is None:
         return None
     s = load(run_dir)
     rows = np.flatnonzero(s["stage"] == st["name"])
@@ -1251,16 +1249,13 @@ def probe_increments(run_dir):
         return None
     k0, k = rows[0], rows[-1]
     p0, q0 = st["p_0"], st["q_0"]
-    dsa = s["sigma_z"][k] - (p0 + 2 * q0 / 3)
-    dsr = 0.5 * (s["sigma_x"][k] + s["sigma_y"][k]) - (p0 - q0 / 3)
-    ea, ev = s["eps_a"][k], s["eps_v"][k]
-    er = 1 - math.sqrt((1 - ev) / (1 - ea))
+    ds, de = tuple(st["dsigma_rendulic"]), tuple(st["deps_rendulic"])
+    dsr, dsa, er, ea = ds[0] / math.sqrt(2), ds[1], de[0] / math.sqrt(2), de[1]
+    nds, nde = math.hypot(*ds), math.hypot(*de)
     drag = None
     if "p_drag" in s and "q_drag" in s:
         dp, dq = s["p_drag"][k] - s["p_drag"][k0], s["q_drag"][k] - s["q_drag"][k0]
-        drag = math.hypot(math.sqrt(2) * (dp - dq / 3), dp + 2 * dq / 3) / max(math.hypot(math.sqrt(2) * dsr, dsa), 1e-300)
-    ds, de = (math.sqrt(2) * dsr, dsa), (math.sqrt(2) * er, ea)
-    nds, nde = math.hypot(*ds), math.hypot(*de)
+        drag = math.hypot(math.sqrt(2) * (dp - dq / 3), dp + 2 * dq / 3) / max(nds, 1e-300)
     return {"theta": st.get("stress_direction"), "slope": st.get("lateral_slope"), "p0": p0, "q0": q0,
             "e": s["e"][rows[0]], "dsa": dsa, "dsr": dsr, "dea": ea, "der": er, "ds": ds, "de": de,
             "theta_s": rendulic_angle(*ds), "theta_e": rendulic_angle(*de),
@@ -1418,7 +1413,8 @@ def probe_report(out, idx):
     several = len(states) > 1
     lines = [f"# Study report: {idx['study']}", "",
              f"{sum(len(v) for v in states.values())} stress probes from {len(states)} state(s)"
-             + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ". Figure: "
+             + (f"; not (yet) finished, or without a probe's increments in its summary.json (a build before them): "
+                f"{', '.join(missing)}" if missing else "") + ". Figure: "
              "`figures/response_envelopes.png`.", "",
              "## Response envelopes", "",
              "Each probe is a drained stage on a linear stress path (stress_direction: theta, the direction of (sqrt2 "

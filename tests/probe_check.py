@@ -78,19 +78,21 @@ for eta in (0.3, 0.6):
             fh.write("load,0,0,0.01,0.002,0.7,%r,%r,%r,%r,%r,2,0,0\n" % (p0, q0, sr0, sr0, sa0))
             for r in rows:
                 fh.write("probe," + ",".join(repr(float(v)) for v in r) + "\n")
+        # the increments as the run writes them (Laboratory::probe_increments, its arithmetic tested against the series
+        # in Lab.LinearStressPathHoldsItsSlope): the last row's, in the Rendulic plane, eps_r from H and V
+        x = np.array([math.sqrt(2) * dsr, dsa])
+        er_exact = 1 - math.sqrt((1 - rows[-1][3]) / (1 - dea))
+        y = np.array([math.sqrt(2) * er_exact, dea])
         with open(os.path.join(run, "summary.json"), "w") as fh:
             json.dump({"stages": [{"name": "load", "type": "triaxial", "stress_path": "constant_sigma3"},
                                   {"name": "probe", "type": "triaxial", "drainage": "drained", "stress_path": "linear",
-                                   "lateral_slope": slope, "stress_direction": th, "p_0": p0, "q_0": q0, "steps": 10}]},
-                      fh)
+                                   "lateral_slope": slope, "stress_direction": th, "p_0": p0, "q_0": q0, "steps": 10,
+                                   "dsigma_rendulic": list(x), "deps_rendulic": list(y)}]}, fh)
         jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_mur0", "mu_r": 0, "e0": 0, "p0": 0,
                      "drainage": "drained", "direction": "compression", "b": 0, "stress_path": "constant_sigma3",
                      "seed": 5, "count": 2000, "stage_keys": {"load.stress_ratio": eta, "probe.stress_direction": th},
                      "grading": "", "cu": 0, "E": 0})
         # what the report must give, from what the series holds
-        x = np.array([math.sqrt(2) * dsr, dsa])
-        er_exact = 1 - math.sqrt((1 - rows[-1][3]) / (1 - dea))
-        y = np.array([math.sqrt(2) * er_exact, dea])
         dp, dq = rows[-1][11], rows[-1][12]
         drag = math.hypot(math.sqrt(2) * (dp - dq / 3), dp + 2 * dq / 3) / np.linalg.norm(x)
         expect[name] = [th, slope, math.degrees(math.atan2(x[1], x[0])) % 360, dsa / 1e3, x[0] / 1e3, 1e4 * y[1],
