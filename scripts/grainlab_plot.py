@@ -1261,7 +1261,7 @@ def probe_increments(run_dir):
             "theta_s": rendulic_angle(*ds), "theta_e": rendulic_angle(*de),
             "modulus": nds / nde if nde > 0 else float("inf"),
             "work": (ds[0] * de[0] + ds[1] * de[1]) / (nds * nde) if nds > 0 and nde > 0 else float("nan"),
-            "drag": drag, "steps": st.get("steps")}
+            "drag": drag}
 
 
 # The response envelope's incremental law (probe_fit): a linear part and one plastic mechanism, Rendulic coordinates.

@@ -476,11 +476,17 @@ bool moving_lateral_targets(const StageConfig& sc) {
 struct LateralTargets {
   Real sx, sy;
 };
+// A shear's start stresses from its p'_0 and q_0 (SPEC §6.3 with an anisotropic start): sigma_3,0 = p'_0 - q_0/3,
+// sigma_z,0 = p'_0 + 2 q_0/3. What the lateral targets, a probe's stress_increment end and its increments count from.
+struct StartStress {
+  Real s3, sz;
+};
+StartStress start_stress(Real p0, Real q0) { return {p0 - q0 / 3, p0 + 2 * q0 / 3}; }
 LateralTargets lateral_targets(const StageConfig& sc, Real p0, Real q0, Real sz) {
   Real s3 = sc.constant_p ? (3 * p0 - (1 + sc.b) * sz) / (2 - sc.b) : p0 - q0 / 3;
   // a K path (StageConfig::k_ratio): the start's sigma_3 until K sigma_z passes it, K sigma_z from there
   if (sc.k_ratio > 0) s3 = sc.extension ? std::min(s3, sc.k_ratio * sz) : std::max(s3, sc.k_ratio * sz);
-  if (sc.lateral_slope) s3 += *sc.lateral_slope * (sz - (p0 + 2 * q0 / 3));
+  if (sc.lateral_slope) s3 += *sc.lateral_slope * (sz - start_stress(p0, q0).sz);
   return {s3 + sc.b * (sz - s3), s3};
 }
 
@@ -566,8 +572,8 @@ class Laboratory {
   // |sigma - sigma_0| of the walls, sigma_0 the shear's start as the lateral targets take it (p'_0 - q_0/3 laterally,
   // p'_0 + 2 q_0/3 axially)
   Real stress_increment(const Measure& m) const {
-    const Real s3 = lab_.p0 - lab_.q0 / 3, sz = lab_.p0 + 2 * lab_.q0 / 3;
-    return std::sqrt((m.sx - s3) * (m.sx - s3) + (m.sy - s3) * (m.sy - s3) + (m.sz - sz) * (m.sz - sz));
+    const StartStress s0 = start_stress(lab_.p0, lab_.q0);
+    return std::sqrt((m.sx - s0.s3) * (m.sx - s0.s3) + (m.sy - s0.s3) * (m.sy - s0.s3) + (m.sz - s0.sz) * (m.sz - s0.sz));
   }
   Real sv_end_ = 0;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
@@ -2082,8 +2088,9 @@ Laboratory::ProbeIncrements Laboratory::probe_increments(size_t k, const StageRe
   const auto col = [&](const char* c) { return Real((*row)[series_column(c)]); };
   const Real ea = col("eps_a"), ev = col("eps_v");
   const Real er = 1 - std::sqrt((1 - ev) / (1 - ea));
-  return {Real(std::sqrt(2.0)) * (0.5 * (col("sigma_x") + col("sigma_y")) - (r.p0 - r.q0 / 3)),
-          col("sigma_z") - (r.p0 + 2 * r.q0 / 3), Real(std::sqrt(2.0)) * er, ea};
+  const StartStress s0 = start_stress(r.p0, r.q0);
+  return {Real(std::sqrt(2.0)) * (0.5 * (col("sigma_x") + col("sigma_y")) - s0.s3), col("sigma_z") - s0.sz,
+          Real(std::sqrt(2.0)) * er, ea};
 }
 
 // The overconsolidation ratio at the end of stage k, OCR = sigma_v,max / sigma_v: the largest sigma_z of the series rows
