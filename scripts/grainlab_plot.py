@@ -113,10 +113,11 @@ def load(run, prog="grainlab plot"):
     cols = {k: np.array([float(r[k]) for r in rows]) for k in rows[0] if k != "stage"}
     cols["stage"] = np.array([r["stage"] for r in rows])
     # 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained, 5 triaxial
-    # oedometric
+    # oedometric, 6 cyclic oedometric
     cols["shear"] = cols["stage_type"] > 0  # every sheared row (the stress figures draw cyclic loops too)
     cols["monotonic"] = (cols["stage_type"] > 0) & (cols["stage_type"] < 3)  # critical states come from these
-    cols["cyclic"] = (cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)
+    cols["cyclic"] = ((cols["stage_type"] >= 3) & (cols["stage_type"] <= 4)) | (cols["stage_type"] == 6)
+    cols["cyclic_oedometric"] = cols["stage_type"] == 6  # the cyclic oedometer: its own figure, no liquefaction
     cols["oedometric"] = cols["stage_type"] == 5  # K0 tests: no peak, no critical state
     cols["eps_a_run"] = strain_across_stages(cols["eps_a"], cols["stage"], cols["shear"])
     if "cycle" in cols:  # a series of a build before cyclic stages, or a synthetic one, has none (nor cyclic rows)
@@ -634,8 +635,9 @@ def modulus_curves(run, s):
     (cycle_shear; nan for a drained cycle of a build before gamma); `last`, each stage's last cycle in order of
     amplitude (the curve), `known` those of them with a gamma; hf = (E_max [MPa], eps_r, rms) and gf = (G_max [MPa],
     gamma_r, rms), the Hardin-Drnevich hyperbolas through the curves (hyperbolic_fit), or None."""
+    oedometer = set(s["stage"][s["cyclic_oedometric"]])  # cyclic oedometers: not a modulus-reduction test
     with open(os.path.join(run, "cycles.csv")) as f:
-        rows = complete_cycles(csv.DictReader(f))
+        rows = [r for r in complete_cycles(csv.DictReader(f)) if r["stage"] not in oedometer]
     if not rows:
         return None
     # each stage's drainage, for cycle_shear's fallback on rows without gamma (stage_type 3: cyclic undrained)
@@ -659,13 +661,12 @@ def fig_modulus_damping(runs, out):
     of Hardin & Drnevich fitted to that curve; D also less the local damping's drag (dashed, x), where cycles.csv has
     it."""
     runs = [(run, s) for run, s in runs if os.path.isfile(os.path.join(run, "cycles.csv"))]
-    if not runs:
+    curves = [(run, s, modulus_curves(run, s)) for run, s in runs]
+    curves = [x for x in curves if x[2] is not None]  # (a run of cyclic oedometers alone has none)
+    if not curves:
         return
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.2))
-    for i, (run, s) in enumerate(runs):
-        c = modulus_curves(run, s)
-        if c is None:
-            continue
+    for i, (run, s, c) in enumerate(curves):
         color = f"C{i % 10}"
         amp, E, D, ga, G, last, known, hf, gf = (c[k] for k in ("amp", "E", "D", "ga", "G", "last", "known", "hf", "gf"))
         ax[0].plot(amp, E, "o", color=color, alpha=0.35, markersize=4)
@@ -692,6 +693,55 @@ def fig_modulus_damping(runs, out):
     legend(ax[1], fontsize=8)
     legend(ax[2], fontsize=8)
     save(fig, out, "modulus_damping")
+
+
+def oedometer_cycles(run, s):
+    """A run's cyclic oedometer stages (series stage_type 6) as {stage: dict(N, eps [%], M [MPa], D, K)} from the whole
+    cycles of its cycles.csv: N the cycle, eps the permanent axial strain at its end (eps_v: the held lateral walls make
+    it eps_a), M_eq, D_v and K = sigma_h / sigma_v at its end; {} where there are none."""
+    stages = list(dict.fromkeys(s["stage"][s["cyclic_oedometric"]]))
+    path = os.path.join(run, "cycles.csv")
+    if not stages or not os.path.isfile(path):
+        return {}
+    with open(path) as f:
+        rows = [r for r in complete_cycles(csv.DictReader(f)) if r["stage"] in stages and "M_eq" in r]
+    out = {}
+    for st in stages:
+        rs = [r for r in rows if r["stage"] == st]
+        if rs:
+            col = lambda k, scale=1.0: np.array([scale * float(r[k]) for r in rs])
+            out[st] = dict(N=col("cycle"), eps=col("eps_v", 100.0), M=col("M_eq", 1e-6), D=col("damping_v"), K=col("K"))
+    return out
+
+
+def fig_cyclic_oedometer(runs, out):
+    """Cyclic oedometer stages (the lateral walls held, sigma_v reversing about sigma_v,0): the sigma_v - eps_a loops
+    (the series' rows), the permanent axial strain at each cycle's end against N (log N: ratcheting is a line that
+    keeps rising, shakedown one that levels off), the constrained modulus M_eq and damping ratio D_v of each cycle's
+    sigma_v loop, and K = sigma_h / sigma_v at each cycle's end (sigma_v back at sigma_v,0: the lateral stress the cycles
+    leave locked in); nothing where no run has such a stage."""
+    drawn = [(run, s, oedometer_cycles(run, s)) for run, s in runs]
+    drawn = [d for d in drawn if d[1]["cyclic_oedometric"].any()]
+    if not drawn:
+        return
+    fig, ax = plt.subplots(1, 4, figsize=(20, 4.5))
+    damp = ax[2].twinx()
+    for i, (run, s, stages) in enumerate(drawn):
+        color = f"C{i % 10}"
+        m = s["cyclic_oedometric"]
+        ax[0].plot(100 * s["eps_a_run"][m], s["sigma_z"][m] / 1e3, color=color, lw=0.8, label=label(run, s))
+        for c in stages.values():
+            ax[1].plot(c["N"], c["eps"], "o-", color=color, markersize=3)
+            ax[2].plot(c["N"], c["M"], "o-", color=color, markersize=3)
+            damp.plot(c["N"], c["D"], "x--", color=color, markersize=3)
+            ax[3].plot(c["N"], c["K"], "o-", color=color, markersize=3)
+    damp.set_ylabel("D_v (dashed)")
+    ax[0].set(xlabel="eps_a [%] (across the run's shear stages)", ylabel="sigma_v [kPa]", title="sigma_v - eps_a loops")
+    ax[1].set(xscale="log", xlabel="cycle N", ylabel="permanent eps_a at the cycle's end [%]",
+              title="accumulated strain (ratcheting / shakedown)")
+    ax[2].set(xscale="log", xlabel="cycle N", ylabel="M_eq [MPa] (solid)", title="constrained modulus and damping")
+    ax[3].set(xscale="log", xlabel="cycle N", ylabel="K = sigma_h / sigma_v at sigma_v,0", title="lateral stress ratio")
+    finish(fig, ax, ax[0], 8, out, "cyclic_oedometer")
 
 
 def legend(ax, **kw):
@@ -3232,6 +3282,7 @@ def main():
         fig_sff(runs, out)
         fig_fractions(runs, out)
         fig_cyclic(runs, out)
+        fig_cyclic_oedometer(runs, out)
         fig_oedometric(runs, out)
         fig_modulus_damping(runs, out)
         fig_grading(a.runs, out)

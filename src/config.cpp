@@ -478,9 +478,6 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
       sc.drainage = drainage == "undrained" ? Drainage::Undrained
                     : drainage == "drained" ? Drainage::Drained
                                             : Drainage::Oedometric;
-      // A cyclic stage's loops (E_eq, G_eq, D, r_u) are read as triaxial ones: an oedometric cycle is another test.
-      if (sc.type == StageType::Cyclic && sc.drainage == Drainage::Oedometric)
-        g.fail(g.key_path("drainage"), "= oedometric is for triaxial stages (a cyclic stage is drained or undrained)");
       // 0 on a triaxial stage: a rest (StageConfig::axial_strain_rate)
       sc.axial_strain_rate = g.real("axial_strain_rate", 1.0, 0, 1e6, sc.type == StageType::Cyclic);
       sc.max_axial_strain = g.real("max_axial_strain", 0.05, 0, 0.9, true);
@@ -610,12 +607,40 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         sc.q_amplitude = g.real("q_amplitude", 0, 0, 1e10);
         sc.csr = g.real("csr", 0, 0, 10);
         sc.strain_amplitude = g.real("strain_amplitude", 0, 0, 0.9);
+        sc.sigma_v_amplitude = g.real("sigma_v_amplitude", 0, 0, 1e10);
         sc.liquefaction_ru = g.real("liquefaction_ru", 0.95, 0, 1, true);
         sc.liquefaction_da_strain = g.real("liquefaction_da_strain", 0.05, 0, 1.8, true);
         std::string amps;  // the amplitudes given
         for (const auto& [key, v] : {std::pair<const char*, Real>{"q_amplitude", sc.q_amplitude}, {"csr", sc.csr},
-                                     {"strain_amplitude", sc.strain_amplitude}})
+                                     {"strain_amplitude", sc.strain_amplitude}, {"sigma_v_amplitude", sc.sigma_v_amplitude}})
           if (v > 0) amps += (amps.empty() ? "" : " and ") + std::string(key);
+        // The cyclic oedometer's controlled stress is the vertical one (q follows from the lateral stress the held
+        // walls take), and a triaxial cycle's is q (sigma_v_amplitude would be q_amplitude under a constant sigma_3)
+        const bool oedometric = sc.drainage == Drainage::Oedometric;
+        if (oedometric && (sc.q_amplitude > 0 || sc.csr > 0))
+          g.fail(g.key_path(sc.q_amplitude > 0 ? "q_amplitude" : "csr"),
+                 "reverses a triaxial cycle at a deviator stress, and this stage is oedometric (its lateral walls held): "
+                 "an oedometric cycle reverses at sigma_v_amplitude (Pa, > 0: sigma_v,0 +- A) or strain_amplitude");
+        if (!oedometric && sc.sigma_v_amplitude > 0)
+          g.fail(g.key_path("sigma_v_amplitude"), "= " + fmt(sc.sigma_v_amplitude) + " reverses an oedometric cycle, and "
+                 "this stage is " + drainage_name(sc.drainage) + ": give drainage: oedometric, or q_amplitude / csr for "
+                 "a triaxial cycle");
+        if (oedometric && (amps.empty() || amps.find(" and ") != std::string::npos))
+          g.fail(g.key_path("sigma_v_amplitude"), "an oedometric cyclic stage reverses at exactly one of sigma_v_amplitude "
+                 "(Pa, > 0: sigma_v,0 +- A) or strain_amplitude (> 0: strain reversal); this one gives " +
+                 (amps.empty() ? std::string("neither") : amps));
+        // sigma_v,0 - A must stay a compression: where the stage before says what sigma_v,0 is (an oedometric loading
+        // to a sigma_v, an isotropic stage's pressure); the run checks it at the stage's start otherwise
+        if (sc.sigma_v_amplitude > 0 && !c.stages.empty()) {
+          const StageConfig& prev = c.stages.back();
+          const bool known = prev.type == StageType::Isotropic ||
+                             (prev.type == StageType::Triaxial && prev.drainage == Drainage::Oedometric && prev.sigma_v > 0);
+          const Real sv0 = prev.type == StageType::Isotropic ? prev.pressure : prev.sigma_v;
+          if (known && sc.sigma_v_amplitude >= sv0)
+            g.fail(g.key_path("sigma_v_amplitude"), "= " + fmt(sc.sigma_v_amplitude) + " must be below the vertical stress the "
+                   "cycles start from, " + fmt(sv0) + " Pa (stages[" + std::to_string(k - 1) + "]'s " +
+                   (prev.type == StageType::Isotropic ? "pressure" : "sigma_v") + "): sigma_v,0 - A would be no compression");
+        }
         if (amps.empty() || amps.find(" and ") != std::string::npos)
           g.fail(g.key_path("q_amplitude"), "a cyclic stage reverses at exactly one of q_amplitude (Pa, > 0: stress reversal), "
                                      "csr (> 0: stress reversal at q_0 +- 2 csr p'_c) or strain_amplitude (> 0: strain "
@@ -759,6 +784,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
         e << YAML::Key << "cycles" << YAML::Value << sc.cycles;
         if (sc.q_amplitude > 0) e << YAML::Key << "q_amplitude" << YAML::Value << sc.q_amplitude;
         else if (sc.csr > 0) e << YAML::Key << "csr" << YAML::Value << sc.csr;
+        else if (sc.sigma_v_amplitude > 0) e << YAML::Key << "sigma_v_amplitude" << YAML::Value << sc.sigma_v_amplitude;
         else e << YAML::Key << "strain_amplitude" << YAML::Value << sc.strain_amplitude;
         e << YAML::Key << "liquefaction_ru" << YAML::Value << sc.liquefaction_ru << YAML::Key << "liquefaction_da_strain"
           << YAML::Value << sc.liquefaction_da_strain;

@@ -17,7 +17,9 @@ struct ConfigError : std::runtime_error {
 };
 
 // Cyclic: triaxial loading whose axial walls reverse at +-q_amplitude (stress reversal, the cyclic liquefaction
-// test) or +-strain_amplitude, for `cycles` cycles or until |eps_a| reaches max_axial_strain (choice, beyond SPEC §6.3).
+// test) or +-strain_amplitude, for `cycles` cycles or until |eps_a| reaches max_axial_strain (choice, beyond SPEC §6.3);
+// oedometric (the lateral walls held): the cyclic oedometer, reversing at sigma_v,0 +- sigma_v_amplitude or at
+// +-strain_amplitude.
 enum class StageType { Isotropic, Triaxial, Cyclic };
 // The lateral boundary of a shear stage: drained, the lateral walls servoed to sigma_3 (SPEC §6.3); undrained, placed
 // to keep the volume (SPEC §6.3); oedometric (beyond SPEC, triaxial stages), held where the stage found them: zero
@@ -132,6 +134,10 @@ struct StageConfig {
   Real csr = 0;                    // [-] (0: q_amplitude's or strain reversal)
   Real strain_amplitude = 0;       // A in axial strain eps_a (strain reversal; 0: stress reversal)  [-]
   bool stress_reversal() const { return q_amplitude > 0 || csr > 0; }
+  // A in the walls' vertical stress sigma_z about the stage's sigma_z,0 (an oedometric cyclic stage's stress reversal:
+  // the cyclic oedometer, whose controlled stress is the vertical one; 0: strain reversal)   [Pa]
+  Real sigma_v_amplitude = 0;
+  bool sigma_v_reversal() const { return sigma_v_amplitude > 0; }
   // Liquefaction criteria of a cyclic stage (recorded as the cycle number N at which each is first met; neither ends
   // the stage): initial liquefaction, r_u = u / p'_0 reaching liquefaction_ru (undrained stages), and the
   // double-amplitude axial strain (the peak-to-peak eps_a of a half cycle) reaching liquefaction_da_strain, ASTM

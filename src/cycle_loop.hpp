@@ -15,7 +15,11 @@
 //  - E_eq and D of the walls' q less the local damping's drag q_drag (series q_drag, fed each step with q): the walls'
 //    q carries the drag (SPEC section 4's damping acts on every sphere against its velocity, so on a cycle it opposes
 //    the straining both ways and adds area to the loop). Less the drag, the loop is the material's as the boundary
-//    measures it: on configs/modulus_damping.yaml the drag is 30-60 % of D at eps_a = 1e-5 and 2-6 % from 1e-4 on.
+//    measures it: on configs/modulus_damping.yaml the drag is 30-60 % of D at eps_a = 1e-5 and 2-6 % from 1e-4 on;
+//  - of the walls' vertical stress sigma_v (sigma_z), the loop a cyclic oedometer reports: the equivalent constrained
+//    modulus M_eq = (sigma_v,max - sigma_v,min) / (eps_max - eps_min) and the damping ratio D_v of the sigma_v - eps_a
+//    loop, as D's of q's. With the lateral walls held the loop's area is the whole work per volume the walls do in the
+//    cycle (the lateral ones do none); of a triaxial cycle under a constant sigma_3 it is q's loop again.
 // Host code, no Kokkos: Laboratory feeds it the measure it turns on, once a step (test_cycle_loop checks it on
 // analytic loops).
 #include <algorithm>
@@ -34,11 +38,13 @@ struct CycleLoop {
   double work_drag = 0;    // integral of q_drag d eps_a so far [Pa]
   double qd_prev = 0;
   double qn_max = 0, qn_min = 0;  // extremes of q - q_drag (NaN: not known, see set_state)
+  double sv_max = 0, sv_min = 0;  // extremes of sigma_v (NaN: not known, see set_state) [Pa]
+  double work_v = 0, sv_prev = 0;  // integral of sigma_v d eps_a so far [Pa]
   bool open = false;
   double n = 0;            // the stage's cycle number N at the last step fed (it never decreases)
 
-  // The cycle starts at this measure (qd: the drag's share of q, 0 without damping).
-  void start(double q, double e, double g, double u, double qd = 0) {
+  // The cycle starts at this measure (qd: the drag's share of q, 0 without damping; sv: sigma_v, 0 where not given).
+  void start(double q, double e, double g, double u, double qd = 0, double sv = 0) {
     q_max = q_min = q_prev = q;
     e_max = e_min = e_prev = e;
     g_max = g_min = g;
@@ -47,10 +53,16 @@ struct CycleLoop {
     work_drag = 0;
     qd_prev = qd;
     qn_max = qn_min = q - qd;
+    sv_max = sv_min = sv_prev = sv;
+    work_v = 0;
     open = true;
   }
-  void add(double q, double e, double g, double u, double qd = 0) {
+  void add(double q, double e, double g, double u, double qd = 0, double sv = 0) {
     work += 0.5 * (q + q_prev) * (e - e_prev);
+    work_v += 0.5 * (sv + sv_prev) * (e - e_prev);  // before e_prev moves on
+    sv_prev = sv;
+    sv_max = std::max(sv_max, sv);  // NaN stays NaN (std::max's first argument where the comparison fails)
+    sv_min = std::min(sv_min, sv);
     work_drag += 0.5 * (qd + qd_prev) * (e - e_prev);  // the same trapezoids: q's less q_drag's is (q - q_drag)'s
     q_prev = q;
     qd_prev = qd;
@@ -81,6 +93,15 @@ struct CycleLoop {
     if (std::isnan(qn_max - qn_min + work_drag)) return std::nan("");
     return damping_of(work - work_drag, qn_max, qn_min);
   }
+  // Of sigma_v: the constrained modulus and damping ratio of the cyclic oedometer (NaN where sigma_v is not known).
+  double constrained_modulus() const {
+    if (std::isnan(sv_max - sv_min)) return std::nan("");
+    return e_max > e_min ? (sv_max - sv_min) / (e_max - e_min) : 0;
+  }
+  double damping_v() const {
+    if (std::isnan(sv_max - sv_min + work_v)) return std::nan("");
+    return damping_of(work_v, sv_max, sv_min);
+  }
   double damping_of(double w, double qmax, double qmin) const {
     const double qa = 0.5 * (qmax - qmin), ea = 0.5 * (e_max - e_min);
     return qa > 0 && ea > 0 ? w / (2 * M_PI * qa * ea) : 0;
@@ -89,14 +110,16 @@ struct CycleLoop {
   // For checkpoints: the state as numbers, and back. A checkpoint written before gamma was tracked holds the first
   // kStateSizeNoShear numbers: the open cycle's gamma extremes are then unknown (NaN), and so is its G_eq, rather than
   // a modulus over the part of the cycle after the restart; the cycles after it are whole again. One written before
-  // the drag holds kStateSizeNoDrag: the open cycle's values less the drag are unknown alike.
-  static constexpr size_t kStateSize = 16, kStateSizeNoDrag = 12, kStateSizeNoShear = 10;
+  // the drag holds kStateSizeNoDrag: the open cycle's values less the drag are unknown alike; one before sigma_v's
+  // loop, kStateSizeNoSigmaV: the open cycle's M_eq and D_v unknown.
+  static constexpr size_t kStateSize = 20, kStateSizeNoSigmaV = 16, kStateSizeNoDrag = 12, kStateSizeNoShear = 10;
   std::vector<double> state() const {
     return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n, g_max, g_min,
-            work_drag, qd_prev, qn_max, qn_min};
+            work_drag, qd_prev, qn_max, qn_min, sv_max, sv_min, work_v, sv_prev};
   }
   void set_state(const std::vector<double>& s) {
-    if (s.size() != kStateSize && s.size() != kStateSizeNoDrag && s.size() != kStateSizeNoShear)
+    if (s.size() != kStateSize && s.size() != kStateSizeNoSigmaV && s.size() != kStateSizeNoDrag &&
+        s.size() != kStateSizeNoShear)
       throw std::runtime_error("cycle loop state has the wrong length (corrupt?)");
     q_max = s[0];
     q_min = s[1];
@@ -108,13 +131,17 @@ struct CycleLoop {
     u_max = s[7];
     open = s[8] != 0;
     n = s[9];
-    const bool shear = s.size() >= kStateSizeNoDrag, drag = s.size() == kStateSize;
+    const bool shear = s.size() >= kStateSizeNoDrag, drag = s.size() >= kStateSizeNoSigmaV, sv = s.size() == kStateSize;
     g_max = shear ? s[10] : std::nan("");
     g_min = shear ? s[11] : std::nan("");
     work_drag = drag ? s[12] : std::nan("");
     qd_prev = drag ? s[13] : std::nan("");
     qn_max = drag ? s[14] : std::nan("");
     qn_min = drag ? s[15] : std::nan("");
+    sv_max = sv ? s[16] : std::nan("");
+    sv_min = sv ? s[17] : std::nan("");
+    work_v = sv ? s[18] : std::nan("");
+    sv_prev = sv ? s[19] : std::nan("");
   }
 };
 

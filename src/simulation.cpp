@@ -159,19 +159,25 @@ size_t series_column(const char* name) { return column_of(series_columns(), name
 // gamma = eps_a - eps_r and the equivalent shear modulus G_eq; then `complete`: 1 for a whole cycle, 0 for the part of
 // one that a stage ended in (it reached max_axial_strain, as a liquefying sample does, or max_steps): that last
 // loop's extremes, moduli, p', eps_v and r_u as far as it went, its damping NaN (an open path has no loop area);
-// then E_eq and D of the walls' q less the local damping's drag (CycleLoop; equal to E_eq and D without damping).
-// Each group after the columns of older builds, so that a script that reads them by position still does.
+// then E_eq and D of the walls' q less the local damping's drag (CycleLoop; equal to E_eq and D without damping);
+// then the walls' vertical stress sigma_v = sigma_z: its extremes, the constrained modulus M_eq and the damping ratio
+// D_v of its loop (CycleLoop: the cyclic oedometer's; a triaxial cycle under a constant sigma_3 has q's again), and K =
+// sigma_h / sigma_v at the row's instant, sigma_h = (sigma_x + sigma_y) / 2 (at the end of an oedometric cycle, sigma_v
+// back at sigma_v,0: the coefficient of earth pressure the cycles leave). Each group after the columns of older builds, so that a script that reads them by position still does.
 const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
   static const std::vector<std::pair<std::string, std::string>> cols = {
       {"cycle", "-"},   {"step", "-"},     {"q_max", "Pa"}, {"q_min", "Pa"},   {"eps_a_max", "-"}, {"eps_a_min", "-"},
       {"E_eq", "Pa"},   {"damping", "-"},  {"p", "Pa"},     {"eps_v", "-"},    {"r_u_max", "-"},
       {"gamma_max", "-"}, {"gamma_min", "-"}, {"G_eq", "Pa"}, {"complete", "-"},
-      {"E_eq_less_drag", "Pa"}, {"damping_less_drag", "-"}};
+      {"E_eq_less_drag", "Pa"}, {"damping_less_drag", "-"},
+      {"sigma_v_max", "Pa"}, {"sigma_v_min", "Pa"}, {"M_eq", "Pa"}, {"damping_v", "-"}, {"K", "-"}};
   return cols;
 }
 // cycles.csv's columns in builds before gamma_max, before `complete` (their checkpoints hold rows this long; every
-// row they hold is a whole cycle: they wrote no other), and before the loops less the drag (those unknown: NaN)
-constexpr size_t kCycleColumnsNoShear = 11, kCycleColumnsNoComplete = 14, kCycleColumnsNoDrag = 15;
+// row they hold is a whole cycle: they wrote no other), before the loops less the drag, and before sigma_v's loop
+// (those unknown: NaN)
+constexpr size_t kCycleColumnsNoShear = 11, kCycleColumnsNoComplete = 14, kCycleColumnsNoDrag = 15,
+                 kCycleColumnsNoSigmaV = 17;
 constexpr size_t kCycleComplete = kCycleColumnsNoComplete;  // the index of `complete`: the first column after those
 
 namespace {
@@ -577,12 +583,30 @@ class Laboratory {
   }
   Real sv_end_ = 0;
   bool cyclic_turn(const StageConfig& sc, const Measure& m);
-  // A cyclic stage's controlled level x and its amplitude A: q (stress reversal) or eps_a (strain reversal).
-  // Stress reversal about the stage's q_0 (0 but after a K0 consolidation or a drained loading: Lab::q0).
+  // A cyclic stage's controlled level x and its amplitude A: q (stress reversal), sigma_v (an oedometric stage's stress
+  // reversal) or eps_a (strain reversal). Stress reversal about the stage's q_0 (0 but after a K0 consolidation or a
+  // drained loading: Lab::q0), or about its sigma_z,0 = p'_0 + 2 q_0 / 3 (start_stress: the measured sigma_z after a
+  // shear stage, to rounding).
   std::pair<Real, Real> cyclic_level(const StageConfig& sc, const Measure& m) const {
+    if (sc.sigma_v_reversal()) return {m.sz - start_stress(lab_.p0, lab_.q0).sz, sc.sigma_v_amplitude};
     return sc.stress_reversal() ? std::pair<Real, Real>{m.q - lab_.q0, q_amplitude(sc, lab_.pc)}
                                 : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
   }
+  // sigma_h / sigma_v of the walls, sigma_h = (sigma_x + sigma_y) / 2 (cycles.csv K; NaN without a vertical stress)
+  static Real lateral_ratio(const Measure& m) {
+    return m.sz > 0 ? Real(0.5) * (m.sx + m.sy) / m.sz : std::numeric_limits<Real>::quiet_NaN();
+  }
+  // A stress-reversal stage's controlled stress: its name, its level at the start (q_0 or sigma_z,0) and A
+  struct ReversalStress {
+    const char* name;
+    Real x0, A;
+  };
+  ReversalStress reversal_stress(const StageConfig& sc) const {
+    if (sc.sigma_v_reversal()) return {"sigma_v", start_stress(lab_.p0, lab_.q0).sz, sc.sigma_v_amplitude};
+    return {"q", lab_.q0, q_amplitude(sc, lab_.pc)};
+  }
+  // A stress-controlled cyclic stage (q or sigma_v), whose strain per half cycle only the run learns
+  static bool stress_controlled(const StageConfig& sc) { return sc.stress_reversal() || sc.sigma_v_reversal(); }
   // A stress-reversal stage's A: its q_amplitude, or 2 csr p'_c (StageConfig::csr) at the p'_c it started with.
   static Real q_amplitude(const StageConfig& sc, Real pc) { return sc.csr > 0 ? 2 * sc.csr * pc : sc.q_amplitude; }
   Real cycle_number(const StageConfig& sc, const Measure& m) const;
@@ -595,6 +619,8 @@ class Laboratory {
   // quarter cycle, or that cycle's mean quarter, was dynamic.
   void warn_dynamic_loops(const StageConfig& sc) const;
   void warn_dynamic_cycle(const StageConfig& sc, double quarter) const;
+  // An oedometric cyclic stage's closing line: the strain its cycles accumulated, and M_eq, D_v and K, first and last.
+  void print_ratcheting(const StageConfig& sc) const;
   // The stage's first complete cycle, ended at step `row_step` (its cycles.csv row's), over 4: in wave transits
   double quarter_transits(long row_step) const {
     const long start = eng_->step_count() - lab_.stage_step;
@@ -1016,9 +1042,9 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           e.params().contact.mu,
           e.params().contact.mu_r,
           // 0 isotropic, 1 triaxial undrained, 2 triaxial drained, 3 cyclic undrained, 4 cyclic drained, 5 triaxial
-          // oedometric (after the codes of older builds, so that their meaning stays)
+          // oedometric, 6 cyclic oedometric (after the codes of older builds, so that their meaning stays)
           sc.type == StageType::Isotropic        ? 0.0
-          : sc.drainage == Drainage::Oedometric ? 5.0
+          : sc.drainage == Drainage::Oedometric ? (sc.type == StageType::Cyclic ? 6.0 : 5.0)
                                                 : (sc.drainage == Drainage::Undrained ? 1.0 : 2.0) +
                                                       (sc.type == StageType::Cyclic ? 2.0 : 0.0),
           std::max(Real(0), e.deepest_overlap().ratio),
@@ -1220,17 +1246,18 @@ Real Laboratory::watch_cycle_number(const StageConfig& sc, const Measure& m) con
 void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, Real q_drag) {
   CycleLoop& L = lab_.loop;
   if (!L.open) {
-    L.start(m.q, m.eps_a, m.gamma, m.u, q_drag);
+    L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz);
   } else {
-    L.add(m.q, m.eps_a, m.gamma, m.u, q_drag);
+    L.add(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz);
     if (std::floor(N) > std::floor(L.n)) {
       // the step: the measure's (the loop's last instant), which the step after it has already counted
       lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count() - 1), L.q_max, L.q_min, L.e_max, L.e_min,
                                   L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.pc, L.g_max, L.g_min,
-                                  L.shear_modulus(), 1.0, L.modulus_less_drag(), L.damping_less_drag()});
+                                  L.shear_modulus(), 1.0, L.modulus_less_drag(), L.damping_less_drag(), L.sv_max,
+                                  L.sv_min, L.constrained_modulus(), L.damping_v(), lateral_ratio(m)});
       lab_.cycles.stage.push_back(lab_.stage);
-      L.start(m.q, m.eps_a, m.gamma, m.u, q_drag);
-      if (sc.stress_reversal() && std::count(lab_.cycles.stage.begin(), lab_.cycles.stage.end(), lab_.stage) == 1)
+      L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz);
+      if (stress_controlled(sc) && std::count(lab_.cycles.stage.begin(), lab_.cycles.stage.end(), lab_.stage) == 1)
         warn_dynamic_cycle(sc, quarter_transits(eng_->step_count() - 1));
     }
   }
@@ -1247,13 +1274,14 @@ void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn,
 void Laboratory::warn_dynamic_loops(const StageConfig& sc) const {
   const double quarter = double(lab_.stage_step) * eng_->dt();
   if (!(quarter < kQuasiStaticTransits * transit_)) return;
+  const ReversalStress r = reversal_stress(sc);
   std::fprintf(stderr,
-               "grainlab: warning: stage %s: the first quarter cycle (q = %.4g -> %.4g kPa) took %.3g ms, only %.3g times "
+               "grainlab: warning: stage %s: the first quarter cycle (%s = %.4g -> %.4g kPa) took %.3g ms, only %.3g times "
                "the ~%.3g ms a compression wave takes across the sample: the loops (cycles.csv) will measure its "
-               "inertia as well as the material, E_eq and D too high; below axial_strain_rate = %.3g/s (%g transits if "
+               "inertia as well as the material, %s and D too high; below axial_strain_rate = %.3g/s (%g transits if "
                "the sample strained as far; loaded slower it strains less)\n",
-               sc.name.c_str(), lab_.q0 / 1e3, (lab_.q0 + q_amplitude(sc, lab_.pc)) / 1e3, quarter * 1e3, quarter / transit_,
-               transit_ * 1e3,
+               sc.name.c_str(), r.name, r.x0 / 1e3, (r.x0 + r.A) / 1e3, quarter * 1e3, quarter / transit_,
+               transit_ * 1e3, sc.sigma_v_reversal() ? "M_eq" : "E_eq",
                sc.axial_strain_rate * quarter / (kQuasiStaticTransits * transit_), kQuasiStaticTransits);
 }
 
@@ -1264,14 +1292,37 @@ void Laboratory::warn_dynamic_loops(const StageConfig& sc) const {
 // the first cycle is complete, at the quarter summary.json reports (StageResult::quarter_transits).
 void Laboratory::warn_dynamic_cycle(const StageConfig& sc, double quarter) const {
   if (!(quarter < kQuasiStaticTransits)) return;
+  const ReversalStress r = reversal_stress(sc);
   std::fprintf(stderr,
-               "grainlab: warning: stage %s: the first cycle (q_amplitude %.4g kPa) took %.3g ms, its quarter only %.3g "
+               "grainlab: warning: stage %s: the first cycle (%s_amplitude %.4g kPa) took %.3g ms, its quarter only %.3g "
                "times the ~%.3g ms a compression wave takes across the sample (summary.json quarter_cycle_transits): "
                "its unloading and reloading are stiffer and quicker than the first quarter; the loops (cycles.csv) "
-               "measure the sample's inertia as well as the material, E_eq and D too high; below axial_strain_rate = "
+               "measure the sample's inertia as well as the material, %s and D too high; below axial_strain_rate = "
                "%.3g/s\n",
-               sc.name.c_str(), q_amplitude(sc, lab_.pc) / 1e3, 4 * quarter * transit_ * 1e3, quarter, transit_ * 1e3,
-               sc.axial_strain_rate * quarter / kQuasiStaticTransits);
+               sc.name.c_str(), r.name, r.A / 1e3, 4 * quarter * transit_ * 1e3, quarter, transit_ * 1e3,
+               sc.sigma_v_reversal() ? "M_eq" : "E_eq", sc.axial_strain_rate * quarter / kQuasiStaticTransits);
+}
+
+// The cyclic oedometer's result (cycles.csv, this stage's whole cycles): the permanent axial strain at the end of the
+// first and of the last cycle (eps_v there: the held lateral walls make it eps_a), the last cycle's increment (the rate
+// the strain still accumulates at: ratcheting where it stays constant, shakedown where it falls to nothing), and the
+// first and last cycle's M_eq, D_v and K (the lateral stress the cycles leave at sigma_v,0).
+void Laboratory::print_ratcheting(const StageConfig& sc) const {
+  const size_t kE = column_of(cycle_columns(), "eps_v"), kM = column_of(cycle_columns(), "M_eq"),
+               kD = column_of(cycle_columns(), "damping_v"), kK = column_of(cycle_columns(), "K");
+  std::vector<const std::vector<double>*> rows;
+  for (size_t k = 0; k < lab_.cycles.rows.size(); ++k)
+    if (lab_.cycles.stage[k] == lab_.stage && lab_.cycles.rows[k][kCycleComplete] == 1.0)
+      rows.push_back(&lab_.cycles.rows[k]);
+  if (rows.empty()) return;
+  const auto& a = *rows.front();
+  const auto& b = *rows.back();
+  const double last = rows.size() > 1 ? b[kE] - (*rows[rows.size() - 2])[kE] : b[kE];
+  std::printf("stage %s: cyclic oedometer: permanent eps_a %.4g %% after cycle 1, %.4g %% after cycle %zu (the last "
+              "cycle's %.3g %%); M_eq %.4g -> %.4g MPa, D_v %.4f -> %.4f, K = sigma_h/sigma_v at sigma_v,0 %.4f -> %.4f "
+              "(cycles.csv)\n",
+              sc.name.c_str(), 100 * a[kE], 100 * b[kE], rows.size(), 100 * last, a[kM] / 1e6, b[kM] / 1e6, a[kD], b[kD],
+              a[kK], b[kK]);
 }
 
 // The run stops where a sphere-sphere overlap passes numerics.max_overlap (assert_healthy). Past three quarters of it,
@@ -1359,6 +1410,16 @@ void Laboratory::start_stage(const StageConfig& sc) {
     }
   }
   lab_.started = true;
+  // The cyclic oedometer's unloading half cycle to sigma_v,0 - A (config.cpp refuses an A past a sigma_v,0 it can
+  // read from the stage before; here the measured one, after a stage that ends elsewhere)
+  const ReversalStress r = reversal_stress(sc);
+  if (sc.type == StageType::Cyclic && sc.sigma_v_reversal() && !(r.A < r.x0)) {
+    std::ostringstream os;
+    os << std::setprecision(4) << "stage '" << sc.name << "': sigma_v_amplitude = " << r.A / 1e3
+       << " kPa reaches below zero from the vertical stress the cycles start from, sigma_v,0 = " << r.x0 / 1e3
+       << " kPa: give an amplitude below it";
+    stop_run(os.str());
+  }
 }
 
 void Laboratory::place_lateral_walls() {
@@ -1610,7 +1671,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // A damped cyclic stage's loops less the drag want the drag of every step's kick: the step measures it.
     const bool loop_drag = cyclic && sc.damping > 0;
     Real q_drag = 0;
-    if (turn && lab_.half_cycles == 1 && sc.stress_reversal()) warn_dynamic_loops(sc);
+    if (turn && lab_.half_cycles == 1 && stress_controlled(sc)) warn_dynamic_loops(sc);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
     const bool snap =
         shear && cfg_.snapshot_strain > 0 && (cyclic ? turn : strain_along(sc, m0.eps_a) >= lab_.next_snap_eps);
@@ -1735,7 +1796,8 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     if (L.open && (L.e_max > L.e_min || L.q_max > L.q_min)) {
       lab_.cycles.rows.push_back({std::floor(L.n) + 1, double(final_step), L.q_max, L.q_min, L.e_max, L.e_min,
                                   L.modulus(), std::nan(""), m.p, m.eps_v, L.u_max / lab_.pc, L.g_max, L.g_min,
-                                  L.shear_modulus(), 0.0, L.modulus_less_drag(), std::nan("")});
+                                  L.shear_modulus(), 0.0, L.modulus_less_drag(), std::nan(""), L.sv_max, L.sv_min,
+                                  L.constrained_modulus(), std::nan(""), lateral_ratio(m)});
       lab_.cycles.stage.push_back(lab_.stage);
     }
   }
@@ -1804,7 +1866,11 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     if (sc.type == StageType::Cyclic && sc.stress_reversal())
       std::printf("stage %s: q = %.4g +- %.4g kPa, CSR = %.4g of p'_c = %.4g kPa\n", sc.name.c_str(), lab_.q0 / 1e3,
                   q_amplitude(sc, lab_.pc) / 1e3, q_amplitude(sc, lab_.pc) / (2 * lab_.pc), lab_.pc / 1e3);
-    if (sc.type == StageType::Cyclic) {
+    if (sc.type == StageType::Cyclic && sc.sigma_v_reversal())
+      std::printf("stage %s: sigma_v = %.4g +- %.4g kPa\n", sc.name.c_str(), reversal_stress(sc).x0 / 1e3,
+                  sc.sigma_v_amplitude / 1e3);
+    if (sc.type == StageType::Cyclic && sc.drainage == Drainage::Oedometric) print_ratcheting(sc);
+    if (sc.type == StageType::Cyclic && sc.drainage != Drainage::Oedometric) {
       auto at = [](Real n) {
         char b[48];
         std::snprintf(b, sizeof(b), "met at N = %.4g", n);
@@ -2267,9 +2333,10 @@ bool Laboratory::load_newest_checkpoint() {
         lab.cycles.stage = r.ints("/lab/cycles_stage");
         const size_t nrows = lab.cycles.stage.size(), cc = cycle_columns().size();
         // 11 columns in a checkpoint from before gamma: its cycles' gamma extremes and G_eq are not known (NaN); 14
-        // from before `complete`: every row whole; 15 from before the loops less the drag (NaN)
+        // from before `complete`: every row whole; 15 from before the loops less the drag, 17 from before sigma_v's
+        // loop (NaN)
         size_t cc_read = cc;
-        for (const size_t older : {kCycleColumnsNoShear, kCycleColumnsNoComplete, kCycleColumnsNoDrag})
+        for (const size_t older : {kCycleColumnsNoShear, kCycleColumnsNoComplete, kCycleColumnsNoDrag, kCycleColumnsNoSigmaV})
           if (nrows > 0 && cflat.size() == nrows * older) cc_read = older;
         if (cflat.size() != nrows * cc_read) throw H5Error(path + ": cycle rows have the wrong size (corrupt?)");
         for (size_t k = 0; k < nrows; ++k) {
@@ -2479,6 +2546,9 @@ void Laboratory::write_summary() const {
     // a stress reversal's amplitude and its cyclic stress ratio A / (2 p'_c), whichever of them the config gave
     if (sc.stress_reversal())
       js << ", \"q_amplitude\": " << num(q_amplitude(sc, r.pc)) << ", \"csr\": " << num(q_amplitude(sc, r.pc) / (2 * r.pc));
+    // an oedometric stress reversal's: the amplitude and the sigma_v,0 it reversed about
+    if (sc.type == StageType::Cyclic && sc.sigma_v_reversal())
+      js << ", \"sigma_v_amplitude\": " << num(sc.sigma_v_amplitude) << ", \"sigma_v_0\": " << num(start_stress(r.p0, r.q0).sz);
     if (sc.type == StageType::Isotropic) js << ", \"e_inner\": " << num(r.e_inner) << ", \"e_core\": " << num(r.e_core);
     js << "}";
   }
@@ -2932,10 +3002,12 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
             << double(sc.max_steps) * strain_step << "; raise max_steps (or axial_strain_rate)";
           warn(w.str());
         }
-      } else if (sc.stress_reversal()) {
+      } else if (sc.stress_reversal() || sc.sigma_v_reversal()) {
         // Stress reversal: how far each half cycle strains depends on the sample (more as p' falls).
-        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of q = +-";
-        if (sc.csr > 0) os << "2 x " << sc.csr << " p'_c";
+        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of "
+           << (sc.sigma_v_reversal() ? "sigma_v = sigma_v,0 +- " : "q = +-");
+        if (sc.sigma_v_reversal()) os << sc.sigma_v_amplitude / 1e3 << " kPa (the lateral walls held)";
+        else if (sc.csr > 0) os << "2 x " << sc.csr << " p'_c";
         else os << sc.q_amplitude / 1e3 << " kPa";
         os << " at "
            << sc.axial_strain_rate << "/s, or until |eps_a| = " << sc.max_axial_strain << ", mu = " << sc.mu
@@ -2973,7 +3045,8 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
           warn(w.str());
         }
       }
-      if (sc.type == StageType::Cyclic && sc.liquefaction_da_strain >= 2 * sc.max_axial_strain) {
+      if (sc.type == StageType::Cyclic && sc.drainage != Drainage::Oedometric &&
+          sc.liquefaction_da_strain >= 2 * sc.max_axial_strain) {
         // (config.cpp refuses such a value given; this is the default, 5 %, against a small max_axial_strain)
         std::ostringstream w;
         w << std::setprecision(4) << "liquefaction_da_strain = " << sc.liquefaction_da_strain

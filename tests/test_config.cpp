@@ -358,9 +358,30 @@ TEST(Config, RejectsBadInputClearly) {
       {"path_bad", "stages:\n  - {type: triaxial, drainage: drained, stress_path: constant_q}\n", "stages[0].stress_path"},
       {"path_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, stress_path: constant_p}\n",
        "stages[0].stress_path: unknown key"},
-      // the oedometric (K0) test: lateral walls held, on a triaxial stage only; b and constant_p set lateral stresses
+      // the oedometric (K0) test: lateral walls held; b and constant_p set lateral stresses. The cyclic oedometer
+      // reverses at sigma_v,0 +- sigma_v_amplitude (or a strain), a triaxial cycle at q: each refuses the other's
       {"oed_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, drainage: oedometric}\n",
-       "stages[0].drainage = oedometric is for triaxial stages"},
+       "stages[0].q_amplitude: reverses a triaxial cycle at a deviator stress, and this stage is oedometric (its lateral "
+       "walls held): an oedometric cycle reverses at sigma_v_amplitude (Pa, > 0: sigma_v,0 +- A) or strain_amplitude"},
+      {"oed_cyc_csr", "stages:\n  - {type: cyclic, csr: 0.1, drainage: oedometric}\n",
+       "stages[0].csr: reverses a triaxial cycle at a deviator stress"},
+      {"oed_cyc_sv_tri", "stages:\n  - {type: cyclic, sigma_v_amplitude: 3e4, drainage: drained}\n",
+       "stages[0].sigma_v_amplitude = 30000 reverses an oedometric cycle, and this stage is drained: give drainage: "
+       "oedometric, or q_amplitude / csr for a triaxial cycle"},
+      {"oed_cyc_none", "stages:\n  - {type: cyclic, drainage: oedometric}\n",
+       "stages[0].sigma_v_amplitude: an oedometric cyclic stage reverses at exactly one of sigma_v_amplitude (Pa, > 0: "
+       "sigma_v,0 +- A) or strain_amplitude (> 0: strain reversal); this one gives neither"},
+      {"oed_cyc_both", "stages:\n  - {type: cyclic, drainage: oedometric, sigma_v_amplitude: 3e4, strain_amplitude: "
+       "0.001}\n", "this one gives strain_amplitude and sigma_v_amplitude"},
+      {"oed_cyc_sv_tri_key", "stages:\n  - {type: triaxial, drainage: oedometric, sigma_v_amplitude: 3e4}\n",
+       "stages[0].sigma_v_amplitude: unknown key"},
+      // sigma_v,0 - A must stay a compression where the stage before gives sigma_v,0
+      {"oed_cyc_deep", "stages:\n  - {type: isotropic, pressure: 1e5}\n  - {type: triaxial, drainage: oedometric, "
+       "sigma_v: 2e5}\n  - {type: cyclic, drainage: oedometric, sigma_v_amplitude: 2e5}\n",
+       "stages[2].sigma_v_amplitude = 200000 must be below the vertical stress the cycles start from, 200000 Pa "
+       "(stages[1]'s sigma_v): sigma_v,0 - A would be no compression"},
+      {"oed_cyc_deep_iso", "stages:\n  - {type: isotropic, pressure: 1e5}\n  - {type: cyclic, drainage: oedometric, "
+       "sigma_v_amplitude: 1.5e5}\n", "(stages[0]'s pressure)"},
       {"oed_b", "stages:\n  - {type: triaxial, drainage: oedometric, b: 0.5}\n",
        "stages[0].b = 0.5 needs a drained compression stage (here oedometric)"},
       {"oed_path", "stages:\n  - {type: triaxial, drainage: oedometric, stress_path: constant_p}\n",

@@ -2502,6 +2502,86 @@ TEST(Lab, CyclicDrainedHoldsSigma3AndResumesBitwise) {
   }
 }
 
+// The cyclic oedometer: the reference sample loaded oedometrically to sigma_v = 250 kPa, then 2 cycles of sigma_v =
+// sigma_v,0 +- 40 kPa with the lateral walls held. Every row is stage_type 6 in the cycles and eps_v = eps_a (no
+// lateral wall moved: kStrainTol, the rows' 12 digits). The axial walls turn on the first step that finds sigma_z past
+// sigma_v,0 +- A, so each cycle's sigma_v extremes (cycles.csv) lie past the amplitude, by what sigma_z moves in a few
+// steps after the turn (the walls' stress follows their reversed velocity through the wall contacts' response):
+// kPeakTol 1 % of A (measured 0.1 %: printed). At 0.5/s a quarter cycle is ~8 wave transits (1/s is warned of). The loop's M_eq is its extremes' ratio, and it exceeds E_eq (the lateral stress
+// rises with sigma_v, so q swings by less than sigma_v); K = sigma_h / sigma_v is an earth pressure at rest's (0.3 to
+// 1.2). summary.json's sigma_v_0 is the load stage's last sigma_z (p'_0 + 2 q_0 / 3 of the measure: 1e-9). Stopped in
+// the second cycle and resumed: series, cycles.csv and summary.json byte for byte. A first stage that cycles the
+// sample file's 190 kPa by 300 kPa (no stage before it to tell the config) stops at its start, naming both.
+TEST(Lab, ACyclicOedometerReversesAtSigmaVAndResumesBitwise) {
+  const double kStrainTol = 1e-12, kPeakTol = 0.01, A = 40e3;
+  const std::string cfg = on_reference("cyc_oed",
+                                       "  - {name: load, type: triaxial, drainage: oedometric, sigma_v: 250e3, "
+                                       "axial_strain_rate: 1.0, damping: 0.2}\n"
+                                       "  - {name: cyc, type: cyclic, drainage: oedometric, sigma_v_amplitude: 40e3, "
+                                       "cycles: 2, axial_strain_rate: 0.5, damping: 0.2}\n",
+                                       20);
+  const std::string direct = tmpdir("cyc_oed"), stopped = tmpdir("cyc_oed_stopped");
+  const RunResult r = run(cfg, direct);
+  ASSERT_EQ(r.stages.size(), 2u);
+  ASSERT_TRUE(r.stages[1].converged);
+  EXPECT_EQ(r.stages[1].cycle, 2.0);
+  H5Reader h(direct + "/run.h5");
+  const auto ea = h.doubles("/series/eps_a"), ev = h.doubles("/series/eps_v"), st = h.doubles("/series/stage_type"),
+             sz = h.doubles("/series/sigma_z");
+  size_t first = 0;  // the cycles' first row
+  while (first < st.size() && st[first] != 6.0) ++first;
+  ASSERT_LT(first + 50, st.size());
+  for (size_t k = first; k < st.size(); ++k) {
+    EXPECT_EQ(st[k], 6.0) << "row " << k;
+    EXPECT_NEAR(ev[k], ea[k], kStrainTol) << "row " << k << ": a lateral wall moved";
+  }
+  const std::string summary = slurp(direct + "/summary.json");
+  const YAML::Node sum = YAML::Load(summary);
+  const double sv0 = sum["stages"][1]["sigma_v_0"].as<double>();
+  EXPECT_EQ(sum["stages"][1]["sigma_v_amplitude"].as<double>(), A);
+  EXPECT_NEAR(sv0, sz[first - 1], 1e-9 * sv0) << "the load stage's last sigma_z";
+  EXPECT_EQ(sum["stages"][1]["drainage"].as<std::string>(), "oedometric");
+  const std::string cyc = slurp(direct + "/cycles.csv");
+  const auto svmax = csv_column(cyc, "sigma_v_max"), svmin = csv_column(cyc, "sigma_v_min"), M = csv_column(cyc, "M_eq"),
+             E = csv_column(cyc, "E_eq"), emax = csv_column(cyc, "eps_a_max"), emin = csv_column(cyc, "eps_a_min"),
+             D = csv_column(cyc, "damping_v"), K = csv_column(cyc, "K"), done = csv_column(cyc, "complete");
+  ASSERT_EQ(svmax.size(), 2u) << cyc;
+  for (size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k);
+    const double hi = std::stod(svmax[k]), lo = std::stod(svmin[k]), m = std::stod(M[k]);
+    std::printf("  cycle %zu: sigma_v in [%.5g, %.5g] kPa about %.5g +- %.3g, M_eq %.4g MPa, E_eq %.4g MPa, D_v %.4f, "
+                "K %.4f\n", k + 1, lo / 1e3, hi / 1e3, sv0 / 1e3, A / 1e3, m / 1e6, std::stod(E[k]) / 1e6,
+                std::stod(D[k]), std::stod(K[k]));
+    EXPECT_EQ(done[k], "1");
+    EXPECT_GE(hi, sv0 + A);
+    EXPECT_LT(hi, sv0 + A + kPeakTol * A);
+    EXPECT_LE(lo, sv0 - A);
+    EXPECT_GT(lo, sv0 - A - kPeakTol * A);
+    EXPECT_NEAR(m, (hi - lo) / (std::stod(emax[k]) - std::stod(emin[k])), 1e-9 * m);
+    EXPECT_GT(m, std::stod(E[k]));
+    EXPECT_GT(std::stod(D[k]), 0.0);
+    EXPECT_GT(std::stod(K[k]), 0.3);
+    EXPECT_LT(std::stod(K[k]), 1.2);
+  }
+  ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps + r.stages[1].steps * 3 / 4).interrupted);
+  ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(direct + "/series.csv"));
+  EXPECT_EQ(slurp(stopped + "/cycles.csv"), cyc);
+  EXPECT_EQ(slurp(stopped + "/summary.json"), summary);
+  const std::string deep = tmpdir("cyc_oed_deep");
+  std::string what;
+  try {
+    run(on_reference("cyc_oed_deep", "  - {name: cyc, type: cyclic, drainage: oedometric, sigma_v_amplitude: 300e3}\n", 20),
+        deep);
+  } catch (const BlowUpError& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("stage 'cyc': sigma_v_amplitude = 300 kPa reaches below zero from the vertical stress the cycles "
+                      "start from, sigma_v,0 = "),
+            std::string::npos)
+      << what;
+}
+
 // A cyclic run whose checkpoint an older grainlab wrote, before cycles.csv had gamma and G_eq (a 10-number cycle loop,
 // 11-column cycle rows), resumes to the uninterrupted run's series and cycles.csv but for what that checkpoint could
 // not hold: the gamma extremes and G_eq of the finished cycle and of the cycle under way are "nan" (not a modulus over
