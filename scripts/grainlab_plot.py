@@ -1674,8 +1674,9 @@ def across_values_section(out, idx, heads):
     ratio of SHANSEP and of the CAU against CIU comparison), beside the OCR the stage before it left (summary.json's, an
     oedometric unloading's). Per mu_r, over three undrained tests or more at two OCRs or more, SHANSEP's s_u /
     sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms (per E too, over the E axis). Empty without
-    such a test."""
-    rows, shansep = [], {}
+    such a test. Cyclic oedometer tests get a table of their own (cyclic_oedometer_rows): the strain their cycles
+    accumulate against the amplitude."""
+    rows, shansep, coed_rows = [], {}, []
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
         if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
@@ -1689,6 +1690,9 @@ def across_values_section(out, idx, heads):
         st = stages[k_st]
         ocr = stages[k_st - 1].get("OCR") if k_st > 0 else None  # an oedometric stage's, the one before the shear
         s = load(d)
+        if s["cyclic_oedometric"].any():
+            coed_rows += cyclic_oedometer_rows(j, d, s, heads[j["name"]])
+            continue
         m = s["stage"] == st["name"]
         if st.get("type") != "triaxial" or not m.any():
             continue
@@ -1707,8 +1711,10 @@ def across_values_section(out, idx, heads):
                     f"{number_text(float(ocr) if ocr is not None else None, '.3g')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
                     f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | "
                     f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
+    coed_lines = (["Cyclic oedometer tests (each value's section below has them too). " + CYCLIC_OEDOMETER_TEXT, "",
+                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 13 + "|", *coed_rows, ""] if coed_rows else [])
     if not rows:
-        return []
+        return ["## Across the values", "", *coed_lines] if coed_rows else []
     fits = []
     several_E = len({E for E, _ in shansep}) > 1  # the E axis too: a fit per E (the stiffness moves the swelling)
     for (E, mu_r), pts in sorted(shansep.items()):
@@ -1730,7 +1736,7 @@ def across_values_section(out, idx, heads):
             "|---|---|---|---|---|---|---|---|---|", *rows, "",
             *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error.", "",
-               "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else [])]
+               "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []), *coed_lines]
 
 
 def across_gradings_section(out, idx, figs):
@@ -1817,8 +1823,10 @@ def study_lines(out, idx, figs_rel, fits=None):
     # Peaks and critical states: the monotonic shears; cyclic ones have their own section.
     mono = [r for r in runs if r[2]["monotonic"].any()]
     # strain_amplitude axis: the modulus-reduction section; the other cyclic tests: the liquefaction section
-    amp = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) > 0]
-    cyc = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) <= 0]
+    # (cyclic oedometers, lateral walls held: neither a modulus-reduction nor a liquefaction test; their own section)
+    coed = [r for r in runs if r[2]["cyclic_oedometric"].any()]
+    amp = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) > 0 and r not in coed]
+    cyc = [r for r in runs if r[2]["cyclic"].any() and r[0].get("strain_amplitude", 0) <= 0 and r not in coed]
     oed = [r for r in runs if r[2]["oedometric"].any()]  # K0 tests: their own section
     peak = peak_settings(idx)  # how the peaks are taken (the study's peak block)
     peak_lines, cs_rows, share_rows, peak_I, cs_ok = [], [], [], [], []
@@ -1874,6 +1882,9 @@ def study_lines(out, idx, figs_rel, fits=None):
     if amp:
         cyc_lines += modulus_section(amp, idx.get("strain_stage", ""), figs)
         more_figs.append("`figures/modulus_reduction.png`")
+    if coed:
+        cyc_lines += cyclic_oedometer_section(coed, figs)
+        more_figs.append("`figures/cyclic_oedometer.png`")
     # Shares at critical state, per mu_r, direction and rate (mean over its critical states), as the critical-state
     # lines are grouped: compression and extension need not share the stress ratio out alike between fabric and
     # forces, and a rate series must show how the shares move with I, not pool them.
@@ -1897,7 +1908,7 @@ def study_lines(out, idx, figs_rel, fits=None):
     head = [f"# Study report: {idx['study']}", "",
             f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
             ""]
-    if (cyc or amp or oed) and not mono:  # a cyclic or K0 study: peaks and critical states are those of monotonic shears
+    if (cyc or amp or oed or coed) and not mono:  # a cyclic or K0 study: peaks and critical states are those of monotonic shears
         lines = (head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + more_figs) + ".", ""]
                  + samples_section(out, idx["jobs"], idx.get("samples")) + comp_lines
                  + oed_lines + cyc_lines + size_classes.report_section(size_tests(out, runs)))
@@ -2817,6 +2828,53 @@ CYCLIC_CONDITIONS = (("e0", lambda v: f"e0 {v:g}" if v else "e0 base"),
                      ("drainage", str),
                      ("count", lambda v: f"{v:g} spheres" if v else "base count"),
                      ("axial_strain_rate", lambda v: f"{v:g}/s" if v else "base rate"))
+
+
+def cyclic_oedometer_rows(j, d, s, head=None):
+    """A study test's cyclic oedometer stages as report rows (oedometer_cycles, summary.json): its section value where
+    head is given, then the test, stage, sigma_v,0 and the amplitude (and its ratio), the cycles done, the permanent
+    axial strain after the first and the last cycle and the last cycle's increment, M_eq, D_v and K of the first and the
+    last cycle, the first cycle's quarter in wave transits."""
+    try:
+        with open(os.path.join(d, "summary.json")) as f:
+            summ = {st["name"]: st for st in json.load(f).get("stages", [])}
+    except (OSError, ValueError, KeyError, TypeError):
+        summ = {}
+    rows = []
+    for name, c in oedometer_cycles(d, s).items():
+        st = summ.get(name, {})
+        sv0, A = st.get("sigma_v_0"), st.get("sigma_v_amplitude")
+        amp = f"{A / 1e3:.1f} ({A / sv0:.2f})" if A and sv0 else "strain"
+        last = c["eps"][-1] - (c["eps"][-2] if len(c["eps"]) > 1 else 0)
+        qt = st.get("quarter_cycle_transits")
+        dyn = "" if qt is None or qt >= QUASI_STATIC_TRANSITS else " (dynamic)"
+        rows.append(("" if head is None else f"| {head} ") +
+                    f"| {j['name']} | {name} | {number_text(sv0 / 1e3 if sv0 else None, '.1f')} | {amp} | "
+                    f"{int(c['N'][-1])} | {c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {last:.4f} | "
+                    f"{c['M'][0]:.1f} → {c['M'][-1]:.1f} | {c['D'][0]:.3f} → {c['D'][-1]:.3f} | "
+                    f"{c['K'][0]:.3f} → {c['K'][-1]:.3f} | {number_text(qt, '.2f')}{dyn} |")
+    return rows
+
+
+CYCLIC_OEDOMETER_TEXT = (
+    "The lateral walls held, sigma_v = sigma_z of the walls reversing at sigma_v,0 ± A (the stage's sigma_v_amplitude; "
+    "sigma_v,0 where the stage began, summary.json) or eps_a at ± strain_amplitude. Per whole cycle (cycles.csv): the "
+    "permanent axial strain at its end (eps_v there: the held walls make it eps_a), the last cycle's increment (a "
+    "constant one is ratcheting, one falling to nothing shakedown), the constrained modulus M_eq = (sigma_v,max - "
+    "sigma_v,min) / (eps_max - eps_min) and damping ratio D_v of the sigma_v - eps_a loop (the first cycle's is not "
+    "closed: its plastic strain counts as area), and K = sigma_h / sigma_v at the cycle's end (at sigma_v,0: the "
+    "lateral stress the cycles lock in); first → last cycle. The quarter cycle in wave transits as the liquefaction "
+    "table's (below 4: dynamic).")
+CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_v,0) | cycles | eps_a after 1 [%] | "
+                         "after the last [%] | last cycle's [%] | M_eq [MPa] | D_v | K | quarter cycle [transits] |")
+
+
+def cyclic_oedometer_section(coed, figs):
+    """Cyclic oedometer tests of a study (cyclic_oedometer_rows) and figures/cyclic_oedometer.png."""
+    rows = [r for j, d, s in coed for r in cyclic_oedometer_rows(j, d, s)]
+    fig_cyclic_oedometer([(d, s) for _, d, s in coed], figs)
+    return ["## Cyclic oedometer tests", "", CYCLIC_OEDOMETER_TEXT + " Figure: `figures/cyclic_oedometer.png`.", "",
+            CYCLIC_OEDOMETER_HEAD, "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def cyclic_section(cyc, figs, colors, fits=None):
