@@ -161,7 +161,7 @@ size_t series_column(const char* name) { return column_of(series_columns(), name
 // loop's extremes, moduli, p', eps_v and r_u as far as it went, its damping NaN (an open path has no loop area);
 // then E_eq and D of the walls' q less the local damping's drag (CycleLoop; equal to E_eq and D without damping);
 // then the walls' vertical stress sigma_v = sigma_z: its extremes, the constrained modulus M_eq and the damping ratio
-// D_v of its loop (CycleLoop: the cyclic oedometer's; a triaxial cycle under a constant sigma_3 has q's again), and K =
+// D_v of its loop (CycleLoop: the cyclic oedometer's, its area about the cycle's first sigma_v), and K =
 // sigma_h / sigma_v at the row's instant, sigma_h = (sigma_x + sigma_y) / 2 (at the end of an oedometric cycle, sigma_v
 // back at sigma_v,0: the coefficient of earth pressure the cycles leave). Each group after the columns of older builds, so that a script that reads them by position still does.
 const std::vector<std::pair<std::string, std::string>>& cycle_columns() {

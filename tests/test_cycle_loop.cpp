@@ -129,32 +129,41 @@ TEST(CycleLoop, OldStateLeavesTheOpenCyclesValuesLessTheDragUnknown) {
   EXPECT_DOUBLE_EQ(b.modulus_less_drag(), (1e3 - 1e2) / 1e-4);
 }
 
-// The cyclic oedometer's loop: sigma_v = S0 + S sin(t) about a mean S0, eps = E sin(t - phi), and q the part of it
-// the held lateral walls do not take (q = 0.6 (sigma_v - S0) here, K = 0.4 on the increments). M_eq = S / E and D_v =
-// sin(phi) / 2 as the ellipse's (1e-4, the sampled extremes' error above), whatever the mean S0: the trapezoids of a
-// closed loop sum S0 (eps_end - eps_start) = 0 of it, to rounding against S0's 200 kPa (1e-9 of D). q's loop is q's own:
-// E_eq = 0.6 M_eq to rounding.
+// The cyclic oedometer's loop: sigma_v = S0 + S sin(t) about a mean S0, eps = E sin(t - phi) + drift t / (2 pi), and q
+// the part of it the held lateral walls do not take (q = 0.6 (sigma_v - S0) here, K = 0.4 on the increments). Closed
+// (drift 0): M_eq = S / E and D_v = sin(phi) / 2 as the ellipse's (1e-4, the sampled extremes' error above), and q's
+// D, whatever S0. Open (a permanent strain of E / 2 a cycle): D_v is the same at S0 = 0 and 200 kPa (1e-12: the area
+// is taken about the cycle's first sigma_v, S0 here), where the plain integral of sigma_v d eps_a would add S0 E / 2,
+// 60x the loop's area. q's loop is q's own: E_eq = 0.6 M_eq to rounding.
 TEST(CycleLoop, VerticalStressLoopIsTheOedometers) {
-  for (double S0 : {0.0, 200e3}) {
-    SCOPED_TRACE(S0);
-    const double S = 40e3, E = 1e-3, phi = 0.3;
-    const int n = 1000;
+  const double S = 40e3, E = 1e-3, phi = 0.3;
+  const int n = 1000;
+  const auto loop = [&](double S0, double drift) {
     CycleLoop L;
     L.start(0, E * std::sin(-phi), 0, 0, 0, S0);
     for (int k = 1; k <= n; ++k) {
       const double t = 2 * M_PI * k / n;
-      L.add(0.6 * S * std::sin(t), E * std::sin(t - phi), 0, 0, 0, S0 + S * std::sin(t));
+      L.add(0.6 * S * std::sin(t), E * std::sin(t - phi) + drift * k / n, 0, 0, 0, S0 + S * std::sin(t));
     }
+    return L;
+  };
+  for (double S0 : {0.0, 200e3}) {
+    SCOPED_TRACE(S0);
+    const CycleLoop L = loop(S0, 0);
     EXPECT_NEAR(L.damping_v(), std::sin(phi) / 2, 1e-4);
     EXPECT_NEAR(L.damping_v(), L.damping(), 1e-9);
     EXPECT_NEAR(L.constrained_modulus() / (S / E), 1.0, 1e-4);
     EXPECT_NEAR(L.modulus() / L.constrained_modulus(), 0.6, 1e-12);
     EXPECT_NEAR(L.sv_max, S0 + S, 1e-6 * S);
   }
+  const CycleLoop open0 = loop(0, E / 2), open = loop(200e3, E / 2);
+  EXPECT_NEAR(open.damping_v(), open0.damping_v(), 1e-12);
+  EXPECT_GT(open.damping_v(), 0);
+  EXPECT_LT(open.damping_v(), 2 / M_PI);
 }
 
 // A checkpoint from before sigma_v's loop holds the first 16 numbers: the open cycle's M_eq and D_v are unknown (NaN),
-// q's loop goes on; the next cycle has them again. The whole state round-trips (the 20 numbers).
+// q's loop goes on; the next cycle has them again. The whole state round-trips (the 21 numbers).
 TEST(CycleLoop, OldStateLeavesTheOpenCyclesVerticalLoopUnknown) {
   CycleLoop a;
   a.start(0, 0, 0, 0, 0, 1e5);
