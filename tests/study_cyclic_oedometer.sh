@@ -3,9 +3,10 @@
 # oedometrically to sigma_v = 200 kPa, then cycles sigma_v about it with the lateral walls held; a stage axis over
 # sigma_v_amplitude (20 and 60 kPa), one shear each. The report's tables (across the values, and each value's section)
 # are recomputed from each job's cycles.csv and summary.json (the permanent strain after the first and the last cycle,
-# the last cycle's increment, M_eq, D_v, K first and last, sigma_v,0 and A); every whole cycle's sigma_v extremes lie
+# its increment early and late: cycle 2's and 3's of 3, M_eq, D_v, K first and last, sigma_v,0 and A); every whole cycle's sigma_v extremes lie
 # at or past sigma_v,0 +- A; neither the liquefaction nor the modulus-reduction section takes these tests; `grainlab
-# plot` of one job draws figures/cyclic_oedometer.png and no modulus_damping.png (not a modulus-reduction test).
+# plot`'s figures of one job (its two cycle figures, called as plot calls them: the whole plot takes 10 s) draw
+# cyclic_oedometer.png and no modulus_damping.png (not a modulus-reduction test).
 set -u
 bin=$1; work=$2
 fail() { echo "study_cyclic_oedometer: $*"; exit 1; }
@@ -49,7 +50,7 @@ for A in (20000, 60000):
     f = lambda r, k, s=1.0: s * float(r[k])
     eps = [f(r, "eps_v", 100) for r in rows]
     want = (f"| {name} | cyc | {sv0 / 1e3:.1f} | {A / 1e3:.1f} ({A / sv0:.2f}) | 3 | {eps[0]:.3f} | {eps[-1]:.3f} | "
-            f"{eps[-1] - eps[-2]:.4f} | {f(rows[0], 'M_eq', 1e-6):.1f} → {f(rows[-1], 'M_eq', 1e-6):.1f} | "
+            f"{eps[1] - eps[0]:.4f} (2–2) → {eps[2] - eps[1]:.4f} (3–3) | {f(rows[0], 'M_eq', 1e-6):.1f} → {f(rows[-1], 'M_eq', 1e-6):.1f} | "
             f"{f(rows[0], 'damping_v'):.3f} → {f(rows[-1], 'damping_v'):.3f} | {f(rows[0], 'K'):.3f} → {f(rows[-1], 'K'):.3f} | ")
     hits = [l for l in report if want in l]
     # once in the value's section, once across the values (after its section column)
@@ -57,7 +58,17 @@ for A in (20000, 60000):
     assert any(l.startswith(f"| cyc.sigma_v_amplitude = {A} | {name} |") for l in hits), hits
 PY
 job=st/jobs/shear_oedometric_mur0_ebase_pbase_s3_n300_cyc-sigma_v_amplitude60000/run
-plot=$("$bin" plot "$job" --out figs 2>&1) || fail "plot failed: $plot"
+scripts=$(dirname "$0")/../scripts
+plot=$(MPLBACKEND=Agg "${GRAINLAB_PYTHON:-/usr/bin/python3}" - "$scripts" "$job" figs <<'PY' 2>&1
+import os, sys
+sys.path.insert(0, sys.argv[1])
+import grainlab_plot as g
+runs = [(sys.argv[2], g.load(sys.argv[2]))]
+os.makedirs(sys.argv[3], exist_ok=True)
+g.fig_cyclic_oedometer(runs, sys.argv[3])
+g.fig_modulus_damping(runs, sys.argv[3])
+PY
+) || fail "the plot's figures failed: $plot"
 [ -f figs/cyclic_oedometer.png ] || fail "plot drew no cyclic_oedometer.png: $plot"
 [ ! -f figs/modulus_damping.png ] || fail "plot drew modulus_damping.png of a cyclic oedometer"
 echo "study_cyclic_oedometer: ok"
