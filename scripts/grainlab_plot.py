@@ -709,7 +709,8 @@ def oedometer_cycles(run, s):
     for st in stages:
         rs = [r for r in rows if r["stage"] == st]
         if rs:
-            col = lambda k, scale=1.0: np.array([scale * float(r[k]) for r in rs])
+            def col(k, scale=1.0, rs=rs):
+                return np.array([scale * float(r[k]) for r in rs])
             out[st] = dict(N=col("cycle"), eps=col("eps_v", 100.0), M=col("M_eq", 1e-6), D=col("damping_v"), K=col("K"))
     return out
 
@@ -2863,7 +2864,10 @@ def cycle_increments(eps):
     if n < 3:
         return f"{eps[-1] - (eps[-2] if n > 1 else 0):.4f} (last)"
     k = max(1, n // 4)
-    return f"{(eps[k] - eps[0]) / k:.4f} (2–{1 + k}) → {(eps[-1] - eps[-1 - k]) / k:.4f} ({n - k + 1}–{n})"
+
+    def span(a, b):
+        return f"{a}" if a == b else f"{a}–{b}"
+    return f"{(eps[k] - eps[0]) / k:.4f} ({span(2, 1 + k)}) → {(eps[-1] - eps[-1 - k]) / k:.4f} ({span(n - k + 1, n)})"
 
 
 CYCLIC_OEDOMETER_TEXT = (

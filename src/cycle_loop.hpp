@@ -24,7 +24,8 @@
 //    loop, and an open one (the strain the cycle leaves) does not count the mean stress's work on that strain as
 //    hysteresis: cycled about 200 kPa by +-10 kPa, the first cycle's 0.047 % of permanent strain is 94 J/m^3 of it,
 //    where the loop encloses ~2.5 (configs/cyclic-oedometer-study.yaml: D_v 3.6 of the plain integral, past the 2/pi
-//    of any closed loop, against 0.094 about the cycle's start).
+//    of any closed loop, against 0.094 about the cycle's start). Less the drag too (svd: the drag's share of sigma_v,
+//    fed with it), as q's.
 // Host code, no Kokkos: Laboratory feeds it the measure it turns on, once a step (test_cycle_loop checks it on
 // analytic loops).
 #include <algorithm>
@@ -46,11 +47,15 @@ struct CycleLoop {
   double sv_max = 0, sv_min = 0;  // extremes of sigma_v (NaN: not known, see set_state) [Pa]
   double work_v = 0, sv_prev = 0;  // integral of (sigma_v - sv_start) d eps_a so far [Pa]
   double sv_start = 0;             // sigma_v at the cycle's start [Pa]
+  double work_v_drag = 0, svd_prev = 0;  // integral of (svd - svd_start) d eps_a so far, svd the drag's share [Pa]
+  double svd_start = 0;
+  double svn_max = 0, svn_min = 0;       // extremes of sigma_v less the drag [Pa]
   bool open = false;
   double n = 0;            // the stage's cycle number N at the last step fed (it never decreases)
 
-  // The cycle starts at this measure (qd: the drag's share of q, 0 without damping; sv: sigma_v, 0 where not given).
-  void start(double q, double e, double g, double u, double qd = 0, double sv = 0) {
+  // The cycle starts at this measure (qd: the drag's share of q, 0 without damping; sv: sigma_v, 0 where not given;
+  // svd: the drag's share of sigma_v).
+  void start(double q, double e, double g, double u, double qd = 0, double sv = 0, double svd = 0) {
     q_max = q_min = q_prev = q;
     e_max = e_min = e_prev = e;
     g_max = g_min = g;
@@ -61,12 +66,20 @@ struct CycleLoop {
     qn_max = qn_min = q - qd;
     sv_max = sv_min = sv_prev = sv_start = sv;
     work_v = 0;
+    work_v_drag = 0;
+    svd_prev = svd_start = svd;
+    svn_max = svn_min = sv - svd;
     open = true;
   }
-  void add(double q, double e, double g, double u, double qd = 0, double sv = 0) {
+  void add(double q, double e, double g, double u, double qd = 0, double sv = 0, double svd = 0) {
     work += 0.5 * (q + q_prev) * (e - e_prev);
     work_v += (0.5 * (sv + sv_prev) - sv_start) * (e - e_prev);  // before e_prev moves on
+    // (sv - svd)'s area about its own start is work_v less this
+    work_v_drag += (0.5 * (svd + svd_prev) - svd_start) * (e - e_prev);
     sv_prev = sv;
+    svd_prev = svd;
+    svn_max = std::max(svn_max, sv - svd);
+    svn_min = std::min(svn_min, sv - svd);
     sv_max = std::max(sv_max, sv);  // NaN stays NaN (std::max's first argument where the comparison fails)
     sv_min = std::min(sv_min, sv);
     work_drag += 0.5 * (qd + qd_prev) * (e - e_prev);  // the same trapezoids: q's less q_drag's is (q - q_drag)'s
@@ -108,6 +121,15 @@ struct CycleLoop {
     if (std::isnan(sv_max - sv_min + work_v)) return std::nan("");
     return damping_of(work_v, sv_max, sv_min);
   }
+  // Of sigma_v less its drag: its own extremes, and its area about its own start (work_v less the drag's)
+  double constrained_modulus_less_drag() const {
+    if (std::isnan(svn_max - svn_min)) return std::nan("");
+    return e_max > e_min ? (svn_max - svn_min) / (e_max - e_min) : 0;
+  }
+  double damping_v_less_drag() const {
+    if (std::isnan(svn_max - svn_min + work_v - work_v_drag)) return std::nan("");
+    return damping_of(work_v - work_v_drag, svn_max, svn_min);
+  }
   double damping_of(double w, double qmax, double qmin) const {
     const double qa = 0.5 * (qmax - qmin), ea = 0.5 * (e_max - e_min);
     return qa > 0 && ea > 0 ? w / (2 * M_PI * qa * ea) : 0;
@@ -118,10 +140,11 @@ struct CycleLoop {
   // a modulus over the part of the cycle after the restart; the cycles after it are whole again. One written before
   // the drag holds kStateSizeNoDrag: the open cycle's values less the drag are unknown alike; one before sigma_v's
   // loop, kStateSizeNoSigmaV: the open cycle's M_eq and D_v unknown.
-  static constexpr size_t kStateSize = 21, kStateSizeNoSigmaV = 16, kStateSizeNoDrag = 12, kStateSizeNoShear = 10;
+  static constexpr size_t kStateSize = 26, kStateSizeNoSigmaV = 16, kStateSizeNoDrag = 12, kStateSizeNoShear = 10;
   std::vector<double> state() const {
     return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n, g_max, g_min,
-            work_drag, qd_prev, qn_max, qn_min, sv_max, sv_min, work_v, sv_prev, sv_start};
+            work_drag, qd_prev, qn_max, qn_min, sv_max, sv_min, work_v, sv_prev, sv_start,
+            work_v_drag, svd_prev, svn_max, svn_min, svd_start};
   }
   void set_state(const std::vector<double>& s) {
     if (s.size() != kStateSize && s.size() != kStateSizeNoSigmaV && s.size() != kStateSizeNoDrag &&
@@ -149,6 +172,11 @@ struct CycleLoop {
     work_v = sv ? s[18] : std::nan("");
     sv_prev = sv ? s[19] : std::nan("");
     sv_start = sv ? s[20] : std::nan("");
+    work_v_drag = sv ? s[21] : std::nan("");
+    svd_prev = sv ? s[22] : std::nan("");
+    svn_max = sv ? s[23] : std::nan("");
+    svn_min = sv ? s[24] : std::nan("");
+    svd_start = sv ? s[25] : std::nan("");
   }
 };
 

@@ -161,7 +161,8 @@ size_t series_column(const char* name) { return column_of(series_columns(), name
 // loop's extremes, moduli, p', eps_v and r_u as far as it went, its damping NaN (an open path has no loop area);
 // then E_eq and D of the walls' q less the local damping's drag (CycleLoop; equal to E_eq and D without damping);
 // then the walls' vertical stress sigma_v = sigma_z: its extremes, the constrained modulus M_eq and the damping ratio
-// D_v of its loop (CycleLoop: the cyclic oedometer's, its area about the cycle's first sigma_v), and K =
+// D_v of its loop (CycleLoop: the cyclic oedometer's, its area about the cycle's first sigma_v), both less the drag
+// (the drag's sigma_z share, as q's), and K =
 // sigma_h / sigma_v at the row's instant, sigma_h = (sigma_x + sigma_y) / 2 (at the end of an oedometric cycle, sigma_v
 // back at sigma_v,0: the coefficient of earth pressure the cycles leave). Each group after the columns of older builds, so that a script that reads them by position still does.
 const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
@@ -170,7 +171,8 @@ const std::vector<std::pair<std::string, std::string>>& cycle_columns() {
       {"E_eq", "Pa"},   {"damping", "-"},  {"p", "Pa"},     {"eps_v", "-"},    {"r_u_max", "-"},
       {"gamma_max", "-"}, {"gamma_min", "-"}, {"G_eq", "Pa"}, {"complete", "-"},
       {"E_eq_less_drag", "Pa"}, {"damping_less_drag", "-"},
-      {"sigma_v_max", "Pa"}, {"sigma_v_min", "Pa"}, {"M_eq", "Pa"}, {"damping_v", "-"}, {"K", "-"}};
+      {"sigma_v_max", "Pa"}, {"sigma_v_min", "Pa"}, {"M_eq", "Pa"}, {"damping_v", "-"}, {"M_eq_less_drag", "Pa"},
+      {"damping_v_less_drag", "-"}, {"K", "-"}};
   return cols;
 }
 // cycles.csv's columns in builds before gamma_max, before `complete` (their checkpoints hold rows this long; every
@@ -614,7 +616,7 @@ class Laboratory {
   // max_axial_strain, snapshot_strain and the plan count).
   static Real strain_along(const StageConfig& sc, Real eps_a) { return sc.extension ? -eps_a : eps_a; }
   Real watch_cycle_number(const StageConfig& sc, const Measure& m) const;
-  void watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, Real q_drag);
+  void watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, const Vec3d& drag);
   // A stress-controlled cyclic stage at its first load reversal, and at the end of its first cycle: a warning if that
   // quarter cycle, or that cycle's mean quarter, was dynamic.
   void warn_dynamic_loops(const StageConfig& sc) const;
@@ -648,7 +650,7 @@ class Laboratory {
   Sym inner_stress();
   Vec3d drag_stress();
   Vec3d box_centre() const;
-  static Real q_drag_of(const Vec3d& moment, Real V);
+  static Vec3d drag_of(const Vec3d& moment, Real V);
   Real core_void_ratio() const;
   Real void_ratio_inset(const Real (&inset)[3]) const;
   Real inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const;
@@ -1070,7 +1072,7 @@ Vec3d Laboratory::drag_stress() {
   Engine& e = *eng_;
   Vec3d m = e.damping_moment(box_centre());
   const Real V = e.box_volume();
-  for (Real& v : m) v = V > 0 ? v / V : 0;  // q_drag_of's arithmetic
+  for (Real& v : m) v = V > 0 ? v / V : 0;  // drag_of's arithmetic
   return m;
 }
 
@@ -1080,11 +1082,12 @@ Vec3d Laboratory::box_centre() const {
   return c;
 }
 
-// q_drag of a drag moment about the box's centre, V the box's volume at its instant: row()'s arithmetic (drag_stress).
-Real Laboratory::q_drag_of(const Vec3d& moment, Real V) {
+// The drag per axis of a drag moment about the box's centre, V the box's volume at its instant: drag_stress()'s
+// arithmetic.
+Vec3d Laboratory::drag_of(const Vec3d& moment, Real V) {
   Vec3d d{};
   for (int a = 0; a < 3; ++a) d[a] = V > 0 ? moment[a] / V : 0;
-  return d[2] - 0.5 * (d[0] + d[1]);
+  return d;
 }
 
 // The interior: the wall box inset by kInnerMargin mean diameters on every side. (choice) 2 diameters: the wall's
@@ -1243,20 +1246,22 @@ Real Laboratory::watch_cycle_number(const StageConfig& sc, const Measure& m) con
   return std::max({lab_.cycle, Real(lab_.loop.n), cycle_number(sc, m)});
 }
 
-void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, Real q_drag) {
+void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, const Vec3d& drag) {
   CycleLoop& L = lab_.loop;
+  const Real q_drag = drag[2] - 0.5 * (drag[0] + drag[1]);  // row()'s arithmetic (drag_stress)
   if (!L.open) {
-    L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz);
+    L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz, drag[2]);
   } else {
-    L.add(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz);
+    L.add(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz, drag[2]);
     if (std::floor(N) > std::floor(L.n)) {
       // the step: the measure's (the loop's last instant), which the step after it has already counted
       lab_.cycles.rows.push_back({std::floor(N), double(eng_->step_count() - 1), L.q_max, L.q_min, L.e_max, L.e_min,
                                   L.modulus(), L.damping(), m.p, m.eps_v, L.u_max / lab_.pc, L.g_max, L.g_min,
                                   L.shear_modulus(), 1.0, L.modulus_less_drag(), L.damping_less_drag(), L.sv_max,
-                                  L.sv_min, L.constrained_modulus(), L.damping_v(), lateral_ratio(m)});
+                                  L.sv_min, L.constrained_modulus(), L.damping_v(), L.constrained_modulus_less_drag(),
+                                  L.damping_v_less_drag(), lateral_ratio(m)});
       lab_.cycles.stage.push_back(lab_.stage);
-      L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz);
+      L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz, drag[2]);
       if (stress_controlled(sc) && std::count(lab_.cycles.stage.begin(), lab_.cycles.stage.end(), lab_.stage) == 1)
         warn_dynamic_cycle(sc, quarter_transits(eng_->step_count() - 1));
     }
@@ -1323,7 +1328,10 @@ void Laboratory::print_ratcheting(const StageConfig& sc) const {
   const size_t n = rows.size(), k = std::max<size_t>(1, n / 4);
   const auto after = [&](size_t cycle) { return (*rows[cycle - 1])[kE]; };  // the permanent strain after a cycle
   char rate[160];
-  if (n >= 3)
+  if (n >= 3 && k == 1)
+    std::snprintf(rate, sizeof(rate), "%.3g %% in cycle 2, %.3g %% in cycle %zu", 100 * (after(2) - after(1)),
+                  100 * (after(n) - after(n - 1)), n);
+  else if (n >= 3)
     std::snprintf(rate, sizeof(rate), "per cycle %.3g %% over cycles 2-%zu, %.3g %% over %zu-%zu",
                   100 * (after(1 + k) - after(1)) / double(k), 1 + k, 100 * (after(n) - after(n - k)) / double(k),
                   n - k + 1, n);
@@ -1679,7 +1687,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const Real cycle_n = cyclic ? watch_cycle_number(sc, m0) : 0;  // watch_cycle's N, as the step finds it
     // A damped cyclic stage's loops less the drag want the drag of every step's kick: the step measures it.
     const bool loop_drag = cyclic && sc.damping > 0;
-    Real q_drag = 0;
+    Vec3d drag{};  // the local damping's drag of this step's kick per axis, a stress (a damped cyclic stage's loops)
     if (turn && lab_.half_cycles == 1 && stress_controlled(sc)) warn_dynamic_loops(sc);
     // Snapshots: every snapshot_strain of eps_a in a triaxial stage, at every load reversal in a cyclic one.
     const bool snap =
@@ -1692,7 +1700,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       ramp_pressure(sc, lab_.stage_step);  // servo targets: read when the walls move, at the step's end
       if (loop_drag) {
         const Real V = e.box_volume();  // the walls' at this instant: the step moves them at its end
-        q_drag = q_drag_of(e.step_measuring_drag(box_centre()), V);
+        drag = drag_of(e.step_measuring_drag(box_centre()), V);
       } else {
         e.step();
       }
@@ -1701,9 +1709,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       ++lab_.stage_step;
       const Measure m = measure(sc);
       const Diagnostics d = e.diagnostics();
-      bool rowed = false;  // a series row of this instant: its q_drag is the loop's (row()'s drag_stress)
       if (report) {
-        rowed = true;
         lab_.series.rows.push_back(row(sc, m, d));
         lab_.series.stage.push_back(lab_.stage);
         const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_t0_).count();
@@ -1751,7 +1757,6 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       if (done || last_step) {
         // The stage's final row and snapshot, at the very instant its end criteria were evaluated.
         if (!report) {
-          rowed = true;
           lab_.series.rows.push_back(row(sc, m, d));
           lab_.series.stage.push_back(lab_.stage);
           check_servo(sc, m);
@@ -1761,13 +1766,11 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         if (!snap) snapshot(sc.name + "_end");
       }
       ramp_pressure(sc, lab_.stage_step);
-      // The drag of this kick: a row of this instant has it (q_drag_of is row()'s arithmetic: the same bits).
-      if (loop_drag)
-        q_drag = rowed ? Real(lab_.series.rows.back()[series_column("q_drag")])
-                       : q_drag_of(e.damping_moment(box_centre()), e.box_volume());
+      // The drag of this kick (drag_of is drag_stress()'s arithmetic: a row of this instant has the same bits).
+      if (loop_drag) drag = drag_of(e.damping_moment(box_centre()), e.box_volume());
       e.advance();  // a step always completes: the history increments of evaluate() are already applied
     }
-    if (cyclic) watch_cycle(sc, m0, turn, cycle_n, q_drag);
+    if (cyclic) watch_cycle(sc, m0, turn, cycle_n, drag);
     ++total_steps_;
     if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained) place_lateral_walls();
     if (done) break;
@@ -1806,7 +1809,8 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       lab_.cycles.rows.push_back({std::floor(L.n) + 1, double(final_step), L.q_max, L.q_min, L.e_max, L.e_min,
                                   L.modulus(), std::nan(""), m.p, m.eps_v, L.u_max / lab_.pc, L.g_max, L.g_min,
                                   L.shear_modulus(), 0.0, L.modulus_less_drag(), std::nan(""), L.sv_max, L.sv_min,
-                                  L.constrained_modulus(), std::nan(""), lateral_ratio(m)});
+                                  L.constrained_modulus(), std::nan(""), L.constrained_modulus_less_drag(), std::nan(""),
+                                  lateral_ratio(m)});
       lab_.cycles.stage.push_back(lab_.stage);
     }
   }
@@ -1905,15 +1909,18 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     // A cyclic stage's: the share of its last whole cycle's damping ratio that is the drag's area (cycles.csv). On
     // configs/modulus_damping.yaml (damping 0.1) 30-60 % of D at eps_a = 1e-5, 2-6 % from 1e-4 on.
     if (sc.type == StageType::Cyclic && sc.damping > 0) {
-      const size_t kD = column_of(cycle_columns(), "damping"), kDn = column_of(cycle_columns(), "damping_less_drag");
+      // (the cyclic oedometer's: its sigma_v loop's D_v)
+      const bool oed = sc.drainage == Drainage::Oedometric;
+      const size_t kD = column_of(cycle_columns(), oed ? "damping_v" : "damping"),
+                   kDn = column_of(cycle_columns(), oed ? "damping_v_less_drag" : "damping_less_drag");
       for (size_t k = lab_.cycles.rows.size(); k-- > 0 && lab_.cycles.stage[k] == lab_.stage;) {
         const auto& row = lab_.cycles.rows[k];
         if (row[kCycleComplete] != 1.0) continue;
         if (row[kD] > 0 && row[kDn] == row[kDn])
-          std::printf("stage %s: the damping's drag is %.1f %% of the damping ratio of its last cycle (D %.4f of the "
-                      "walls' loop, %.4f less the drag; cycles.csv damping_less_drag): a slower cycle or less "
-                      "damping lowers it\n",
-                      sc.name.c_str(), 100 * (row[kD] - row[kDn]) / row[kD], row[kD], row[kDn]);
+          std::printf("stage %s: the damping's drag is %.1f %% of the damping ratio of its last cycle (%s %.4f of the "
+                      "walls' loop, %.4f less the drag; cycles.csv %s): a slower cycle or less damping lowers it\n",
+                      sc.name.c_str(), 100 * (row[kD] - row[kDn]) / row[kD], oed ? "D_v" : "D", row[kD], row[kDn],
+                      oed ? "damping_v_less_drag" : "damping_less_drag");
         break;
       }
     }

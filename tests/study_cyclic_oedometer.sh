@@ -50,7 +50,7 @@ for A in (20000, 60000):
     f = lambda r, k, s=1.0: s * float(r[k])
     eps = [f(r, "eps_v", 100) for r in rows]
     want = (f"| {name} | cyc | {sv0 / 1e3:.1f} | {A / 1e3:.1f} ({A / sv0:.2f}) | 3 | {eps[0]:.3f} | {eps[-1]:.3f} | "
-            f"{eps[1] - eps[0]:.4f} (2–2) → {eps[2] - eps[1]:.4f} (3–3) | {f(rows[0], 'M_eq', 1e-6):.1f} → {f(rows[-1], 'M_eq', 1e-6):.1f} | "
+            f"{eps[1] - eps[0]:.4f} (2) → {eps[2] - eps[1]:.4f} (3) | {f(rows[0], 'M_eq', 1e-6):.1f} → {f(rows[-1], 'M_eq', 1e-6):.1f} | "
             f"{f(rows[0], 'damping_v'):.3f} → {f(rows[-1], 'damping_v'):.3f} | {f(rows[0], 'K'):.3f} → {f(rows[-1], 'K'):.3f} | ")
     hits = [l for l in report if want in l]
     # once in the value's section, once across the values (after its section column)

@@ -134,16 +134,20 @@ TEST(CycleLoop, OldStateLeavesTheOpenCyclesValuesLessTheDragUnknown) {
 // (drift 0): M_eq = S / E and D_v = sin(phi) / 2 as the ellipse's (1e-4, the sampled extremes' error above), and q's
 // D, whatever S0. Open (a permanent strain of E / 2 a cycle): D_v is the same at S0 = 0 and 200 kPa (1e-12: the area
 // is taken about the cycle's first sigma_v, S0 here), where the plain integral of sigma_v d eps_a would add S0 E / 2,
-// 60x the loop's area. q's loop is q's own: E_eq = 0.6 M_eq to rounding.
+// 60x the loop's area. q's loop is q's own: E_eq = 0.6 M_eq to rounding. A drag of +-4 kPa against the straining added
+// to sigma_v (and fed as its share) leaves D_v and M_eq less the drag those of the loop without it, open or closed
+// (1e-12), and raises the walls' D_v.
 TEST(CycleLoop, VerticalStressLoopIsTheOedometers) {
   const double S = 40e3, E = 1e-3, phi = 0.3;
   const int n = 1000;
-  const auto loop = [&](double S0, double drift) {
+  const auto loop = [&](double S0, double drift, double Sd = 0) {
+    const auto drag = [&](int k) { return Sd * (std::cos(2 * M_PI * k / n - phi) >= 0 ? 1.0 : -1.0); };
     CycleLoop L;
-    L.start(0, E * std::sin(-phi), 0, 0, 0, S0);
+    L.start(0, E * std::sin(-phi), 0, 0, 0, S0 + drag(0), drag(0));
     for (int k = 1; k <= n; ++k) {
       const double t = 2 * M_PI * k / n;
-      L.add(0.6 * S * std::sin(t), E * std::sin(t - phi) + drift * k / n, 0, 0, 0, S0 + S * std::sin(t));
+      L.add(0.6 * S * std::sin(t), E * std::sin(t - phi) + drift * k / n, 0, 0, 0, S0 + S * std::sin(t) + drag(k),
+            drag(k));
     }
     return L;
   };
@@ -160,6 +164,14 @@ TEST(CycleLoop, VerticalStressLoopIsTheOedometers) {
   EXPECT_NEAR(open.damping_v(), open0.damping_v(), 1e-12);
   EXPECT_GT(open.damping_v(), 0);
   EXPECT_LT(open.damping_v(), 2 / M_PI);
+  for (double drift : {0.0, E / 2}) {
+    SCOPED_TRACE(drift);
+    const CycleLoop plain = loop(200e3, drift), walls = loop(200e3, drift, 4e3);
+    EXPECT_NEAR(walls.damping_v_less_drag(), plain.damping_v(), 1e-12);
+    EXPECT_NEAR(walls.constrained_modulus_less_drag() / plain.constrained_modulus(), 1.0, 1e-12);
+    EXPECT_GT(walls.damping_v() - plain.damping_v(), 0.5 * (2 / M_PI) * 0.1) << "the drag's area is in the walls' loop";
+    EXPECT_EQ(plain.damping_v_less_drag(), plain.damping_v());
+  }
 }
 
 // A checkpoint from before sigma_v's loop holds the first 16 numbers: the open cycle's M_eq and D_v are unknown (NaN),
