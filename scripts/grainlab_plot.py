@@ -698,7 +698,8 @@ def fig_modulus_damping(runs, out):
 def oedometer_cycles(run, s):
     """A run's cyclic oedometer stages (series stage_type 6) as {stage: dict(N, eps [%], M [MPa], D, K)} from the whole
     cycles of its cycles.csv: N the cycle, eps the permanent axial strain at its end (eps_v: the held lateral walls make
-    it eps_a), M_eq, D_v and K = sigma_h / sigma_v at its end; {} where there are none."""
+    it eps_a), M_eq, D_v, Dn (D_v less the damping's drag) and K = sigma_h / sigma_v at its end; {} where there are
+    none."""
     stages = list(dict.fromkeys(s["stage"][s["cyclic_oedometric"]]))
     path = os.path.join(run, "cycles.csv")
     if not stages or not os.path.isfile(path):
@@ -711,7 +712,8 @@ def oedometer_cycles(run, s):
         if rs:
             def col(k, scale=1.0, rs=rs):
                 return np.array([scale * float(r[k]) for r in rs])
-            out[st] = dict(N=col("cycle"), eps=col("eps_v", 100.0), M=col("M_eq", 1e-6), D=col("damping_v"), K=col("K"))
+            out[st] = dict(N=col("cycle"), eps=col("eps_v", 100.0), M=col("M_eq", 1e-6), D=col("damping_v"), K=col("K"),
+                           Dn=col("damping_v_less_drag"))
     return out
 
 
@@ -719,7 +721,7 @@ def fig_cyclic_oedometer(runs, out):
     """Cyclic oedometer stages (the lateral walls held, sigma_v reversing about sigma_v,0): the sigma_v - eps_a loops
     (the series' rows), the permanent axial strain at each cycle's end against N (log N: ratcheting is a line that
     keeps rising, shakedown one that levels off), the constrained modulus M_eq and damping ratio D_v of each cycle's
-    sigma_v loop, and K = sigma_h / sigma_v at each cycle's end (sigma_v back at sigma_v,0: the lateral stress the cycles
+    sigma_v loop (and D_v less the damping's drag), and K = sigma_h / sigma_v at each cycle's end (sigma_v back at sigma_v,0: the lateral stress the cycles
     leave locked in); nothing where no run has such a stage."""
     drawn = [(run, s, oedometer_cycles(run, s)) for run, s in runs]
     drawn = [d for d in drawn if d[1]["cyclic_oedometric"].any()]
@@ -730,19 +732,20 @@ def fig_cyclic_oedometer(runs, out):
     for i, (run, s, stages) in enumerate(drawn):
         color = f"C{i % 10}"
         m = s["cyclic_oedometric"]
-        ax[0].plot(100 * s["eps_a_run"][m], s["sigma_z"][m] / 1e3, color=color, lw=0.8, label=label(run, s))
-        for c in stages.values():
-            ax[1].plot(c["N"], c["eps"], "o-", color=color, markersize=3)
+        ax[0].plot(100 * s["eps_a_run"][m], s["sigma_z"][m] / 1e3, color=color, lw=0.8)
+        for n, c in enumerate(stages.values()):  # the legend on the strain panel, whose upper left a rising curve leaves free
+            ax[1].plot(c["N"], c["eps"], "o-", color=color, markersize=3, label=label(run, s) if n == 0 else None)
             ax[2].plot(c["N"], c["M"], "o-", color=color, markersize=3)
             damp.plot(c["N"], c["D"], "x--", color=color, markersize=3)
+            damp.plot(c["N"], c["Dn"], "+:", color=color, markersize=4)
             ax[3].plot(c["N"], c["K"], "o-", color=color, markersize=3)
-    damp.set_ylabel("D_v (dashed)")
+    damp.set_ylabel("D_v (dashed; dotted: less the damping's drag)")
     ax[0].set(xlabel="eps_a [%] (across the run's shear stages)", ylabel="sigma_v [kPa]", title="sigma_v - eps_a loops")
     ax[1].set(xscale="log", xlabel="cycle N", ylabel="permanent eps_a at the cycle's end [%]",
               title="accumulated strain (ratcheting / shakedown)")
     ax[2].set(xscale="log", xlabel="cycle N", ylabel="M_eq [MPa] (solid)", title="constrained modulus and damping")
     ax[3].set(xscale="log", xlabel="cycle N", ylabel="K = sigma_h / sigma_v at sigma_v,0", title="lateral stress ratio")
-    finish(fig, ax, ax[0], 8, out, "cyclic_oedometer")
+    finish(fig, ax, ax[1], 8, out, "cyclic_oedometer")
 
 
 def legend(ax, **kw):
@@ -1713,7 +1716,7 @@ def across_values_section(out, idx, heads):
                     f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | "
                     f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
     coed_lines = (["Cyclic oedometer tests (each value's section below has them too). " + CYCLIC_OEDOMETER_TEXT, "",
-                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 13 + "|", *coed_rows, ""] if coed_rows else [])
+                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 14 + "|", *coed_rows, ""] if coed_rows else [])
     if not rows:
         return ["## Across the values", "", *coed_lines] if coed_rows else []
     fits = []
@@ -2852,6 +2855,7 @@ def cyclic_oedometer_rows(j, d, s, head=None):
                     f"| {j['name']} | {name} | {number_text(sv0 / 1e3 if sv0 else None, '.1f')} | {amp} | "
                     f"{int(c['N'][-1])} | {c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {cycle_increments(c['eps'])} | "
                     f"{c['M'][0]:.1f} → {c['M'][-1]:.1f} | {c['D'][0]:.3f} → {c['D'][-1]:.3f} | "
+                    f"{c['Dn'][0]:.3f} → {c['Dn'][-1]:.3f} | "
                     f"{c['K'][0]:.3f} → {c['K'][-1]:.3f} | {number_text(qt, '.2f')}{dyn} |")
     return rows
 
@@ -2877,11 +2881,14 @@ CYCLIC_OEDOMETER_TEXT = (
     "and late (over cycles 2 to 1 + k and the last k, k a quarter of the cycles: one that holds is ratcheting, one "
     "falling towards nothing shakedown), the constrained modulus M_eq = (sigma_v,max - "
     "sigma_v,min) / (eps_max - eps_min) and damping ratio D_v of the sigma_v - eps_a loop (the first cycle's is not "
-    "closed: its plastic strain counts as area), and K = sigma_h / sigma_v at the cycle's end (at sigma_v,0: the "
+    "closed: its plastic strain counts as area; its area about the cycle's first sigma_v), D_v less the local "
+    "damping's drag (the contacts' loop; cycles.csv damping_v_less_drag), and K = sigma_h / sigma_v at the cycle's "
+    "end (at sigma_v,0: the "
     "lateral stress the cycles lock in); first → last cycle. The quarter cycle in wave transits as the liquefaction "
     "table's (below 4: dynamic).")
 CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_v,0) | cycles | eps_a after 1 [%] | "
-                         "after the last [%] | per cycle early → late [%] (cycles) | M_eq [MPa] | D_v | K | "
+                         "after the last [%] | per cycle early → late [%] (cycles) | M_eq [MPa] | D_v | "
+                         "D_v less drag | K | "
                          "quarter cycle [transits] |")
 
 
@@ -2890,7 +2897,7 @@ def cyclic_oedometer_section(coed, figs):
     rows = [r for j, d, s in coed for r in cyclic_oedometer_rows(j, d, s)]
     fig_cyclic_oedometer([(d, s) for _, d, s in coed], figs)
     return ["## Cyclic oedometer tests", "", CYCLIC_OEDOMETER_TEXT + " Figure: `figures/cyclic_oedometer.png`.", "",
-            CYCLIC_OEDOMETER_HEAD, "|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+            CYCLIC_OEDOMETER_HEAD, "|---" * 13 + "|", *rows, ""]
 
 
 def cyclic_section(cyc, figs, colors, fits=None):
