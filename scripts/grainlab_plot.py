@@ -635,7 +635,8 @@ def modulus_curves(run, s):
     (cycle_shear; nan for a drained cycle of a build before gamma); `last`, each stage's last cycle in order of
     amplitude (the curve), `known` those of them with a gamma; hf = (E_max [MPa], eps_r, rms) and gf = (G_max [MPa],
     gamma_r, rms), the Hardin-Drnevich hyperbolas through the curves (hyperbolic_fit), or None."""
-    oedometer = set(s["stage"][s["cyclic_oedometric"]])  # cyclic oedometers: not a modulus-reduction test
+    # cyclic oedometers: not a modulus-reduction test (a series load() did not read, a test's, may not mark them)
+    oedometer = set(s["stage"][s["cyclic_oedometric"]]) if "cyclic_oedometric" in s else set()
     with open(os.path.join(run, "cycles.csv")) as f:
         rows = [r for r in complete_cycles(csv.DictReader(f)) if r["stage"] not in oedometer]
     if not rows:
