@@ -3,7 +3,8 @@
 // (the work per volume dissipated in the cycle) and the largest excess pore pressure. At the cycle's end it gives
 // the two numbers a cyclic triaxial test reports per cycle (ASTM D3999: modulus and damping):
 //  - the equivalent (secant) Young's modulus E_eq = (q_max - q_min) / (eps_max - eps_min);
-//  - the damping ratio D = W_loop / (4 pi W_e), W_loop the loop's area (the closed integral of q d eps_a),
+//  - the damping ratio D = W_loop / (4 pi W_e), W_loop the loop's area (the closed integral of q d eps_a, taken about
+//    the stage's q_0: q_ref below),
 //    W_e = q_a eps_a / 2 the elastic energy of the secant at the single amplitudes q_a = (q_max - q_min)/2 and
 //    eps_a = (eps_max - eps_min)/2: D = W_loop / (2 pi q_a eps_a). D is 0 for an elastic loop and 2/pi for a
 //    rigid-plastic one (the rectangle 2 q_a x 2 eps_a);
@@ -37,7 +38,12 @@ namespace grainlab {
 
 struct CycleLoop {
   double q_max = 0, q_min = 0, e_max = 0, e_min = 0;
-  double work = 0;         // integral of q d eps_a so far (trapezoids between the steps' measures) [Pa]
+  double work = 0;         // integral of (q - q_ref) d eps_a so far (trapezoids between the steps' measures) [Pa]
+  // The q the loop's area is taken about: the stage's q_0, the centre its stress reversal cycles about (set before
+  // start). The same area for a closed loop; of an open one, the work of q_0 on the strain the cycle leaves is not
+  // hysteresis (a cycle of q = 64 +- 30 kPa after a K0 loading that left 0.1 % of strain: 64 J/m^3 of a loop of ~340,
+  // D 0.44 against ~0.25). 0 after an isotropic stage (SPEC §6.3's q_0): exactly the integral of q d eps_a there.
+  double q_ref = 0;
   double q_prev = 0, e_prev = 0;
   double g_max = 0, g_min = 0;  // extremes of the shear strain gamma = eps_a - eps_r (NaN: not known, see set_state)
   double u_max = 0;        // the largest excess pore pressure u seen in the cycle [Pa]
@@ -72,7 +78,7 @@ struct CycleLoop {
     open = true;
   }
   void add(double q, double e, double g, double u, double qd = 0, double sv = 0, double svd = 0) {
-    work += 0.5 * (q + q_prev) * (e - e_prev);
+    work += (0.5 * (q + q_prev) - q_ref) * (e - e_prev);  // q_ref 0: 0.5 (q + q_prev) to the bit
     work_v += (0.5 * (sv + sv_prev) - sv_start) * (e - e_prev);  // before e_prev moves on
     // (sv - svd)'s area about its own start is work_v less this
     work_v_drag += (0.5 * (svd + svd_prev) - svd_start) * (e - e_prev);
@@ -140,11 +146,11 @@ struct CycleLoop {
   // a modulus over the part of the cycle after the restart; the cycles after it are whole again. One written before
   // the drag holds kStateSizeNoDrag: the open cycle's values less the drag are unknown alike; one before sigma_v's
   // loop, kStateSizeNoSigmaV: the open cycle's M_eq and D_v unknown.
-  static constexpr size_t kStateSize = 26, kStateSizeNoSigmaV = 16, kStateSizeNoDrag = 12, kStateSizeNoShear = 10;
+  static constexpr size_t kStateSize = 27, kStateSizeNoSigmaV = 16, kStateSizeNoDrag = 12, kStateSizeNoShear = 10;
   std::vector<double> state() const {
     return {q_max, q_min, e_max, e_min, work, q_prev, e_prev, u_max, double(open), n, g_max, g_min,
             work_drag, qd_prev, qn_max, qn_min, sv_max, sv_min, work_v, sv_prev, sv_start,
-            work_v_drag, svd_prev, svn_max, svn_min, svd_start};
+            work_v_drag, svd_prev, svn_max, svn_min, svd_start, q_ref};
   }
   void set_state(const std::vector<double>& s) {
     if (s.size() != kStateSize && s.size() != kStateSizeNoSigmaV && s.size() != kStateSizeNoDrag &&
@@ -177,6 +183,7 @@ struct CycleLoop {
     svn_max = sv ? s[23] : std::nan("");
     svn_min = sv ? s[24] : std::nan("");
     svd_start = sv ? s[25] : std::nan("");
+    q_ref = sv ? s[26] : 0;  // an older build's loop: about q = 0, as its part before the restart
   }
 };
 

@@ -1249,6 +1249,7 @@ Real Laboratory::watch_cycle_number(const StageConfig& sc, const Measure& m) con
 void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, const Vec3d& drag) {
   CycleLoop& L = lab_.loop;
   const Real q_drag = drag[2] - 0.5 * (drag[0] + drag[1]);  // row()'s arithmetic (drag_stress)
+  L.q_ref = lab_.q0;  // the centre q cycles about (0 after an isotropic stage: the bits of older runs)
   if (!L.open) {
     L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz, drag[2]);
   } else {

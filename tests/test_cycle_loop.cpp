@@ -196,3 +196,28 @@ TEST(CycleLoop, OldStateLeavesTheOpenCyclesVerticalLoopUnknown) {
   b.add(1e3, 1e-4, 2e-4, 0, 0, 1.01e5);
   EXPECT_DOUBLE_EQ(b.constrained_modulus(), 1e3 / 1e-4);
 }
+
+// q's loop about the stage's q_0 (q_ref): an open loop (strain left, E / 2 a cycle) of q = Q0 + Q sin(t) has the D of
+// the same loop about 0 whatever Q0 (1e-12), where the plain integral would add Q0 E / 2; q_ref 0 is the plain integral
+// to the bit (runs after an isotropic stage keep their bits).
+TEST(CycleLoop, QLoopIsTakenAboutTheStagesQ0) {
+  const double Q = 30e3, E = 1e-3, phi = 0.3;
+  const int n = 1000;
+  const auto loop = [&](double Q0, double ref) {
+    CycleLoop L;
+    L.q_ref = ref;
+    L.start(Q0, E * std::sin(-phi), 0, 0);
+    for (int k = 1; k <= n; ++k) {
+      const double t = 2 * M_PI * k / n;
+      L.add(Q0 + Q * std::sin(t), E * std::sin(t - phi) + 0.5 * E * k / n, 0, 0);
+    }
+    return L;
+  };
+  const CycleLoop about0 = loop(0, 0), aboutQ0 = loop(64e3, 64e3), plain = loop(64e3, 0);
+  EXPECT_NEAR(aboutQ0.damping(), about0.damping(), 1e-12);
+  EXPECT_GT(plain.damping() - about0.damping(), 0.5 * 64e3 * 0.5 * E / (2 * M_PI * Q * E)) << "q_0's work on the drift";
+  CycleLoop by_hand;
+  by_hand.start(1e3, 0, 0, 0);
+  by_hand.add(3e3, 1e-4, 0, 0);
+  EXPECT_EQ(by_hand.work, 0.5 * (3e3 + 1e3) * 1e-4);
+}
