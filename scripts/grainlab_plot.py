@@ -1717,7 +1717,7 @@ def across_values_section(out, idx, heads):
                     f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | "
                     f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
     coed_lines = (["Cyclic oedometer tests (each value's section below has them too). " + CYCLIC_OEDOMETER_TEXT, "",
-                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 14 + "|", *coed_rows, ""] if coed_rows else [])
+                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 15 + "|", *coed_rows, ""] if coed_rows else [])
     if not rows:
         return ["## Across the values", "", *coed_lines] if coed_rows else []
     fits = []
@@ -2855,10 +2855,21 @@ def cyclic_oedometer_rows(j, d, s, head=None):
         rows.append(("" if head is None else f"| {head} ") +
                     f"| {j['name']} | {name} | {number_text(sv0 / 1e3 if sv0 else None, '.1f')} | {amp} | "
                     f"{int(c['N'][-1])} | {c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {cycle_increments(c['eps'])} | "
+                    f"{power_law_text(c['N'], c['eps'])} | "
                     f"{c['M'][0]:.1f} → {c['M'][-1]:.1f} | {c['D'][0]:.3f} → {c['D'][-1]:.3f} | "
                     f"{c['Dn'][0]:.3f} → {c['Dn'][-1]:.3f} | "
                     f"{c['K'][0]:.3f} → {c['K'][-1]:.3f} | {number_text(qt, '.2f')}{dyn} |")
     return rows
+
+
+def power_law_text(N, eps):
+    """The permanent strain's power law eps_p = eps_1 N^b (Monismith et al. 1975, the pavement and ballast literature's
+    model), least squares in ln eps_p - ln N over the whole cycles: "b ± se" (the fit's own standard error); "–" under 3
+    cycles or with a strain not above 0."""
+    if len(N) < 3 or not np.all(eps > 0):
+        return "–"
+    b, _, sb, _ = fit(np.log(N), np.log(eps))
+    return f"{b:.3f} ± {sb:.3f}"
 
 
 def cycle_increments(eps):
@@ -2880,7 +2891,9 @@ CYCLIC_OEDOMETER_TEXT = (
     "sigma_v,0 where the stage began, summary.json) or eps_a at ± strain_amplitude. Per whole cycle (cycles.csv): the "
     "permanent axial strain at its end (eps_v there: the held walls make it eps_a), its mean increment per cycle early "
     "and late (over cycles 2 to 1 + k and the last k, k a quarter of the cycles: one that holds is ratcheting, one "
-    "falling towards nothing shakedown), the constrained modulus M_eq = (sigma_v,max - "
+    "falling towards nothing shakedown), the exponent b of the power law eps_p = eps_1 N^b fitted to it (Monismith "
+    "et al. 1975; least squares in the logarithms, ± the fit's standard error, which the cycles' serial correlation "
+    "makes optimistic), the constrained modulus M_eq = (sigma_v,max - "
     "sigma_v,min) / (eps_max - eps_min) and damping ratio D_v of the sigma_v - eps_a loop (the first cycle's is not "
     "closed: its plastic strain counts as area; its area about the cycle's first sigma_v), D_v less the local "
     "damping's drag (the contacts' loop; cycles.csv damping_v_less_drag), and K = sigma_h / sigma_v at the cycle's "
@@ -2888,7 +2901,8 @@ CYCLIC_OEDOMETER_TEXT = (
     "lateral stress the cycles lock in); first → last cycle. The quarter cycle in wave transits as the liquefaction "
     "table's (below 4: dynamic).")
 CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_v,0) | cycles | eps_a after 1 [%] | "
-                         "after the last [%] | per cycle early → late [%] (cycles) | M_eq [MPa] | D_v | "
+                         "after the last [%] | per cycle early → late [%] (cycles) | b of eps_p = eps_1 N^b | "
+                         "M_eq [MPa] | D_v | "
                          "D_v less drag | K | "
                          "quarter cycle [transits] |")
 
@@ -2898,7 +2912,7 @@ def cyclic_oedometer_section(coed, figs):
     rows = [r for j, d, s in coed for r in cyclic_oedometer_rows(j, d, s)]
     fig_cyclic_oedometer([(d, s) for _, d, s in coed], figs)
     return ["## Cyclic oedometer tests", "", CYCLIC_OEDOMETER_TEXT + " Figure: `figures/cyclic_oedometer.png`.", "",
-            CYCLIC_OEDOMETER_HEAD, "|---" * 13 + "|", *rows, ""]
+            CYCLIC_OEDOMETER_HEAD, "|---" * 14 + "|", *rows, ""]
 
 
 def cyclic_section(cyc, figs, colors, fits=None):
