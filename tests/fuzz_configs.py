@@ -22,7 +22,8 @@ keys = ["count", "D", "r_min", "r_max", "seed", "mu", "mu_r", "E", "dt", "dt_fac
         "pressure", "target_e0", "drainage", "file", "dir", "every", "sample", "material", "numerics", "output",
         "ключ", "😀", "", "max_steps", "max_axial_strain", "axial_strain_rate", "keep_checkpoints",
         "cycles", "q_amplitude", "strain_amplitude", "liquefaction_ru", "liquefaction_da_strain", "b", "direction",
-        "servo_gain", "servo_integral", "stress_path", "max_servo_error", "csr", "grading", "diameter", "passing"]
+        "servo_gain", "servo_integral", "stress_path", "max_servo_error", "csr", "grading", "diameter", "passing",
+        "sigma_v_amplitude", "sigma_v", "ocr", "k_ratio", "lateral_slope", "stress_direction", "stress_increment"]
 
 
 def mutate(text):
