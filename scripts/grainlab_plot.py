@@ -714,7 +714,7 @@ def oedometer_cycles(run, s):
             def col(k, scale=1.0, rs=rs):
                 return np.array([scale * float(r[k]) for r in rs])
             out[st] = dict(N=col("cycle"), eps=col("eps_v", 100.0), M=col("M_eq", 1e-6), D=col("damping_v"), K=col("K"),
-                           Dn=col("damping_v_less_drag"))
+                           Dn=col("damping_v_less_drag"), emax=col("eps_a_max"))
     return out
 
 
@@ -2839,7 +2839,9 @@ def cyclic_oedometer_rows(j, d, s, head=None):
     """A study test's cyclic oedometer stages as report rows (oedometer_cycles, summary.json): its section value where
     head is given, then the test, stage, sigma_v,0 and the amplitude (and its ratio), the cycles done, the permanent
     axial strain after the first and the last cycle, the mean increment per cycle early and late (cycle_increments),
-    M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits."""
+    M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal
+    stage's strain columns are "–" (eps_a comes back to 0 every cycle by construction; the run's closing line gives the
+    sigma_v its cycles end at), its amplitude "eps_a ± A"."""
     try:
         with open(os.path.join(d, "summary.json")) as f:
             summ = {st["name"]: st for st in json.load(f).get("stages", [])}
@@ -2848,14 +2850,18 @@ def cyclic_oedometer_rows(j, d, s, head=None):
     rows = []
     for name, c in oedometer_cycles(d, s).items():
         st = summ.get(name, {})
-        sv0, A = st.get("sigma_v_0"), st.get("sigma_v_amplitude")
-        amp = f"{A / 1e3:.1f} ({A / sv0:.2f})" if A and sv0 else "strain"
+        A = st.get("sigma_v_amplitude")
+        sv0 = st.get("sigma_v_0")
+        if sv0 is None and st.get("p_0") is not None:  # a strain reversal's start, as the run takes it
+            sv0 = float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
+        amp = f"{A / 1e3:.1f} ({A / sv0:.2f})" if A and sv0 else f"eps_a ± {c['emax'][0]:.3g}"
+        strain = (f"{c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {cycle_increments(c['eps'])} | "
+                  f"{power_law_text(c['N'], c['eps'])}") if A else "– | – | – | –"
         qt = st.get("quarter_cycle_transits")
         dyn = "" if qt is None or qt >= QUASI_STATIC_TRANSITS else " (dynamic)"
         rows.append(("" if head is None else f"| {head} ") +
                     f"| {j['name']} | {name} | {number_text(sv0 / 1e3 if sv0 else None, '.1f')} | {amp} | "
-                    f"{int(c['N'][-1])} | {c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {cycle_increments(c['eps'])} | "
-                    f"{power_law_text(c['N'], c['eps'])} | "
+                    f"{int(c['N'][-1])} | {strain} | "
                     f"{c['M'][0]:.1f} → {c['M'][-1]:.1f} | {c['D'][0]:.3f} → {c['D'][-1]:.3f} | "
                     f"{c['Dn'][0]:.3f} → {c['Dn'][-1]:.3f} | "
                     f"{c['K'][0]:.3f} → {c['K'][-1]:.3f} | {number_text(qt, '.2f')}{dyn} |")
@@ -2899,7 +2905,8 @@ CYCLIC_OEDOMETER_TEXT = (
     "damping's drag (the contacts' loop; cycles.csv damping_v_less_drag), and K = sigma_h / sigma_v at the cycle's "
     "end (at sigma_v,0: the "
     "lateral stress the cycles lock in); first → last cycle. The quarter cycle in wave transits as the liquefaction "
-    "table's (below 4: dynamic).")
+    "table's (below 4: dynamic). A strain-reversal test's strain columns are '–': its eps_a comes back to 0 every "
+    "cycle, and the stress moves instead (the run's closing line gives sigma_v at the cycles' ends).")
 CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_v,0) | cycles | eps_a after 1 [%] | "
                          "after the last [%] | per cycle early → late [%] (cycles) | b of eps_p = eps_1 N^b | "
                          "M_eq [MPa] | D_v | "

@@ -1318,7 +1318,8 @@ void Laboratory::warn_dynamic_cycle(const StageConfig& sc, double quarter) const
 // at sigma_v,0).
 void Laboratory::print_ratcheting(const StageConfig& sc) const {
   const size_t kE = column_of(cycle_columns(), "eps_v"), kM = column_of(cycle_columns(), "M_eq"),
-               kD = column_of(cycle_columns(), "damping_v"), kK = column_of(cycle_columns(), "K");
+               kD = column_of(cycle_columns(), "damping_v"), kK = column_of(cycle_columns(), "K"),
+               kP = column_of(cycle_columns(), "p");
   std::vector<const std::vector<double>*> rows;
   for (size_t k = 0; k < lab_.cycles.rows.size(); ++k)
     if (lab_.cycles.stage[k] == lab_.stage && lab_.cycles.rows[k][kCycleComplete] == 1.0)
@@ -1327,6 +1328,15 @@ void Laboratory::print_ratcheting(const StageConfig& sc) const {
   const auto& a = *rows.front();
   const auto& b = *rows.back();
   const size_t n = rows.size(), k = std::max<size_t>(1, n / 4);
+  if (!sc.sigma_v_reversal()) {
+    // Strain reversal brings eps_a back to 0 every cycle: the stress is what moves. sigma_v at a cycle's end from the
+    // row's p' and K: p' = sigma_v (1 + 2 K) / 3.
+    const auto sv = [&](const std::vector<double>& r) { return 3 * r[kP] / (1 + 2 * r[kK]); };
+    std::printf("stage %s: cyclic oedometer (strain reversal): sigma_v at the cycles' ends (eps_a back at 0) %.4g -> "
+                "%.4g kPa over %zu cycles; M_eq %.4g -> %.4g MPa, D_v %.4f -> %.4f, K %.4f -> %.4f (cycles.csv)\n",
+                sc.name.c_str(), sv(a) / 1e3, sv(b) / 1e3, n, a[kM] / 1e6, b[kM] / 1e6, a[kD], b[kD], a[kK], b[kK]);
+    return;
+  }
   const auto after = [&](size_t cycle) { return (*rows[cycle - 1])[kE]; };  // the permanent strain after a cycle
   char rate[160];
   if (n >= 3 && k == 1)
