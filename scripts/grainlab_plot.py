@@ -2872,6 +2872,7 @@ def power_law_text(N, eps):
     """The permanent strain's power law eps_p = eps_1 N^b (Monismith et al. 1975, the pavement and ballast literature's
     model), least squares in ln eps_p - ln N over the whole cycles: "b ± se" (the fit's own standard error); "–" under 3
     cycles or with a strain not above 0."""
+    N, eps = np.asarray(N, dtype=float), np.asarray(eps, dtype=float)
     if len(N) < 3 or not np.all(eps > 0):
         return "–"
     b, _, sb, _ = fit(np.log(N), np.log(eps))

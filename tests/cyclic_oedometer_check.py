@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's cyclic oedometer rows (grainlab_plot.py cyclic_oedometer_rows,
+cycle_increments, power_law_text) on synthetic runs whose cycles.csv is written by hand.
+- Stress reversal, 20 cycles, sigma_v = 200 +- 40 kPa: the permanent strain eps_p = 0.1 N^0.4 % (a power law), so the
+  fit's b is 0.400 ± 0.000; the increment per cycle over cycles 2-6 is (eps(6) - eps(1)) / 5 and over 16-20
+  (eps(20) - eps(15)) / 5, worked out here from the power law; M_eq 20 -> 21.5 MPa, D_v 0.08 -> 0.02 (less the drag
+  0.06 -> 0.015), K 0.75 -> 0.78; quarter 3.5 transits: "(dynamic)".
+- A linear strain, eps_p = 0.05 + 0.01 (N - 1) %: the same increment 0.0100 early and late; 3 cycles: cycle 2's and 3's
+  (k = 1, "(2) → ... (3)"); under 3 cycles the last one's ("(last)") and no power law ("–").
+- Strain reversal (no sigma_v_amplitude in summary.json): sigma_v,0 from p'_0 and q_0 (p'_0 + 2 q_0 / 3 = 150 + 40 =
+  190 kPa), the amplitude "eps_a ± 0.002", the strain columns "–".
+- A cycles.csv row of the part of a cycle (complete 0) is left out, and a stage that is not a cyclic oedometer's
+  (stage_type 4) gives no row."""
+import csv
+import json
+import os
+import shutil
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+import grainlab_plot as g  # noqa: E402
+
+work = sys.argv[1]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+
+COLS = ["stage", "cycle", "step", "eps_a_max", "eps_v", "M_eq", "damping_v", "damping_v_less_drag", "K", "complete"]
+
+
+def write_run(name, stage_type, cycles, summary):
+    d = os.path.join(work, name)
+    os.makedirs(d)
+    with open(os.path.join(d, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage", "step", "eps_a", "eps_v", "p", "q", "u", "sigma_x", "sigma_y", "sigma_z", "stage_type", "cycle"])
+        for k in range(5):
+            w.writerow(["load", k, 0.001 * k, 0.001 * k, 150e3, 50e3, 0, 130e3, 130e3, 190e3, 5, 0])
+        for k in range(5):
+            w.writerow(["cyc", 5 + k, 0.001 * k, 0.001 * k, 150e3, 50e3, 0, 130e3, 130e3, 190e3, stage_type, k])
+    with open(os.path.join(d, "cycles.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(COLS)
+        for r in cycles:
+            w.writerow([r.get(c, "cyc" if c == "stage" else 1) for c in COLS])
+    with open(os.path.join(d, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "load", "type": "triaxial"}, {"name": "cyc", "type": "cyclic", **summary}]}, f)
+    return d
+
+
+def rows_of(name, stage_type, cycles, summary):
+    d = write_run(name, stage_type, cycles, summary)
+    return g.cyclic_oedometer_rows({"name": name}, d, g.load(d))
+
+
+def lin(a, b, n, k):  # a -> b linearly over cycles 1..n
+    return a + (b - a) * (k - 1) / (n - 1)
+
+
+fails = []
+
+
+def expect(got, want, what):
+    if got != want:
+        fails.append(f"{what}:\n  got  {got!r}\n  want {want!r}")
+
+
+# stress reversal, 20 cycles on a power law
+n = 20
+eps = [0.1 * N ** 0.4 for N in range(1, n + 1)]  # [%]
+cyc = [dict(cycle=N, eps_v=eps[N - 1] / 100, M_eq=lin(20e6, 21.5e6, n, N), damping_v=lin(0.08, 0.02, n, N),
+            damping_v_less_drag=lin(0.06, 0.015, n, N), K=lin(0.75, 0.78, n, N), eps_a_max=0.003) for N in range(1, n + 1)]
+cyc.append(dict(cycle=21, eps_v=0.5, M_eq=1, damping_v=float("nan"), damping_v_less_drag=float("nan"), K=0.9,
+                complete=0))  # the part of a cycle the stage ended in: not a row's
+early, late = (eps[5] - eps[0]) / 5, (eps[19] - eps[14]) / 5
+expect(rows_of("power", 6, cyc, {"sigma_v_amplitude": 40e3, "sigma_v_0": 200e3, "quarter_cycle_transits": 3.5}),
+       [f"| power | cyc | 200.0 | 40.0 (0.20) | 20 | 0.100 | {eps[-1]:.3f} | {early:.4f} (2–6) → {late:.4f} (16–20) | "
+        f"0.400 ± 0.000 | 20.0 → 21.5 | 0.080 → 0.020 | 0.060 → 0.015 | 0.750 → 0.780 | 3.50 (dynamic) |"],
+       "stress reversal, 20 cycles")
+# the increments and the power law alone
+expect(g.cycle_increments([0.05 + 0.01 * k for k in range(20)]), "0.0100 (2–6) → 0.0100 (16–20)", "linear, 20 cycles")
+expect(g.cycle_increments([0.05, 0.07, 0.08]), "0.0200 (2) → 0.0100 (3)", "3 cycles")
+expect(g.cycle_increments([0.05, 0.07]), "0.0200 (last)", "2 cycles")
+expect(g.power_law_text([1, 2], [0.05, 0.07]), "–", "power law of 2 cycles")
+expect(g.power_law_text([1, 2, 3], [0.05, 0.0, 0.08]), "–", "power law through a strain of 0")
+# strain reversal: sigma_v,0 from p'_0 and q_0, no strain columns
+expect(rows_of("strain", 6, cyc[:3], {"p_0": 150e3, "q_0": 60e3, "quarter_cycle_transits": 6.2}),
+       ["| strain | cyc | 190.0 | eps_a ± 0.003 | 3 | – | – | – | – | 20.0 → 20.2 | 0.080 → 0.074 | 0.060 → 0.055 | "
+        "0.750 → 0.753 | 6.20 |"], "strain reversal")
+# a drained triaxial cycle (stage_type 4): not a cyclic oedometer
+expect(rows_of("triaxial", 4, cyc, {"q_amplitude": 40e3}), [], "a triaxial cycle")
+
+if fails:
+    sys.exit("cyclic_oedometer_check: " + "\n".join(fails))
+print("cyclic_oedometer_check: ok")
