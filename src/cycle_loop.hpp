@@ -25,8 +25,9 @@
 //    loop, and an open one (the strain the cycle leaves) does not count the mean stress's work on that strain as
 //    hysteresis: cycled about 200 kPa by +-10 kPa, the first cycle's 0.047 % of permanent strain is 94 J/m^3 of it,
 //    where the loop encloses ~2.5 (configs/cyclic-oedometer-study.yaml: D_v 3.6 of the plain integral, past the 2/pi
-//    of any closed loop, against 0.094 about the cycle's start). Less the drag too (svd: the drag's share of sigma_v,
-//    fed with it), as q's.
+//    of any closed loop, against 0.094 about the cycle's start; q's is taken about the stage's q_0, where a stress
+//    reversal's cycles also start, within a step's change). Less the drag too (svd: the drag's share of sigma_v, fed
+//    with it), as q's.
 // Host code, no Kokkos: Laboratory feeds it the measure it turns on, once a step (test_cycle_loop checks it on
 // analytic loops).
 #include <algorithm>
