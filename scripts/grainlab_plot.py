@@ -1681,7 +1681,7 @@ def across_values_section(out, idx, heads):
     sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms (per E too, over the E axis). Empty without
     such a test. Cyclic oedometer tests get a table of their own (cyclic_oedometer_rows): the strain their cycles
     accumulate against the amplitude."""
-    rows, shansep, coed_rows = [], {}, []
+    rows, shansep, coed_rows, coed = [], {}, [], []
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
         if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
@@ -1697,6 +1697,7 @@ def across_values_section(out, idx, heads):
         s = load(d)
         if s["cyclic_oedometric"].any():
             coed_rows += cyclic_oedometer_rows(j, d, s, heads[j["name"]])
+            coed.append((j, d, s))
             continue
         m = s["stage"] == st["name"]
         if st.get("type") != "triaxial" or not m.any():
@@ -1716,8 +1717,11 @@ def across_values_section(out, idx, heads):
                     f"{number_text(float(ocr) if ocr is not None else None, '.3g')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
                     f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | "
                     f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
+    pooled = cyclic_oedometer_pooled(coed, lambda j: heads[j["name"]])
     coed_lines = (["Cyclic oedometer tests (each value's section below has them too). " + CYCLIC_OEDOMETER_TEXT, "",
-                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 15 + "|", *coed_rows, ""] if coed_rows else [])
+                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 15 + "|", *coed_rows, "",
+                   *([CYCLIC_OEDOMETER_POOLED_TEXT, "", "| section " + CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 14 + "|",
+                      *pooled, ""] if pooled else [])] if coed_rows else [])
     if not rows:
         return ["## Across the values", "", *coed_lines] if coed_rows else []
     fits = []
@@ -2868,15 +2872,30 @@ def cyclic_oedometer_rows(j, d, s, head=None):
     return rows
 
 
-def power_law_text(N, eps):
+def power_law(N, eps):
     """The permanent strain's power law eps_p = eps_1 N^b (Monismith et al. 1975, the pavement and ballast literature's
-    model), least squares in ln eps_p - ln N over the whole cycles: "b ± se" (the fit's own standard error); "–" under 3
-    cycles or with a strain not above 0."""
+    model), least squares in ln eps_p - ln N over the whole cycles: (b, its standard error), None under 3 cycles or with
+    a strain not above 0."""
     N, eps = np.asarray(N, dtype=float), np.asarray(eps, dtype=float)
     if len(N) < 3 or not np.all(eps > 0):
-        return "–"
+        return None
     b, _, sb, _ = fit(np.log(N), np.log(eps))
-    return f"{b:.3f} ± {sb:.3f}"
+    return b, sb
+
+
+def power_law_text(N, eps):
+    """power_law as a cell: "b ± se" (the fit's own standard error), "–" where there is none."""
+    p = power_law(N, eps)
+    return "–" if p is None else f"{p[0]:.3f} ± {p[1]:.3f}"
+
+
+def increments_early_late(eps):
+    """cycle_increments' numbers: (early, late) [%/cycle], None under 3 cycles."""
+    n = len(eps)
+    if n < 3:
+        return None
+    k = max(1, n // 4)
+    return (eps[k] - eps[0]) / k, (eps[-1] - eps[-1 - k]) / k
 
 
 def cycle_increments(eps):
@@ -2915,12 +2934,62 @@ CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_
                          "quarter cycle [transits] |")
 
 
+def cyclic_oedometer_pooled(coed, head_of=None):
+    """The tests of coed ((job, run dir, series)) that differ only in their seed, pooled: per group of two or more, one
+    row of each measure's mean ± sd [95 % half-width of the mean] over the seeds (seed_spread): the permanent strain
+    after the first and the last cycle, the increment per cycle early and late, the power law's b, and the last
+    cycle's M_eq, D_v, D_v less the drag and K. head_of: job name -> its section's value (a first column). A group is
+    the stage, the amplitude, the cycles done and every job key but the seed's (and the names it sets)."""
+    groups = {}
+    for j, d, s in coed:
+        cyc = oedometer_cycles(d, s)
+        try:
+            with open(os.path.join(d, "summary.json")) as f:
+                summ = {st["name"]: st for st in json.load(f).get("stages", [])}
+        except (OSError, ValueError, KeyError, TypeError):
+            summ = {}
+        rest = tuple(sorted((k, json.dumps(v, sort_keys=True)) for k, v in j.items()
+                            if k not in ("name", "dir", "seed", "sample")))
+        for name, c in cyc.items():
+            A = summ.get(name, {}).get("sigma_v_amplitude")
+            if not A:  # strain reversal: no strain to pool
+                continue
+            key = (head_of(j) if head_of else None, name, A, int(c["N"][-1]), rest)
+            groups.setdefault(key, []).append((j, c))
+    rows = []
+    for (head, name, A, n, _), tests in groups.items():
+        if len(tests) < 2:
+            continue
+        cs = [c for _, c in tests]
+        inc = [increments_early_late(c["eps"]) for c in cs]
+        law = [power_law(c["N"], c["eps"]) for c in cs]
+        cells = [seed_spread([c["eps"][0] for c in cs], 3), seed_spread([c["eps"][-1] for c in cs], 3),
+                 seed_spread([x[0] for x in inc if x], 4), seed_spread([x[1] for x in inc if x], 4),
+                 seed_spread([x[0] for x in law if x], 3), seed_spread([c["M"][-1] for c in cs], 1),
+                 seed_spread([c["D"][-1] for c in cs], 3), seed_spread([c["Dn"][-1] for c in cs], 3),
+                 seed_spread([c["K"][-1] for c in cs], 3)]
+        rows.append(("" if head is None else f"| {head} ") + f"| {len(tests)} | {name} | {A / 1e3:.1f} | {n} | "
+                    + " | ".join(cells) + " |")
+    return rows
+
+
+CYCLIC_OEDOMETER_POOLED_TEXT = (
+    "Over the seeds: the tests that differ only in their seed, each measure's mean ± sd [95 % half-width of the "
+    "mean] (the last cycle's M_eq, D_v and K).")
+CYCLIC_OEDOMETER_POOLED_HEAD = ("| seeds | stage | A [kPa] | cycles | eps_a after 1 [%] | after the last [%] | "
+                                "per cycle early [%] | late [%] | b | M_eq [MPa] | D_v | D_v less drag | K |")
+
+
 def cyclic_oedometer_section(coed, figs):
-    """Cyclic oedometer tests of a study (cyclic_oedometer_rows) and figures/cyclic_oedometer.png."""
+    """Cyclic oedometer tests of a study (cyclic_oedometer_rows), pooled over seeds (cyclic_oedometer_pooled), and
+    figures/cyclic_oedometer.png."""
     rows = [r for j, d, s in coed for r in cyclic_oedometer_rows(j, d, s)]
+    pooled = cyclic_oedometer_pooled(coed)
     fig_cyclic_oedometer([(d, s) for _, d, s in coed], figs)
     return ["## Cyclic oedometer tests", "", CYCLIC_OEDOMETER_TEXT + " Figure: `figures/cyclic_oedometer.png`.", "",
-            CYCLIC_OEDOMETER_HEAD, "|---" * 14 + "|", *rows, ""]
+            CYCLIC_OEDOMETER_HEAD, "|---" * 14 + "|", *rows, "",
+            *([CYCLIC_OEDOMETER_POOLED_TEXT, "", CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 13 + "|", *pooled, ""]
+              if pooled else [])]
 
 
 def cyclic_section(cyc, figs, colors, fits=None):

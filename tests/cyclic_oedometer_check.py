@@ -10,10 +10,14 @@ cycle_increments, power_law_text) on synthetic runs whose cycles.csv is written 
 - Strain reversal (no sigma_v_amplitude in summary.json): sigma_v,0 from p'_0 and q_0 (p'_0 + 2 q_0 / 3 = 150 + 40 =
   190 kPa), the amplitude "eps_a ± 0.002", the strain columns "–".
 - A cycles.csv row of the part of a cycle (complete 0) is left out, and a stage that is not a cyclic oedometer's
-  (stage_type 4) gives no row."""
+  (stage_type 4) gives no row.
+- Pooled over seeds (cyclic_oedometer_pooled): two tests that differ only in their seed, the strain of one twice the
+  other's (a linear law, 0.05 + 0.01 (N - 1) and twice that): each measure's mean ± sd [t(1) sd / sqrt 2], worked out
+  here; a third test at another mu_r and a strain-reversal test are no group's (a group needs two)."""
 import csv
 import json
 import os
+import statistics
 import shutil
 import sys
 
@@ -88,6 +92,31 @@ expect(rows_of("strain", 6, cyc[:3], {"p_0": 150e3, "q_0": 60e3, "quarter_cycle_
         "0.750 → 0.753 | 6.20 |"], "strain reversal")
 # a drained triaxial cycle (stage_type 4): not a cyclic oedometer
 expect(rows_of("triaxial", 4, cyc, {"q_amplitude": 40e3}), [], "a triaxial cycle")
+
+# pooled over seeds
+def linear_run(name, scale, A=40e3):
+    cyc = [dict(cycle=N, eps_v=scale * (0.05 + 0.01 * (N - 1)) / 100, M_eq=20e6 * scale, damping_v=0.02 * scale,
+                damping_v_less_drag=0.015 * scale, K=0.75 * scale, eps_a_max=0.003) for N in range(1, 9)]
+    summary = {"sigma_v_amplitude": A, "sigma_v_0": 200e3} if A else {"p_0": 150e3, "q_0": 60e3}
+    return write_run(name, 6, cyc, summary)
+
+
+def spread(a, b, digits):
+    m, sd = (a + b) / 2, statistics.stdev([a, b])
+    return f"{m:.{digits}f} ± {sd:.{digits}f} [{12.706 * sd / 2 ** 0.5:.{digits}f}]"
+
+
+tests = []
+for name, seed, mu_r, scale, A in (("s1", 1, 0.0, 1.0, 40e3), ("s2", 2, 0.0, 2.0, 40e3), ("mu", 1, 0.3, 1.0, 40e3),
+                                   ("strain1", 1, 0.0, 1.0, None), ("strain2", 2, 0.0, 1.0, None)):
+    d = linear_run("pool_" + name, scale, A)
+    tests.append(({"name": name, "seed": seed, "mu_r": mu_r, "dir": d, "sample": f"sample_{seed}"}, d, g.load(d)))
+e1, e8 = 0.05, 0.05 + 0.07
+b = g.power_law(range(1, 9), [0.05 + 0.01 * k for k in range(8)])[0]  # the same b for twice the strain
+expect(g.cyclic_oedometer_pooled(tests, lambda j: "v"),
+       [f"| v | 2 | cyc | 40.0 | 8 | {spread(e1, 2 * e1, 3)} | {spread(e8, 2 * e8, 3)} | {spread(0.01, 0.02, 4)} | "
+        f"{spread(0.01, 0.02, 4)} | {b:.3f} ± 0.000 [0.000] | {spread(20, 40, 1)} | {spread(0.02, 0.04, 3)} | "
+        f"{spread(0.015, 0.03, 3)} | {spread(0.75, 1.5, 3)} |"], "pooled over seeds")
 
 if fails:
     sys.exit("cyclic_oedometer_check: " + "\n".join(fails))
