@@ -590,9 +590,9 @@ class Laboratory {
   // drained loading: Lab::q0), or about its sigma_z,0 = p'_0 + 2 q_0 / 3 (start_stress: the measured sigma_z after a
   // shear stage, to rounding).
   std::pair<Real, Real> cyclic_level(const StageConfig& sc, const Measure& m) const {
-    if (sc.sigma_v_reversal()) return {m.sz - start_stress(lab_.p0, lab_.q0).sz, sc.sigma_v_amplitude};
-    return sc.stress_reversal() ? std::pair<Real, Real>{m.q - lab_.q0, q_amplitude(sc, lab_.pc)}
-                                : std::pair<Real, Real>{m.eps_a, sc.strain_amplitude};
+    if (!stress_controlled(sc)) return {m.eps_a, sc.strain_amplitude};
+    const ReversalStress r = reversal_stress(sc);
+    return {(sc.sigma_v_reversal() ? m.sz : m.q) - r.x0, r.A};
   }
   // sigma_h / sigma_v of the walls, sigma_h = (sigma_x + sigma_y) / 2 (cycles.csv K; NaN without a vertical stress)
   static Real lateral_ratio(const Measure& m) {
@@ -651,6 +651,8 @@ class Laboratory {
   Vec3d drag_stress();
   Vec3d box_centre() const;
   static Vec3d drag_of(const Vec3d& moment, Real V);
+  // The drag's share of q, of its per-axis stresses (as measure()'s q of the walls')
+  static Real drag_q(const Vec3d& d) { return d[2] - 0.5 * (d[0] + d[1]); }
   Real core_void_ratio() const;
   Real void_ratio_inset(const Real (&inset)[3]) const;
   Real inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const;
@@ -1059,7 +1061,7 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           p_in,
           q_in,
           (drag[0] + drag[1] + drag[2]) / 3,
-          drag[2] - 0.5 * (drag[0] + drag[1])};  // as measure()'s p and q of the walls' mean stresses
+          drag_q(drag)};  // as measure()'s p and q of the walls' mean stresses
 }
 
 // The local damping's drag as a stress on the walls, per axis: Engine::damping_moment about the box's centre over its
@@ -1248,7 +1250,7 @@ Real Laboratory::watch_cycle_number(const StageConfig& sc, const Measure& m) con
 
 void Laboratory::watch_cycle(const StageConfig& sc, const Measure& m, bool turn, Real N, const Vec3d& drag) {
   CycleLoop& L = lab_.loop;
-  const Real q_drag = drag[2] - 0.5 * (drag[0] + drag[1]);  // row()'s arithmetic (drag_stress)
+  const Real q_drag = drag_q(drag);  // row()'s arithmetic
   L.q_ref = lab_.q0;  // the centre q cycles about (0 after an isotropic stage: the bits of older runs)
   if (!L.open) {
     L.start(m.q, m.eps_a, m.gamma, m.u, q_drag, m.sz, drag[2]);
