@@ -42,8 +42,9 @@ struct CycleLoop {
   double work = 0;         // integral of (q - q_ref) d eps_a so far (trapezoids between the steps' measures) [Pa]
   // The q the loop's area is taken about: the stage's q_0, the centre its stress reversal cycles about (set before
   // start). The same area for a closed loop; of an open one, the work of q_0 on the strain the cycle leaves is not
-  // hysteresis (a cycle of q = 64 +- 30 kPa after a K0 loading that left 0.1 % of strain: 64 J/m^3 of a loop of ~340,
-  // D 0.44 against ~0.25). 0 after an isotropic stage (SPEC §6.3's q_0): exactly the integral of q d eps_a there.
+  // hysteresis (q_0 = 64 kPa on a cycle of +-30 kPa and +-0.18 % that leaves 0.1 % of strain: 64 J/m^3 against a loop
+  // of 2 pi 30e3 x 1.8e-3 = 340, D 0.19 too high; test CycleLoop.QLoopIsTakenAboutTheStagesQ0). 0 after an isotropic
+  // stage (SPEC §6.3's q_0): exactly the integral of q d eps_a there.
   double q_ref = 0;
   double q_prev = 0, e_prev = 0;
   double g_max = 0, g_min = 0;  // extremes of the shear strain gamma = eps_a - eps_r (NaN: not known, see set_state)
