@@ -2839,6 +2839,15 @@ CYCLIC_CONDITIONS = (("e0", lambda v: f"e0 {v:g}" if v else "e0 base"),
                      ("axial_strain_rate", lambda v: f"{v:g}/s" if v else "base rate"))
 
 
+def stages_by_name(d):
+    """A run's summary.json stages by name ({} where it has none or cannot be read)."""
+    try:
+        with open(os.path.join(d, "summary.json")) as f:
+            return {st["name"]: st for st in json.load(f).get("stages", [])}
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
 def cyclic_oedometer_rows(j, d, s, head=None):
     """A study test's cyclic oedometer stages as report rows (oedometer_cycles, summary.json): its section value where
     head is given, then the test, stage, sigma_v,0 and the amplitude (and its ratio), the cycles done, the permanent
@@ -2846,11 +2855,7 @@ def cyclic_oedometer_rows(j, d, s, head=None):
     M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal
     stage's strain columns are "–" (eps_a comes back to 0 every cycle by construction; the run's closing line gives the
     sigma_v its cycles end at), its amplitude "eps_a ± A"."""
-    try:
-        with open(os.path.join(d, "summary.json")) as f:
-            summ = {st["name"]: st for st in json.load(f).get("stages", [])}
-    except (OSError, ValueError, KeyError, TypeError):
-        summ = {}
+    summ = stages_by_name(d)
     rows = []
     for name, c in oedometer_cycles(d, s).items():
         st = summ.get(name, {})
@@ -2942,12 +2947,7 @@ def cyclic_oedometer_pooled(coed, head_of=None):
     the stage, the amplitude, the cycles done and every job key but the seed's (and the names it sets)."""
     groups = {}
     for j, d, s in coed:
-        cyc = oedometer_cycles(d, s)
-        try:
-            with open(os.path.join(d, "summary.json")) as f:
-                summ = {st["name"]: st for st in json.load(f).get("stages", [])}
-        except (OSError, ValueError, KeyError, TypeError):
-            summ = {}
+        cyc, summ = oedometer_cycles(d, s), stages_by_name(d)
         rest = tuple(sorted((k, json.dumps(v, sort_keys=True)) for k, v in j.items()
                             if k not in ("name", "dir", "seed", "sample")))
         for name, c in cyc.items():
