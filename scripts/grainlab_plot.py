@@ -722,14 +722,17 @@ def fig_cyclic_oedometer(runs, out):
     """Cyclic oedometer stages (the lateral walls held, sigma_v reversing about sigma_v,0): the sigma_v - eps_a loops
     (the series' rows), the permanent axial strain at each cycle's end against N (log N: ratcheting is a line that
     keeps rising, shakedown one that levels off), the constrained modulus M_eq and damping ratio D_v of each cycle's
-    sigma_v loop (and D_v less the damping's drag), and K = sigma_h / sigma_v at each cycle's end (sigma_v back at sigma_v,0: the lateral stress the cycles
-    leave locked in); nothing where no run has such a stage."""
+    sigma_v loop (and D_v less the damping's drag), K = sigma_h / sigma_v at each cycle's end (sigma_v back at
+    sigma_v,0: the lateral stress the cycles leave locked in), and the strain's rate per cycle over doubling windows
+    (rate_windows) on log-log axes beside a slope of -1 (the logarithmic law: steeper dies away, shakedown; flatter
+    keeps on, ratcheting); nothing where no run has such a stage."""
     drawn = [(run, s, oedometer_cycles(run, s)) for run, s in runs]
     drawn = [d for d in drawn if d[1]["cyclic_oedometric"].any()]
     if not drawn:
         return
-    fig, ax = plt.subplots(1, 4, figsize=(20, 4.5))
+    fig, ax = plt.subplots(1, 5, figsize=(25, 4.5))
     damp = ax[2].twinx()
+    anchor = None  # the m = 1 guide through the first window drawn
     for i, (run, s, stages) in enumerate(drawn):
         color = f"C{i % 10}"
         m = s["cyclic_oedometric"]
@@ -740,12 +743,23 @@ def fig_cyclic_oedometer(runs, out):
             damp.plot(c["N"], c["D"], "x--", color=color, markersize=3)
             damp.plot(c["N"], c["Dn"], "+:", color=color, markersize=4)
             ax[3].plot(c["N"], c["K"], "o-", color=color, markersize=3)
+            w = [(x[3], x[2]) for x in rate_windows(c["N"], c["eps"]) if x[2] > 0]  # a log axis: rising windows
+            if w:
+                ax[4].plot(*zip(*w), "o-", color=color, markersize=4)
+                anchor = anchor or w[0]
+    if anchor:
+        n_end = max(c["N"][-1] for _, _, stages in drawn for c in stages.values())
+        ax[4].plot([anchor[0], n_end], [anchor[1], anchor[1] * anchor[0] / n_end], "k--", lw=0.8,
+                   label="m = 1 (eps_p = a + c ln N): steeper is shakedown")
+        legend(ax[4], fontsize=8)
     damp.set_ylabel("D_v (dashed; dotted: less the damping's drag)")
     ax[0].set(xlabel="eps_a [%] (across the run's shear stages)", ylabel="sigma_v [kPa]", title="sigma_v - eps_a loops")
     ax[1].set(xscale="log", xlabel="cycle N", ylabel="permanent eps_a at the cycle's end [%]",
               title="accumulated strain (ratcheting / shakedown)")
     ax[2].set(xscale="log", xlabel="cycle N", ylabel="M_eq [MPa] (solid)", title="constrained modulus and damping")
     ax[3].set(xscale="log", xlabel="cycle N", ylabel="K = sigma_h / sigma_v at sigma_v,0", title="lateral stress ratio")
+    ax[4].set(xscale="log", yscale="log", xlabel="cycle N (each window's 1/N mean: 2-4, 4-8, ...)",
+              ylabel="permanent strain per cycle [%]", title="rate ~ N^-m (m > 1 bounded: shakedown)")
     finish(fig, ax, ax[1], 8, out, "cyclic_oedometer")
 
 
@@ -1719,8 +1733,8 @@ def across_values_section(out, idx, heads):
                     f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
     pooled = cyclic_oedometer_pooled(coed, lambda j: heads[j["name"]])
     coed_lines = (["Cyclic oedometer tests (each value's section below has them too). " + CYCLIC_OEDOMETER_TEXT, "",
-                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 15 + "|", *coed_rows, "",
-                   *([CYCLIC_OEDOMETER_POOLED_TEXT, "", "| section " + CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 14 + "|",
+                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 16 + "|", *coed_rows, "",
+                   *([CYCLIC_OEDOMETER_POOLED_TEXT, "", "| section " + CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 15 + "|",
                       *pooled, ""] if pooled else [])] if coed_rows else [])
     if not rows:
         return ["## Across the values", "", *coed_lines] if coed_rows else []
@@ -2852,7 +2866,7 @@ def cyclic_oedometer_rows(j, d, s, head=None):
     """A study test's cyclic oedometer stages as report rows (oedometer_cycles, summary.json): its section value where
     head is given, then the test, stage, sigma_v,0 and the amplitude (and its ratio), the cycles done, the permanent
     axial strain after the first and the last cycle, the mean increment per cycle early and late (cycle_increments),
-    M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal
+    the power law's b and the rate's decay exponent m (rate_decay), M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal
     stage's strain columns are "–" (eps_a comes back to 0 every cycle by construction; the run's closing line gives the
     sigma_v its cycles end at), its amplitude "eps_a ± A"."""
     summ = stages_by_name(d)
@@ -2865,7 +2879,7 @@ def cyclic_oedometer_rows(j, d, s, head=None):
             sv0 = float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
         amp = f"{A / 1e3:.1f} ({A / sv0:.2f})" if A and sv0 else f"eps_a ± {c['emax'][0]:.3g}"
         strain = (f"{c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {cycle_increments(c['eps'])} | "
-                  f"{power_law_text(c['N'], c['eps'])}") if A else "– | – | – | –"
+                  f"{power_law_text(c['N'], c['eps'])} | {rate_decay_text(c['N'], c['eps'])}") if A else "– | – | – | – | –"
         qt = st.get("quarter_cycle_transits")
         dyn = "" if qt is None or qt >= QUASI_STATIC_TRANSITS else " (dynamic)"
         rows.append(("" if head is None else f"| {head} ") +
@@ -2892,6 +2906,53 @@ def power_law_text(N, eps):
     """power_law as a cell: "b ± se" (the fit's own standard error), "–" where there is none."""
     p = power_law(N, eps)
     return "–" if p is None else f"{p[0]:.3f} ± {p[1]:.3f}"
+
+
+def rate_windows(N, eps):
+    """The permanent strain's rate per cycle over doubling windows of cycles from the second (the first, the virgin
+    loading's, apart): [2, 4], [4, 8], [8, 16], ..., the last ending at the last cycle (one shorter than half the
+    window before it joins that one). Each window (a, b, rate, N_m): rate = (eps_b - eps_a) / (b - a) [%/cycle], N_m =
+    (b - a) / ln(b / a), the cycle at which 1/N is the window's mean, so that a logarithmic law's rate c / N is exact
+    at N_m; doubling windows make a power law's rates exact in slope too (each window the one before scaled by 2).
+    Cycles missing from N end the windows there."""
+    at = {int(n): float(e) for n, e in zip(N, eps)}
+    n = 1
+    while n + 1 in at:
+        n += 1
+    edges = [2]
+    while edges[-1] * 2 <= n:
+        edges.append(edges[-1] * 2)
+    if edges[-1] < n:
+        if len(edges) > 1 and n - edges[-1] < (edges[-1] - edges[-2]) / 2:
+            edges[-1] = n
+        else:
+            edges.append(n)
+    return [(a, b, (at[b] - at[a]) / (b - a), (b - a) / math.log(b / a)) for a, b in zip(edges, edges[1:])]
+
+
+def rate_decay(N, eps):
+    """How the permanent strain's rate per cycle dies away: rate ~ N^-m fitted by least squares in ln rate - ln N_m
+    over rate_windows' windows (three at least: 10 cycles). m > 1: the strain bounded (its sum converges:
+    shakedown); m = 1: the logarithmic law eps_p = a + c ln N (Barksdale 1972), each doubling of N adding the same
+    strain; 0 < m < 1: growth as a power of N (Monismith's b = 1 - m for a pure power law); m = 0: a constant rate,
+    ratcheting. dict(m, se (the fit's own standard error), windows) or dict(why) where it cannot be taken: too few
+    cycles, or a window the strain did not rise over (no power of N describes it)."""
+    w = rate_windows(N, eps)
+    if len(w) < 3:
+        return dict(why="under 10 cycles", windows=w)
+    flat = [(a, b) for a, b, r, _ in w if not r > 0]
+    if flat:
+        return dict(why=f"no rise over cycles {flat[0][0]}–{flat[0][1]}", windows=w)
+    slope, _, se, _ = fit(np.log([x[3] for x in w]), np.log([x[2] for x in w]))
+    # a constant rate's slope comes out +-1e-17: rounded at 1e-12 (and -0.0 made 0.0) so that it prints, and pools
+    # over seeds, as 0.00 rather than -0.00
+    return dict(m=round(-slope, 12) + 0.0, se=se, windows=w)
+
+
+def rate_decay_text(N, eps):
+    """rate_decay as a cell: "m ± se (w windows)", or "– (why)"."""
+    d = rate_decay(N, eps)
+    return f"– ({d['why']})" if "why" in d else f"{d['m']:.2f} ± {d['se']:.2f} ({len(d['windows'])} windows)"
 
 
 def increments_early_late(eps):
@@ -2924,7 +2985,11 @@ CYCLIC_OEDOMETER_TEXT = (
     "and late (over cycles 2 to 1 + k and the last k, k a quarter of the cycles: one that holds is ratcheting, one "
     "falling towards nothing shakedown), the exponent b of the power law eps_p = eps_1 N^b fitted to it (Monismith "
     "et al. 1975; least squares in the logarithms, ± the fit's standard error, which the cycles' serial correlation "
-    "makes optimistic), the constrained modulus M_eq = (sigma_v,max - "
+    "makes optimistic), the exponent m of the strain's rate per cycle, rate ~ N^-m, fitted over doubling windows of "
+    "cycles from the second (2-4, 4-8, 8-16, ...; ± the fit's standard error): m > 1 the strain is bounded "
+    "(shakedown), m = 1 the logarithmic law eps_p = a + c ln N (Barksdale 1972: each doubling of N adds the same "
+    "strain), 0 < m < 1 a power of N (a pure power law's m is 1 - b), m = 0 a constant rate (ratcheting); '–' with the "
+    "reason where a window's strain did not rise or there are under 10 cycles. The constrained modulus M_eq = (sigma_v,max - "
     "sigma_v,min) / (eps_max - eps_min) and damping ratio D_v of the sigma_v - eps_a loop (the first cycle's is not "
     "closed: its plastic strain counts as area; its area about the cycle's first sigma_v), D_v less the local "
     "damping's drag (the contacts' loop; cycles.csv damping_v_less_drag), and K = sigma_h / sigma_v at the cycle's "
@@ -2934,6 +2999,7 @@ CYCLIC_OEDOMETER_TEXT = (
     "cycle, and the stress moves instead (the run's closing line gives sigma_v at the cycles' ends).")
 CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_v,0) | cycles | eps_a after 1 [%] | "
                          "after the last [%] | per cycle early → late [%] (cycles) | b of eps_p = eps_1 N^b | "
+                         "m of rate ~ N^-m | "
                          "M_eq [MPa] | D_v | "
                          "D_v less drag | K | "
                          "quarter cycle [transits] |")
@@ -2942,7 +3008,8 @@ CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_
 def cyclic_oedometer_pooled(coed, head_of=None):
     """The tests of coed ((job, run dir, series)) that differ only in their seed, pooled: per group of two or more, one
     row of each measure's mean ± sd [95 % half-width of the mean] over the seeds (seed_spread): the permanent strain
-    after the first and the last cycle, the increment per cycle early and late, the power law's b, and the last
+    after the first and the last cycle, the increment per cycle early and late, the power law's b, the rate's decay
+    exponent m (of the seeds that have one), and the last
     cycle's M_eq, D_v, D_v less the drag and K. head_of: job name -> its section's value (a first column). A group is
     the stage, the amplitude, the cycles done and every job key but the seed's (and the names it sets)."""
     groups = {}
@@ -2963,9 +3030,11 @@ def cyclic_oedometer_pooled(coed, head_of=None):
         cs = [c for _, c in tests]
         inc = [increments_early_late(c["eps"]) for c in cs]
         law = [power_law(c["N"], c["eps"]) for c in cs]
+        decay = [rate_decay(c["N"], c["eps"]) for c in cs]
         cells = [seed_spread([c["eps"][0] for c in cs], 3), seed_spread([c["eps"][-1] for c in cs], 3),
                  seed_spread([x[0] for x in inc if x], 4), seed_spread([x[1] for x in inc if x], 4),
-                 seed_spread([x[0] for x in law if x], 3), seed_spread([c["M"][-1] for c in cs], 1),
+                 seed_spread([x[0] for x in law if x], 3), seed_spread([x["m"] for x in decay if "m" in x], 2),
+                 seed_spread([c["M"][-1] for c in cs], 1),
                  seed_spread([c["D"][-1] for c in cs], 3), seed_spread([c["Dn"][-1] for c in cs], 3),
                  seed_spread([c["K"][-1] for c in cs], 3)]
         rows.append(("" if head is None else f"| {head} ") + f"| {len(tests)} | {name} | {A / 1e3:.1f} | {n} | "
@@ -2977,7 +3046,7 @@ CYCLIC_OEDOMETER_POOLED_TEXT = (
     "Over the seeds: the tests that differ only in their seed, each measure's mean ± sd [95 % half-width of the "
     "mean] (the last cycle's M_eq, D_v and K).")
 CYCLIC_OEDOMETER_POOLED_HEAD = ("| seeds | stage | A [kPa] | cycles | eps_a after 1 [%] | after the last [%] | "
-                                "per cycle early [%] | late [%] | b | M_eq [MPa] | D_v | D_v less drag | K |")
+                                "per cycle early [%] | late [%] | b | m | M_eq [MPa] | D_v | D_v less drag | K |")
 
 
 def cyclic_oedometer_section(coed, figs):
@@ -2987,8 +3056,8 @@ def cyclic_oedometer_section(coed, figs):
     pooled = cyclic_oedometer_pooled(coed)
     fig_cyclic_oedometer([(d, s) for _, d, s in coed], figs)
     return ["## Cyclic oedometer tests", "", CYCLIC_OEDOMETER_TEXT + " Figure: `figures/cyclic_oedometer.png`.", "",
-            CYCLIC_OEDOMETER_HEAD, "|---" * 14 + "|", *rows, "",
-            *([CYCLIC_OEDOMETER_POOLED_TEXT, "", CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 13 + "|", *pooled, ""]
+            CYCLIC_OEDOMETER_HEAD, "|---" * 15 + "|", *rows, "",
+            *([CYCLIC_OEDOMETER_POOLED_TEXT, "", CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 14 + "|", *pooled, ""]
               if pooled else [])]
 
 
