@@ -29,6 +29,7 @@
 
 #include "cycle_loop.hpp"
 #include "h5io.hpp"
+#include "rate_decay.hpp"
 
 #if defined(KOKKOS_ENABLE_CUDA)
 #include <cuda_runtime_api.h>  // cudaMemGetInfo: the memory check of a run on the GPU (require_memory)
@@ -1316,7 +1317,9 @@ void Laboratory::warn_dynamic_cycle(const StageConfig& sc, double quarter) const
 // (cycles 2 to 1 + k) and late (the last k), k a quarter of the cycles (at least 1; the first cycle, the virgin
 // loading's, apart): ratcheting where the increment holds, shakedown where it falls towards nothing (on 2 000 spheres
 // over 20 cycles it fell 2-10x at every amplitude, and single cycles' bursts blur which: configs/cyclic-oedometer-study.yaml),
-// and the first and last cycle's M_eq, D_v and K (the lateral stress the cycles leave at sigma_v,0).
+// the exponent m of the rate's decay, rate ~ N^-m over doubling windows of cycles (src/rate_decay.hpp: 200 cycles of
+// configs/cyclic-oedometer-long.yaml tell what 20 do not), and the first and last cycle's M_eq, D_v and K (the lateral
+// stress the cycles leave at sigma_v,0).
 void Laboratory::print_ratcheting(const StageConfig& sc) const {
   const size_t kE = column_of(cycle_columns(), "eps_v"), kM = column_of(cycle_columns(), "M_eq"),
                kD = column_of(cycle_columns(), "damping_v"), kK = column_of(cycle_columns(), "K"),
@@ -1349,9 +1352,22 @@ void Laboratory::print_ratcheting(const StageConfig& sc) const {
                   n - k + 1, n);
   else
     std::snprintf(rate, sizeof(rate), "the last cycle's %.3g %%", 100 * (n > 1 ? after(n) - after(n - 1) : after(n)));
-  std::printf("stage %s: cyclic oedometer: permanent eps_a %.4g %% after cycle 1, %.4g %% after cycle %zu (%s); M_eq "
-              "%.4g -> %.4g MPa, D_v %.4f -> %.4f, K = sigma_h/sigma_v at sigma_v,0 %.4f -> %.4f (cycles.csv)\n",
-              sc.name.c_str(), 100 * a[kE], 100 * b[kE], n, rate, a[kM] / 1e6, b[kM] / 1e6, a[kD], b[kD], a[kK], b[kK]);
+  // the rate's decay exponent over doubling windows (src/rate_decay.hpp), of the cycles numbered 1, 2, ... on
+  const size_t kN = column_of(cycle_columns(), "cycle");
+  std::vector<double> eps;
+  for (const auto* r : rows)
+    if ((*r)[kN] == double(eps.size() + 1)) eps.push_back((*r)[kE]);
+  const RateDecay d = rate_decay(eps);
+  char decay[200];
+  if (d.ok)
+    std::snprintf(decay, sizeof(decay), "rate ~ N^-m, m = %.2f +- %.2f over %zu doubling windows of cycles (m > 1: "
+                  "bounded, shakedown; 1: eps_p = a + c ln N; 0: ratcheting)", d.m, d.se, d.windows);
+  else
+    std::snprintf(decay, sizeof(decay), "no rate exponent m: %s", d.why.c_str());
+  std::printf("stage %s: cyclic oedometer: permanent eps_a %.4g %% after cycle 1, %.4g %% after cycle %zu (%s); %s; "
+              "M_eq %.4g -> %.4g MPa, D_v %.4f -> %.4f, K = sigma_h/sigma_v at sigma_v,0 %.4f -> %.4f (cycles.csv)\n",
+              sc.name.c_str(), 100 * a[kE], 100 * b[kE], n, rate, decay, a[kM] / 1e6, b[kM] / 1e6, a[kD], b[kD], a[kK],
+              b[kK]);
 }
 
 // The run stops where a sphere-sphere overlap passes numerics.max_overlap (assert_healthy). Past three quarters of it,

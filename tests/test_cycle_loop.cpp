@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "src/cycle_loop.hpp"
+#include "src/rate_decay.hpp"
 
 using grainlab::CycleLoop;
 
@@ -220,4 +223,51 @@ TEST(CycleLoop, QLoopIsTakenAboutTheStagesQ0) {
   by_hand.start(1e3, 0, 0, 0);
   by_hand.add(3e3, 1e-4, 0, 0);
   EXPECT_EQ(by_hand.work, 0.5 * (3e3 + 1e3) * 1e-4);
+}
+
+// rate_decay (src/rate_decay.hpp) on permanent-strain laws whose m is known, the same answers the study report's
+// python twin is checked on (tests/cyclic_oedometer_check.py): the logarithmic law's 1 (exact at every window's N_m,
+// the short last window 128-200 too), a power law's 1 - b over doubling windows (128 cycles), 1 - N^-0.5's 1.5 (its
+// differences over doubling windows scale as a power's: 128 cycles too; over 200 the short last window makes it
+// 1.5013), a constant rate's 0. Exact but for rounding: 1e-9.
+TEST(RateDecay, KnownLawsGiveTheirExponent) {
+  const auto law = [](size_t n, auto f) {
+    std::vector<double> eps(n);
+    for (size_t N = 1; N <= n; ++N) eps[N - 1] = f(double(N));
+    return eps;
+  };
+  const struct {
+    std::vector<double> eps;
+    double m;
+    size_t windows;
+  } cases[] = {{law(200, [](double N) { return 0.1 + 0.05 * std::log(N); }), 1.0, 7},
+               {law(128, [](double N) { return 0.1 * std::pow(N, 0.3); }), 0.7, 6},
+               {law(128, [](double N) { return 1 - std::pow(N, -0.5); }), 1.5, 6},
+               {law(200, [](double N) { return 0.01 * N; }), 0.0, 7}};
+  for (const auto& c : cases) {
+    const grainlab::RateDecay r = grainlab::rate_decay(c.eps);
+    ASSERT_TRUE(r.ok) << r.why;
+    EXPECT_NEAR(r.m, c.m, 1e-9);
+    EXPECT_NEAR(r.se, 0.0, 1e-9);  // an exact law: no residual
+    EXPECT_EQ(r.windows, c.windows);
+  }
+}
+
+// The windows' last end (9 cycles: 2-4, 4-9, too few; 10: 2-4, 4-8, 8-10; 18: 8-18, its 16-18 under half of 8-16;
+// 20: 16-20 kept), and the reasons given where there is no m.
+TEST(RateDecay, WindowsAndWhyNot) {
+  const auto linear = [](size_t n) {
+    std::vector<double> eps(n);
+    for (size_t k = 0; k < n; ++k) eps[k] = 0.01 * double(k + 1);
+    return eps;
+  };
+  for (const auto& [n, windows] : {std::pair<size_t, size_t>{9, 2}, {10, 3}, {18, 3}, {20, 4}, {1, 0}, {0, 0}})
+    EXPECT_EQ(grainlab::rate_decay(linear(n)).windows, windows) << n << " cycles";
+  EXPECT_EQ(grainlab::rate_decay(linear(9)).why, "under 10 cycles");
+  EXPECT_TRUE(grainlab::rate_decay(linear(10)).ok);
+  std::vector<double> fall = linear(20);
+  fall[15] = fall[7];  // the strain at cycle 16 back to cycle 8's
+  const grainlab::RateDecay r = grainlab::rate_decay(fall);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.why, "no rise over cycles 8-16");
 }
