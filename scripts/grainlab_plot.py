@@ -1733,8 +1733,8 @@ def across_values_section(out, idx, heads):
                     f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
     pooled = cyclic_oedometer_pooled(coed, lambda j: heads[j["name"]])
     coed_lines = (["Cyclic oedometer tests (each value's section below has them too). " + CYCLIC_OEDOMETER_TEXT, "",
-                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 16 + "|", *coed_rows, "",
-                   *([CYCLIC_OEDOMETER_POOLED_TEXT, "", "| section " + CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 15 + "|",
+                   "| section " + CYCLIC_OEDOMETER_HEAD, "|---" * 17 + "|", *coed_rows, "",
+                   *([CYCLIC_OEDOMETER_POOLED_TEXT, "", "| section " + CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 16 + "|",
                       *pooled, ""] if pooled else [])] if coed_rows else [])
     if not rows:
         return ["## Across the values", "", *coed_lines] if coed_rows else []
@@ -2866,7 +2866,7 @@ def cyclic_oedometer_rows(j, d, s, head=None):
     """A study test's cyclic oedometer stages as report rows (oedometer_cycles, summary.json): its section value where
     head is given, then the test, stage, sigma_v,0 and the amplitude (and its ratio), the cycles done, the permanent
     axial strain after the first and the last cycle, the mean increment per cycle early and late (cycle_increments),
-    the power law's b and the rate's decay exponent m (rate_decay), M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal
+    the power law's b, the rate's decay exponent m (rate_decay) and the strain per tenfold of cycles (log_law), M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal
     stage's strain columns are "–" (eps_a comes back to 0 every cycle by construction; the run's closing line gives the
     sigma_v its cycles end at), its amplitude "eps_a ± A"."""
     summ = stages_by_name(d)
@@ -2879,7 +2879,8 @@ def cyclic_oedometer_rows(j, d, s, head=None):
             sv0 = float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
         amp = f"{A / 1e3:.1f} ({A / sv0:.2f})" if A and sv0 else f"eps_a ± {c['emax'][0]:.3g}"
         strain = (f"{c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {cycle_increments(c['eps'])} | "
-                  f"{power_law_text(c['N'], c['eps'])} | {rate_decay_text(c['N'], c['eps'])}") if A else "– | – | – | – | –"
+                  f"{power_law_text(c['N'], c['eps'])} | {rate_decay_text(c['N'], c['eps'])} | "
+                  f"{log_law_text(c['N'], c['eps'])}") if A else "– | – | – | – | – | –"
         qt = st.get("quarter_cycle_transits")
         dyn = "" if qt is None or qt >= QUASI_STATIC_TRANSITS else " (dynamic)"
         rows.append(("" if head is None else f"| {head} ") +
@@ -2955,6 +2956,25 @@ def rate_decay_text(N, eps):
     return f"– ({d['why']})" if "why" in d else f"{d['m']:.2f} ± {d['se']:.2f} ({len(d['windows'])} windows)"
 
 
+def log_law(N, eps):
+    """The permanent strain per tenfold of cycles: eps_p = a + c ln N (Barksdale 1972) fitted by least squares over
+    the cycles from the second (the first, the virgin loading's, apart, as rate_windows'), (c ln 10, its standard
+    error ln 10) [% per decade]: the strain ten times the cycles add where m = 1 (on 2 000 spheres cycled 200 times
+    about 200 kPa, cycles 2-20 and 20-200 added the same within the seeds' scatter: configs/cyclic-oedometer-long-study.yaml);
+    None under 4 cycles."""
+    N, eps = np.asarray(N, dtype=float)[1:], np.asarray(eps, dtype=float)[1:]
+    if len(N) < 3:
+        return None
+    c, _, sc, _ = fit(np.log(N), eps)
+    return c * math.log(10), sc * math.log(10)
+
+
+def log_law_text(N, eps):
+    """log_law as a cell: "c ± se", "–" where there is none."""
+    p = log_law(N, eps)
+    return "–" if p is None else f"{p[0]:.3f} ± {p[1]:.3f}"
+
+
 def increments_early_late(eps):
     """cycle_increments' numbers: (early, late) [%/cycle], None under 3 cycles."""
     n = len(eps)
@@ -2989,7 +3009,9 @@ CYCLIC_OEDOMETER_TEXT = (
     "cycles from the second (2-4, 4-8, 8-16, ...; ± the fit's standard error): m > 1 the strain is bounded "
     "(shakedown), m = 1 the logarithmic law eps_p = a + c ln N (Barksdale 1972: each doubling of N adds the same "
     "strain), 0 < m < 1 a power of N (a pure power law's m is 1 - b), m = 0 a constant rate (ratcheting); '–' with the "
-    "reason where a window's strain did not rise or there are under 10 cycles. The constrained modulus M_eq = (sigma_v,max - "
+    "reason where a window's strain did not rise or there are under 10 cycles; the strain per tenfold of cycles, c ln "
+    "10 of eps_p = a + c ln N fitted from the second cycle (± the fit's standard error): what ten times the cycles add "
+    "where m = 1. The constrained modulus M_eq = (sigma_v,max - "
     "sigma_v,min) / (eps_max - eps_min) and damping ratio D_v of the sigma_v - eps_a loop (the first cycle's is not "
     "closed: its plastic strain counts as area; its area about the cycle's first sigma_v), D_v less the local "
     "damping's drag (the contacts' loop; cycles.csv damping_v_less_drag), and K = sigma_h / sigma_v at the cycle's "
@@ -2999,7 +3021,7 @@ CYCLIC_OEDOMETER_TEXT = (
     "cycle, and the stress moves instead (the run's closing line gives sigma_v at the cycles' ends).")
 CYCLIC_OEDOMETER_HEAD = ("| test | stage | sigma_v,0 [kPa] | A [kPa] (A / sigma_v,0) | cycles | eps_a after 1 [%] | "
                          "after the last [%] | per cycle early → late [%] (cycles) | b of eps_p = eps_1 N^b | "
-                         "m of rate ~ N^-m | "
+                         "m of rate ~ N^-m | per tenfold N [%] (a + c ln N) | "
                          "M_eq [MPa] | D_v | "
                          "D_v less drag | K | "
                          "quarter cycle [transits] |")
@@ -3009,7 +3031,7 @@ def cyclic_oedometer_pooled(coed, head_of=None):
     """The tests of coed ((job, run dir, series)) that differ only in their seed, pooled: per group of two or more, one
     row of each measure's mean ± sd [95 % half-width of the mean] over the seeds (seed_spread): the permanent strain
     after the first and the last cycle, the increment per cycle early and late, the power law's b, the rate's decay
-    exponent m (of the seeds that have one), and the last
+    exponent m (of the seeds that have one), the strain per tenfold of cycles, and the last
     cycle's M_eq, D_v, D_v less the drag and K. head_of: job name -> its section's value (a first column). A group is
     the stage, the amplitude, the cycles done and every job key but the seed's (and the names it sets)."""
     groups = {}
@@ -3031,9 +3053,11 @@ def cyclic_oedometer_pooled(coed, head_of=None):
         inc = [increments_early_late(c["eps"]) for c in cs]
         law = [power_law(c["N"], c["eps"]) for c in cs]
         decay = [rate_decay(c["N"], c["eps"]) for c in cs]
+        decade = [log_law(c["N"], c["eps"]) for c in cs]
         cells = [seed_spread([c["eps"][0] for c in cs], 3), seed_spread([c["eps"][-1] for c in cs], 3),
                  seed_spread([x[0] for x in inc if x], 4), seed_spread([x[1] for x in inc if x], 4),
                  seed_spread([x[0] for x in law if x], 3), seed_spread([x["m"] for x in decay if "m" in x], 2),
+                 seed_spread([x[0] for x in decade if x], 3),
                  seed_spread([c["M"][-1] for c in cs], 1),
                  seed_spread([c["D"][-1] for c in cs], 3), seed_spread([c["Dn"][-1] for c in cs], 3),
                  seed_spread([c["K"][-1] for c in cs], 3)]
@@ -3046,7 +3070,8 @@ CYCLIC_OEDOMETER_POOLED_TEXT = (
     "Over the seeds: the tests that differ only in their seed, each measure's mean ± sd [95 % half-width of the "
     "mean] (the last cycle's M_eq, D_v and K).")
 CYCLIC_OEDOMETER_POOLED_HEAD = ("| seeds | stage | A [kPa] | cycles | eps_a after 1 [%] | after the last [%] | "
-                                "per cycle early [%] | late [%] | b | m | M_eq [MPa] | D_v | D_v less drag | K |")
+                                "per cycle early [%] | late [%] | b | m | per tenfold N [%] | M_eq [MPa] | D_v | "
+                                "D_v less drag | K |")
 
 
 def cyclic_oedometer_section(coed, figs):
@@ -3056,8 +3081,8 @@ def cyclic_oedometer_section(coed, figs):
     pooled = cyclic_oedometer_pooled(coed)
     fig_cyclic_oedometer([(d, s) for _, d, s in coed], figs)
     return ["## Cyclic oedometer tests", "", CYCLIC_OEDOMETER_TEXT + " Figure: `figures/cyclic_oedometer.png`.", "",
-            CYCLIC_OEDOMETER_HEAD, "|---" * 15 + "|", *rows, "",
-            *([CYCLIC_OEDOMETER_POOLED_TEXT, "", CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 14 + "|", *pooled, ""]
+            CYCLIC_OEDOMETER_HEAD, "|---" * 16 + "|", *rows, "",
+            *([CYCLIC_OEDOMETER_POOLED_TEXT, "", CYCLIC_OEDOMETER_POOLED_HEAD, "|---" * 15 + "|", *pooled, ""]
               if pooled else [])]
 
 

@@ -12,6 +12,8 @@ cycle_increments, power_law_text) on synthetic runs whose cycles.csv is written 
   190 kPa), the amplitude "eps_a ± 0.002", the strain columns "–".
 - A cycles.csv row of the part of a cycle (complete 0) is left out, and a stage that is not a cyclic oedometer's
   (stage_type 4) gives no row.
+- The strain per tenfold of cycles (log_law: c ln 10 of eps_p = a + c ln N from the second cycle), by a least-squares
+  line here (the power law's 20 cycles), 0.05 ln 10 of a log law whose first cycle is off it, none under 4 cycles.
 - The rate's decay exponent m (rate_decay: rate ~ N^-m over doubling windows) of laws whose m is known: a logarithmic
   law's 1, a power law's 1 - b, 1 - N^-0.5's 1.5, a constant rate's 0 (0.00, not -0.00); the windows' ends at 9, 10,
   18 and 20 cycles; "–" and why under 10 cycles and where a window's strain did not rise; a missing cycle ends them.
@@ -87,9 +89,18 @@ early, late = (eps[5] - eps[0]) / 5, (eps[19] - eps[14]) / 5
 win = [(2, 4), (4, 8), (8, 16), (16, 20)]
 m20 = -np.polyfit([math.log((b - a) / math.log(b / a)) for a, b in win],
                   [math.log((eps[b - 1] - eps[a - 1]) / (b - a)) for a, b in win], 1)[0]
+
+
+def per_decade(eps):  # eps_p = a + c ln N over cycles 2..n by least squares: c ln 10 and its standard error
+    x, y = np.log(np.arange(2, len(eps) + 1)), np.asarray(eps[1:])
+    c, a = np.polyfit(x, y, 1)
+    se = math.sqrt(np.sum((y - a - c * x) ** 2) / (len(x) - 2) / np.sum((x - x.mean()) ** 2))
+    return c * math.log(10), se * math.log(10)
+
+
 expect(rows_of("power", 6, cyc, {"sigma_v_amplitude": 40e3, "sigma_v_0": 200e3, "quarter_cycle_transits": 3.5}),
        [f"| power | cyc | 200.0 | 40.0 (0.20) | 20 | 0.100 | {eps[-1]:.3f} | {early:.4f} (2–6) → {late:.4f} (16–20) | "
-        f"0.400 ± 0.000 | {m20:.2f} ± 0.00 (4 windows) | 20.0 → 21.5 | 0.080 → 0.020 | 0.060 → 0.015 | 0.750 → 0.780 | 3.50 (dynamic) |"],
+        f"0.400 ± 0.000 | {m20:.2f} ± 0.00 (4 windows) | {'%.3f ± %.3f' % per_decade(eps)} | 20.0 → 21.5 | 0.080 → 0.020 | 0.060 → 0.015 | 0.750 → 0.780 | 3.50 (dynamic) |"],
        "stress reversal, 20 cycles")
 # the increments and the power law alone
 expect(g.cycle_increments([0.05 + 0.01 * k for k in range(20)]), "0.0100 (2–6) → 0.0100 (16–20)", "linear, 20 cycles")
@@ -116,9 +127,15 @@ fall[15] = fall[7]  # the strain at cycle 16 back to cycle 8's: no rise over 8-1
 expect(g.rate_decay_text(range(1, 21), fall), "– (no rise over cycles 8–16)", "a window the strain fell over")
 expect([(a, b) for a, b, _, _ in g.rate_windows([1, 2, 3, 4, 5, 6, 7, 8, 10, 11], np.arange(10.0))], [(2, 4), (4, 8)],
        "a missing cycle ends the windows")
+# the strain per tenfold of cycles: the log law's c ln 10 (0.05 ln 10 = 0.115), fitted from the second cycle (a first
+# cycle off the law changes nothing); none under 4 cycles
+log_eps = 0.1 + 0.05 * np.log(N200)
+log_eps[0] = 5.0
+expect(g.log_law_text(N200, log_eps), "0.115 ± 0.000", "log law per decade")
+expect(g.log_law_text([1, 2, 3], [0.1, 0.2, 0.3]), "–", "log law of 3 cycles")
 # strain reversal: sigma_v,0 from p'_0 and q_0, no strain columns
 expect(rows_of("strain", 6, cyc[:3], {"p_0": 150e3, "q_0": 60e3, "quarter_cycle_transits": 6.2}),
-       ["| strain | cyc | 190.0 | eps_a ± 0.003 | 3 | – | – | – | – | – | 20.0 → 20.2 | 0.080 → 0.074 | 0.060 → 0.055 | "
+       ["| strain | cyc | 190.0 | eps_a ± 0.003 | 3 | – | – | – | – | – | – | 20.0 → 20.2 | 0.080 → 0.074 | 0.060 → 0.055 | "
         "0.750 → 0.753 | 6.20 |"], "strain reversal")
 # a drained triaxial cycle (stage_type 4): not a cyclic oedometer
 expect(rows_of("triaxial", 4, cyc, {"q_amplitude": 40e3}), [], "a triaxial cycle")
@@ -143,9 +160,11 @@ for name, seed, mu_r, scale, A in (("s1", 1, 0.0, 1.0, 40e3), ("s2", 2, 0.0, 2.0
     tests.append(({"name": name, "seed": seed, "mu_r": mu_r, "dir": d, "sample": f"sample_{seed}"}, d, g.load(d)))
 e1, e10 = 0.05, 0.05 + 0.09
 b = g.power_law(range(1, 11), [0.05 + 0.01 * k for k in range(10)])[0]  # the same b for twice the strain
+dec = per_decade([0.05 + 0.01 * k for k in range(10)])[0]  # and per tenfold N: twice for twice
 expect(g.cyclic_oedometer_pooled(tests, lambda j: "v"),  # a linear law's m: 0 for both seeds
        [f"| v | 2 | cyc | 40.0 | 10 | {spread(e1, 2 * e1, 3)} | {spread(e10, 2 * e10, 3)} | {spread(0.01, 0.02, 4)} | "
-        f"{spread(0.01, 0.02, 4)} | {b:.3f} ± 0.000 [0.000] | 0.00 ± 0.00 [0.00] | {spread(20, 40, 1)} | {spread(0.02, 0.04, 3)} | "
+        f"{spread(0.01, 0.02, 4)} | {b:.3f} ± 0.000 [0.000] | 0.00 ± 0.00 [0.00] | {spread(dec, 2 * dec, 3)} | "
+        f"{spread(20, 40, 1)} | {spread(0.02, 0.04, 3)} | "
         f"{spread(0.015, 0.03, 3)} | {spread(0.75, 1.5, 3)} |"], "pooled over seeds")
 
 if fails:

@@ -4,7 +4,7 @@
 # sigma_v_amplitude (20 and 60 kPa), one shear each. The report's tables (across the values, and each value's section)
 # are recomputed from each job's cycles.csv and summary.json (the permanent strain after the first and the last cycle,
 # its increment early and late: cycle 2's and 3's of 3, the power law's exponent (fitted here by hand), no rate decay
-# exponent (3 cycles: under the 10 its three windows need), M_eq, D_v, D_v
+# exponent (3 cycles: under the 10 its three windows need) nor strain per tenfold N (under 4), M_eq, D_v, D_v
 # less the drag, K first and last, sigma_v,0 and A); every whole cycle's sigma_v extremes lie
 # at or past sigma_v,0 +- A; neither the liquefaction nor the modulus-reduction section takes these tests; `grainlab
 # plot`'s figures of one job (its two cycle figures, called as plot calls them: the whole plot takes 10 s) draw
@@ -58,7 +58,7 @@ for A in (20000, 60000):
     b = sum((u - xm) * (v - ym) for u, v in zip(x, y)) / sxx
     sb = math.sqrt(sum((v - ym - b * (u - xm)) ** 2 for u, v in zip(x, y)) / (3 - 2) / sxx)
     want = (f"| {name} | cyc | {sv0 / 1e3:.1f} | {A / 1e3:.1f} ({A / sv0:.2f}) | 3 | {eps[0]:.3f} | {eps[-1]:.3f} | "
-            f"{eps[1] - eps[0]:.4f} (2) → {eps[2] - eps[1]:.4f} (3) | {b:.3f} ± {sb:.3f} | – (under 10 cycles) | {f(rows[0], 'M_eq', 1e-6):.1f} → {f(rows[-1], 'M_eq', 1e-6):.1f} | "
+            f"{eps[1] - eps[0]:.4f} (2) → {eps[2] - eps[1]:.4f} (3) | {b:.3f} ± {sb:.3f} | – (under 10 cycles) | – | {f(rows[0], 'M_eq', 1e-6):.1f} → {f(rows[-1], 'M_eq', 1e-6):.1f} | "
             f"{f(rows[0], 'damping_v'):.3f} → {f(rows[-1], 'damping_v'):.3f} | "
             f"{f(rows[0], 'damping_v_less_drag'):.3f} → {f(rows[-1], 'damping_v_less_drag'):.3f} | "
             f"{f(rows[0], 'K'):.3f} → {f(rows[-1], 'K'):.3f} | ")
