@@ -2866,9 +2866,10 @@ def cyclic_oedometer_rows(j, d, s, head=None):
     """A study test's cyclic oedometer stages as report rows (oedometer_cycles, summary.json): its section value where
     head is given, then the test, stage, sigma_v,0 and the amplitude (and its ratio), the cycles done, the permanent
     axial strain after the first and the last cycle, the mean increment per cycle early and late (cycle_increments),
-    the power law's b, the rate's decay exponent m (rate_decay) and the strain per tenfold of cycles (log_law), M_eq, D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal
-    stage's strain columns are "–" (eps_a comes back to 0 every cycle by construction; the run's closing line gives the
-    sigma_v its cycles end at), its amplitude "eps_a ± A"."""
+    the power law's b, the rate's decay exponent m (rate_decay) and the strain per tenfold of cycles (log_law), M_eq,
+    D_v and K of the first and the last cycle, the first cycle's quarter in wave transits. A strain-reversal stage's
+    strain columns are "–" (eps_a comes back to 0 every cycle by construction; the run's closing line gives the sigma_v
+    its cycles end at), its amplitude "eps_a ± A"."""
     summ = stages_by_name(d)
     rows = []
     for name, c in oedometer_cycles(d, s).items():
@@ -2960,8 +2961,8 @@ def log_law(N, eps):
     """The permanent strain per tenfold of cycles: eps_p = a + c ln N (Barksdale 1972) fitted by least squares over
     the cycles from the second (the first, the virgin loading's, apart, as rate_windows'), (c ln 10, its standard
     error ln 10) [% per decade]: the strain ten times the cycles add where m = 1 (on 2 000 spheres cycled 200 times
-    about 200 kPa, cycles 2-20 and 20-200 added the same within the seeds' scatter: configs/cyclic-oedometer-long-study.yaml);
-    None under 4 cycles."""
+    about 200 kPa, cycles 2-20 and 20-200 added the same within the seeds' scatter:
+    configs/cyclic-oedometer-long-study.yaml); None under 4 cycles."""
     N, eps = np.asarray(N, dtype=float)[1:], np.asarray(eps, dtype=float)[1:]
     if len(N) < 3:
         return None

@@ -18,8 +18,8 @@ cycle_increments, power_law_text) on synthetic runs whose cycles.csv is written 
   law's 1, a power law's 1 - b, 1 - N^-0.5's 1.5, a constant rate's 0 (0.00, not -0.00); the windows' ends at 9, 10,
   18 and 20 cycles; "–" and why under 10 cycles and where a window's strain did not rise; a missing cycle ends them.
 - Pooled over seeds (cyclic_oedometer_pooled): two tests that differ only in their seed, the strain of one twice the
-  other's (a linear law over 10 cycles, 0.05 + 0.01 (N - 1) and twice that: m 0 for both): each measure's mean ± sd [t(1) sd / sqrt 2], worked out
-  here; a third test at another mu_r and a strain-reversal test are no group's (a group needs two)."""
+  other's (a linear law over 10 cycles, 0.05 + 0.01 (N - 1) and twice that: m 0 for both): each measure's mean ± sd
+  [t(1) sd / sqrt 2], worked out here; the log law's per-decade strain too; a third test at another mu_r and a strain-reversal test are no group's (a group needs two)."""
 import csv
 import json
 import math
