@@ -63,7 +63,9 @@ inline RateDecay rate_decay(const std::vector<double>& eps) {
   double ss = 0;
   for (size_t i = 0; i < x.size(); ++i) ss += std::pow(y[i] - ym - s * (x[i] - xm), 2);
   r.ok = true;
-  r.m = -s;
+  // a constant rate's slope comes out +-1e-17: rounded at 1e-12 (and -0.0 made 0.0) so that it prints 0.00, not
+  // -0.00, as the report's python twin does
+  r.m = std::round(-s * 1e12) / 1e12 + 0.0;
   r.se = std::sqrt(ss / (k - 2) / sxx);
   return r;
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
@@ -229,7 +230,7 @@ TEST(CycleLoop, QLoopIsTakenAboutTheStagesQ0) {
 // python twin is checked on (tests/cyclic_oedometer_check.py): the logarithmic law's 1 (exact at every window's N_m,
 // the short last window 128-200 too), a power law's 1 - b over doubling windows (128 cycles), 1 - N^-0.5's 1.5 (its
 // differences over doubling windows scale as a power's: 128 cycles too; over 200 the short last window makes it
-// 1.5013), a constant rate's 0. Exact but for rounding: 1e-9.
+// 1.5013), a constant rate's 0 (printed 0.00, not -0.00). Exact but for rounding: 1e-9.
 TEST(RateDecay, KnownLawsGiveTheirExponent) {
   const auto law = [](size_t n, auto f) {
     std::vector<double> eps(n);
@@ -243,13 +244,20 @@ TEST(RateDecay, KnownLawsGiveTheirExponent) {
   } cases[] = {{law(200, [](double N) { return 0.1 + 0.05 * std::log(N); }), 1.0, 7},
                {law(128, [](double N) { return 0.1 * std::pow(N, 0.3); }), 0.7, 6},
                {law(128, [](double N) { return 1 - std::pow(N, -0.5); }), 1.5, 6},
-               {law(200, [](double N) { return 0.01 * N; }), 0.0, 7}};
+               {law(200, [](double N) { return 0.01 * N; }), 0.0, 7},
+               // a constant rate whose fitted slope comes out -8e-16 unrounded (printed -0.00); the report's pooled
+               // check's law
+               {law(10, [](double N) { return 0.05 + 0.01 * (N - 1); }), 0.0, 3}};
   for (const auto& c : cases) {
     const grainlab::RateDecay r = grainlab::rate_decay(c.eps);
     ASSERT_TRUE(r.ok) << r.why;
     EXPECT_NEAR(r.m, c.m, 1e-9);
     EXPECT_NEAR(r.se, 0.0, 1e-9);  // an exact law: no residual
     EXPECT_EQ(r.windows, c.windows);
+    char got[32], want[32];  // as the closing line prints it: the constant rate's 0.00, never -0.00
+    std::snprintf(got, sizeof(got), "%.2f", r.m);
+    std::snprintf(want, sizeof(want), "%.2f", c.m);
+    EXPECT_STREQ(got, want);
   }
 }
 
