@@ -1685,13 +1685,27 @@ def grading_lines(out, idx, figs_rel):
     return lines
 
 
+def isotropic_ocr(out, j):
+    """The isotropic overconsolidation ratio of job j's sample, R = p'_max / p'_0: the largest of its isotropic stages'
+    end pressures over its last one's (summary.json's p; a stage ends within its pressure_tolerance of its target, the
+    pressure a lab would call the preconsolidation), where it consolidated in two stages or more (a preloading, or
+    one at the same pressure: R = 1, the normally consolidated reference); None for a sample of one stage, or none."""
+    try:
+        with open(os.path.join(out, "jobs", j.get("sample", ""), "run", "summary.json")) as f:
+            p = [float(x["p"]) for x in json.load(f).get("stages", []) if x.get("type") == "isotropic" and x.get("p")]
+    except (OSError, ValueError, TypeError):
+        return None
+    return max(p) / p[-1] if len(p) >= 2 and p[-1] > 0 else None
+
+
 def across_values_section(out, idx, heads):
     """The tests of a study over stage axes side by side (the sections after it report each value apart): per test its
     section's value(s) (heads: the job's name -> its section heading), the stress its last stage (the test) started
     from, p'_0 and q_0 (summary.json), that stage's peak of |q| and largest q/p' of the walls, and for an undrained
     test its strength s_u = |q_peak| / 2 over the consolidation's vertical stress sigma'_v0 = p'_0 + 2 q_0 / 3 (the
     ratio of SHANSEP and of the CAU against CIU comparison), beside the OCR the stage before it left (summary.json's, an
-    oedometric unloading's). Per mu_r, over three undrained tests or more at two OCRs or more, SHANSEP's s_u /
+    oedometric unloading's) or, for a shear that starts from its sample, the sample's isotropic one (isotropic_ocr: a
+    preloading's, p'_max / p'_0). Per mu_r, over three undrained tests or more at two OCRs or more, SHANSEP's s_u /
     sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms (per E too, over the E axis). Empty without
     such a test. Cyclic oedometer tests get a table of their own (cyclic_oedometer_rows): the strain their cycles
     accumulate against the amplitude."""
@@ -1708,6 +1722,8 @@ def across_values_section(out, idx, heads):
             continue
         st = stages[k_st]
         ocr = stages[k_st - 1].get("OCR") if k_st > 0 else None  # an oedometric stage's, the one before the shear
+        if k_st == 0:  # the shear starts from its sample: an isotropic preloading's OCR, if the sample has one
+            ocr = isotropic_ocr(out, j)
         s = load(d)
         if s["cyclic_oedometric"].any():
             coed_rows += cyclic_oedometer_rows(j, d, s, heads[j["name"]])
@@ -1752,7 +1768,9 @@ def across_values_section(out, idx, heads):
             "started from (p'_0, q_0; summary.json), its peak of |q| ('(rising)': q still rose at the stage's end, a "
             "dilating sample's undrained q, so the 'peak' is its end's) and largest |q|/p' of the walls, and an undrained "
             "test's s_u = |q_peak| / 2 with s_u / sigma'_v0, sigma'_v0 = p'_0 + 2 q_0 / 3 the vertical stress it was "
-            "consolidated to; OCR: the one an oedometric stage before the shear left (summary.json). Each value's "
+            "consolidated to; OCR: the one an oedometric stage before the shear left (summary.json), or for a shear of "
+            "a sample consolidated in isotropic stages, the largest of their pressures over the last (p'_max / p'_0: "
+            "an isotropic preloading's). Each value's "
             "section below has its tests' full report.", "",
             "| section | test | drainage | OCR | p'_0 [kPa] | q_0 [kPa] | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | "
             "max q/p' (abs) |",
@@ -2307,16 +2325,23 @@ def preparation_section(out, samples, figs):
     axis whether the interior's e_0 still changes between the two largest sizes (by more than two standard errors of
     the difference of their means); and figures/preparation.png, e_0 against each swept axis. `samples`: the finished
     ones. Empty where none has a summary."""
-    # A group's key: the PREP_AXES values, then the grading's name (two curves of one Cu are two samples)
+    # A group's key: the PREP_AXES values, the preparation stages' stage axes (study.json's stage_keys, e.g. a
+    # preloading's pressure: nan where a sample has none of that key), then the grading's name (two curves of one Cu are
+    # two samples)
+    stage_axes = sorted({k for j in samples for k in j.get("stage_keys", {})})
+    axes = PREP_AXES + tuple((k, k, False) for k in stage_axes)
     groups = {}
     for j in samples:
         s = consolidated(out, j["name"])
         if s is not None:
-            groups.setdefault(tuple(j.get(k, 0) for k, _, _ in PREP_AXES) + (j.get("grading", ""),), []).append((j, s))
+            sk = j.get("stage_keys", {})
+            groups.setdefault(tuple(j.get(k, 0) for k, _, _ in PREP_AXES) + tuple(sk.get(k, math.nan) for k in stage_axes)
+                              + (j.get("grading", ""),), []).append((j, s))
     if not groups:
         return [], False
     rows, stats = [], {}
-    for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[4], k[6], k[5], k[0])):  # mu_r, p0, e0, grading, E, size
+    # mu_r, p0, e0, grading, E, the stage axes, size
+    for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[4], k[-1], k[5], *k[6:-1], k[0])):
         g = sorted(groups[key], key=lambda t: t[0]["seed"])
         col = {c: measured([s.get(c) for _, s in g]) for c in ("e", "e_inner", "e_core", "mu", "steps")}
         col["diff"] = measured([s["e_core"] - s["e_inner"] for _, s in g
@@ -2365,7 +2390,7 @@ def preparation_section(out, samples, figs):
         lines += ["Does the interior's e_0 still depend on the size? (the difference of the two largest sizes' means "
                   "± its standard error)", "", *conv, ""]
     # e_0 against each swept axis: the interior's mean ± sd over the seeds (solid), the box's and the core's means.
-    swept = [(i, k, lab, log) for i, (k, lab, log) in enumerate(PREP_AXES) if len({key[i] for key in stats}) > 1]
+    swept = [(i, k, lab, log) for i, (k, lab, log) in enumerate(axes) if len({key[i] for key in stats}) > 1]
     named = len({key[-1] for key in stats}) > 1  # several gradings: their names tell the other panels' lines apart
     if not swept:
         return lines, False

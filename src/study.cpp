@@ -160,7 +160,7 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
         s["axial_strain_rate"] = yaml_number(j.strain_rate);
       }
     }
-    for (const StudyJob::StageKey& sk : j.stage_keys) {  // a stage axis's value (load_study: shear stages only)
+    for (const StudyJob::StageKey& sk : j.stage_keys) {  // a stage axis's value (a sample job's: its preparation's)
       if (sk.stage != k) continue;
       // a slower rate or a longer end scales the stage's step cap up as the axes do, unless the job sets that cap
       if (sk.key == "axial_strain_rate" || sk.key == "max_axial_strain") {
@@ -606,10 +606,12 @@ Study load_study_unchecked(const std::string& path) {
   if (path_axis) need_one("axes.stress_path", "stress_path");
   if (ax && ax["axial_strain_rate"]) need_one("axes.axial_strain_rate", "axial_strain_rate");
   // Stage axes, `stages.<name>.<key>: [values]` (and an extra job's `stages.<name>.<key>: value`): a key of one stage
-  // of the base, from its first shear stage on (the samples share the preparation; p0, e0 and the other axes set
-  // that), that no other axis sets: a K path's k_ratio (CAU at several K), an unloading's stress_ratio or ocr, a
-  // loading's sigma_v. Each value is a shear of the same sample; the job's config checks the values (their ranges are
-  // the stage's).
+  // of the base that no other axis sets. From the first shear stage on (a K path's k_ratio: CAU at several K; an
+  // unloading's stress_ratio or ocr; a loading's sigma_v) each value is a shear of the same sample; on a preparation
+  // stage (an isotropic stage before the first shear: a preloading's pressure, which makes isotropically
+  // overconsolidated samples; a compaction's mu, the preparation friction set directly where e0 would search for
+  // it) each value is a sample of its own, named by it ("_<stage>-<key><value>"), and its shears take it. The job's
+  // config checks the values (their ranges are the stage's).
   size_t first_shear = base_cfg.stages.size();
   for (size_t k = 0; k < base_cfg.stages.size() && first_shear == base_cfg.stages.size(); ++k)
     if (base_cfg.stages[k].type != StageType::Isotropic) first_shear = k;
@@ -630,9 +632,6 @@ Study load_study_unchecked(const std::string& path) {
       msg.append(") has no stage named '").append(stage_name).append("' (its stages: ").append(names).append(")");
       fail(path, field, msg);
     }
-    if (st < first_shear)
-      fail(path, field, "'" + stage_name + "' prepares the sample, which the shears share (p0 and e0 set it): a stage "
-                        "axis sets a stage from the first shear stage on");
     // what other axes (or an extra job's keys) set, and what makes the stage another kind of stage. A stage's rate
     // and end strain are its own where neither the study's axes nor an extra job set every triaxial stage's (a probe's
     // rate after a rest, whose rate is 0: the axial_strain_rate axis refuses that base)
@@ -643,12 +642,18 @@ Study load_study_unchecked(const std::string& path) {
           if (e.IsMap() && e[shear_key]) return true;
       return false;
     };
+    // p0 sets every isotropic stage's pressure and e0 the first one's target_e0 (job_config); a sample job saves its
+    // preparation (save_sample, a switch, not a number)
     if (std::set<std::string>{"name", "type", "mu_r", "drainage", "direction", "b", "stress_path", "q_amplitude", "csr",
-                              "strain_amplitude", "cycles"}.count(key) ||
-        (key == "pressure" && ax && ax["p0"]) || (key == "axial_strain_rate" && study_sets("axial_strain_rate")) ||
+                              "strain_amplitude", "cycles", "save_sample"}.count(key) ||
+        (key == "pressure" && study_sets("p0")) || (key == "target_e0" && study_sets("e0")) ||
+        (key == "axial_strain_rate" && study_sets("axial_strain_rate")) ||
         (key == "max_axial_strain" && study_sets("max_axial_strain")))
-      fail(path, field, "'" + key + "' is " + (key == "name" || key == "type" ? "what the stage is" : "set by axes." +
-                        (key == "pressure" ? std::string("p0") : key == "q_amplitude" ? std::string("csr") : key) +
+      fail(path, field, "'" + key + "' is " + (key == "name" || key == "type" ? "what the stage is"
+                                               : key == "save_sample"        ? "how a study keeps its samples"
+                                                                             : "set by axes." +
+                        (key == "pressure" ? std::string("p0") : key == "q_amplitude" ? std::string("csr")
+                         : key == "target_e0" ? std::string("e0") : key) +
                         " or an extra job's key") + ": a stage axis sets another of the stage's keys");
     return StudyJob::StageKey{st, stage_name, key, 0};
   };
@@ -833,6 +838,14 @@ Study load_study_unchecked(const std::string& path) {
     sn << "_n" << pt.count;
     if (pt.grading >= 0) sn << "_g" << gradings[pt.grading].name;
     if (pt.E > 0) sn << "_E" << name_number(pt.E);
+    // a stage axis's value on a preparation stage makes a sample of its own (named by it); the shear stages' go to
+    // the shear below
+    std::vector<StudyJob::StageKey> prep_keys;
+    for (const StudyJob::StageKey& sk : pt.stage_keys)
+      if (sk.stage < first_shear) {
+        prep_keys.push_back(sk);
+        sn << "_" << sk.stage_name << "-" << sk.key << name_number(sk.value);
+      }
     if (!sample_index.count(sn.str())) {
       StudyJob j;
       j.name = sn.str();
@@ -844,6 +857,7 @@ Study load_study_unchecked(const std::string& path) {
       j.E = pt.E;
       j.seed = pt.seed;
       j.count = pt.count;
+      j.stage_keys = prep_keys;
       if (pt.grading >= 0) {
         j.grading_name = gradings[pt.grading].name;
         j.grading_yaml = gradings[pt.grading].yaml;
@@ -856,9 +870,14 @@ Study load_study_unchecked(const std::string& path) {
       // The same name is the same sample (a point listed twice), unless the values differ below the name's six
       // significant digits: then two samples would silently become one.
       const StudyJob& o = s.samples[sample_index[sn.str()]];
-      if (o.mu_r != pt.mu_r || o.e0 != pt.e0 || o.p0 != pt.p0 || o.E != pt.E)
-        fail(path, "axes", "two values of mu_r, e0, p0 or E agree to 6 significant digits (job " + sn.str() +
-                               "); make them differ sooner or list one of them");
+      const auto values = [](const std::vector<StudyJob::StageKey>& v) {
+        std::vector<std::tuple<size_t, std::string, double>> t;
+        for (const auto& sk : v) t.emplace_back(sk.stage, sk.key, sk.value);
+        return t;
+      };
+      if (o.mu_r != pt.mu_r || o.e0 != pt.e0 || o.p0 != pt.p0 || o.E != pt.E || values(o.stage_keys) != values(prep_keys))
+        fail(path, "axes", "two values of mu_r, e0, p0, E or a preparation stage's axis agree to 6 significant digits "
+                           "(job " + sn.str() + "); make them differ sooner or list one of them");
     }
     if (!has_tri) continue;  // a preparation study: the sample is the job
     StudyJob sh = s.samples[sample_index[sn.str()]];
@@ -895,8 +914,10 @@ Study load_study_unchecked(const std::string& path) {
       sh.rate_group = sh.name;  // the same test at other rates: the report's rate series
       sh.name += "_rate" + fmt(pt.rate);  // without the axis, the names studies had before it
     }
+    // every stage key (the report's sections split by them); the name has the preparation's from the sample's
     sh.stage_keys = pt.stage_keys;
-    for (const StudyJob::StageKey& sk : pt.stage_keys) sh.name += "_" + sk.stage_name + "-" + sk.key + name_number(sk.value);
+    for (const StudyJob::StageKey& sk : pt.stage_keys)
+      if (sk.stage >= first_shear) sh.name += "_" + sk.stage_name + "-" + sk.key + name_number(sk.value);
     // The end strain is not in the name: a shear to 30 % is the start of the same shear to 40 %, so raising an extra
     // job's max_axial_strain extends the job that ran (resumed from its checkpoint) instead of starting another.
     sh.strain = pt.strain;
@@ -1302,6 +1323,16 @@ int run_study(const Study& s, const StudyOptions& o) {
   for (const StudyJob& j : s.shears) by_name[j.name] = &j;
   // Study index for the report.
   {
+    // a job's stage axes' values, `"stage_keys": {"<stage>.<key>": value, ...}`: a shear's every one, a sample's its
+    // preparation's; only with a stage axis (study.json as it was without)
+    const auto stage_keys_json = [](std::ostringstream& os, const StudyJob& j) {
+      if (j.stage_keys.empty()) return;
+      os << ", \"stage_keys\": {";
+      for (size_t a = 0; a < j.stage_keys.size(); ++a)
+        os << (a ? ", " : "") << json_string(j.stage_keys[a].stage_name + "." + j.stage_keys[a].key) << ": "
+           << j.stage_keys[a].value;
+      os << "}";
+    };
     std::ostringstream js;
     js << "{\n  \"study\": " << json_string(s.path) << ",\n  \"strain_stage\": " << json_string(s.strain_stage)
        << ",\n  \"critical_state\": {\"window\": " << s.window
@@ -1317,13 +1348,7 @@ int run_study(const Study& s, const StudyOptions& o) {
          << ", \"cycles\": " << j.cycles << ", \"strain_amplitude\": " << j.strain_amplitude
          << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group)
          << ", \"max_axial_strain\": " << j.strain;
-      if (!j.stage_keys.empty()) {  // only with a stage axis: study.json as it was without
-        js << ", \"stage_keys\": {";
-        for (size_t a = 0; a < j.stage_keys.size(); ++a)
-          js << (a ? ", " : "") << json_string(j.stage_keys[a].stage_name + "." + j.stage_keys[a].key) << ": "
-             << j.stage_keys[a].value;
-        js << "}";
-      }
+      stage_keys_json(js, j);
       js << ", \"grading\": " << json_string(j.grading_name)
          << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
@@ -1334,8 +1359,9 @@ int run_study(const Study& s, const StudyOptions& o) {
     for (size_t k = 0; k < s.samples.size(); ++k) {
       const StudyJob& j = s.samples[k];
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"mu_r\": " << j.mu_r
-         << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"seed\": " << j.seed << ", \"count\": " << j.count
-         << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
+         << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"seed\": " << j.seed << ", \"count\": " << j.count;
+      stage_keys_json(js, j);
+      js << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
          << (k + 1 < s.samples.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";

@@ -56,8 +56,9 @@ struct StudyJob {
   double grading_cu = 0;
   std::string config_yaml;  // the generated run config
   // A stage axis's values (`axes: {stages.<name>.<key>: [...]}`): the key set on that stage of a shear job (a K path's
-  // k_ratio, an unloading's stress_ratio, an oedometer's ocr), from the first shear stage on (samples share the
-  // preparation); in the job's name ("_<stage>-<key><value>") and study.json's "stage_keys"
+  // k_ratio, an unloading's stress_ratio, an oedometer's ocr); a sample job's, the keys of its preparation stages
+  // (each value a sample of its own), and a shear's every key (its sample's too); in the job's name
+  // ("_<stage>-<key><value>", a shear's from its sample's name) and study.json's "stage_keys"
   struct StageKey {
     size_t stage;  // index in the base's stages
     std::string stage_name, key;

@@ -9,7 +9,13 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
 - a drained test in the same study: no s_u ('-');
 - three undrained tests after an oedometric unloading to OCR 2, 4 and 8 (summary.json's OCR; study.json's stage_keys
   unload.ocr), at sigma'_v0 = 100 kPa with s_u / sigma'_v0 = 0.25 OCR^0.8 exactly: their OCR column, and SHANSEP's
-  fit S = 0.250 ± 0.000, m = 0.800 ± 0.000 over those three (the K path's tests have no OCR: not in it).
+  fit S = 0.250 ± 0.000, m = 0.800 ± 0.000 over those three (the K path's tests have no OCR: not in it);
+- four undrained tests (mu_r 0.2) from samples seated at 50 kPa, preloaded isotropically (study.json's stage_keys
+  pre.pressure) to 100, 200, 400 and 800 kPa and consolidated to 100 (the sample's summary.json: OCR = p'_max / p'_0
+  = 1, 2, 4, 8, not the first stage's over the last; the
+  shear's own summary.json has the shear alone, as a study's shear job writes it), s_u / p'_0 = 0.3 OCR^0.6: their
+  OCR column and S = 0.300 ± 0.000, m = 0.600 ± 0.000 in a row of their own; a sample of one isotropic stage gives no
+  OCR ('-').
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
 import csv
@@ -28,10 +34,11 @@ cols = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu_r", "stage_t
 jobs = []
 
 
-def test(name, K, shear_rows, drainage="undrained", ocr=None):
+def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None):
     """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows;
     with ocr, an oedometric unloading to that OCR in the K path's place (its stage_keys unload.ocr), the shear from
-    sigma'_v0 = 100 kPa isotropic."""
+    sigma'_v0 = 100 kPa isotropic; with iso_ocr, the shear alone, from a sample of its own seated at 50 kPa, preloaded
+    to iso_ocr x 100 kPa and consolidated to 100 kPa (iso_ocr 0: a sample of one stage at 100 kPa)."""
     run = os.path.join(work, "jobs", name, "run")
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
@@ -43,11 +50,11 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None):
                      0.25, 0.25, abs(q) / p, 5e-4, p - q / 3, p - q / 3, p + 2 * q / 3])
         step += 1
 
-    for i in range(11):  # the K path: sigma_z 20 -> 200 kPa, sigma_3 = K sigma_z
+    for i in range(11 if iso_ocr is None else 0):  # the K path: sigma_z 20 -> 200 kPa, sigma_3 = K sigma_z
         sz = 20e3 + 18e3 * i
         s3 = K * sz
         row("kc", 2, 0.001 * i, (sz + 2 * s3) / 3, sz - s3)
-    p0, q0 = ((200e3 + 2 * K * 200e3) / 3, 200e3 - K * 200e3) if ocr is None else (100e3, 0.0)
+    p0, q0 = ((200e3 + 2 * K * 200e3) / 3, 200e3 - K * 200e3) if ocr is None and iso_ocr is None else (100e3, 0.0)
     for ea, p, q in shear_rows:
         row("cau", 1 if drainage == "undrained" else 2, ea, p, q)
     before = ({"name": "kc", "type": "triaxial", "drainage": "drained", "direction": "compression", "b": 0,
@@ -57,16 +64,27 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None):
     stages = [{"name": "seat", "type": "isotropic"}, before,
               {"name": "cau", "type": "triaxial", "drainage": drainage, "direction": "compression", "b": 0,
                "p_0": p0, "q_0": q0}]
+    sample = "sample_x"
+    if iso_ocr is not None:
+        stages = stages[2:]
+        sample = f"sample_{name}"
+        os.makedirs(os.path.join(work, "jobs", sample, "run"))
+        iso = ([{"name": "seat", "type": "isotropic", "p": 50e3, "e": 0.7},
+                {"name": "pre", "type": "isotropic", "p": 100e3 * iso_ocr, "e": 0.64}] if iso_ocr else [])
+        with open(os.path.join(work, "jobs", sample, "run", "summary.json"), "w") as f:
+            json.dump({"stages": iso + [{"name": "iso", "type": "isotropic", "p": 100e3, "e": 0.65}]}, f)
     with open(os.path.join(run, "summary.json"), "w") as f:
         json.dump({"stages": stages}, f)
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage"] + cols)
         w.writerows(rows)
-    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.1, "e0": 0, "p0": 0,
-                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
-                 "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
-                 "stage_keys": {"kc.k_ratio": K} if ocr is None else {"unload.ocr": ocr}})
+    keys = ({"kc.k_ratio": K} if ocr is None and iso_ocr is None else {"unload.ocr": ocr} if iso_ocr is None
+            else {"pre.pressure": 100e3 * iso_ocr})
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": sample, "mu_r": 0.1 if iso_ocr is None else 0.2,
+                 "e0": 0, "p0": 0, "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300,
+                 "csr": 0, "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
+                 "stage_keys": keys})
 
 
 p05, q05 = 400e3 / 3, 100e3
@@ -79,6 +97,9 @@ test("cad_k1", 1.0, [(0.0, 200e3, 0.0), (0.05, 250e3, 150e3), (0.1, 270e3, 200e3
 for ocr in (2, 4, 8):  # the peak at 2 %, then softening: s_u = 0.25 OCR^0.8 x 100 kPa
     q_pk = 2 * 0.25 * ocr ** 0.8 * 100e3
     test(f"cu_ocr{ocr}", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], ocr=ocr)
+for R in (1, 2, 4, 8, 0):  # s_u = 0.3 R^0.6 x 100 kPa; R = 0: a sample of one stage (no OCR)
+    q_pk = 2 * 0.3 * max(R, 1) ** 0.6 * 100e3
+    test(f"ciu_R{R}", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], iso_ocr=R)
 
 fails = []
 text = study_report(work, jobs)
@@ -93,6 +114,11 @@ for ocr in (2, 4, 8):
     want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {2 * r * 100:.1f} | "
                 f"{r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
 want.append("| 0.1 | 3 | 2–8 | 0.250 ± 0.000 | 0.800 ± 0.000 |")
+for R in (1, 2, 4, 8, 0):
+    r = 0.3 * max(R, 1) ** 0.6
+    want.append(f"| pre.pressure = {R * 100000:g} | ciu_R{R} | undrained | {R if R else '-'} | 100.0 | 0.0 | "
+                f"{2 * r * 100:.1f} | {r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
+want.append("| 0.2 | 4 | 1–8 | 0.300 ± 0.000 | 0.600 ± 0.000 |")
 for line in want:
     if line not in sec.splitlines():
         got = next((x for x in sec.splitlines() if x.startswith(line.split(" | ")[0] + " | " + line.split(" | ")[1])), None)

@@ -49,4 +49,26 @@ out=$("$bin" study stiff.yaml --out st_E --jobs 2 2>&1) || fail "the E study fai
 "${GRAINLAB_PYTHON:-/usr/bin/python3}" "$here"/prep_check.py st_E || fail "the E study's preparation rows do not match the samples"
 [ "$(grep -cE '^\| sample_mur0_ebase_pbase_s\*_n300_E1e[89] \| 300 \| 2 \(3, 4\) \|' st_E/report.md)" -eq 2 ] ||
   fail "no Preparation row per E: $(sed -n '/## Preparation/,$p' st_E/report.md)"
+# Over a preparation stage's key (a stage axis on a preparation study: the compaction's friction set directly, where
+# e0 would search for it): a sample and a Preparation row per value, named by it, that stage run at it, and the lower
+# friction compacted denser (SPEC §6.2) for each seed.
+# (on the base without the appended reloading: the section's friction is the last stage's)
+sed '/name: reload/d' tiny-prep-base.yaml > mu-base.yaml
+printf 'base: mu-base.yaml\naxes: {stages.consolidate.mu: [0.1, 0.5], seed: [3, 4]}\n' > mu.yaml
+out=$("$bin" study mu.yaml --out st_mu --jobs 2 2>&1) || fail "the mu study failed: $out"
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" "$here"/prep_check.py st_mu || fail "the mu study's preparation rows do not match the samples"
+for m in 0.1 0.5; do
+  grep -qE "^\| sample_mur0_ebase_pbase_s\*_n300_consolidate-mu$m \| 300 \| 2 \(3, 4\) \|.* \| ${m}00 \| [0-9]+ \|" st_mu/report.md ||
+    fail "no Preparation row at mu = $m: $(sed -n '/## Preparation/,$p' st_mu/report.md)"
+done
+"${GRAINLAB_PYTHON:-/usr/bin/python3}" - st_mu <<'PY' || fail "the lower preparation friction did not compact denser"
+import json, sys
+e = {}
+for j in json.load(open(sys.argv[1] + "/study.json"))["samples"]:
+    st = json.load(open(f"{sys.argv[1]}/{j['dir']}/summary.json"))["stages"][-1]
+    assert st["mu"] == j["stage_keys"]["consolidate.mu"], (j["name"], st["mu"])
+    e[j["seed"], st["mu"]] = st["e"]
+print(e)
+sys.exit(not all(e[s, 0.1] < e[s, 0.5] for s in (3, 4)))
+PY
 echo "study_prep: ok"

@@ -1190,8 +1190,10 @@ TEST(Config, StudyExtraJobEndsAtItsOwnStrain) {
 
 // Stage axes, stages.<name>.<key>: each value sets that key of that stage in a shear job of the shared sample (a
 // K path's k_ratio, the shear's max_steps), the grid crossed with the other axes, the job named by it; the rest of the
-// stage and the other stages as the base gives them. An extra job sets a stage's key the same way. Errors: a stage the base lacks, a preparation stage, a key another
-// axis sets, the stage's own range (named by the job), a value twice, an empty list, no key.
+// stage and the other stages as the base gives them. An extra job sets a stage's key the same way. Errors: a stage the
+// base lacks, a key another axis sets (p0 a preparation stage's pressure, e0 its target_e0) or the study (save_sample),
+// the stage's own range (named by the job: a sample's too), a value twice, values one name cannot tell apart, an empty
+// list, no key.
 TEST(Config, StudyStageAxisSetsOneStagesKey) {
   const std::string base = write_tmp("study_stage_base",
                                      "sample: {count: 300}\nstages:\n"
@@ -1244,9 +1246,22 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
   expect_study_errors({
       {"stage_ax_none", "base: " + base + "\naxes: {stages.kx.k_ratio: [0.5]}\n",
        "axes.stages.kx.k_ratio: the base (" + base + ") has no stage named 'kx' (its stages: seat, kc, cau)"},
-      {"stage_ax_prep", "base: " + base + "\naxes: {stages.seat.pressure: [1.0e5]}\n",
-       "axes.stages.seat.pressure: 'seat' prepares the sample, which the shears share (p0 and e0 set it): a stage axis "
-       "sets a stage from the first shear stage on"},
+      {"stage_ax_prep_p0", "base: " + base + "\naxes: {p0: [3.0e4], stages.seat.pressure: [1.0e5]}\n",
+       "axes.stages.seat.pressure: 'pressure' is set by axes.p0 or an extra job's key: a stage axis sets another of the "
+       "stage's keys"},
+      {"stage_ex_prep_p0", "base: " + base + "\naxes: {stages.seat.pressure: [1.0e5]}\nextra: [{p0: 3.0e4}]\n",
+       "axes.stages.seat.pressure: 'pressure' is set by axes.p0 or an extra job's key"},
+      {"stage_ax_prep_e0", "base: " + base + "\naxes: {e0: [0.6], stages.seat.target_e0: [0.65]}\n",
+       "axes.stages.seat.target_e0: 'target_e0' is set by axes.e0 or an extra job's key"},
+      {"stage_ax_prep_save", "base: " + base + "\naxes: {stages.seat.save_sample: [0]}\n",
+       "axes.stages.seat.save_sample: 'save_sample' is how a study keeps its samples: a stage axis sets another of the "
+       "stage's keys"},
+      {"stage_ax_prep_range", "base: " + base + "\naxes: {stages.seat.pressure_tolerance: [2]}\n",
+       "(job sample_mur0_ebase_pbase_s1_n300_seat-pressure_tolerance2): stages[0].pressure_tolerance = 2 is outside "
+       "the allowed range"},
+      {"stage_ax_prep_close", "base: " + base + "\naxes: {stages.seat.pressure: [1.0e5, 1.00000001e5]}\n",
+       "axes: two values of mu_r, e0, p0, E or a preparation stage's axis agree to 6 significant digits (job "
+       "sample_mur0_ebase_pbase_s1_n300_seat-pressure100000)"},
       {"stage_ax_taken", "base: " + base + "\naxes: {axial_strain_rate: [1], stages.cau.axial_strain_rate: [2]}\n",
        "axes.stages.cau.axial_strain_rate: 'axial_strain_rate' is set by axes.axial_strain_rate or an extra job's key: a "
        "stage axis sets another of the stage's keys"},
@@ -1271,6 +1286,67 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
        "axes: two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits (job "
        "shear_undrained_mur0_ebase_pbase_s1_n300_kc-k_ratio0.5)"},
   });
+}
+
+// A stage axis on a preparation stage (an isotropic stage before the first shear): each value a sample of its own,
+// named by it, whose config sets that stage's key (and only the sample's: the shears start from its file), crossed
+// with the other axes and the shear stages' axes; its shears take the sample's name and list every stage key (the
+// report's sections split by them); an extra job sets a preparation stage's key the same way. Here a preloading's
+// pressure: isotropically overconsolidated samples (OCR 1, 2 and 4 of the 20 kPa consolidation).
+TEST(Config, StudyStageAxisOnAPreparationStageMakesSamples) {
+  const std::string base = write_tmp("study_prep_axis_base",
+                                     "sample: {count: 300}\nstages:\n"
+                                     "  - {name: pre, type: isotropic, pressure: 2.0e4}\n"
+                                     "  - {name: iso, type: isotropic, pressure: 2.0e4}\n"
+                                     "  - {name: cu, type: triaxial, drainage: undrained, max_axial_strain: 0.02}\n");
+  const Study s = load_study(write_tmp("study_prep_axis", "base: " + base + "\naxes: {stages.pre.pressure: [2.0e4, 4.0e4], "
+                                                          "stages.cu.max_steps: [5000, 9000], seed: [1, 2]}\n"
+                                                          "extra: [{stages.pre.pressure: 8.0e4, seed: 3}]\n"));
+  ASSERT_EQ(s.samples.size(), 5u);
+  ASSERT_EQ(s.shears.size(), 9u);
+  std::set<std::string> samples;
+  for (const StudyJob& j : s.samples) {
+    SCOPED_TRACE(j.name);
+    samples.insert(j.name);
+    ASSERT_EQ(j.stage_keys.size(), 1u);
+    EXPECT_EQ(j.stage_keys[0].stage_name + "." + j.stage_keys[0].key, "pre.pressure");
+    const RunConfig c = parse_run_config(YAML::Load(j.config_yaml), j.name);
+    ASSERT_EQ(c.stages.size(), 2u);
+    EXPECT_EQ(c.stages[0].pressure, j.stage_keys[0].value);
+    EXPECT_EQ(c.stages[1].pressure, 2e4);  // the stage the axis does not name: as the base gives it
+    EXPECT_EQ(long(c.packing.seed), j.seed);
+  }
+  EXPECT_EQ(samples, (std::set<std::string>{"sample_mur0_ebase_pbase_s1_n300_pre-pressure20000",
+                                            "sample_mur0_ebase_pbase_s1_n300_pre-pressure40000",
+                                            "sample_mur0_ebase_pbase_s2_n300_pre-pressure20000",
+                                            "sample_mur0_ebase_pbase_s2_n300_pre-pressure40000",
+                                            "sample_mur0_ebase_pbase_s3_n300_pre-pressure80000"}));
+  for (const StudyJob& j : s.shears) {
+    SCOPED_TRACE(j.name);
+    ASSERT_TRUE(samples.count(j.sample_name));
+    const StudyJob& sample = *std::find_if(s.samples.begin(), s.samples.end(),
+                                           [&](const StudyJob& x) { return x.name == j.sample_name; });
+    // the sample's name once, then the shear stage's value
+    const bool extra = j.stage_keys.size() == 1;
+    std::string want = "shear_undrained_" + j.sample_name.substr(7);
+    if (!extra) want += "_cu-max_steps" + std::to_string(long(j.stage_keys[1].value));
+    EXPECT_EQ(j.name, want);
+    ASSERT_EQ(j.stage_keys.size(), extra ? 1u : 2u);
+    EXPECT_EQ(j.stage_keys[0].key, "pressure");
+    EXPECT_EQ(j.stage_keys[0].value, sample.stage_keys[0].value);
+    const RunConfig c = job_run_config(s, j);
+    ASSERT_EQ(c.stages.size(), 1u);  // the shear alone: the preparation is the sample's
+    EXPECT_EQ(c.stages[0].max_steps, extra ? 1000000 : long(j.stage_keys[1].value));
+  }
+  // a preparation study (no shear stage) sweeps its stages' keys as well: here the compaction's friction
+  const std::string prep = write_tmp("study_prep_axis_prep_base",
+                                     "sample: {count: 300}\nstages:\n  - {name: iso, type: isotropic, pressure: 2.0e4}\n");
+  const Study p = load_study(write_tmp("study_prep_axis_prep", "base: " + prep + "\naxes: {stages.iso.mu: [0, 0.25]}\n"));
+  EXPECT_TRUE(p.shears.empty());
+  ASSERT_EQ(p.samples.size(), 2u);
+  for (const StudyJob& j : p.samples)
+    EXPECT_EQ(parse_run_config(YAML::Load(j.config_yaml), j.name).stages[0].mu, j.stage_keys.at(0).value) << j.name;
+  EXPECT_EQ(p.samples[1].name, "sample_mur0_ebase_pbase_s1_n300_iso-mu0.25");
 }
 
 TEST(Config, StudySeedZeroIsASeed) {
