@@ -615,6 +615,7 @@ Study load_study_unchecked(const std::string& path) {
   size_t first_shear = base_cfg.stages.size();
   for (size_t k = 0; k < base_cfg.stages.size() && first_shear == base_cfg.stages.size(); ++k)
     if (base_cfg.stages[k].type != StageType::Isotropic) first_shear = k;
+  const size_t first_iso = first_shear > 0 ? 0 : base_cfg.stages.size();  // the stage e0 sets target_e0 on
   // "stages.<name>.<key>" as a StageKey (value 0), checked; field names it in errors
   const auto stage_key = [&](const std::string& k, const std::string& field) {
     const size_t dot = k.rfind('.');
@@ -655,6 +656,13 @@ Study load_study_unchecked(const std::string& path) {
                         (key == "pressure" ? std::string("p0") : key == "q_amplitude" ? std::string("csr")
                          : key == "target_e0" ? std::string("e0") : key) +
                         " or an extra job's key") + ": a stage axis sets another of the stage's keys");
+    // A target_e0 search tries frictions of its own (Laboratory::search_e0: 0, mu_max, then between), so the mu of
+    // the stage it runs on would change nothing: the base's own target_e0, or e0's on the first isotropic stage.
+    if (key == "mu" && base_cfg.stages[st].type == StageType::Isotropic &&
+        (base_cfg.stages[st].target_e0 > 0 || (study_sets("e0") && st == first_iso)))
+      fail(path, field, "'mu' of '" + stage_name + "' is what its target_e0 search sets (" +
+                        (base_cfg.stages[st].target_e0 > 0 ? std::string("the base's target_e0") : "axes.e0 or an "
+                        "extra job's e0") + "), so the axis would change nothing: sweep e0, or set mu without a target");
     return StudyJob::StageKey{st, stage_name, key, 0};
   };
   struct StageAxis {

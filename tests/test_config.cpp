@@ -1253,6 +1253,9 @@ TEST(Config, StudyStageAxisSetsOneStagesKey) {
        "axes.stages.seat.pressure: 'pressure' is set by axes.p0 or an extra job's key"},
       {"stage_ax_prep_e0", "base: " + base + "\naxes: {e0: [0.6], stages.seat.target_e0: [0.65]}\n",
        "axes.stages.seat.target_e0: 'target_e0' is set by axes.e0 or an extra job's key"},
+      {"stage_ax_prep_mu_e0", "base: " + base + "\naxes: {e0: [0.6], stages.seat.mu: [0.1, 0.3]}\n",
+       "axes.stages.seat.mu: 'mu' of 'seat' is what its target_e0 search sets (axes.e0 or an extra job's e0), so the "
+       "axis would change nothing: sweep e0, or set mu without a target"},
       {"stage_ax_prep_save", "base: " + base + "\naxes: {stages.seat.save_sample: [0]}\n",
        "axes.stages.seat.save_sample: 'save_sample' is how a study keeps its samples: a stage axis sets another of the "
        "stage's keys"},
@@ -1347,6 +1350,18 @@ TEST(Config, StudyStageAxisOnAPreparationStageMakesSamples) {
   for (const StudyJob& j : p.samples)
     EXPECT_EQ(parse_run_config(YAML::Load(j.config_yaml), j.name).stages[0].mu, j.stage_keys.at(0).value) << j.name;
   EXPECT_EQ(p.samples[1].name, "sample_mur0_ebase_pbase_s1_n300_iso-mu0.25");
+  // ... but not the friction of a stage whose target_e0 search sets it (the base's target here; the e0 axis's:
+  // Config.StudyStageAxisSetsOneStagesKey); that stage's other keys, and the next stage's mu, are the axis's
+  const std::string target = write_tmp("study_prep_axis_target_base",
+                                       "sample: {count: 300}\nstages:\n"
+                                       "  - {name: iso, type: isotropic, pressure: 2.0e4, target_e0: 0.7}\n"
+                                       "  - {name: more, type: isotropic, pressure: 4.0e4}\n");
+  expect_study_errors({{"study_prep_axis_target", "base: " + target + "\naxes: {stages.iso.mu: [0, 0.25]}\n",
+                        "axes.stages.iso.mu: 'mu' of 'iso' is what its target_e0 search sets (the base's target_e0)"}});
+  EXPECT_EQ(load_study(write_tmp("study_prep_axis_target_ok", "base: " + target + "\naxes: {stages.more.mu: [0, 0.25], "
+                                                              "stages.iso.pressure_tolerance: [0.005]}\n"))
+                .samples.size(),
+            2u);
 }
 
 TEST(Config, StudySeedZeroIsASeed) {
