@@ -1628,8 +1628,10 @@ def study(out):
             lines += across_values_section(out, idx, heads)
         for key in keys:
             E, sk = key
-            sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if split_key(j) == key],
-                           samples=[s for s in idx.get("samples", []) if s.get("E", 0) == E])
+            jobs = [j for j in idx["jobs"] if split_key(j) == key]
+            # the samples these tests shear (a preparation stage's axis gives each value samples of its own)
+            used = {j.get("sample") for j in jobs}
+            sub_idx = dict(idx, jobs=jobs, samples=[s for s in idx.get("samples", []) if s["name"] in used])
             name = f"{E:g}".replace("e+0", "e").replace("e+", "e")  # as the jobs' names: 1e9
             heads, dirs = [], []
             if len(stiffs) > 1:

@@ -102,7 +102,11 @@ for R in (1, 2, 4, 8, 0):  # s_u = 0.3 R^0.6 x 100 kPa; R = 0: a sample of one s
     test(f"ciu_R{R}", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], iso_ocr=R)
 
 fails = []
-text = study_report(work, jobs)
+# study.json's samples, as a study lists them: every value's section reports only the samples its tests shear
+samples = [{"name": j["sample"], "dir": f"jobs/{j['sample']}/run", "mu_r": 0.2, "e0": 0, "p0": 0, "seed": 1,
+            "count": 300, "grading": "", "cu": 0, "E": 0, "stage_keys": j["stage_keys"]}
+           for j in jobs if j["sample"] != "sample_x"]
+text = study_report(work, jobs, samples=samples)
 if "## Across the values" not in text:
     sys.exit("no table across the values in report.md")
 sec = text.split("## Across the values")[1].split("\n## ")[0]
@@ -126,6 +130,11 @@ for line in want:
 for head in ("## stages.kc.k_ratio = 0.5", "## stages.kc.k_ratio = 1", "## stages.unload.ocr = 8"):
     if head not in text.splitlines():
         fails.append(f"no section '{head}'")
+for R in (1, 2, 4, 8):  # its sample's rows (samples, compression), and no other's
+    sec_R = text.split(f"## stages.pre.pressure = {R * 100000:g}\n")[1].split("\n## ")[0]
+    rows = [x.split(" | ")[0] for x in sec_R.splitlines() if x.startswith("| sample_ciu_R")]
+    if set(rows) != {f"| sample_ciu_R{R}"}:
+        fails.append(f"the compression rows of the section at pre.pressure = {R * 100000:g}: {rows}")
 if text.index("## Across the values") > text.index("## stages.kc.k_ratio = 0.5"):
     fails.append("the table across the values comes after the sections")
 if fails:

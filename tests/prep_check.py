@@ -54,11 +54,12 @@ for name, g in groups.items():
     got = [line for line in prep.splitlines() if line.startswith(f"| {name} |")]
     if len(got) != 1 or not got[0].startswith(want) or not got[0].endswith(want_end):
         fails.append(f"row of {name}:\n  got    {got}\n  wanted {want}...{want_end}")
-# Size convergence: per series of sizes (the name without seed and count; a grading axis's _g<name> after the count),
+# Size convergence: per series of sizes (the name without seed and count; a grading's _g<name>, an E's _E<E> and a
+# preparation stage axis's _<stage>-<key><value> after the count),
 # the two largest sizes' interior e_0; a series of one size has no line.
 series = {}
 for name, g in groups.items():
-    series.setdefault(re.sub(r"_n\d+(?=$|_g)", "", name), []).append(g)
+    series.setdefault(re.sub(r"_n\d+(?=$|_)", "", name), []).append(g)
 for name, gs in series.items():
     gs = sorted(gs, key=lambda g: g[0]["count"])
     if len(gs) < 2:
