@@ -1747,7 +1747,7 @@ def across_values_section(out, idx, heads):
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
                     f"{number_text(float(ocr) if ocr is not None else None, '.3g')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
-                    f"{float(s['q'][m][k]) / 1e3:.1f}{rising} | "
+                    f"{float(s['e'][m][0]):.4f} | {float(s['q'][m][k]) / 1e3:.1f}{rising} | "
                     f"{f'{su / 1e3:.1f} ({ratio:.3f})' if undrained else '-'} | {M:.3f} |")
     pooled = cyclic_oedometer_pooled(coed, lambda j: heads[j["name"]])
     coed_lines = (["Cyclic oedometer tests (each value's section below has them too). " + CYCLIC_OEDOMETER_TEXT, "",
@@ -1767,16 +1767,16 @@ def across_values_section(out, idx, heads):
                     f"{x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | {m_:.3f} ± {sm:.3f} |")
     return ["## Across the values", "",
             "Each test's last stage (the shear: a K path or an oedometer before it is its consolidation): the stress it "
-            "started from (p'_0, q_0; summary.json), its peak of |q| ('(rising)': q still rose at the stage's end, a "
+            "started from (p'_0, q_0; summary.json) and its void ratio there (e_0, the stage's first row), its peak of |q| ('(rising)': q still rose at the stage's end, a "
             "dilating sample's undrained q, so the 'peak' is its end's) and largest |q|/p' of the walls, and an undrained "
             "test's s_u = |q_peak| / 2 with s_u / sigma'_v0, sigma'_v0 = p'_0 + 2 q_0 / 3 the vertical stress it was "
             "consolidated to; OCR: the one an oedometric stage before the shear left (summary.json), or for a shear of "
             "a sample consolidated in isotropic stages, the largest of their pressures over the last (p'_max / p'_0: "
             "an isotropic preloading's). Each value's "
             "section below has its tests' full report.", "",
-            "| section | test | drainage | OCR | p'_0 [kPa] | q_0 [kPa] | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | "
+            "| section | test | drainage | OCR | p'_0 [kPa] | q_0 [kPa] | e_0 | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | "
             "max q/p' (abs) |",
-            "|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
             *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error.", "",
                "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []), *coed_lines]

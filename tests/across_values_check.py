@@ -7,6 +7,7 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
   softens: s_u = 90 kPa, s_u / sigma'_v0 = 0.450; its largest q/p' is 1.2 (on the softening branch, p' falling);
 - K = 1: p'_0 = 200, q_0 = 0, q rises to 150 kPa at the stage's end: '(rising)', s_u = 75 kPa, 0.375, max q/p' 150/190;
 - a drained test in the same study: no s_u ('-');
+- each test's e_0, the void ratio of its shear's first row (0.650, 0.651, ...: one a test; falling along the shear);
 - three undrained tests after an oedometric unloading to OCR 2, 4 and 8 (summary.json's OCR; study.json's stage_keys
   unload.ocr), at sigma'_v0 = 100 kPa with s_u / sigma'_v0 = 0.25 OCR^0.8 exactly: their OCR column, and SHANSEP's
   fit S = 0.250 ± 0.000, m = 0.800 ± 0.000 over those three (the K path's tests have no OCR: not in it);
@@ -34,6 +35,11 @@ cols = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu_r", "stage_t
 jobs = []
 
 
+def e0(k):
+    """The void ratio at the start of the k-th test's shear (its first row's; the table's e_0)."""
+    return 0.65 + 0.001 * k
+
+
 def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None):
     """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows;
     with ocr, an oedometric unloading to that OCR in the K path's place (its stage_keys unload.ocr), the shear from
@@ -44,9 +50,9 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None):
     open(os.path.join(work, "jobs", name, "done"), "w").close()
     rows, step = [], 0
 
-    def row(stage, st_type, ea, p, q):
+    def row(stage, st_type, ea, p, q, e=0.6):
         nonlocal step
-        rows.append([stage, step, step, ea, 0.0, p, q, abs(q) / p, 0.6, 0.1, st_type, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25,
+        rows.append([stage, step, step, ea, 0.0, p, q, abs(q) / p, e, 0.1, st_type, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25,
                      0.25, 0.25, abs(q) / p, 5e-4, p - q / 3, p - q / 3, p + 2 * q / 3])
         step += 1
 
@@ -55,8 +61,8 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None):
         s3 = K * sz
         row("kc", 2, 0.001 * i, (sz + 2 * s3) / 3, sz - s3)
     p0, q0 = ((200e3 + 2 * K * 200e3) / 3, 200e3 - K * 200e3) if ocr is None and iso_ocr is None else (100e3, 0.0)
-    for ea, p, q in shear_rows:
-        row("cau", 1 if drainage == "undrained" else 2, ea, p, q)
+    for i, (ea, p, q) in enumerate(shear_rows):  # e_0 = e0(k) of the k-th test, falling along the shear
+        row("cau", 1 if drainage == "undrained" else 2, ea, p, q, e0(len(jobs)) - 0.01 * i)
     before = ({"name": "kc", "type": "triaxial", "drainage": "drained", "direction": "compression", "b": 0,
                "stress_path": "constant_k", "k_ratio": K, "p_0": 20e3, "q_0": 0} if ocr is None else
               {"name": "kc", "type": "triaxial", "drainage": "oedometric", "direction": "extension", "b": 0,
@@ -110,17 +116,17 @@ text = study_report(work, jobs, samples=samples)
 if "## Across the values" not in text:
     sys.exit("no table across the values in report.md")
 sec = text.split("## Across the values")[1].split("\n## ")[0]
-want = ["| kc.k_ratio = 0.5 | cau_k0.5 | undrained | - | 133.3 | 100.0 | 180.0 | 90.0 (0.450) | 1.200 |",
-        "| kc.k_ratio = 1 | cau_k1 | undrained | - | 200.0 | 0.0 | 150.0 (rising) | 75.0 (0.375) | 0.789 |",
-        "| kc.k_ratio = 1 | cad_k1 | drained | - | 200.0 | 0.0 | 200.0 (rising) | - | 0.741 |"]
-for ocr in (2, 4, 8):
+want = [f"| kc.k_ratio = 0.5 | cau_k0.5 | undrained | - | 133.3 | 100.0 | {e0(0):.4f} | 180.0 | 90.0 (0.450) | 1.200 |",
+        f"| kc.k_ratio = 1 | cau_k1 | undrained | - | 200.0 | 0.0 | {e0(1):.4f} | 150.0 (rising) | 75.0 (0.375) | 0.789 |",
+        f"| kc.k_ratio = 1 | cad_k1 | drained | - | 200.0 | 0.0 | {e0(2):.4f} | 200.0 (rising) | - | 0.741 |"]
+for k, ocr in enumerate((2, 4, 8)):
     r = 0.25 * ocr ** 0.8
-    want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {2 * r * 100:.1f} | "
+    want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {e0(3 + k):.4f} | {2 * r * 100:.1f} | "
                 f"{r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
 want.append("| 0.1 | 3 | 2–8 | 0.250 ± 0.000 | 0.800 ± 0.000 |")
-for R in (1, 2, 4, 8, 0):
+for k, R in enumerate((1, 2, 4, 8, 0)):
     r = 0.3 * max(R, 1) ** 0.6
-    want.append(f"| pre.pressure = {R * 100000:g} | ciu_R{R} | undrained | {R if R else '-'} | 100.0 | 0.0 | "
+    want.append(f"| pre.pressure = {R * 100000:g} | ciu_R{R} | undrained | {R if R else '-'} | 100.0 | 0.0 | {e0(6 + k):.4f} | "
                 f"{2 * r * 100:.1f} | {r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
 want.append("| 0.2 | 4 | 1–8 | 0.300 ± 0.000 | 0.600 ± 0.000 |")
 for line in want:
