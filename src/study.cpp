@@ -825,6 +825,13 @@ Study load_study_unchecked(const std::string& path) {
       points.push_back(pt);
     }
   }
+  // Stage keys as comparable values (two jobs of one name must agree in them: the name has them to 6 digits only)
+  const auto key_values = [](const std::vector<StudyJob::StageKey>& keys) {
+    std::vector<std::tuple<size_t, std::string, double>> v;
+    v.reserve(keys.size());
+    for (const auto& sk : keys) v.emplace_back(sk.stage, sk.key, sk.value);
+    return v;
+  };
   // Distinct samples, each prepared once.
   std::map<std::string, size_t> sample_index;
   for (const Point& pt : points) {
@@ -878,12 +885,8 @@ Study load_study_unchecked(const std::string& path) {
       // The same name is the same sample (a point listed twice), unless the values differ below the name's six
       // significant digits: then two samples would silently become one.
       const StudyJob& o = s.samples[sample_index[sn.str()]];
-      const auto values = [](const std::vector<StudyJob::StageKey>& v) {
-        std::vector<std::tuple<size_t, std::string, double>> t;
-        for (const auto& sk : v) t.emplace_back(sk.stage, sk.key, sk.value);
-        return t;
-      };
-      if (o.mu_r != pt.mu_r || o.e0 != pt.e0 || o.p0 != pt.p0 || o.E != pt.E || values(o.stage_keys) != values(prep_keys))
+      if (o.mu_r != pt.mu_r || o.e0 != pt.e0 || o.p0 != pt.p0 || o.E != pt.E ||
+          key_values(o.stage_keys) != key_values(prep_keys))
         fail(path, "axes", "two values of mu_r, e0, p0, E or a preparation stage's axis agree to 6 significant digits "
                            "(job " + sn.str() + "); make them differ sooner or list one of them");
     }
@@ -933,13 +936,8 @@ Study load_study_unchecked(const std::string& path) {
     for (auto& o : s.shears) {
       if (o.name != sh.name) continue;
       dup = true;
-      const auto values = [](const StudyJob& x) {
-        std::vector<std::tuple<size_t, std::string, double>> v;
-        for (const auto& sk : x.stage_keys) v.emplace_back(sk.stage, sk.key, sk.value);
-        return v;
-      };
       if (o.csr != sh.csr || o.strain_amplitude != sh.strain_amplitude || o.b != sh.b || o.rate != sh.rate ||
-          values(o) != values(sh))  // as above
+          key_values(o.stage_keys) != key_values(sh.stage_keys))  // as above
         fail(path, "axes",
              "two values of csr, strain_amplitude, b, axial_strain_rate or a stage axis agree to 6 significant digits "
              "(job " + sh.name + "); make them differ sooner or list one of them");

@@ -587,7 +587,8 @@ TEST(Config, StudyAxesAndJobsAreChecked) {
       {"study_zero", "axes: {count: [0]}\n", "axes.count: values must be in [1, 1e8]"},
       {"study_extra", "extra: [{seed: 1.5}]\n", "extra[0].seed: values must be whole numbers"},
       {"study_p0", "axes: {p0: [0, 100e3]}\n", "axes.p0: values must be > 0 (Pa)"},
-      {"study_close", "axes: {mu_r: [0.1, 0.10000001]}\n", "axes: two values of mu_r, e0, p0 or E agree to 6 significant"},
+      {"study_close", "axes: {mu_r: [0.1, 0.10000001]}\n",
+       "axes: two values of mu_r, e0, p0, E or a preparation stage's axis agree to 6 significant"},
       // a value listed twice made one job, silently (the grid smaller than it reads)
       {"study_twice", "axes: {mu_r: [0.3, 0.1, 0.30]}\n", "axes.mu_r: 0.3 is listed twice (values 1 and 3): an axis lists "
                                                           "each value once"},
@@ -1136,7 +1137,7 @@ TEST(Config, StudyStiffnessAxisSetsTheMaterial) {
       {"study_E_zero", "base: " + base + "\naxes: {E: [0]}\n", "axes.E: values must be in (0, 1e13] (Pa, material.E)"},
       {"study_E_big", "base: " + base + "\nextra: [{E: 2e13}]\n", "extra[0].E: values must be in (0, 1e13] (Pa, material.E)"},
       {"study_E_close", "base: " + base + "\naxes: {E: [1.0e8, 1.0000001e8]}\n",
-       "axes: two values of mu_r, e0, p0 or E agree to 6 significant digits"},
+       "axes: two values of mu_r, e0, p0, E or a preparation stage's axis agree to 6 significant digits"},
   });
 }
 
