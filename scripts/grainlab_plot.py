@@ -2244,6 +2244,19 @@ def isotropic_stages(out, name):
     return [s for s in stages if s.get("type") == "isotropic"]
 
 
+def unconverged(out, name):
+    """The isotropic stages of sample job `name` that ran out of steps: summary.json's done false, the stage ended at
+    its max_steps before its pressure, unbalanced-force and kinetic-energy criteria held (a sample not in equilibrium
+    at its pressure, whose e_0 is not an equilibrium's)."""
+    return [s.get("name", "?") for s in isotropic_stages(out, name) if s.get("done") is False]
+
+
+UNCONVERGED_NOTE = ("ran out of steps: an isotropic stage reached its max_steps before the pressure, "
+                    "unbalanced-force and kinetic-energy criteria held (summary.json done: false), so the sample's e_0 "
+                    "is not an equilibrium's; raise that stage's max_steps (a frictionless or nearly frictionless "
+                    "preparation settles slowest)")
+
+
 def consolidated(out, name):
     """Sample job `name`'s last isotropic stage in its summary.json (the sample as consolidated), with the job's run
     directory as "dir"; None where it has none (not run yet, or failed)."""
@@ -2265,7 +2278,7 @@ def samples_section(out, jobs, samples=None):
     (GRADED_CORE). The samples are study.json's
     list (`samples`), or, in a study.json of a build before it, those its jobs name. Empty where no sample job has a
     summary."""
-    rows, graded = [], []
+    rows, graded, unconv = [], [], []
     names = {j["name"] for j in samples} if samples else {j["sample"] for j in jobs if j.get("sample")}
     for name in sorted(names, key=lambda k: (sample_count(os.path.join(out, "jobs", k, "run")) or 0, k)):  # by size
         s = consolidated(out, name)
@@ -2283,6 +2296,9 @@ def samples_section(out, jobs, samples=None):
             graded.append(name)
         else:
             verdict = "homogeneous"
+        if left := unconverged(out, name):
+            unconv.append(name)
+            verdict = f"NOT converged ({', '.join(left)}: max_steps); {verdict}"
         sizes = sample_sizes(s["dir"])
         d50 = sizes.get("d50")
         rows.append(f"| {name} | {n if n is not None else '-'} | {number_text(d50 * 1e3 if d50 else None, '.3f')} | "
@@ -2293,6 +2309,8 @@ def samples_section(out, jobs, samples=None):
     note = (f"{len(graded)} of {len(rows)} samples are graded: a crust along the walls around a looser core, which a "
             "frictional gas compacted by its walls alone forms; such a sample is no element test. `affine: true` on "
             "the isotropic stage compacts it homogeneously (configs/README.md)." if graded else "")
+    if unconv:
+        note += (" " if note else "") + f"{len(unconv)} of {len(rows)} samples " + UNCONVERGED_NOTE + "."
     return ["## Samples", "",
             "Each sample at the end of its consolidation: its spheres' D50 and Cu = D60/D10 by mass, e of the wall box, of its interior (inset by two mean "
             "diameters) and of its core (the central eighth of the box). A sample is graded when its core is looser than "
@@ -2341,7 +2359,7 @@ def preparation_section(out, samples, figs):
                               + (j.get("grading", ""),), []).append((j, s))
     if not groups:
         return [], False
-    rows, stats = [], {}
+    rows, stats, unconv = [], {}, []
     # mu_r, p0, e0, grading, E, the stage axes, size
     for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[4], k[-1], k[5], *k[6:-1], k[0])):
         g = sorted(groups[key], key=lambda t: t[0]["seed"])
@@ -2353,20 +2371,25 @@ def preparation_section(out, samples, figs):
         name = seedless(g[0][0]["name"], g[0][0])
         # the stage's friction: one value unless a target_e0 search settled on one per seed
         mu_txt = f"{col['mu'][0]:.3f}" if len(set(col["mu"])) == 1 else seed_spread(col["mu"], 3)
+        left = sum(bool(unconverged(out, j["name"])) for j, _ in g)
+        unconv += [j["name"] for j, _ in g if unconverged(out, j["name"])]
         rows.append(f"| {name} | {key[0]} | {len(g)} ({', '.join(str(j['seed']) for j, _ in g)}) | "
                     f"{seed_spread(col['e'], 4)} | {seed_spread(col['e_inner'], 4)} | {seed_spread(col['e_core'], 4)} | "
                     f"{seed_spread(col['diff'], 4)} | {mu_txt} | "
-                    f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'} | {seed_spread(col['gas'], 4)} |")
+                    f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'}"
+                    f"{f' ({left} of {len(g)} NOT converged)' if left else ''} | {seed_spread(col['gas'], 4)} |")
     lines = ["## Preparation", "",
              "The samples that differ only in their seed, together: each void ratio at the end of the consolidation as "
              "mean ± standard deviation [95 % half-width of the mean] over the seeds, the friction the stage ended at "
-             "(a target_e0 search's last trial), its steps (mean), and the solid fraction of the gas's interior as "
+             "(a target_e0 search's last trial), its steps (mean; 'NOT converged': seeds whose stage ran out of them, "
+             "below), and the solid fraction of the gas's interior as "
              "placed (the series' first row): random placement keeps every centre a radius from the walls, so the gas "
              "is thinner along them and denser inside than `initial_solid_fraction`, the more so the smaller the box, "
              "and a frictional gas compacted affinely jams denser the denser it starts.", "",
              "| samples (all seeds) | spheres | seeds | e_0 | e_0 interior | e_0 core | core - interior | mu | steps | "
              "gas interior solid fraction |",
-             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+             "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+             *([f"{len(unconv)} sample(s) {UNCONVERGED_NOTE}: {', '.join(unconv)}.", ""] if unconv else [])]
     # Is the sample big enough? Per series of sizes (the same mu_r, e0, p0), the interior's e_0 of the two largest.
     series = {}
     for key in stats:
