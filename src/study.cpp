@@ -1043,6 +1043,20 @@ struct Running {
   const StudyJob* job;
 };
 
+// The isotropic stages of a finished run that ran out of steps (summary.json's done: false): the stage reached its
+// max_steps before its pressure, unbalanced-force and kinetic-energy criteria held, so the sample is not in equilibrium
+// at its pressure (the run says so on its stdout, which a study's job keeps quiet; the report marks it too).
+std::vector<std::string> unconverged_stages(const fs::path& summary) {
+  std::vector<std::string> names;
+  try {
+    for (const YAML::Node& st : YAML::LoadFile(summary.string())["stages"])
+      if (st["type"] && st["type"].as<std::string>() == "isotropic" && st["done"] && !st["done"].as<bool>())
+        names.push_back(st["name"] ? st["name"].as<std::string>() : "?");
+  } catch (const std::exception&) {  // unreadable: nothing to say (the report reads it again)
+  }
+  return names;
+}
+
 volatile std::sig_atomic_t g_study_stop = 0, g_study_pipe_closed = 0;
 extern "C" void on_study_stop(int sig) {
   g_study_stop = 1;
@@ -1462,6 +1476,13 @@ int run_study(const Study& s, const StudyOptions& o) {
         ++finished;
         write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
         if (!o.quiet) std::printf("[%zu/%zu] %s done\n", finished, total, j.name.c_str());
+        if (j.is_sample)
+          for (const std::string& st : unconverged_stages(out / "jobs" / j.name / "run" / "summary.json"))
+            std::fprintf(stderr,
+                         "grainlab study: warning: %s: stage %s ran out of steps (its max_steps) before equilibrium: the "
+                         "sample is not in equilibrium at its pressure and its e_0 is not an equilibrium's; raise the "
+                         "stage's max_steps\n",
+                         j.name.c_str(), st.c_str());
       } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP) {
         // Stopped at a checkpoint (130), or by the signal before it had started: the rerun resumes it. A job
         // stopped so means the user (or the system) is stopping the study: start nothing new.

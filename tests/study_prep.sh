@@ -71,4 +71,12 @@ for j in json.load(open(sys.argv[1] + "/study.json"))["samples"]:
 print(e)
 sys.exit(not all(e[s, 0.1] < e[s, 0.5] for s in (3, 4)))
 PY
+# A preparation that runs out of steps (a stage axis over its max_steps, 300: far short of equilibrium): the study warns
+# on stderr, naming the sample and the stage, and the report marks it NOT converged.
+printf 'base: mu-base.yaml\naxes: {stages.consolidate.max_steps: [300]}\n' > short.yaml
+"$bin" study short.yaml --out st_short --jobs 2 --quiet > /dev/null 2> short.err || fail "the short study failed: $(cat short.err)"
+grep -q "^grainlab study: warning: sample_mur0_ebase_pbase_s3_n300_consolidate-max_steps300: stage consolidate ran out of steps" \
+  short.err || fail "no warning of the unconverged stage: $(cat short.err)"
+grep -q "| 300 (1 of 1 NOT converged) |" st_short/report.md || fail "the report does not mark it: $(cat st_short/report.md)"
+[ "$(grep -c 'ran out of steps' short.err)" -eq 1 ] || fail "warned more than once: $(cat short.err)"
 echo "study_prep: ok"
