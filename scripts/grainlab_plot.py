@@ -1692,11 +1692,7 @@ def isotropic_ocr(out, j):
     end pressures over its last one's (summary.json's p; a stage ends within its pressure_tolerance of its target, the
     pressure a lab would call the preconsolidation), where it consolidated in two stages or more (a preloading, or
     one at the same pressure: R = 1, the normally consolidated reference); None for a sample of one stage, or none."""
-    try:
-        with open(os.path.join(out, "jobs", j.get("sample", ""), "run", "summary.json")) as f:
-            p = [float(x["p"]) for x in json.load(f).get("stages", []) if x.get("type") == "isotropic" and x.get("p")]
-    except (OSError, ValueError, TypeError):
-        return None
+    p = [float(x["p"]) for x in isotropic_stages(out, j.get("sample", "")) if x.get("p")]
     return max(p) / p[-1] if len(p) >= 2 and p[-1] > 0 else None
 
 
@@ -2371,13 +2367,13 @@ def preparation_section(out, samples, figs):
         name = seedless(g[0][0]["name"], g[0][0])
         # the stage's friction: one value unless a target_e0 search settled on one per seed
         mu_txt = f"{col['mu'][0]:.3f}" if len(set(col["mu"])) == 1 else seed_spread(col["mu"], 3)
-        left = sum(bool(unconverged(out, j["name"])) for j, _ in g)
-        unconv += [j["name"] for j, _ in g if unconverged(out, j["name"])]
+        left = [j["name"] for j, _ in g if unconverged(out, j["name"])]
+        unconv += left
         rows.append(f"| {name} | {key[0]} | {len(g)} ({', '.join(str(j['seed']) for j, _ in g)}) | "
                     f"{seed_spread(col['e'], 4)} | {seed_spread(col['e_inner'], 4)} | {seed_spread(col['e_core'], 4)} | "
                     f"{seed_spread(col['diff'], 4)} | {mu_txt} | "
                     f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'}"
-                    f"{f' ({left} of {len(g)} NOT converged)' if left else ''} | {seed_spread(col['gas'], 4)} |")
+                    f"{f' ({len(left)} of {len(g)} NOT converged)' if left else ''} | {seed_spread(col['gas'], 4)} |")
     lines = ["## Preparation", "",
              "The samples that differ only in their seed, together: each void ratio at the end of the consolidation as "
              "mean ± standard deviation [95 % half-width of the mean] over the seeds, the friction the stage ended at "
