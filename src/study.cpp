@@ -1476,13 +1476,13 @@ int run_study(const Study& s, const StudyOptions& o) {
         ++finished;
         write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
         if (!o.quiet) std::printf("[%zu/%zu] %s done\n", finished, total, j.name.c_str());
-        if (j.is_sample)
-          for (const std::string& st : unconverged_stages(out / "jobs" / j.name / "run" / "summary.json"))
-            std::fprintf(stderr,
-                         "grainlab study: warning: %s: stage %s ran out of steps (its max_steps) before equilibrium: the "
-                         "sample is not in equilibrium at its pressure and its e_0 is not an equilibrium's; raise the "
-                         "stage's max_steps\n",
-                         j.name.c_str(), st.c_str());
+        // a sample's preparation, or a shear job's isotropic stage between its shears (a reconsolidation)
+        for (const std::string& st : unconverged_stages(out / "jobs" / j.name / "run" / "summary.json"))
+          std::fprintf(stderr,
+                       "grainlab study: warning: %s: stage %s ran out of steps (its max_steps) before equilibrium: the "
+                       "sample is not in equilibrium at its pressure and its e is not an equilibrium's; raise the "
+                       "stage's max_steps\n",
+                       j.name.c_str(), st.c_str());
       } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP) {
         // Stopped at a checkpoint (130), or by the signal before it had started: the rerun resumes it. A job
         // stopped so means the user (or the system) is stopping the study: start nothing new.
