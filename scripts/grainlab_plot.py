@@ -1752,15 +1752,34 @@ def across_values_section(out, idx, heads):
                       *pooled, ""] if pooled else [])] if coed_rows else [])
     if not rows:
         return ["## Across the values", "", *coed_lines] if coed_rows else []
-    fits = []
+    fits, drawn = [], []
     several_E = len({E for E, _ in shansep}) > 1  # the E axis too: a fit per E (the stiffness moves the swelling)
     for (E, mu_r), pts in sorted(shansep.items()):
         x = np.array([t[0] for t in pts])
         if len(pts) < 3 or pressure_levels(x) < 2:
             continue
         m_, c, sm, sc = fit(np.log(x), np.log([t[1] for t in pts]))
-        fits.append(f"| {mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''} | {len(pts)} | "
+        label = f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}"
+        fits.append(f"| {label} | {len(pts)} | "
                     f"{x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | {m_:.3f} ± {sm:.3f} |")
+        drawn.append((label, x, np.array([t[1] for t in pts]), math.exp(c), m_))
+    if drawn:  # figures/shansep.png: each test's s_u / sigma'_v0 against its OCR and each fit's line, log-log
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for n, (label, x, y, S, m_) in enumerate(drawn):
+            xs = np.geomspace(x.min(), x.max(), 50)
+            ax.loglog(x, y, "o", color=f"C{n % 10}", label=f"mu_r {label}")
+            ax.loglog(xs, S * xs ** m_, "-", color=f"C{n % 10}", label=f"S = {S:.3f}, m = {m_:.3f}")
+        ax.set(xlabel="OCR", ylabel="s_u / sigma'_v0", title="SHANSEP: s_u / sigma'_v0 = S OCR^m")
+        ax.set_xticks(sorted({float(v) for _, x, _, _, _ in drawn for v in x}))  # the tests' OCRs, as numbers
+        plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
+        ax.xaxis.set_major_formatter(plain)
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.yaxis.set_major_formatter(plain)
+        ax.yaxis.set_minor_formatter(plain)  # a decade or less of s_u / sigma'_v0: the minor ticks are the labels
+        ax.grid(alpha=0.3, which="both")
+        legend(ax, fontsize=7)
+        os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+        save(fig, os.path.join(out, "figures"), "shansep")
     return ["## Across the values", "",
             "Each test's last stage (the shear: a K path or an oedometer before it is its consolidation): the stress it "
             "started from (p'_0, q_0; summary.json) and its void ratio there (e_0, the stage's first row), its peak of |q| ('(rising)': q still rose at the stage's end, a "
@@ -1774,7 +1793,8 @@ def across_values_section(out, idx, heads):
             "max q/p' (abs) |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
             *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E), least squares in ln(s_u / sigma'_v0) "
-               "against ln OCR over the undrained tests, ± one standard error.", "",
+               "against ln OCR over the undrained tests, ± one standard error (`figures/shansep.png`: the tests and the "
+               "lines).", "",
                "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []), *coed_lines]
 
 

@@ -133,6 +133,8 @@ for line in want:
     if line not in sec.splitlines():
         got = next((x for x in sec.splitlines() if x.startswith(line.split(" | ")[0] + " | " + line.split(" | ")[1])), None)
         fails.append(f"expected\n  {line}\ngot\n  {got}")
+if not os.path.isfile(os.path.join(work, "figures", "shansep.png")):
+    fails.append("no figures/shansep.png beside the SHANSEP fits")
 for head in ("## stages.kc.k_ratio = 0.5", "## stages.kc.k_ratio = 1", "## stages.unload.ocr = 8"):
     if head not in text.splitlines():
         fails.append(f"no section '{head}'")
