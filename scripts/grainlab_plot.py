@@ -1770,7 +1770,8 @@ def across_values_section(out, idx, heads):
             ax.loglog(x, y, "o", color=f"C{n % 10}", label=f"mu_r {label}")
             ax.loglog(xs, S * xs ** m_, "-", color=f"C{n % 10}", label=f"S = {S:.3f}, m = {m_:.3f}")
         ax.set(xlabel="OCR", ylabel="s_u / sigma'_v0", title="SHANSEP: s_u / sigma'_v0 = S OCR^m")
-        ax.set_xticks(sorted({float(v) for _, x, _, _, _ in drawn for v in x}))  # the tests' OCRs, as numbers
+        # the tests' OCRs as numbers, to 3 digits (a preloading's measured OCR is 1.99998, 2.00003, ...)
+        ax.set_xticks(sorted({float(f"{v:.3g}") for _, x, _, _, _ in drawn for v in x}))
         plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
         ax.xaxis.set_major_formatter(plain)
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
