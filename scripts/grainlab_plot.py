@@ -1968,6 +1968,13 @@ def study_lines(out, idx, figs_rel, fits=None):
     head = [f"# Study report: {idx['study']}", "",
             f"{len(runs)} shear tests finished" + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".",
             ""]
+    # A test's own isotropic stage (a reconsolidation between its shears; its sample's stages are the sample job's,
+    # marked in the Samples section) that ran out of steps: the shears after it start out of equilibrium.
+    if unconv := [f"{j['name']} ({', '.join(left)})" for j, _, _ in runs if (left := unconverged(out, j["name"]))]:
+        head += [f"**NOT converged:** {len(unconv)} of {len(runs)} tests: {', '.join(unconv)}: an isotropic stage of "
+                 "the test (a reconsolidation between its shears) ran out of steps: it reached its max_steps before the "
+                 "pressure, unbalanced-force and kinetic-energy criteria held (summary.json done: false), so the shears "
+                 "after it start from a sample not in equilibrium at its pressure; raise that stage's max_steps.", ""]
     if (cyc or amp or oed or coed) and not mono:  # a cyclic or K0 study: peaks and critical states are those of monotonic shears
         lines = (head + ["Figures: " + ", ".join(["`figures/stress_paths.png`"] + more_figs) + ".", ""]
                  + samples_section(out, idx["jobs"], idx.get("samples")) + comp_lines
@@ -2253,7 +2260,7 @@ def sample_count(run_dir):
 
 
 def isotropic_stages(out, name):
-    """Every isotropic stage of sample job `name` (its summary.json), in order; [] where it has no summary."""
+    """Every isotropic stage of job `name` (its summary.json: a shear job's own stages only), in order; [] where it has no summary."""
     try:
         stages = json.load(open(os.path.join(out, "jobs", name, "run", "summary.json")))["stages"]
     except (OSError, ValueError, KeyError):
@@ -2262,7 +2269,7 @@ def isotropic_stages(out, name):
 
 
 def unconverged(out, name):
-    """The isotropic stages of sample job `name` that ran out of steps: summary.json's done false, the stage ended at
+    """The isotropic stages of job `name` (a sample's preparation, or a test's reconsolidation) that ran out of steps: summary.json's done false, the stage ended at
     its max_steps before its pressure, unbalanced-force and kinetic-energy criteria held (a sample not in equilibrium
     at its pressure, whose e_0 is not an equilibrium's)."""
     return [s.get("name", "?") for s in isotropic_stages(out, name) if s.get("done") is False]

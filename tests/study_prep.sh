@@ -4,7 +4,7 @@
 # section, whose means and standard deviations over the seeds are recomputed here from each sample's summary.json
 # (tests/prep_check.py); a rerun runs nothing; a stage appended to the base (a reloading) extends every sample, which
 # resumes and goes on to it, and the report gains its isotropic compression section; a shear axis on such a base is an
-# error naming it.
+# error naming it; a test whose own reconsolidation runs out of steps is warned of and marked.
 set -u
 bin=$1; src=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
 . "$here"/study_setup.sh
@@ -79,4 +79,15 @@ grep -q "^grainlab study: warning: sample_mur0_ebase_pbase_s3_n300_consolidate-m
   short.err || fail "no warning of the unconverged stage: $(cat short.err)"
 grep -q "| 300 (1 of 1 NOT converged) |" st_short/report.md || fail "the report does not mark it: $(cat st_short/report.md)"
 [ "$(grep -c 'ran out of steps' short.err)" -eq 1 ] || fail "warned more than once: $(cat short.err)"
+# A test's own reconsolidation (an isotropic stage after its first shear, run by the shear job) that runs out of steps:
+# the study warns of the shear job, once (its sample converged), and the report's head marks that test.
+sed '/^output:/i\  - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 1.0, max_axial_strain: 0.002, damping: 0.2}\n  - {name: recon, type: isotropic, pressure: 200e3, max_steps: 50}' \
+  mu-base.yaml > recon-base.yaml
+printf 'base: recon-base.yaml\naxes: {seed: [3]}\n' > recon.yaml
+"$bin" study recon.yaml --out st_recon --jobs 2 --quiet > /dev/null 2> recon.err || fail "the recon study failed: $(cat recon.err)"
+[ "$(grep -c 'ran out of steps' recon.err)" -eq 1 ] &&
+  grep -q "^grainlab study: warning: shear_drained_mur0_ebase_pbase_s3_n300: stage recon ran out of steps" recon.err ||
+  fail "not one warning of the shear job's reconsolidation: $(cat recon.err)"
+grep -q '^\*\*NOT converged:\*\* 1 of 1 tests: shear_drained_mur0_ebase_pbase_s3_n300 (recon): ' st_recon/report.md ||
+  fail "the report does not mark the test: $(head -n 8 st_recon/report.md)"
 echo "study_prep: ok"
