@@ -1492,8 +1492,20 @@ int run_study(const Study& s, const StudyOptions& o) {
                      code);
       } else {
         ++failures;
-        std::fprintf(stderr, "grainlab study: %s failed (exit %d); see %s; rerun the study to resume it\n", j.name.c_str(),
-                     code, (out / "jobs" / j.name / "log.txt").c_str());
+        // A shear of a sample that ran out of steps starts out of equilibrium, the likeliest cause of its failure (a
+        // servo that loses its target at step 0): the study warned of the sample as it ended, and says so again here.
+        std::string cause;
+        if (!j.is_sample)
+          for (const std::string& st : unconverged_stages(out / "jobs" / j.sample_name / "run" / "summary.json"))
+            cause += (cause.empty() ? "; its sample " + j.sample_name + " is not in equilibrium (stage " : ", ") + st;
+        // A rerun would resume the shear on the same sample and fail again: the remedy is a new sample (the sample
+        // job's config changes, which a rerun into the same --out refuses while shears have run on the old one).
+        if (!cause.empty())
+          cause += " ran out of steps): raise its max_steps and run the study into another --out (or delete the jobs/ "
+                   "directories of that sample and of its shears)";
+        std::fprintf(stderr, "grainlab study: %s failed (exit %d); see %s%s\n", j.name.c_str(), code,
+                     (out / "jobs" / j.name / "log.txt").c_str(),
+                     cause.empty() ? "; rerun the study to resume it" : cause.c_str());
       }
       running.erase(it);
       break;

@@ -90,4 +90,12 @@ printf 'base: recon-base.yaml\naxes: {seed: [3]}\n' > recon.yaml
   fail "not one warning of the shear job's reconsolidation: $(cat recon.err)"
 grep -q '^\*\*NOT converged:\*\* 1 of 1 tests: shear_drained_mur0_ebase_pbase_s3_n300 (recon): ' st_recon/report.md ||
   fail "the report does not mark the test: $(head -n 8 st_recon/report.md)"
+# A shear of an unconverged sample (300 steps: p' ~2 kPa of 190) fails at its first step; the study names the sample
+# as the cause and a new sample as the remedy, not a rerun (which would resume it and fail again).
+sed 's/max_steps: 20000/max_steps: 300/' recon-base.yaml > unconv-base.yaml
+printf 'base: unconv-base.yaml\naxes: {seed: [3]}\n' > unconv.yaml
+"$bin" study unconv.yaml --out st_unconv --jobs 2 --quiet > /dev/null 2> unconv.err && fail "the study of an unconverged sample's shear passed"
+grep -q "^grainlab study: shear_drained_mur0_ebase_pbase_s3_n300 failed (exit [0-9]*); see .*; its sample sample_mur0_ebase_pbase_s3_n300 is not in equilibrium (stage consolidate ran out of steps): raise its max_steps and run the study into another --out" \
+  unconv.err || fail "the shear's failure does not name its unconverged sample: $(cat unconv.err)"
+grep -q "rerun the study to resume it" unconv.err && fail "advises a rerun that would fail again: $(cat unconv.err)"
 echo "study_prep: ok"
