@@ -2269,16 +2269,27 @@ def isotropic_stages(out, name):
 
 
 def unconverged(out, name):
-    """The isotropic stages of job `name` (a sample's preparation, or a test's reconsolidation) that ran out of steps: summary.json's done false, the stage ended at
-    its max_steps before its pressure, unbalanced-force and kinetic-energy criteria held (a sample not in equilibrium
-    at its pressure, whose e_0 is not an equilibrium's)."""
+    """The isotropic stages of job `name` (a sample's preparation, or a test's reconsolidation) that ran out of steps:
+    summary.json's done false, the stage ended at its max_steps before its pressure, unbalanced-force and
+    kinetic-energy criteria held (the sample not in equilibrium at that stage's pressure)."""
     return [s.get("name", "?") for s in isotropic_stages(out, name) if s.get("done") is False]
 
 
-UNCONVERGED_NOTE = ("ran out of steps: an isotropic stage reached its max_steps before the pressure, "
+def ends_unconverged(out, name):
+    """Whether job `name`'s last isotropic stage ran out of steps: the sample ends out of equilibrium, its e_0 no
+    equilibrium's. An earlier stage that ran out, then a later one that converged (a seat, then a preloading and an
+    unloading), leaves a sample in equilibrium at its end whose path passed that stage's pressure out of it."""
+    stages = isotropic_stages(out, name)
+    return bool(stages) and stages[-1].get("done") is False
+
+
+UNCONVERGED_NOTE = ("ran out of steps: the last isotropic stage reached its max_steps before the pressure, "
                     "unbalanced-force and kinetic-energy criteria held (summary.json done: false), so the sample's e_0 "
                     "is not an equilibrium's; raise that stage's max_steps (a frictionless or nearly frictionless "
                     "preparation settles slowest)")
+UNCONVERGED_EARLIER_NOTE = ("ran out of steps in an earlier isotropic stage (summary.json done: false) and converged in a "
+                            "later one: each ends in equilibrium, but its path passed the earlier stage's pressure out of "
+                            "equilibrium; raise that stage's max_steps for a path through equilibria")
 
 
 def consolidated(out, name):
@@ -2302,7 +2313,7 @@ def samples_section(out, jobs, samples=None):
     (GRADED_CORE). The samples are study.json's
     list (`samples`), or, in a study.json of a build before it, those its jobs name. Empty where no sample job has a
     summary."""
-    rows, graded, unconv = [], [], []
+    rows, graded, unconv, earlier = [], [], [], []
     names = {j["name"] for j in samples} if samples else {j["sample"] for j in jobs if j.get("sample")}
     for name in sorted(names, key=lambda k: (sample_count(os.path.join(out, "jobs", k, "run")) or 0, k)):  # by size
         s = consolidated(out, name)
@@ -2320,9 +2331,12 @@ def samples_section(out, jobs, samples=None):
             graded.append(name)
         else:
             verdict = "homogeneous"
-        if left := unconverged(out, name):
+        if ends_unconverged(out, name):
             unconv.append(name)
-            verdict = f"NOT converged ({', '.join(left)}: max_steps); {verdict}"
+            verdict = f"NOT converged ({', '.join(unconverged(out, name))}: max_steps); {verdict}"
+        elif left := unconverged(out, name):
+            earlier.append(name)
+            verdict = f"{', '.join(left)} ran out of steps, later stages converged; {verdict}"
         sizes = sample_sizes(s["dir"])
         d50 = sizes.get("d50")
         rows.append(f"| {name} | {n if n is not None else '-'} | {number_text(d50 * 1e3 if d50 else None, '.3f')} | "
@@ -2335,6 +2349,8 @@ def samples_section(out, jobs, samples=None):
             "the isotropic stage compacts it homogeneously (configs/README.md)." if graded else "")
     if unconv:
         note += (" " if note else "") + f"{len(unconv)} of {len(rows)} samples " + UNCONVERGED_NOTE + "."
+    if earlier:
+        note += (" " if note else "") + f"{len(earlier)} of {len(rows)} samples " + UNCONVERGED_EARLIER_NOTE + "."
     return ["## Samples", "",
             "Each sample at the end of its consolidation: its spheres' D50 and Cu = D60/D10 by mass, e of the wall box, of its interior (inset by two mean "
             "diameters) and of its core (the central eighth of the box). A sample is graded when its core is looser than "
@@ -2383,7 +2399,7 @@ def preparation_section(out, samples, figs):
                               + (j.get("grading", ""),), []).append((j, s))
     if not groups:
         return [], False
-    rows, stats, unconv = [], {}, []
+    rows, stats, unconv, earlier = [], {}, [], []
     # mu_r, p0, e0, grading, E, the stage axes, size
     for key in sorted(groups, key=lambda k: (k[1], k[2], k[3], k[4], k[-1], k[5], *k[6:-1], k[0])):
         g = sorted(groups[key], key=lambda t: t[0]["seed"])
@@ -2395,25 +2411,30 @@ def preparation_section(out, samples, figs):
         name = seedless(g[0][0]["name"], g[0][0])
         # the stage's friction: one value unless a target_e0 search settled on one per seed
         mu_txt = f"{col['mu'][0]:.3f}" if len(set(col["mu"])) == 1 else seed_spread(col["mu"], 3)
-        left = [j["name"] for j, _ in g if unconverged(out, j["name"])]
+        left = [j["name"] for j, _ in g if ends_unconverged(out, j["name"])]
         unconv += left
+        passed = [j["name"] for j, _ in g if unconverged(out, j["name"]) and j["name"] not in left]
+        earlier += passed
         rows.append(f"| {name} | {key[0]} | {len(g)} ({', '.join(str(j['seed']) for j, _ in g)}) | "
                     f"{seed_spread(col['e'], 4)} | {seed_spread(col['e_inner'], 4)} | {seed_spread(col['e_core'], 4)} | "
                     f"{seed_spread(col['diff'], 4)} | {mu_txt} | "
                     f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'}"
-                    f"{f' ({len(left)} of {len(g)} NOT converged)' if left else ''} | {seed_spread(col['gas'], 4)} |")
+                    f"{f' ({len(left)} of {len(g)} NOT converged)' if left else ''}"
+                    f"{f' ({len(passed)} of {len(g)}: an earlier stage ran out of steps)' if passed else ''} | "
+                    f"{seed_spread(col['gas'], 4)} |")
     lines = ["## Preparation", "",
              "The samples that differ only in their seed, together: each void ratio at the end of the consolidation as "
              "mean ± standard deviation [95 % half-width of the mean] over the seeds, the friction the stage ended at "
-             "(a target_e0 search's last trial), its steps (mean; 'NOT converged': seeds whose stage ran out of them, "
-             "below), and the solid fraction of the gas's interior as "
+             "(a target_e0 search's last trial), its steps (mean; 'NOT converged': seeds whose last stage ran out of them; "
+             "'an earlier stage ran out of steps': one before it did, the last converged; both named below), and the solid fraction of the gas's interior as "
              "placed (the series' first row): random placement keeps every centre a radius from the walls, so the gas "
              "is thinner along them and denser inside than `initial_solid_fraction`, the more so the smaller the box, "
              "and a frictional gas compacted affinely jams denser the denser it starts.", "",
              "| samples (all seeds) | spheres | seeds | e_0 | e_0 interior | e_0 core | core - interior | mu | steps | "
              "gas interior solid fraction |",
              "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
-             *([f"{len(unconv)} sample(s) {UNCONVERGED_NOTE}: {', '.join(unconv)}.", ""] if unconv else [])]
+             *([f"{len(unconv)} sample(s) {UNCONVERGED_NOTE}: {', '.join(unconv)}.", ""] if unconv else []),
+             *([f"{len(earlier)} sample(s) {UNCONVERGED_EARLIER_NOTE}: {', '.join(earlier)}.", ""] if earlier else [])]
     # Is the sample big enough? Per series of sizes (the same mu_r, e0, p0), the interior's e_0 of the two largest.
     series = {}
     for key in stats:

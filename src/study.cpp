@@ -1045,16 +1045,24 @@ struct Running {
 
 // The isotropic stages of a finished run that ran out of steps (summary.json's done: false): the stage reached its
 // max_steps before its pressure, unbalanced-force and kinetic-energy criteria held, so the sample is not in equilibrium
-// at its pressure (the run says so on its stdout, which a study's job keeps quiet; the report marks it too).
-std::vector<std::string> unconverged_stages(const fs::path& summary) {
-  std::vector<std::string> names;
+// at its pressure (the run says so on its stdout, which a study's job keeps quiet; the report marks it too). A later
+// isotropic stage that converged puts the sample in equilibrium after all (a seat that ran out of steps, then a
+// preloading and an unloading that converged): only the path's point at that stage's end was not one.
+struct Unconverged {
+  std::vector<std::string> stages;  // those that ran out of steps, in order
+  bool last_converged = true;       // the last isotropic stage converged: the sample ends in equilibrium
+};
+Unconverged unconverged_stages(const fs::path& summary) {
+  Unconverged u;
   try {
-    for (const YAML::Node& st : YAML::LoadFile(summary.string())["stages"])
-      if (st["type"] && st["type"].as<std::string>() == "isotropic" && st["done"] && !st["done"].as<bool>())
-        names.push_back(st["name"] ? st["name"].as<std::string>() : "?");
+    for (const YAML::Node& st : YAML::LoadFile(summary.string())["stages"]) {
+      if (!st["type"] || st["type"].as<std::string>() != "isotropic" || !st["done"]) continue;
+      u.last_converged = st["done"].as<bool>();
+      if (!u.last_converged) u.stages.push_back(st["name"] ? st["name"].as<std::string>() : "?");
+    }
   } catch (const std::exception&) {  // unreadable: nothing to say (the report reads it again)
   }
-  return names;
+  return u;
 }
 
 volatile std::sig_atomic_t g_study_stop = 0, g_study_pipe_closed = 0;
@@ -1477,12 +1485,14 @@ int run_study(const Study& s, const StudyOptions& o) {
         write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
         if (!o.quiet) std::printf("[%zu/%zu] %s done\n", finished, total, j.name.c_str());
         // a sample's preparation, or a shear job's isotropic stage between its shears (a reconsolidation)
-        for (const std::string& st : unconverged_stages(out / "jobs" / j.name / "run" / "summary.json"))
-          std::fprintf(stderr,
-                       "grainlab study: warning: %s: stage %s ran out of steps (its max_steps) before equilibrium: the "
-                       "sample is not in equilibrium at its pressure and its e is not an equilibrium's; raise the "
-                       "stage's max_steps\n",
-                       j.name.c_str(), st.c_str());
+        const Unconverged u = unconverged_stages(out / "jobs" / j.name / "run" / "summary.json");
+        for (size_t k = 0; k < u.stages.size(); ++k)
+          std::fprintf(stderr, "grainlab study: warning: %s: stage %s ran out of steps (its max_steps) before equilibrium: %s; "
+                       "raise the stage's max_steps\n", j.name.c_str(), u.stages[k].c_str(),
+                       k + 1 == u.stages.size() && !u.last_converged
+                           ? "the sample is not in equilibrium at its pressure and its e is not an equilibrium's"
+                           : "a later isotropic stage converged, so the sample ends in equilibrium, but its path passed "
+                             "that stage's pressure out of equilibrium");
       } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP) {
         // Stopped at a checkpoint (130), or by the signal before it had started: the rerun resumes it. A job
         // stopped so means the user (or the system) is stopping the study: start nothing new.
@@ -1494,15 +1504,14 @@ int run_study(const Study& s, const StudyOptions& o) {
         ++failures;
         // A shear of a sample that ran out of steps starts out of equilibrium, the likeliest cause of its failure (a
         // servo that loses its target at step 0): the study warned of the sample as it ended, and says so again here.
-        std::string cause;
-        if (!j.is_sample)
-          for (const std::string& st : unconverged_stages(out / "jobs" / j.sample_name / "run" / "summary.json"))
-            cause += (cause.empty() ? "; its sample " + j.sample_name + " is not in equilibrium (stage " : ", ") + st;
         // A rerun would resume the shear on the same sample and fail again: the remedy is a new sample (the sample
         // job's config changes, which a rerun into the same --out refuses while shears have run on the old one).
-        if (!cause.empty())
-          cause += " ran out of steps): raise its max_steps and run the study into another --out (or delete the jobs/ "
-                   "directories of that sample and of its shears)";
+        std::string cause;
+        if (const Unconverged u = unconverged_stages(out / "jobs" / j.sample_name / "run" / "summary.json");
+            !j.is_sample && !u.last_converged)
+          cause = "; its sample " + j.sample_name + " is not in equilibrium (stage " + u.stages.back() +
+                  " ran out of steps): raise its max_steps and run the study into another --out (or delete the jobs/ "
+                  "directories of that sample and of its shears)";
         std::fprintf(stderr, "grainlab study: %s failed (exit %d); see %s%s\n", j.name.c_str(), code,
                      (out / "jobs" / j.name / "log.txt").c_str(),
                      cause.empty() ? "; rerun the study to resume it" : cause.c_str());

@@ -9,7 +9,10 @@ whose summary.json give e, e_inner and e_core at the end of consolidation, and w
 - A study whose samples are all homogeneous has the section but no note.
 - A sample whose isotropic stage ran out of steps (summary.json done: false) is marked NOT converged in its row, naming
   the stage, and counted in the note; in a preparation study's Preparation row too, beside its seeds' mean steps
-  ("(1 of 2 NOT converged)"), and named below the table. A sample of a build without `done` is not marked."""
+  ("(1 of 2 NOT converged)"), and named below the table. A sample of a build without `done` is not marked. One whose
+  earlier isotropic stage ran out of steps and whose last converged (a seat, then a consolidation) ends in equilibrium:
+  marked apart ("seat ran out of steps, later stages converged"; "(1 of 3: an earlier stage ran out of steps)"), and
+  one whose last stage ran out after a converged one is NOT converged."""
 import json
 import os
 import shutil
@@ -36,7 +39,10 @@ def make(root, samples, prep=False):
                  "p": 1e5, "q": 0, "e": e, "e_inner": e_in, "e_core": e_core}
         if done and done[0] is None:
             del stage["done"]
-        summary = {"config": "x", "stages": [stage]}
+        stages = [stage]
+        if done and isinstance(done[0], tuple):  # (seat's done, consolidate's done): two isotropic stages
+            stages = [dict(stage, name="seat", done=done[0][0], p=5e4, e=e + 0.01), dict(stage, done=done[0][1])]
+        summary = {"config": "x", "stages": stages}
         if e_in is not None:
             summary["sample"] = {"spheres": count, "d50": 0.7e-3 + 1e-5 * len(jobs), "cu": 1.5}
         with open(os.path.join(d, "summary.json"), "w") as f:
@@ -52,7 +58,8 @@ def make(root, samples, prep=False):
 
 text = make(os.path.join(work, "mixed"), [
     ("s_a", 5000, 0.70, 0.6500, 0.6800), ("s_b", 12000, 0.69, 0.6400, 0.6551), ("s_c", 10000, 0.69, 0.6400, 0.6549),
-    ("s_d", 2000, 0.72, 0.6500, 0.7000), ("s_e", 5000, 0.70, None, None, None), ("s_f", 5000, 0.70, 0.6300, 0.6400, False)])
+    ("s_d", 2000, 0.72, 0.6500, 0.7000), ("s_e", 5000, 0.70, None, None, None), ("s_f", 5000, 0.70, 0.6300, 0.6400, False),
+    ("s_g", 5000, 0.70, 0.6300, 0.6400, (False, True)), ("s_h", 5000, 0.70, 0.6300, 0.6400, (True, False))])
 sec = text.split("## Samples")[1].split("\n## ")[0] if "## Samples" in text else ""
 rows = [l for l in sec.splitlines() if l.startswith("| s_")]
 want = ["| s_d | 2000 | 0.730 | 1.50 | 0.7200 | 0.6500 | 0.7000 | +0.0500 | too few spheres to tell (< 5000) |",
@@ -60,20 +67,29 @@ want = ["| s_d | 2000 | 0.730 | 1.50 | 0.7200 | 0.6500 | 0.7000 | +0.0500 | too 
         "| s_e | 5000 | - | - | 0.7000 | - | - | - | - |",
         "| s_f | 5000 | 0.750 | 1.50 | 0.7000 | 0.6300 | 0.6400 | +0.0100 | NOT converged (consolidate: max_steps); "
         "homogeneous |",
+        "| s_g | 5000 | 0.760 | 1.50 | 0.7000 | 0.6300 | 0.6400 | +0.0100 | seat ran out of steps, later stages converged; "
+        "homogeneous |",
+        "| s_h | 5000 | 0.770 | 1.50 | 0.7000 | 0.6300 | 0.6400 | +0.0100 | NOT converged (consolidate: max_steps); "
+        "homogeneous |",
         "| s_c | 10000 | 0.720 | 1.50 | 0.6900 | 0.6400 | 0.6549 | +0.0149 | homogeneous |",
         "| s_b | 12000 | 0.710 | 1.50 | 0.6900 | 0.6400 | 0.6551 | +0.0151 | graded |"]
 if rows != want:
     fails.append("rows:\n" + "\n".join(rows) + "\nwanted:\n" + "\n".join(want))
-if "2 of 6 samples are graded" not in sec or "`affine: true`" not in sec or "1 of 6 samples ran out of steps" not in sec:
-    fails.append("the note does not count 2 of 6 graded samples, name affine and count 1 unconverged: " + sec)
+if "2 of 8 samples are graded" not in sec or "`affine: true`" not in sec or "2 of 8 samples ran out of steps: " not in sec \
+        or "1 of 8 samples ran out of steps in an earlier isotropic stage" not in sec:
+    fails.append("the note does not count 2 of 8 graded samples, name affine, count 2 unconverged at their end and 1 "
+                 "in an earlier stage: " + sec)
 # a preparation study: seeds 1 and 2 of one sample (s_1 ran out of steps, s_2 converged)
 text = make(os.path.join(work, "prep"), [("sample_x_s1_n5000", 5000, 0.70, 0.6300, 0.6400, False),
-                                         ("sample_x_s2_n5000", 5000, 0.70, 0.6300, 0.6400, True)], prep=True)
+                                         ("sample_x_s2_n5000", 5000, 0.70, 0.6300, 0.6400, True),
+                                         ("sample_x_s3_n5000", 5000, 0.70, 0.6300, 0.6400, (False, True))], prep=True)
 sec = text.split("## Preparation")[1].split("\n## ")[0] if "## Preparation" in text else ""
 row = [l for l in sec.splitlines() if l.startswith("| sample_x_s*_n5000 |")]
-if len(row) != 1 or "| 100 (1 of 2 NOT converged) |" not in row[0] or \
-        "1 sample(s) ran out of steps" not in sec or not sec.rstrip().endswith(": sample_x_s1_n5000."):
-    fails.append("an unconverged sample of a preparation study: " + sec)
+if len(row) != 1 or "| 100 (1 of 3 NOT converged) (1 of 3: an earlier stage ran out of steps) |" not in row[0] or \
+        "1 sample(s) ran out of steps: " not in sec or ": sample_x_s1_n5000.\n" not in sec or \
+        "1 sample(s) ran out of steps in an earlier isotropic stage" not in sec or \
+        not sec.rstrip().endswith(": sample_x_s3_n5000."):
+    fails.append("unconverged samples of a preparation study: " + sec)
 text = make(os.path.join(work, "homogeneous"), [("s_a", 5000, 0.70, 0.6300, 0.6400)])
 sec = text.split("## Samples")[1].split("\n## ")[0] if "## Samples" in text else ""
 if "| s_a | 5000 | 0.700 | 1.50 | 0.7000 | 0.6300 | 0.6400 | +0.0100 | homogeneous |" not in sec or "graded:" in sec:

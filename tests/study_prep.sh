@@ -79,6 +79,14 @@ grep -q "^grainlab study: warning: sample_mur0_ebase_pbase_s3_n300_consolidate-m
   short.err || fail "no warning of the unconverged stage: $(cat short.err)"
 grep -q "| 300 (1 of 1 NOT converged) |" st_short/report.md || fail "the report does not mark it: $(cat st_short/report.md)"
 [ "$(grep -c 'ran out of steps' short.err)" -eq 1 ] || fail "warned more than once: $(cat short.err)"
+# The same stage run out of steps, then a later one that converges (the reload to 400 kPa appended above): the sample
+# ends in equilibrium, so the warning and the report say that only its path did not pass through one.
+printf 'base: tiny-prep-base.yaml\naxes: {stages.consolidate.max_steps: [300]}\n' > early.yaml
+"$bin" study early.yaml --out st_early --jobs 2 --quiet > /dev/null 2> early.err || fail "the early study failed: $(cat early.err)"
+grep -q "^grainlab study: warning: sample_mur0_ebase_pbase_s3_n300_consolidate-max_steps300: stage consolidate ran out of steps (its max_steps) before equilibrium: a later isotropic stage converged, so the sample ends in equilibrium" \
+  early.err || fail "no warning of the earlier stage's steps: $(cat early.err)"
+grep -q "| 4[0-9]* (1 of 1: an earlier stage ran out of steps) |" st_early/report.md && ! grep -qE "NOT converged \(|of [0-9]+ NOT converged" st_early/report.md ||
+  fail "the report does not tell an earlier stage's steps from an unconverged sample: $(cat st_early/report.md)"
 # A test's own reconsolidation (an isotropic stage after its first shear, run by the shear job) that runs out of steps:
 # the study warns of the shear job, once (its sample converged), and the report's head marks that test.
 sed '/^output:/i\  - {name: shear, type: triaxial, drainage: drained, axial_strain_rate: 1.0, max_axial_strain: 0.002, damping: 0.2}\n  - {name: recon, type: isotropic, pressure: 200e3, max_steps: 50}' \
