@@ -995,7 +995,8 @@ def peak_state(s, peak):
     (q_peak < 0 in extension, its strain eps_peak and q/p' there, qp_peak) and the largest stress ratio (maximum
     obliquity: past the peak of q in an undrained test, where p' still grows along the failure line) M with its angle
     phi (the angles' own largest at b > 0) and the inertial number there, I (None where the series has no such column
-    or its rows there did not measure it: a checkpoint of an older build); and the peak of the walls' |q| less the
+    or its rows there did not measure it: a checkpoint of an older build), and I_q, the inertial number at the peak of
+    |q| (an undrained test's strength: rate_section); and the peak of the walls' |q| less the
     local damping's drag (series q_drag), q_peak_less_drag (None without the column). Each measure is a running mean
     over the peak window."""
     m = s["shear"]
@@ -1014,9 +1015,11 @@ def peak_state(s, peak):
         less = running_mean(s, rows, sign * s["q_less_drag"], window)
         # (NaN rows: restored from a checkpoint of a build before the column)
         out["q_peak_less_drag"] = float(sign * np.nanmax(less)) if np.isfinite(less).any() else None
+    I_q = float(running_mean(s, rows, s["inertial_number"], window)[k]) if "inertial_number" in s else None
     out.update(q_peak=float(sign * along[k]), eps_peak=float(s["eps_a"][rows[k]]), qp_peak=float(qp[k]),
                M=float(qp[kq]), phi=float(np.max(running_mean(s, rows, ang, window))) if b > 0
-               else friction_angle(qp[kq], ext), I=I if I is not None and math.isfinite(I) else None)
+               else friction_angle(qp[kq], ext), I=I if I is not None and math.isfinite(I) else None,
+               I_q=I_q if I_q is not None and math.isfinite(I_q) else None)
     return out
 
 
@@ -1704,7 +1707,8 @@ def across_values_section(out, idx, heads):
     ratio of SHANSEP and of the CAU against CIU comparison), beside the OCR the stage before it left (summary.json's, an
     oedometric unloading's) or, for a shear that starts from its sample, the sample's isotropic one (isotropic_ocr: a
     preloading's, p'_max / p'_0). Per mu_r, over three undrained tests or more at two OCRs or more, SHANSEP's s_u /
-    sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms (per E too, over the E axis). Empty without
+    sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms (per E too, over the E axis, and per
+    strain rate, over an axial_strain_rate axis: rate_section extrapolates s_u to I -> 0). Empty without
     such a test. Cyclic oedometer tests get a table of their own (cyclic_oedometer_rows): the strain their cycles
     accumulate against the amplitude."""
     rows, shansep, coed_rows, coed = [], {}, [], []
@@ -1738,7 +1742,8 @@ def across_values_section(out, idx, heads):
         su = abs(float(s["q"][m][k])) / 2
         ratio = su / (p0 + 2 * q0 / 3)
         if undrained and ocr is not None and ocr > 0:
-            shansep.setdefault((j.get("E", 0), j["mu_r"]), []).append((float(ocr), ratio))
+            shansep.setdefault((j.get("E", 0), j["mu_r"], float(st.get("axial_strain_rate", 0))), []).append(
+                (float(ocr), ratio))
         M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
@@ -1753,13 +1758,16 @@ def across_values_section(out, idx, heads):
     if not rows:
         return ["## Across the values", "", *coed_lines] if coed_rows else []
     fits, drawn = [], []
-    several_E = len({E for E, _ in shansep}) > 1  # the E axis too: a fit per E (the stiffness moves the swelling)
-    for (E, mu_r), pts in sorted(shansep.items()):
+    several_E = len({E for E, _, _ in shansep}) > 1  # the E axis too: a fit per E (the stiffness moves the swelling)
+    # and per strain rate (an axial_strain_rate axis): s_u carries a rate term, which pooling would mix into m
+    several_rates = len({r for _, _, r in shansep}) > 1
+    for (E, mu_r, rate), pts in sorted(shansep.items()):
         x = np.array([t[0] for t in pts])
         if len(pts) < 3 or pressure_levels(x) < 2:
             continue
         m_, c, sm, sc = fit(np.log(x), np.log([t[1] for t in pts]))
-        label = f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}"
+        label = (f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}"
+                 f"{f', rate {rate:g}/s' if several_rates else ''}")
         fits.append(f"| {label} | {len(pts)} | "
                     f"{x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | {m_:.3f} ± {sm:.3f} |")
         drawn.append((label, x, np.array([t[1] for t in pts]), math.exp(c), m_))
@@ -1793,7 +1801,9 @@ def across_values_section(out, idx, heads):
             "| section | test | drainage | OCR | p'_0 [kPa] | q_0 [kPa] | e_0 | q_peak [kPa] | s_u [kPa] (s_u / sigma'_v0) | "
             "max q/p' (abs) |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
-            *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E), least squares in ln(s_u / sigma'_v0) "
+            *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E, and strain rate: s_u grows with "
+               "the rate, so tests at several rates are fitted apart; each section's Rate dependence takes s_u to "
+               "I -> 0), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error (`figures/shansep.png`: the tests and the "
                "lines).", "",
                "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []), *coed_lines]
@@ -2662,12 +2672,12 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     groups = {}  # replicates of one test over seeds share a series: the line goes through every one of them
     for j, d, s in mono:
         if j.get("rate_group"):
-            groups.setdefault(seedless(j["rate_group"], j), []).append((j, s))
+            groups.setdefault(seedless(j["rate_group"], j), []).append((j, s, d))
     if not groups:
         return []
     for j, d, s in mono:
         if not j.get("rate_group") and seedless(j["name"], j) in groups and s["rate"] > 0:  # the base's rate (summary.json)
-            groups[seedless(j["name"], j)].append((j, s))
+            groups[seedless(j["name"], j)].append((j, s, d))
 
     def rate(t):
         return t[1]["rate"] if t[1]["rate"] > 0 else t[0].get("axial_strain_rate", 0)
@@ -2677,6 +2687,9 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     fits = ["| rate series | tests | max q/p' at I -> 0 (phi'_max) | slowest rate's max q/p' above it | "
             "critical q/p' at I -> 0 (phi_cs) | e_c at I -> 0 | slowest rate's critical q/p' above it |",
             "|---|---|---|---|---|---|---|"]
+    su_rows = ["| test | axial_strain_rate [1/s] | I at q_peak | s_u / sigma'_v0 |", "|---|---|---|---|"]
+    su_fits = ["| rate series | tests | s_u / sigma'_v0 at I -> 0 | slowest rate's s_u / sigma'_v0 above it |",
+               "|---|---|---|---|"]
     fig, ax = plt.subplots(1, 3, figsize=(17, 4.5))
     fast = []  # series whose line reaches past the low-I range
     for g, tests in sorted(groups.items()):
@@ -2684,9 +2697,14 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
         if len(seeds) == 1:  # one seed: the series is named as its tests are
             g = g.replace("_s*_", f"_s{seeds.pop()}_", 1)
         # (I, M, phi, rate) at the largest stress ratio; (I, M, phi, e, rate) at critical state
-        pk, cs = [], []
-        for j, s in sorted(tests, key=rate):
+        pk, cs, su = [], [], []  # su: (I at q_peak, s_u / sigma'_v0, rate) of the undrained tests
+        for j, s, d in sorted(tests, key=rate):
             ps = peak_state(s, peak)
+            if j.get("drainage") == "undrained" and ps.get("I_q") is not None:
+                v0 = consolidation_stress(d)
+                if v0:
+                    su.append((ps["I_q"], abs(ps["q_peak"]) / 2 / v0, rate((j, s))))
+                    su_rows.append(f"| {j['name']} | {rate((j, s)):g} | {ps['I_q']:.1e} | {su[-1][1]:.3f} |")
             cells = [f"| {j['name']} | {rate((j, s)):g} |"]
             if ps.get("I") is not None:
                 pk.append((ps["I"], ps["M"], ps["phi"], rate((j, s))))
@@ -2721,6 +2739,9 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
         pk_txt, pk_gap = limit(pk, 1, 3, True)
         cs_txt, cs_gap = limit(cs, 1, 3, True)
         fits.append(f"| {g} | {len(tests)} | {pk_txt} | {pk_gap} | {cs_txt} | {limit(cs, 3, 4)[0]} | {cs_gap} |")
+        if su:
+            su_txt, su_gap = limit(su, 1, 3)
+            su_fits.append(f"| {g} | {len(su)} | {su_txt} | {su_gap} |")
         I_top = max([q[0] for q in pk + cs], default=0.0)
         if I_top > LINEAR_I:
             fast.append(f"{g} (I up to {I_top:.1e})")
@@ -2750,7 +2771,25 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             *([f"Past I = {LINEAR_I:g} the stress ratio bends below the line (mu(I) saturates towards mu_2 as I nears "
                "I_0), so a line through such tests understates the slope at small I and overstates the limit (a chord "
                "of a concave curve): "
-               + ", ".join(fast) + ". Extrapolate from rates below it.", ""] if fast else [])]
+               + ", ".join(fast) + ". Extrapolate from rates below it.", ""] if fast else []),
+            *(["Undrained strength: s_u = |q_peak| / 2 (the peak table's, a running mean over its window) over the vertical "
+               "stress the test was consolidated to, sigma'_v0 = p'_0 + 2 q_0 / 3 (as the table across the values "
+               "takes it), against the inertial number at that peak, and per series its line to I -> 0 (the same "
+               "low-I line: a rate term that grows in proportion to the rate). The stress ratio's columns above take an "
+               "undrained test where it has collapsed (a small p', a large I); its strength is taken at the peak of q.",
+               "", *su_rows, "", *su_fits, ""] if len(su_fits) > 2 else [])]
+
+
+def consolidation_stress(run_dir):
+    """The vertical stress sigma'_v0 = p'_0 + 2 q_0 / 3 a test's shear stage (its summary.json's last stage that is
+    not isotropic) started from, as across_values_section takes it; None without it."""
+    try:
+        with open(os.path.join(run_dir, "summary.json")) as f:
+            stages = json.load(f).get("stages", [])
+        st = [x for x in stages if x.get("type") != "isotropic"][-1]
+        return float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
+    except (OSError, ValueError, KeyError, IndexError, TypeError):
+        return None
 
 
 # Student's t at 97.5 % (a two-sided 95 % interval) for 1..30 degrees of freedom.

@@ -17,6 +17,8 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
   shear's own summary.json has the shear alone, as a study's shear job writes it), s_u / p'_0 = 0.3 OCR^0.6: their
   OCR column and S = 0.300 ± 0.000, m = 0.600 ± 0.000 in a row of their own; a sample of one isotropic stage gives no
   OCR ('-').
+- the OCR tests again at twice the strain rate with s_u / sigma'_v0 = 0.3 OCR^0.5: SHANSEP's fit per rate (S = 0.300,
+  m = 0.500 at 2/s beside 0.250, 0.800 at 1/s; one fit through both rates would mix the rate's term into m).
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
 import csv
@@ -40,7 +42,7 @@ def e0(k):
     return 0.65 + 0.001 * k
 
 
-def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None):
+def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate=1.0):
     """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows;
     with ocr, an oedometric unloading to that OCR in the K path's place (its stage_keys unload.ocr), the shear from
     sigma'_v0 = 100 kPa isotropic; with iso_ocr, the shear alone, from a sample of its own seated at 50 kPa, preloaded
@@ -69,7 +71,7 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None):
                "p_0": 200e3, "q_0": 0, "K0": 0.8, "OCR": ocr})
     stages = [{"name": "seat", "type": "isotropic"}, before,
               {"name": "cau", "type": "triaxial", "drainage": drainage, "direction": "compression", "b": 0,
-               "p_0": p0, "q_0": q0}]
+               "p_0": p0, "q_0": q0, "axial_strain_rate": rate}]
     sample = "sample_x"
     if iso_ocr is not None:
         stages = stages[2:]
@@ -106,6 +108,9 @@ for ocr in (2, 4, 8):  # the peak at 2 %, then softening: s_u = 0.25 OCR^0.8 x 1
 for R in (1, 2, 8, 0):  # s_u = 0.3 R^0.6 x 100 kPa; R = 0: a sample of one stage (no OCR)
     q_pk = 2 * 0.3 * max(R, 1) ** 0.6 * 100e3
     test(f"ciu_R{R}", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], iso_ocr=R)
+for ocr in (2, 4, 8):  # the OCR tests again at twice the rate, s_u = 0.3 OCR^0.5 x 100 kPa: a SHANSEP fit of their own
+    q_pk = 2 * 0.3 * ocr ** 0.5 * 100e3
+    test(f"cu_ocr{ocr}_rate2", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], ocr=ocr, rate=2.0)
 
 fails = []
 # study.json's samples, as a study lists them: every value's section reports only the samples its tests shear
@@ -123,12 +128,13 @@ for k, ocr in enumerate((2, 4, 8)):
     r = 0.25 * ocr ** 0.8
     want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {e0(3 + k):.4f} | {2 * r * 100:.1f} | "
                 f"{r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
-want.append("| 0.1 | 3 | 2–8 | 0.250 ± 0.000 | 0.800 ± 0.000 |")
+want.append("| 0.1, rate 1/s | 3 | 2–8 | 0.250 ± 0.000 | 0.800 ± 0.000 |")
+want.append("| 0.1, rate 2/s | 3 | 2–8 | 0.300 ± 0.000 | 0.500 ± 0.000 |")
 for k, R in enumerate((1, 2, 8, 0)):
     r = 0.3 * max(R, 1) ** 0.6
     want.append(f"| pre.pressure = {R * 100000:g} | ciu_R{R} | undrained | {R if R else '-'} | 100.0 | 0.0 | {e0(6 + k):.4f} | "
                 f"{2 * r * 100:.1f} | {r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
-want.append("| 0.2 | 3 | 1–8 | 0.300 ± 0.000 | 0.600 ± 0.000 |")
+want.append("| 0.2, rate 1/s | 3 | 1–8 | 0.300 ± 0.000 | 0.600 ± 0.000 |")
 for line in want:
     if line not in sec.splitlines():
         got = next((x for x in sec.splitlines() if x.startswith(line.split(" | ")[0] + " | " + line.split(" | ")[1])), None)

@@ -10,6 +10,8 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
 - Series B, rates 1 and 3 /s on the same lines, its 3 /s test still compacting (e drifting), joined by the test named
   as the series at the base's rate (2 /s in its summary.json, no rate group: an extra job's rate beside the grid's):
   three peaks on the line (± 0.000), two critical states, which the line meets exactly (no ±).
+- Undrained series E at 0.5, 1, 2 /s (q_0 = 30 kPa) on s_u / sigma'_v0 = 0.30 + 40 I at the q peak: each test's
+  I and s_u / sigma'_v0, and 0.300 ± 0.000 at I -> 0 with the slowest's excess +0.008; drained studies have no such table.
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
 - Series D at 10 and 30 /s reaches I = 1.2e-2, past the line's low-I range (1e-2): a note names it, and only it.
 - The peak table gives each test's q_peak, and the walls' q less the damping's drag (2 % of q, NaN in the first two
@@ -36,14 +38,16 @@ cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_
 jobs = []
 
 
-def test(name, group, rate, drifting=False):
+def test(name, group, rate, drifting=False, root=work, listed=jobs, drainage="drained", q0=0.0, peak=None):
+    """peak: q/p' at the peak as a function of I (0.75 + 50 I by default); q0: the shear's start deviator (summary)."""
     I = 4e-4 * rate
-    run = os.path.join(work, "jobs", name, "run")
+    run = os.path.join(root, "jobs", name, "run")
     os.makedirs(run)
-    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    open(os.path.join(root, "jobs", name, "done"), "w").close()
     with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": rate}]}, f)
-    m_pk, m_cs, e_cs = 0.75 + 50 * I, 0.60 + 25 * I, 0.70 + 10 * I
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": rate, "drainage": drainage,
+                               "p_0": 1e5, "q_0": q0}]}, f)
+    m_pk, m_cs, e_cs = (peak or (lambda i: 0.75 + 50 * i))(I), 0.60 + 25 * I, 0.70 + 10 * I
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage"] + cols)
@@ -58,8 +62,8 @@ def test(name, group, rate, drifting=False):
             drag = ["nan", "nan"] if i < 2 else [0.0, 0.02 * qp * p]
             w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25, 0.25, qp, I_row,
                         p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3] + drag)
-    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.3, "e0": 0, "p0": 0,
-                 "drainage": "drained", "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
+    listed.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.3, "e0": 0, "p0": 0,
+                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
                  "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": rate if group else 0, "rate_group": group})
 
 
@@ -138,6 +142,23 @@ if "3 of 9 largest stress ratios were reached at an inertial number above the qu
     fails.append(f"the peak table's note must count 3 of 9 peaks above I = 1e-3: {pk_sec}")
 if not os.path.isfile(os.path.join(work, "figures", "rate.png")):
     fails.append("figures/rate.png missing")
+if "Undrained strength" in sec:
+    fails.append("an undrained-strength table in a study of drained tests")
+# Undrained series E at 0.5, 1, 2 /s, consolidated anisotropically (q_0 = 30 kPa: sigma'_v0 = 100 + 2/3 30 = 120 kPa),
+# its q peak (at 10 %, where I has settled to its steady value) on s_u / sigma'_v0 = 0.30 + 40 I exactly: the table
+# gives each test's I at q_peak and s_u / sigma'_v0, the series 0.300 ± 0.000 at I -> 0 and the slowest test's excess
+# 40 x 2e-4 = +0.008 at I = 2e-4. (A sigma'_v0 without the 2 q_0 / 3, or p'_0 alone, gives other values.)
+undrained = []
+shutil.rmtree(work + "_undrained", ignore_errors=True)
+for r in (1, 0.5, 2):
+    test(f"shear_e_rate{r:g}", "shear_e", r, root=work + "_undrained", listed=undrained, drainage="undrained", q0=3e4,
+         peak=lambda i: 2 * 1.2 * (0.30 + 40 * i))  # above the critical state's q/p' 0.6
+usec = study_report(work + "_undrained", undrained).split("## Rate dependence")[-1]
+got = [l for l in usec.split("Undrained strength")[-1].splitlines() if l.startswith("| shear_e")]
+want_u = [f"| shear_e_rate{r:g} | {r:g} | {4e-4 * r:.1e} | {0.30 + 40 * 4e-4 * r:.3f} |" for r in (0.5, 1, 2)] + \
+    ["| shear_e | 3 | 0.300 ± 0.000 | +0.008 (I = 2.0e-04) |"]
+if "Undrained strength" not in usec or got != want_u:
+    fails.append("the undrained strength against I:\n" + "\n".join(got) + "\nwanted:\n" + "\n".join(want_u))
 for j in jobs:
     j["rate_group"] = ""
 if "## Rate dependence" in study_report(work, jobs):
