@@ -995,8 +995,7 @@ def peak_state(s, peak):
     (q_peak < 0 in extension, its strain eps_peak and q/p' there, qp_peak) and the largest stress ratio (maximum
     obliquity: past the peak of q in an undrained test, where p' still grows along the failure line) M with its angle
     phi (the angles' own largest at b > 0) and the inertial number there, I (None where the series has no such column
-    or its rows there did not measure it: a checkpoint of an older build), and I_q, the inertial number at the peak of
-    |q| (an undrained test's strength: rate_section); and the peak of the walls' |q| less the
+    or its rows there did not measure it: a checkpoint of an older build); and the peak of the walls' |q| less the
     local damping's drag (series q_drag), q_peak_less_drag (None without the column). Each measure is a running mean
     over the peak window."""
     m = s["shear"]
@@ -1015,11 +1014,9 @@ def peak_state(s, peak):
         less = running_mean(s, rows, sign * s["q_less_drag"], window)
         # (NaN rows: restored from a checkpoint of a build before the column)
         out["q_peak_less_drag"] = float(sign * np.nanmax(less)) if np.isfinite(less).any() else None
-    I_q = float(running_mean(s, rows, s["inertial_number"], window)[k]) if "inertial_number" in s else None
     out.update(q_peak=float(sign * along[k]), eps_peak=float(s["eps_a"][rows[k]]), qp_peak=float(qp[k]),
                M=float(qp[kq]), phi=float(np.max(running_mean(s, rows, ang, window))) if b > 0
-               else friction_angle(qp[kq], ext), I=I if I is not None and math.isfinite(I) else None,
-               I_q=I_q if I_q is not None and math.isfinite(I_q) else None)
+               else friction_angle(qp[kq], ext), I=I if I is not None and math.isfinite(I) else None)
     return out
 
 
@@ -2672,15 +2669,17 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     groups = {}  # replicates of one test over seeds share a series: the line goes through every one of them
     for j, d, s in mono:
         if j.get("rate_group"):
-            groups.setdefault(seedless(j["rate_group"], j), []).append((j, s, d))
+            groups.setdefault(seedless(j["rate_group"], j), []).append((j, s, d, test_stage(d)))
     if not groups:
         return []
     for j, d, s in mono:
         if not j.get("rate_group") and seedless(j["name"], j) in groups and s["rate"] > 0:  # the base's rate (summary.json)
-            groups[seedless(j["name"], j)].append((j, s, d))
+            groups[seedless(j["name"], j)].append((j, s, d, test_stage(d)))
 
     def rate(t):
-        return t[1]["rate"] if t[1]["rate"] > 0 else t[0].get("axial_strain_rate", 0)
+        """The test's rate: its shear stage's (a K0 consolidation before it keeps the base's), else the series'."""
+        own = float(t[3].get("axial_strain_rate", 0)) if t[3] else 0.0
+        return own if own > 0 else t[1]["rate"] if t[1]["rate"] > 0 else t[0].get("axial_strain_rate", 0)
 
     rows_out = ["| test | axial_strain_rate [1/s] | I at max q/p' | max q/p' (phi'_max) | I at critical state | "
                 "q/p' at critical state (phi_cs) | e_c |", "|---|---|---|---|---|---|---|"]
@@ -2698,22 +2697,21 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             g = g.replace("_s*_", f"_s{seeds.pop()}_", 1)
         # (I, M, phi, rate) at the largest stress ratio; (I, M, phi, e, rate) at critical state
         pk, cs, su = [], [], []  # su: (I at q_peak, s_u / sigma'_v0, rate) of the undrained tests
-        for j, s, d in sorted(tests, key=rate):
+        for t in sorted(tests, key=rate):
+            j, s, d, st = t
             ps = peak_state(s, peak)
-            if j.get("drainage") == "undrained" and ps.get("I_q") is not None:
-                v0 = consolidation_stress(d)
-                if v0:
-                    su.append((ps["I_q"], abs(ps["q_peak"]) / 2 / v0, rate((j, s))))
-                    su_rows.append(f"| {j['name']} | {rate((j, s)):g} | {ps['I_q']:.1e} | {su[-1][1]:.3f} |")
-            cells = [f"| {j['name']} | {rate((j, s)):g} |"]
+            if j.get("drainage") == "undrained" and (u := undrained_strength(s, st)) is not None:
+                su.append((*u, rate(t)))
+                su_rows.append(f"| {j['name']} | {rate(t):g} | {u[0]:.1e} | {u[1]:.3f} |")
+            cells = [f"| {j['name']} | {rate(t):g} |"]
             if ps.get("I") is not None:
-                pk.append((ps["I"], ps["M"], ps["phi"], rate((j, s))))
+                pk.append((ps["I"], ps["M"], ps["phi"], rate(t)))
                 cells.append(f" {ps['I']:.1e} | {ps['M']:.3f} ({ps['phi']:.1f}°) |")
             else:
                 cells.append(" - | - |")
             c = critical_state(s, window, *tol)
             if c is not None and c["ok"] and c["I"] is not None:
-                cs.append((c["I"], c["M"], c["phi"], c["e"], rate((j, s))))
+                cs.append((c["I"], c["M"], c["phi"], c["e"], rate(t)))
                 cells.append(f" {c['I']:.1e} | {c['M']:.3f} ({c['phi']:.1f}°) | {c['e']:.4f} |")
             else:
                 cells.append(" - | not at critical state | - |")
@@ -2772,24 +2770,42 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
                "I_0), so a line through such tests understates the slope at small I and overstates the limit (a chord "
                "of a concave curve): "
                + ", ".join(fast) + ". Extrapolate from rates below it.", ""] if fast else []),
-            *(["Undrained strength: s_u = |q_peak| / 2 (the peak table's, a running mean over its window) over the vertical "
-               "stress the test was consolidated to, sigma'_v0 = p'_0 + 2 q_0 / 3 (as the table across the values "
-               "takes it), against the inertial number at that peak, and per series its line to I -> 0 (the same "
+            *(["Undrained strength: s_u = |q_peak| / 2 of the test's own stage (the last that is not isotropic: a K0 "
+               "loading and unloading before it are its consolidation, at the base's rate) over the vertical stress it "
+               "was consolidated to, sigma'_v0 = p'_0 + 2 q_0 / 3, as the table across the values takes them, against "
+               "the inertial number of that row, and per series its line to I -> 0 (the same "
                "low-I line: a rate term that grows in proportion to the rate). The stress ratio's columns above take an "
                "undrained test where it has collapsed (a small p', a large I); its strength is taken at the peak of q.",
                "", *su_rows, "", *su_fits, ""] if len(su_fits) > 2 else [])]
 
 
-def consolidation_stress(run_dir):
-    """The vertical stress sigma'_v0 = p'_0 + 2 q_0 / 3 a test's shear stage (its summary.json's last stage that is
-    not isotropic) started from, as across_values_section takes it; None without it."""
+def test_stage(run_dir):
+    """A test's own stage: its summary.json's last stage that is not isotropic (the shear; a K0 loading and unloading
+    before it are its consolidation, as across_values_section takes them); None without one."""
     try:
         with open(os.path.join(run_dir, "summary.json")) as f:
             stages = json.load(f).get("stages", [])
-        st = [x for x in stages if x.get("type") != "isotropic"][-1]
-        return float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
-    except (OSError, ValueError, KeyError, IndexError, TypeError):
+        return [x for x in stages if x.get("type") != "isotropic"][-1]
+    except (OSError, ValueError, IndexError, AttributeError):
         return None
+
+
+def undrained_strength(s, st):
+    """(I, s_u / sigma'_v0) of an undrained test's shear stage st (test_stage) in its series s: s_u = |q_peak| / 2 of
+    the stage's rows (the largest |q| along its loading, a single row, as across_values_section takes it) over the
+    vertical stress it was consolidated to, sigma'_v0 = p'_0 + 2 q_0 / 3, and the inertial number of that row. None
+    without the stage, its start stress or the inertial number."""
+    try:
+        v0 = float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
+    except (KeyError, TypeError, ValueError):
+        return None
+    m = s["stage"] == st.get("name")
+    if v0 <= 0 or not m.any() or "inertial_number" not in s:
+        return None
+    q = -s["q"][m] if st.get("direction") == "extension" else s["q"][m]
+    k = int(np.argmax(q))
+    I = float(s["inertial_number"][m][k])
+    return (I, abs(float(s["q"][m][k])) / 2 / v0) if math.isfinite(I) else None
 
 
 # Student's t at 97.5 % (a two-sided 95 % interval) for 1..30 degrees of freedom.

@@ -12,6 +12,7 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
   three peaks on the line (± 0.000), two critical states, which the line meets exactly (no ±).
 - Undrained series E at 0.5, 1, 2 /s (q_0 = 30 kPa) on s_u / sigma'_v0 = 0.30 + 40 I at the q peak: each test's
   I and s_u / sigma'_v0, and 0.300 ± 0.000 at I -> 0 with the slowest's excess +0.008; drained studies have no such table.
+  Series F, the same after a K0 loading at 0.5 /s to a larger q: each test's own rate and its shear stage's s_u.
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
 - Series D at 10 and 30 /s reaches I = 1.2e-2, past the line's low-I range (1e-2): a note names it, and only it.
 - The peak table gives each test's q_peak, and the walls' q less the damping's drag (2 % of q, NaN in the first two
@@ -38,19 +39,25 @@ cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_
 jobs = []
 
 
-def test(name, group, rate, drifting=False, root=work, listed=jobs, drainage="drained", q0=0.0, peak=None):
-    """peak: q/p' at the peak as a function of I (0.75 + 50 I by default); q0: the shear's start deviator (summary)."""
+def test(name, group, rate, drifting=False, root=work, listed=jobs, drainage="drained", q0=0.0, peak=None, k0=False):
+    """peak: q/p' at the peak as a function of I (0.75 + 50 I by default); q0: the shear's start deviator (summary);
+    k0: a K0 loading at 0.5 /s before the shear (stage "load", oedometric rows to q = 300 kPa), as a SHANSEP test's."""
     I = 4e-4 * rate
     run = os.path.join(root, "jobs", name, "run")
     os.makedirs(run)
     open(os.path.join(root, "jobs", name, "done"), "w").close()
     with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": rate, "drainage": drainage,
-                               "p_0": 1e5, "q_0": q0}]}, f)
+        json.dump({"stages": ([{"name": "load", "type": "triaxial", "b": 0, "axial_strain_rate": 0.5,
+                                "drainage": "oedometric", "p_0": 5e4, "q_0": 0}] if k0 else []) +
+                              [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": rate, "drainage": drainage,
+                                "p_0": 1e5, "q_0": q0}]}, f)
     m_pk, m_cs, e_cs = (peak or (lambda i: 0.75 + 50 * i))(I), 0.60 + 25 * I, 0.70 + 10 * I
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage"] + cols)
+        for i in range(5 if k0 else 0):  # the K0 loading: q up to 300 kPa at p' 200 kPa, I = 2e-4
+            w.writerow(["load", i, i, 0.01 * i, 2e5, 7.5e4 * i, 0.375 * i, 0.7, 0.3, 5, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25,
+                        0.25, 0.375 * i, 2e-4, 1e5, 1e5, 1e5 + 7.5e4 * i, 0.0, 0.0])
         for i in range(41):  # to 40 %: up to the peak at 10 %, down to the critical state at 30 %, steady after
             ea = 0.01 * i
             qp = m_pk * ea / 0.1 if ea <= 0.1 else m_pk + (m_cs - m_pk) * min(1.0, (ea - 0.1) / 0.2)
@@ -154,11 +161,26 @@ for r in (1, 0.5, 2):
     test(f"shear_e_rate{r:g}", "shear_e", r, root=work + "_undrained", listed=undrained, drainage="undrained", q0=3e4,
          peak=lambda i: 2 * 1.2 * (0.30 + 40 * i))  # above the critical state's q/p' 0.6
 usec = study_report(work + "_undrained", undrained).split("## Rate dependence")[-1]
-got = [l for l in usec.split("Undrained strength")[-1].splitlines() if l.startswith("| shear_e")]
+got = [l for l in usec.split("Undrained strength")[-1].split("\n## ")[0].splitlines() if l.startswith("| shear_e")]
 want_u = [f"| shear_e_rate{r:g} | {r:g} | {4e-4 * r:.1e} | {0.30 + 40 * 4e-4 * r:.3f} |" for r in (0.5, 1, 2)] + \
     ["| shear_e | 3 | 0.300 ± 0.000 | +0.008 (I = 2.0e-04) |"]
 if "Undrained strength" not in usec or got != want_u:
     fails.append("the undrained strength against I:\n" + "\n".join(got) + "\nwanted:\n" + "\n".join(want_u))
+# Series F: the same shears at 0.125, 0.25, 0.5 /s after a K0 loading at 0.5 /s whose q (300 kPa) exceeds their peaks:
+# the rate is the shear's (not the loading's 0.5 for all), s_u the shear stage's (not the loading's q), and 0.300 at
+# I -> 0 with the slowest's excess 40 x 5e-5 = +0.002.
+k0_tests = []
+shutil.rmtree(work + "_k0", ignore_errors=True)
+for r in (0.5, 0.125, 0.25):
+    test(f"shear_f_rate{r:g}", "shear_f", r, root=work + "_k0", listed=k0_tests, drainage="undrained", q0=3e4,
+         peak=lambda i: 2 * 1.2 * (0.30 + 40 * i), k0=True)
+ksec = study_report(work + "_k0", k0_tests).split("## Rate dependence")[-1]
+got = [l for l in ksec.split("Undrained strength")[-1].split("\n## ")[0].splitlines() if l.startswith("| shear_f")]
+want_k = [f"| shear_f_rate{r:g} | {r:g} | {4e-4 * r:.1e} | {0.30 + 40 * 4e-4 * r:.3f} |" for r in (0.125, 0.25, 0.5)] + \
+    ["| shear_f | 3 | 0.300 ± 0.000 | +0.002 (I = 5.0e-05) |"]
+if got != want_k:
+    fails.append("after a K0 loading, the undrained strength against I:\n" + "\n".join(got) + "\nwanted:\n" +
+                 "\n".join(want_k))
 for j in jobs:
     j["rate_group"] = ""
 if "## Rate dependence" in study_report(work, jobs):
