@@ -3103,6 +3103,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         // reports the measured I of every row.
         const double I = sc.axial_strain_rate * d_mean * std::sqrt(density * scaling / p_prev);
         plan.inertial_max = std::max(plan.inertial_max, I);
+        plan.inertial_test = I;  // a later straining stage replaces it
         os << ", inertial number ~" << std::setprecision(2) << I << " at p' = " << std::setprecision(4) << p_prev / 1e3
            << " kPa";
         // After a K0 loading (p' rises: I is lower) or cycles (p' falls: higher) the stage starts where the run finds
@@ -3118,6 +3119,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
           const double If = sc.axial_strain_rate * 2 * std::sqrt(double(rf) * rf * rf / r_min) *
                             std::sqrt(density * scaling / p_prev);
           plan.inertial_max = std::max(plan.inertial_max, If);
+          plan.inertial_test = std::max(I, If);
           os << "; the scaled fines' ~" << std::setprecision(2) << If << " (the smallest sphere at its scaled mass)";
           if (If > kQuasiStaticInertial)
             os << " (above the quasi-static " << kQuasiStaticInertial

@@ -79,6 +79,8 @@ struct RunPlan {
   std::vector<std::string> warnings;  // a stage that max_steps cuts short, a ramp that never ends
   std::vector<std::string> sample_warnings;  // of the spheres themselves (a grading they miss): a study says them once
   double inertial_max = 0;            // the largest estimated inertial number of a shear (0: p' unknown)
+  // that of the last stage that strains the sample (the test itself; a K0 loading before it is its consolidation)
+  double inertial_test = 0;
   double transit = 0;                 // the time a compression wave takes across the sample [s] (plan_run)
   bool placed = false;                // the sample was placed as the run will place it (plan_run's place)
   std::string sample;                 // the sample's sizes: where from, D50, Cu, Cc by mass (and against its grading)

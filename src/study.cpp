@@ -1029,10 +1029,11 @@ StudyPlan plan_study(const Study& s) {
       sp.shear_steps_max = std::max(sp.shear_steps_max, long(n));
       sp.shear_steps_total += n;
     }
-    if (p.inertial_max > 0) {
-      sp.inertial_min = sp.inertial_min > 0 ? std::min(sp.inertial_min, p.inertial_max) : p.inertial_max;
-      sp.inertial_max = std::max(sp.inertial_max, p.inertial_max);
+    if (p.inertial_test > 0) {
+      sp.inertial_min = sp.inertial_min > 0 ? std::min(sp.inertial_min, p.inertial_test) : p.inertial_test;
+      sp.inertial_max = std::max(sp.inertial_max, p.inertial_test);
     }
+    sp.inertial_all_max = std::max(sp.inertial_all_max, p.inertial_max);
   }
   return sp;
 }

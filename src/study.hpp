@@ -102,7 +102,9 @@ struct StudyPlan {
   // their steps above are an upper bound
   long stress_ended_shears = 0;
   double memory_need_max = 0;  // bytes, the largest job
-  double inertial_min = 0, inertial_max = 0;  // the shears' estimated inertial numbers at their p'_0
+  // the tests' estimated inertial numbers at their p'_0 (each job's last straining stage: RunPlan::inertial_test), and
+  // the largest of any stage of theirs (a K0 loading before the shear at the base's rate, which a rate axis keeps)
+  double inertial_min = 0, inertial_max = 0, inertial_all_max = 0;
   std::vector<std::string> warnings;  // each names its job
   // the grading axis's curves: the shortest time step of each curve's sample jobs [s] (a wider curve's fines step
   // shorter: SPEC §4's m_min against k_max), by curve name

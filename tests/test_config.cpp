@@ -1433,6 +1433,20 @@ TEST(Config, StudyDrainageDefaultsToTheBase) {
 // draws (the sample file does not exist yet) from the p' its preparation leaves. The miniature's shears are the
 // 0.002-0.004 in inertial number that configs/quick-study-base.yaml states, its six shears' steps add up, and a
 // job that would stop at its start (a dt above the stable limit) is an error naming the job.
+// The plan's inertial number of a study's tests is each test's own stage's: configs/shansep-rate-study.yaml shears at
+// 0.5, 0.25 and 0.125/s after a K0 loading at 0.5/s (an axial_strain_rate axis keeps a K0 consolidation's rate), so
+// its tests span a factor of 4 in I (the same p'_0 estimate, the seat's), and the loading's own I, the largest, is
+// given apart (it was taken for every test's: 0.0021 for all three rates).
+TEST(Config, StudyPlanGivesEachTestsOwnInertialNumber) {
+  const StudyPlan sp = plan_study(load_study(GRAINLAB_SOURCE_DIR "/configs/shansep-rate-study.yaml"));
+  ASSERT_GT(sp.inertial_min, 0);
+  EXPECT_NEAR(sp.inertial_max / sp.inertial_min, 4.0, 1e-9);
+  EXPECT_NEAR(sp.inertial_all_max, sp.inertial_max, 1e-9 * sp.inertial_max);  // the 0.5/s shear's, the loading's rate
+  const StudyPlan iso = plan_study(load_study(GRAINLAB_SOURCE_DIR "/configs/iso-ocr-rate-study.yaml"));
+  // (three seeds: their samples' mean diameters differ by ~0.2 %, measured 4.0076; one rate's tests 4x another's)
+  EXPECT_NEAR(iso.inertial_max / iso.inertial_min, 4.0, 0.02);
+}
+
 TEST(Config, StudyPlanCoversEveryJob) {
   const StudyPlan sp = plan_study(load_study(GRAINLAB_SOURCE_DIR "/configs/quick-study.yaml"));
   EXPECT_GT(sp.inertial_min, 0.002);
