@@ -248,7 +248,8 @@ int main(int argc, char** argv) {
       // a stage before the shear that strains faster (a K0 loading at the base's rate, which an axial_strain_rate
       // axis leaves as it is): said apart, since the line above is the tests' own
       if (sp.inertial_all_max > sp.inertial_max * (1 + 1e-9))
-        std::printf("  their consolidations' straining stages (a K0 loading): up to ~%.2g%s\n", sp.inertial_all_max,
+        std::printf("  inertial number of the straining stages before the shears (a K0 loading at the base's rate): up to "
+                    "~%.2g%s\n", sp.inertial_all_max,
                     sp.inertial_all_max > grainlab::kQuasiStaticInertial ? " (above the quasi-static 0.001)" : "");
       // Replicates: a 5 000-sphere sample's peak q/p' scatters by 0.010 from seed to seed (configs/seed-study.yaml),
       // so a study with one seed gives one draw per test; the report measures the spread where there are several.
