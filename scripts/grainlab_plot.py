@@ -988,7 +988,8 @@ def running_mean(s, rows, y, window):
 
 
 def peak_state(s, peak):
-    """The peak table's measures of a shear (peak: the study's (window, max_ke), peak_settings): its direction (ext,
+    """The peak table's measures of a shear (peak: the study's (window, max_ke), peak_settings), over its sheared rows
+    but a K0 consolidation's (oedometric rows before a shear): its direction (ext,
     b), every row's mobilised friction angle `ang` (from the principal wall stresses at b > 0, else from the contacts'
     q_p = sqrt(3/2 s:s) / p', SPEC §7, >= 0 in either direction, as critical_state reads it, by Mohr-Coulomb's relation
     of the direction), the rows the peak is taken over, and where there are any: the peak of |q| along the loading
@@ -998,7 +999,9 @@ def peak_state(s, peak):
     or its rows there did not measure it: a checkpoint of an older build); and the peak of the walls' |q| less the
     local damping's drag (series q_drag), q_peak_less_drag (None without the column). Each measure is a running mean
     over the peak window."""
-    m = s["shear"]
+    # A K0 loading and unloading before a shear (a SHANSEP or CK0U test) are its consolidation: their q (up to
+    # (1 - K0) sigma_v) is no peak of the shear's; a K0 test's own oedometric rows stay (no other sheared rows)
+    m = s["shear"] & ~s["oedometric"] if (s["shear"] & ~s["oedometric"]).any() else s["shear"]
     ext = bool(s["eps_a"][m][-1] < 0)  # as critical_state tells it: older study.json files have no direction
     b = float(s.get("b", 0.0))
     ang = principal_angle(s) if b > 0 else np.array([friction_angle(M, ext) for M in s["q_p"]])

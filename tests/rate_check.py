@@ -12,7 +12,8 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
   three peaks on the line (± 0.000), two critical states, which the line meets exactly (no ±).
 - Undrained series E at 0.5, 1, 2 /s (q_0 = 30 kPa) on s_u / sigma'_v0 = 0.30 + 40 I at the q peak: each test's
   I and s_u / sigma'_v0, and 0.300 ± 0.000 at I -> 0 with the slowest's excess +0.008; drained studies have no such table.
-  Series F, the same after a K0 loading at 0.5 /s to a larger q: each test's own rate and its shear stage's s_u.
+  Series F, the same after a K0 loading at 0.5 /s to a larger q: each test's own rate and its shear stage's s_u, and
+  the peak table's q_peak and max q/p' of the shear, not of the loading (its oedometric rows are the consolidation).
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
 - Series D at 10 and 30 /s reaches I = 1.2e-2, past the line's low-I range (1e-2): a note names it, and only it.
 - The peak table gives each test's q_peak, and the walls' q less the damping's drag (2 % of q, NaN in the first two
@@ -181,6 +182,15 @@ want_k = [f"| shear_f_rate{r:g} | {r:g} | {4e-4 * r:.1e} | {0.30 + 40 * 4e-4 * r
 if got != want_k:
     fails.append("after a K0 loading, the undrained strength against I:\n" + "\n".join(got) + "\nwanted:\n" +
                  "\n".join(want_k))
+# ... and the peak table's q_peak and max q/p' are the shear's, not the K0 loading's (q 300 kPa, q/p' 1.5)
+kpk = study_report(work + "_k0", k0_tests).split("## Peak states")[1].split("\n## ")[0]
+for r in (0.125, 0.25, 0.5):
+    m = 2.4 * (0.30 + 40 * 4e-4 * r)
+    row = next((l for l in kpk.splitlines() if l.startswith(f"| shear_f_rate{r:g} |")), "")
+    if not row.startswith(f"| shear_f_rate{r:g} | 0.3 | undrained | compression | {100 * m:.1f} |") or \
+            f"| {m:.3f} ({phi(m):.1f}°) |" not in row:
+        fails.append(f"peak table after a K0 loading, shear_f_rate{r:g}: expected q_peak {100 * m:.1f} kPa and max q/p' "
+                     f"{m:.3f}, got '{row}'")
 for j in jobs:
     j["rate_group"] = ""
 if "## Rate dependence" in study_report(work, jobs):
