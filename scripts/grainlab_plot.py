@@ -1711,7 +1711,7 @@ def across_values_section(out, idx, heads):
     strain rate, over an axial_strain_rate axis: rate_section extrapolates s_u to I -> 0). Empty without
     such a test. Cyclic oedometer tests get a table of their own (cyclic_oedometer_rows): the strain their cycles
     accumulate against the amplitude."""
-    rows, shansep, coed_rows, coed = [], {}, [], []
+    rows, shansep, coed_rows, coed, quasi = [], {}, [], [], {}
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
         if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
@@ -1744,6 +1744,9 @@ def across_values_section(out, idx, heads):
         if undrained and ocr is not None and ocr > 0:
             shansep.setdefault((j.get("E", 0), j["mu_r"], float(st.get("axial_strain_rate", 0))), []).append(
                 (float(ocr), ratio))
+            if (u := undrained_strength(s, st)) is not None:  # (I, s_u / sigma'_v0) at the q peak: SHANSEP at I -> 0
+                quasi.setdefault((j.get("E", 0), j["mu_r"]), {}).setdefault(f"{float(ocr):.3g}", []).append(
+                    (float(ocr), *u, float(st.get("axial_strain_rate", 0))))
         M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
@@ -1771,6 +1774,27 @@ def across_values_section(out, idx, heads):
         fits.append(f"| {label} | {len(pts)} | "
                     f"{x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | {m_:.3f} ± {sm:.3f} |")
         drawn.append((label, x, np.array([t[1] for t in pts]), math.exp(c), m_))
+    # SHANSEP at I -> 0 (an axial_strain_rate axis): each OCR's tests (all rates, all seeds) on a line in the inertial
+    # number at their q peak, as each section's rate table takes it (rate_section), and S, m through those limits
+    for (E, mu_r), by_ocr in sorted(quasi.items()):
+        lim = []
+        for pts in by_ocr.values():
+            f = line_to_zero([t[1] for t in pts], [t[2] for t in pts]) if len({t[3] for t in pts}) > 1 else None
+            if f is not None and f[0] > 0:
+                lim.append((float(np.mean([t[0] for t in pts])), f[0], len(pts)))
+        if len(lim) < 2 or pressure_levels(np.array([t[0] for t in lim])) < 2:
+            continue
+        x, y = np.log([t[0] for t in lim]), np.log([t[1] for t in lim])
+        label = f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}, I -> 0"
+        n_txt = f"{len(lim)} OCRs ({sum(t[2] for t in lim)} tests)"
+        ocr_txt = f"{min(t[0] for t in lim):.3g}–{max(t[0] for t in lim):.3g}"
+        if len(lim) == 2:  # the line meets both: no standard error
+            m_ = (y[1] - y[0]) / (x[1] - x[0])
+            fits.append(f"| {label} | {n_txt} | {ocr_txt} | {math.exp(y[0] - m_ * x[0]):.3f} | {m_:.3f} |")
+        else:
+            m_, c, sm, sc = fit(x, y)
+            fits.append(f"| {label} | {n_txt} | {ocr_txt} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | "
+                        f"{m_:.3f} ± {sm:.3f} |")
     if drawn:  # figures/shansep.png: each test's s_u / sigma'_v0 against its OCR and each fit's line, log-log
         fig, ax = plt.subplots(figsize=(6, 4.5))
         for n, (label, x, y, S, m_) in enumerate(drawn):
@@ -1802,8 +1826,9 @@ def across_values_section(out, idx, heads):
             "max q/p' (abs) |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, "",
             *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E, and strain rate: s_u grows with "
-               "the rate, so tests at several rates are fitted apart; each section's Rate dependence takes s_u to "
-               "I -> 0), least squares in ln(s_u / sigma'_v0) "
+               "the rate, so tests at several rates are fitted apart, and a row 'I -> 0' fits the limits of each "
+               "OCR's tests on a line in the inertial number at their q peak, as each section's Rate dependence takes "
+               "them: the rate-independent S and m), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error (`figures/shansep.png`: the tests and the "
                "lines).", "",
                "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []), *coed_lines]

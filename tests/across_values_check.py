@@ -17,8 +17,10 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
   shear's own summary.json has the shear alone, as a study's shear job writes it), s_u / p'_0 = 0.3 OCR^0.6: their
   OCR column and S = 0.300 ± 0.000, m = 0.600 ± 0.000 in a row of their own; a sample of one isotropic stage gives no
   OCR ('-').
-- the OCR tests again at twice the strain rate with s_u / sigma'_v0 = 0.3 OCR^0.5: SHANSEP's fit per rate (S = 0.300,
-  m = 0.500 at 2/s beside 0.250, 0.800 at 1/s; one fit through both rates would mix the rate's term into m).
+- the OCR tests again at twice the strain rate (and inertial number, 5e-4 x the rate) with s_u / sigma'_v0 =
+  0.5 OCR^0.8 - 0.2 OCR^0.7: SHANSEP's fit per rate (a row at 2/s beside 0.250, 0.800 at 1/s; one fit through both
+  rates would mix the rate's term into m), and the row at I -> 0 through each OCR's line in I: 0.2 OCR^0.7 exactly,
+  S = 0.200 ± 0.000, m = 0.700 ± 0.000 (none for mu_r 0.2, whose tests share one rate).
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
 import csv
@@ -55,7 +57,7 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate
     def row(stage, st_type, ea, p, q, e=0.6):
         nonlocal step
         rows.append([stage, step, step, ea, 0.0, p, q, abs(q) / p, e, 0.1, st_type, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25,
-                     0.25, 0.25, abs(q) / p, 5e-4, p - q / 3, p - q / 3, p + 2 * q / 3])
+                     0.25, 0.25, abs(q) / p, 5e-4 * rate, p - q / 3, p - q / 3, p + 2 * q / 3])
         step += 1
 
     for i in range(11 if iso_ocr is None else 0):  # the K path: sigma_z 20 -> 200 kPa, sigma_3 = K sigma_z
@@ -108,8 +110,9 @@ for ocr in (2, 4, 8):  # the peak at 2 %, then softening: s_u = 0.25 OCR^0.8 x 1
 for R in (1, 2, 8, 0):  # s_u = 0.3 R^0.6 x 100 kPa; R = 0: a sample of one stage (no OCR)
     q_pk = 2 * 0.3 * max(R, 1) ** 0.6 * 100e3
     test(f"ciu_R{R}", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], iso_ocr=R)
-for ocr in (2, 4, 8):  # the OCR tests again at twice the rate, s_u = 0.3 OCR^0.5 x 100 kPa: a SHANSEP fit of their own
-    q_pk = 2 * 0.3 * ocr ** 0.5 * 100e3
+for ocr in (2, 4, 8):  # the OCR tests again at twice the rate (and I), s_u / sigma'_v0 = 0.5 OCR^0.8 - 0.2 OCR^0.7: a
+    # SHANSEP fit of their own, and on the line through each OCR's two tests in I, 0.2 OCR^0.7 at I -> 0
+    q_pk = 2 * (0.5 * ocr ** 0.8 - 0.2 * ocr ** 0.7) * 100e3
     test(f"cu_ocr{ocr}_rate2", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], ocr=ocr, rate=2.0)
 
 fails = []
@@ -129,7 +132,7 @@ for k, ocr in enumerate((2, 4, 8)):
     want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {e0(3 + k):.4f} | {2 * r * 100:.1f} | "
                 f"{r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
 want.append("| 0.1, rate 1/s | 3 | 2–8 | 0.250 ± 0.000 | 0.800 ± 0.000 |")
-want.append("| 0.1, rate 2/s | 3 | 2–8 | 0.300 ± 0.000 | 0.500 ± 0.000 |")
+want.append("| 0.1, I -> 0 | 3 OCRs (6 tests) | 2–8 | 0.200 ± 0.000 | 0.700 ± 0.000 |")
 for k, R in enumerate((1, 2, 8, 0)):
     r = 0.3 * max(R, 1) ** 0.6
     want.append(f"| pre.pressure = {R * 100000:g} | ciu_R{R} | undrained | {R if R else '-'} | 100.0 | 0.0 | {e0(6 + k):.4f} | "
@@ -139,6 +142,10 @@ for line in want:
     if line not in sec.splitlines():
         got = next((x for x in sec.splitlines() if x.startswith(line.split(" | ")[0] + " | " + line.split(" | ")[1])), None)
         fails.append(f"expected\n  {line}\ngot\n  {got}")
+if not any(x.startswith("| 0.1, rate 2/s | 3 | 2–8 | ") for x in sec.splitlines()):
+    fails.append("no SHANSEP row of the tests at 2/s: " + sec)
+if "| 0.2, I -> 0 |" in sec:
+    fails.append("an I -> 0 row from tests at one rate (mu_r 0.2): " + sec)
 if not os.path.isfile(os.path.join(work, "figures", "shansep.png")):
     fails.append("no figures/shansep.png beside the SHANSEP fits")
 for head in ("## stages.kc.k_ratio = 0.5", "## stages.kc.k_ratio = 1", "## stages.unload.ocr = 8"):
