@@ -1443,8 +1443,8 @@ TEST(Config, StudyPlanGivesEachTestsOwnInertialNumber) {
   EXPECT_NEAR(sp.inertial_max / sp.inertial_min, 4.0, 1e-9);
   EXPECT_NEAR(sp.inertial_all_max, sp.inertial_max, 1e-9 * sp.inertial_max);  // the 0.5/s shear's, the loading's rate
   const StudyPlan iso = plan_study(load_study(GRAINLAB_SOURCE_DIR "/configs/iso-ocr-rate-study.yaml"));
-  // (three seeds: their samples' mean diameters differ by ~0.2 %, measured 4.0076; one rate's tests 4x another's)
-  EXPECT_NEAR(iso.inertial_max / iso.inertial_min, 4.0, 0.02);
+  // (0.5/s against 0.0625/s: 8x; three seeds, whose samples' mean diameters differ by ~0.2 %: measured 8.015)
+  EXPECT_NEAR(iso.inertial_max / iso.inertial_min, 8.0, 0.04);
 }
 
 TEST(Config, StudyPlanCoversEveryJob) {
