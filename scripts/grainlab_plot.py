@@ -2697,16 +2697,16 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     groups = {}  # replicates of one test over seeds share a series: the line goes through every one of them
     for j, d, s in mono:
         if j.get("rate_group"):
-            groups.setdefault(seedless(j["rate_group"], j), []).append((j, s, d, test_stage(d)))
+            groups.setdefault(seedless(j["rate_group"], j), []).append((j, s, test_stage(d)))
     if not groups:
         return []
     for j, d, s in mono:
         if not j.get("rate_group") and seedless(j["name"], j) in groups and s["rate"] > 0:  # the base's rate (summary.json)
-            groups[seedless(j["name"], j)].append((j, s, d, test_stage(d)))
+            groups[seedless(j["name"], j)].append((j, s, test_stage(d)))
 
     def rate(t):
         """The test's rate: its shear stage's (a K0 consolidation before it keeps the base's), else the series'."""
-        own = float(t[3].get("axial_strain_rate", 0)) if t[3] else 0.0
+        own = float(t[2].get("axial_strain_rate", 0)) if t[2] else 0.0
         return own if own > 0 else t[1]["rate"] if t[1]["rate"] > 0 else t[0].get("axial_strain_rate", 0)
 
     rows_out = ["| test | axial_strain_rate [1/s] | I at max q/p' | max q/p' (phi'_max) | I at critical state | "
@@ -2726,7 +2726,7 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
         # (I, M, phi, rate) at the largest stress ratio; (I, M, phi, e, rate) at critical state
         pk, cs, su = [], [], []  # su: (I at q_peak, s_u / sigma'_v0, rate) of the undrained tests
         for t in sorted(tests, key=rate):
-            j, s, d, st = t
+            j, s, st = t
             ps = peak_state(s, peak)
             if j.get("drainage") == "undrained" and (u := undrained_strength(s, st)) is not None:
                 su.append((*u, rate(t)))
