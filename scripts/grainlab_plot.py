@@ -1775,26 +1775,33 @@ def across_values_section(out, idx, heads):
                     f"{x.min():.3g}–{x.max():.3g} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | {m_:.3f} ± {sm:.3f} |")
         drawn.append((label, x, np.array([t[1] for t in pts]), math.exp(c), m_))
     # SHANSEP at I -> 0 (an axial_strain_rate axis): each OCR's tests (all rates, all seeds) on a line in the inertial
-    # number at their q peak, as each section's rate table takes it (rate_section), and S, m through those limits
+    # number at their q peak, as each section's rate table takes it (rate_section), and S, m through those limits; and
+    # where every OCR has three rates or more, through the limits of lines in sqrt(I) too (LIMIT_FORMS: the limit's
+    # form, which two rates cannot tell)
     for (E, mu_r), by_ocr in sorted(quasi.items()):
-        lim = []
-        for pts in by_ocr.values():
-            f = line_to_zero([t[1] for t in pts], [t[2] for t in pts]) if len({t[3] for t in pts}) > 1 else None
-            if f is not None and f[0] > 0:
-                lim.append((float(np.mean([t[0] for t in pts])), f[0], len(pts)))
-        if len(lim) < 2 or pressure_levels(np.array([t[0] for t in lim])) < 2:
-            continue
-        x, y = np.log([t[0] for t in lim]), np.log([t[1] for t in lim])
-        label = f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}, I -> 0"
-        n_txt = f"{len(lim)} OCRs ({sum(t[2] for t in lim)} tests)"
-        ocr_txt = f"{min(t[0] for t in lim):.3g}–{max(t[0] for t in lim):.3g}"
-        if len(lim) == 2:  # the line meets both: no standard error
-            m_ = (y[1] - y[0]) / (x[1] - x[0])
-            fits.append(f"| {label} | {n_txt} | {ocr_txt} | {math.exp(y[0] - m_ * x[0]):.3f} | {m_:.3f} |")
-        else:
-            m_, c, sm, sc = fit(x, y)
-            fits.append(f"| {label} | {n_txt} | {ocr_txt} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | "
-                        f"{m_:.3f} ± {sm:.3f} |")
+        for name, form in LIMIT_FORMS:
+            need = 2 if name == "I" else 3  # distinct rates per OCR
+            if name != "I" and any(len({t[3] for t in pts}) < need for pts in by_ocr.values()):
+                continue
+            lim = []
+            for pts in by_ocr.values():
+                f = line_to_zero(form([t[1] for t in pts]), [t[2] for t in pts]) if len({t[3] for t in pts}) >= need \
+                    else None
+                if f is not None and f[0] > 0:
+                    lim.append((float(np.mean([t[0] for t in pts])), f[0], len(pts)))
+            if len(lim) < 2 or pressure_levels(np.array([t[0] for t in lim])) < 2:
+                continue
+            x, y = np.log([t[0] for t in lim]), np.log([t[1] for t in lim])
+            label = f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}, {name} -> 0"
+            n_txt = f"{len(lim)} OCRs ({sum(t[2] for t in lim)} tests)"
+            ocr_txt = f"{min(t[0] for t in lim):.3g}–{max(t[0] for t in lim):.3g}"
+            if len(lim) == 2:  # the line meets both: no standard error
+                m_ = (y[1] - y[0]) / (x[1] - x[0])
+                fits.append(f"| {label} | {n_txt} | {ocr_txt} | {math.exp(y[0] - m_ * x[0]):.3f} | {m_:.3f} |")
+            else:
+                m_, c, sm, sc = fit(x, y)
+                fits.append(f"| {label} | {n_txt} | {ocr_txt} | {math.exp(c):.3f} ± {math.exp(c) * sc:.3f} | "
+                            f"{m_:.3f} ± {sm:.3f} |")
     if drawn:  # figures/shansep.png: each test's s_u / sigma'_v0 against its OCR and each fit's line, log-log
         fig, ax = plt.subplots(figsize=(6, 4.5))
         for n, (label, x, y, S, m_) in enumerate(drawn):
@@ -1828,7 +1835,9 @@ def across_values_section(out, idx, heads):
             *(["SHANSEP (Ladd & Foott 1974): s_u / sigma'_v0 = S OCR^m per mu_r (and E, and strain rate: s_u grows with "
                "the rate, so tests at several rates are fitted apart, and a row 'I -> 0' fits the limits of each "
                "OCR's tests on a line in the inertial number at their q peak, as each section's Rate dependence takes "
-               "them: the rate-independent S and m), least squares in ln(s_u / sigma'_v0) "
+               "them: the rate-independent S and m; and where each OCR has three rates or more, a row 'sqrt(I) -> 0' "
+               "through the limits of lines in sqrt(I), the other form of the limit that Rate dependence compares: the "
+               "two rows differ by what the limit's form leaves open), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error (`figures/shansep.png`: the tests and the "
                "lines).", "",
                "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []), *coed_lines]
@@ -2687,13 +2696,63 @@ def line_to_zero(x, y):
     return icpt, s_icpt, slope
 
 
+def lack_of_fit(x, y, groups):
+    """The lack-of-fit F test of the least-squares line through (x, y) (Draper & Smith 1998, sec. 2.1): the scatter of
+    the groups' means about the line (k - 2 degrees of freedom, k groups) over the scatter within the groups (pure
+    error, n - k): the p value of that ratio, small where the line misses the means by more than the replicates
+    scatter. groups: each point's replicate group (the tests of one rate). None without pure error (one test per
+    group, or replicates that agree exactly) or with fewer than three groups."""
+    x, y, groups = np.asarray(x, dtype=float), np.asarray(y, dtype=float), list(groups)
+    keys = sorted(set(groups))
+    n, k = len(y), len(keys)
+    if k < 3 or n <= k:
+        return None
+    A = np.vstack([x, np.ones_like(x)]).T
+    yh = A @ np.linalg.lstsq(A, y, rcond=None)[0]
+    member = [np.array([g == key for g in groups]) for key in keys]
+    ss_pe = sum(float(np.sum((y[m] - y[m].mean()) ** 2)) for m in member)
+    ss_lof = sum(int(m.sum()) * float(y[m].mean() - yh[m].mean()) ** 2 for m in member)
+    if ss_pe <= 1e-12 * max(1.0, float(np.sum(y ** 2))):
+        return None
+    from scipy.stats import f as f_dist
+    return float(f_dist.sf((ss_lof / (k - 2)) / (ss_pe / (n - k)), k - 2, n - k))
+
+
+# The forms of the extrapolation to I -> 0 that the rate section compares: a line in I (the low-I form of mu(I)) and a
+# line in sqrt(I), which stands for the power of I below one that a dense packing's excess friction has been found to
+# follow in the quasi-static range (Hatano 2007, Phys. Rev. E 75, 060301(R)). Both are straight in their variable, so
+# line_to_zero and lack_of_fit serve both.
+LIMIT_FORMS = (("I", lambda i: np.asarray(i, dtype=float)), ("sqrt(I)", lambda i: np.sqrt(np.asarray(i, dtype=float))))
+
+
+def limit_forms_row(series, measure, pts, col, digits):
+    """A row of the rate section's table of the limit's form, for the points pts (I first, the rate last) of one series
+    and one measure (column col): per form of LIMIT_FORMS its value at I -> 0 and its lack-of-fit p. None with fewer
+    than three rates (two rates: either form meets their means exactly, and the form cannot be told)."""
+    rates = [q[-1] for q in pts]
+    if len(set(rates)) < 3:
+        return None
+    cells = [f"| {series} | {measure} | {len(set(rates))} ({len(pts)}) |"]
+    for _, form in LIMIT_FORMS:
+        x = form([q[0] for q in pts])
+        f = line_to_zero(x, [q[col] for q in pts])
+        if f is None:  # the rates' tests at one I (a degenerate series): no line
+            return None
+        p = lack_of_fit(x, [q[col] for q in pts], rates)
+        cells.append(f" {f[0]:.{digits}f}{f' ± {f[1]:.{digits}f}' if f[1] is not None else ''} | "
+                     f"{'-' if p is None else f'{p:.3f}'} |")
+    return "".join(cells)
+
+
 def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     """Tests of an axial_strain_rate axis (study.json: rate_group, the test's name without its rate): per series of
     the same test at several rates (with the test of that name at the base's rate, where the study has it: an extra
     job's rate beside the grid's), the largest stress ratio and the critical state against the inertial number I,
     each extrapolated to I -> 0 by a line in I: the low-I form of the mu(I) rheology, mu_s + (mu_2 - mu_s) I / I_0
     for I << I_0 ~ 0.3 (Jop, Forterre & Pouliquen 2006, Nature 441, eq. 2). The slowest rate's distance from that
-    limit says whether the study's rates are slow enough. Peaks as the peak table takes them (`peak`)."""
+    limit says whether the study's rates are slow enough. Over three rates or more, each limit by a line in sqrt(I) too,
+    with both lines' lack-of-fit p (LIMIT_FORMS): the form the limit depends on. Peaks as the peak table takes them
+    (`peak`)."""
     groups = {}  # replicates of one test over seeds share a series: the line goes through every one of them
     for j, d, s in mono:
         if j.get("rate_group"):
@@ -2717,6 +2776,7 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
     su_rows = ["| test | axial_strain_rate [1/s] | I at q_peak | s_u / sigma'_v0 |", "|---|---|---|---|"]
     su_fits = ["| rate series | tests | s_u / sigma'_v0 at I -> 0 | slowest rate's s_u / sigma'_v0 above it |",
                "|---|---|---|---|"]
+    forms = []  # the limit in each form of LIMIT_FORMS, per series and measure over three rates or more
     fig, ax = plt.subplots(1, 3, figsize=(17, 4.5))
     fast = []  # series whose line reaches past the low-I range
     for g, tests in sorted(groups.items()):
@@ -2768,6 +2828,9 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
         if su:
             su_txt, su_gap = limit(su, 1, 3)
             su_fits.append(f"| {g} | {len(su)} | {su_txt} | {su_gap} |")
+        forms += [r for r in (limit_forms_row(g, "max q/p'", pk, 1, 3), limit_forms_row(g, "critical q/p'", cs, 1, 3),
+                              limit_forms_row(g, "e_c", cs, 3, 4), limit_forms_row(g, "s_u / sigma'_v0", su, 1, 3))
+                  if r is not None]
         I_top = max([q[0] for q in pk + cs], default=0.0)
         if I_top > LINEAR_I:
             fast.append(f"{g} (I up to {I_top:.1e})")
@@ -2804,7 +2867,17 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
                "the inertial number of that row, and per series its line to I -> 0 (the same "
                "low-I line: a rate term that grows in proportion to the rate). The stress ratio's columns above take an "
                "undrained test where it has collapsed (a small p', a large I); its strength is taken at the peak of q.",
-               "", *su_rows, "", *su_fits, ""] if len(su_fits) > 2 else [])]
+               "", *su_rows, "", *su_fits, ""] if len(su_fits) > 2 else []),
+            *(["The limit's form: the line in I above is the low-I form of mu(I); a dense packing's excess friction has "
+               "also been found to grow as a power of I below one in the quasi-static range (Hatano 2007, Phys. Rev. E "
+               "75, 060301), which a line in sqrt(I) stands for: a limit that differs between the two is as uncertain "
+               "as their difference. Per series and measure over three rates or more: each form's value at I -> 0 "
+               "(± one standard error) and its lack-of-fit p, an F test of the scatter of the rates' means about the "
+               "line against the scatter of the tests at one rate (the seeds; '-' with one test per rate): p < 0.05 "
+               "rejects that form at those rates. With two rates either form meets both exactly and the form cannot be "
+               "told.", "",
+               "| rate series | measure | rates (tests) | at I -> 0, line in I | lack-of-fit p | at I -> 0, line in "
+               "sqrt(I) | lack-of-fit p |", "|---|---|---|---|---|---|---|", *forms, ""] if forms else [])]
 
 
 def test_stage(run_dir):

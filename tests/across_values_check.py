@@ -20,14 +20,19 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
 - the OCR tests again at twice the strain rate (and inertial number, 5e-4 x the rate) with s_u / sigma'_v0 =
   0.5 OCR^0.8 - 0.2 OCR^0.7: SHANSEP's fit per rate (a row at 2/s beside 0.250, 0.800 at 1/s; one fit through both
   rates would mix the rate's term into m), and the row at I -> 0 through each OCR's line in I: 0.2 OCR^0.7 exactly,
-  S = 0.200 ± 0.000, m = 0.700 ± 0.000 (none for mu_r 0.2, whose tests share one rate).
+  S = 0.200 ± 0.000, m = 0.700 ± 0.000 (none for mu_r 0.2, whose tests share one rate); a third rate (0.5/s) on
+  that line gives three rates per OCR and a row 'sqrt(I) -> 0' too, through each OCR's line in sqrt(I): its S and m
+  worked out here (least squares, as the report's) from those lines' intercepts.
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
 import csv
 import json
+import math
 import os
 import shutil
 import sys
+
+import numpy as np
 
 from synthetic_study import study_report
 
@@ -114,6 +119,14 @@ for ocr in (2, 4, 8):  # the OCR tests again at twice the rate (and I), s_u / si
     # SHANSEP fit of their own, and on the line through each OCR's two tests in I, 0.2 OCR^0.7 at I -> 0
     q_pk = 2 * (0.5 * ocr ** 0.8 - 0.2 * ocr ** 0.7) * 100e3
     test(f"cu_ocr{ocr}_rate2", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, q_pk), (0.05, 80e3, 0.9 * q_pk)], ocr=ocr, rate=2.0)
+sqrt_lim = []  # each OCR's line in sqrt(I) through its three rates' tests: its intercept
+for ocr in (2, 4, 8):  # at 0.5/s on each OCR's line in I: y(0.5) = y(1) - (y(2) - y(1)) / 2
+    y = [0.25 * ocr ** 0.8, 0.5 * ocr ** 0.8 - 0.2 * ocr ** 0.7]
+    y.append(y[0] - (y[1] - y[0]) / 2)
+    test(f"cu_ocr{ocr}_rate0.5", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, 2 * y[2] * 100e3), (0.05, 80e3, 1.8 * y[2] * 100e3)],
+         ocr=ocr, rate=0.5)
+    sqrt_lim.append(np.polyfit(np.sqrt([5e-4, 1e-3, 2.5e-4]), y, 1)[1])
+m_sqrt, c_sqrt = np.polyfit(np.log([2, 4, 8]), np.log(sqrt_lim), 1)
 
 fails = []
 # study.json's samples, as a study lists them: every value's section reports only the samples its tests shear
@@ -132,7 +145,7 @@ for k, ocr in enumerate((2, 4, 8)):
     want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {e0(3 + k):.4f} | {2 * r * 100:.1f} | "
                 f"{r * 100:.1f} ({r:.3f}) | {max(2 * r * 100 / 90, 0.9 * 2 * r * 100 / 80):.3f} |")
 want.append("| 0.1, rate 1/s | 3 | 2–8 | 0.250 ± 0.000 | 0.800 ± 0.000 |")
-want.append("| 0.1, I -> 0 | 3 OCRs (6 tests) | 2–8 | 0.200 ± 0.000 | 0.700 ± 0.000 |")
+want.append("| 0.1, I -> 0 | 3 OCRs (9 tests) | 2–8 | 0.200 ± 0.000 | 0.700 ± 0.000 |")
 for k, R in enumerate((1, 2, 8, 0)):
     r = 0.3 * max(R, 1) ** 0.6
     want.append(f"| pre.pressure = {R * 100000:g} | ciu_R{R} | undrained | {R if R else '-'} | 100.0 | 0.0 | {e0(6 + k):.4f} | "
@@ -144,6 +157,11 @@ for line in want:
         fails.append(f"expected\n  {line}\ngot\n  {got}")
 if not any(x.startswith("| 0.1, rate 2/s | 3 | 2–8 | ") for x in sec.splitlines()):
     fails.append("no SHANSEP row of the tests at 2/s: " + sec)
+row_sqrt = next((x for x in sec.splitlines() if x.startswith("| 0.1, sqrt(I) -> 0 |")), "")
+if not row_sqrt.startswith(f"| 0.1, sqrt(I) -> 0 | 3 OCRs (9 tests) | 2–8 | {math.exp(c_sqrt):.3f} ± ") or \
+        f"| {m_sqrt:.3f} ± " not in row_sqrt:
+    fails.append(f"the SHANSEP row through the limits in sqrt(I): S {math.exp(c_sqrt):.3f}, m {m_sqrt:.3f} wanted, got "
+                 f"'{row_sqrt}'")
 if "| 0.2, I -> 0 |" in sec:
     fails.append("an I -> 0 row from tests at one rate (mu_r 0.2): " + sec)
 if not os.path.isfile(os.path.join(work, "figures", "shansep.png")):

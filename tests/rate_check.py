@@ -31,6 +31,9 @@ import os
 import shutil
 import sys
 
+import numpy as np
+import scipy.stats
+
 from synthetic_study import study_report
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/rate_check"
 shutil.rmtree(work, ignore_errors=True)
@@ -40,7 +43,8 @@ cols = ["time", "step", "eps_a", "p", "q", "q_p", "e", "mu_r", "stage_type", "a_
 jobs = []
 
 
-def test(name, group, rate, drifting=False, root=work, listed=jobs, drainage="drained", q0=0.0, peak=None, k0=False):
+def test(name, group, rate, drifting=False, root=work, listed=jobs, drainage="drained", q0=0.0, peak=None, k0=False,
+         seed=1):
     """peak: q/p' at the peak as a function of I (0.75 + 50 I by default); q0: the shear's start deviator (summary);
     k0: a K0 loading at 0.5 /s before the shear (stage "load", oedometric rows to q = 300 kPa), as a SHANSEP test's."""
     I = 4e-4 * rate
@@ -71,7 +75,7 @@ def test(name, group, rate, drifting=False, root=work, listed=jobs, drainage="dr
             w.writerow(["shear", i, i, ea, p, qp * p, qp, e, 0.3, 2, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25, 0.25, qp, I_row,
                         p - qp * p / 3, p - qp * p / 3, p + 2 * qp * p / 3] + drag)
     listed.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": 0.3, "e0": 0, "p0": 0,
-                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
+                 "drainage": drainage, "direction": "compression", "b": 0, "seed": seed, "count": 300, "csr": 0,
                  "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": rate if group else 0, "rate_group": group})
 
 
@@ -162,7 +166,8 @@ for r in (1, 0.5, 2):
     test(f"shear_e_rate{r:g}", "shear_e", r, root=work + "_undrained", listed=undrained, drainage="undrained", q0=3e4,
          peak=lambda i: 2 * 1.2 * (0.30 + 40 * i))  # above the critical state's q/p' 0.6
 usec = study_report(work + "_undrained", undrained).split("## Rate dependence")[-1]
-got = [l for l in usec.split("Undrained strength")[-1].split("\n## ")[0].splitlines() if l.startswith("| shear_e")]
+got = [l for l in usec.split("Undrained strength")[-1].split("The limit's form")[0].split("\n## ")[0].splitlines()
+       if l.startswith("| shear_e")]
 want_u = [f"| shear_e_rate{r:g} | {r:g} | {4e-4 * r:.1e} | {0.30 + 40 * 4e-4 * r:.3f} |" for r in (0.5, 1, 2)] + \
     ["| shear_e | 3 | 0.300 ± 0.000 | +0.008 (I = 2.0e-04) |"]
 if "Undrained strength" not in usec or got != want_u:
@@ -176,7 +181,8 @@ for r in (0.5, 0.125, 0.25):
     test(f"shear_f_rate{r:g}", "shear_f", r, root=work + "_k0", listed=k0_tests, drainage="undrained", q0=3e4,
          peak=lambda i: 2 * 1.2 * (0.30 + 40 * i), k0=True)
 ksec = study_report(work + "_k0", k0_tests).split("## Rate dependence")[-1]
-got = [l for l in ksec.split("Undrained strength")[-1].split("\n## ")[0].splitlines() if l.startswith("| shear_f")]
+got = [l for l in ksec.split("Undrained strength")[-1].split("The limit's form")[0].split("\n## ")[0].splitlines()
+       if l.startswith("| shear_f")]
 want_k = [f"| shear_f_rate{r:g} | {r:g} | {4e-4 * r:.1e} | {0.30 + 40 * 4e-4 * r:.3f} |" for r in (0.125, 0.25, 0.5)] + \
     ["| shear_f | 3 | 0.300 ± 0.000 | +0.002 (I = 5.0e-05) |"]
 if got != want_k:
@@ -191,6 +197,57 @@ for r in (0.125, 0.25, 0.5):
             f"| {m:.3f} ({phi(m):.1f}°) |" not in row:
         fails.append(f"peak table after a K0 loading, shear_f_rate{r:g}: expected q_peak {100 * m:.1f} kPa and max q/p' "
                      f"{m:.3f}, got '{row}'")
+# The limit's form. Series E (three rates, one test each) exactly on a line in I: that line's limit with no standard
+# error, the line in sqrt(I) with the one its residuals give, no lack-of-fit p (no replicates); series A likewise for
+# the drained measures; series D (two rates) no row. Series G: undrained at 0.5, 1, 2 /s over two seeds, s_u / sigma'_v0
+# = 0.30 + 40 I + 0.01 (seed 1) or - 0.01 (seed 2): the rates' means on the line in I (lack-of-fit p 1.000), its limit
+# 0.300 with the standard error of the seeds' scatter; the line in sqrt(I) misses the means, its limit and p worked out
+# here from the lack-of-fit F test's definition (Draper & Smith 1998, sec. 2.1).
+def line_limit(x, y):
+    """Intercept and its standard error of the least-squares line (worked out from the normal equations)."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    n, sx, sxx = len(x), x.sum(), (x * x).sum()
+    b = (n * (x * y).sum() - sx * y.sum()) / (n * sxx - sx * sx)
+    a = (y.sum() - b * sx) / n
+    s2 = ((y - a - b * x) ** 2).sum() / (n - 2)
+    return a, math.sqrt(s2 * sxx / (n * sxx - sx * sx)), b
+
+
+def lof_p(x, y, g):
+    a, _, b = line_limit(x, y)
+    keys = sorted(set(g))
+    y, g = np.asarray(y), np.asarray(g)
+    pe = sum(((y[g == k] - y[g == k].mean()) ** 2).sum() for k in keys)
+    lof = sum((g == k).sum() * (y[g == k].mean() - (a + b * np.asarray(x)[g == k]).mean()) ** 2 for k in keys)
+    return scipy.stats.f.sf((lof / (len(keys) - 2)) / (pe / (len(y) - len(keys))), len(keys) - 2, len(y) - len(keys))
+
+
+form_sec = sec.split("The limit's form")[-1].split("\n## ")[0] if "The limit's form" in sec else ""
+I_e = [4e-4 * r for r in (0.5, 1, 2)]
+a_s, se_s, _ = line_limit(np.sqrt(I_e), [0.30 + 40 * i for i in I_e])
+if "| shear_a | max q/p' | 3 (3) | 0.750 ± 0.000 | - |" not in form_sec or "| shear_d |" in form_sec:
+    fails.append("the limit's form, drained: series A's exact line and no row of series D (two rates):\n" + form_sec)
+form_u = usec.split("The limit's form")[-1].split("\n## ")[0] if "The limit's form" in usec else ""
+want_e = f"| shear_e | s_u / sigma'_v0 | 3 (3) | 0.300 ± 0.000 | - | {a_s:.3f} ± {se_s:.3f} | - |"
+if want_e not in form_u.splitlines():
+    fails.append(f"the limit's form of series E: expected\n  {want_e}\ngot\n{form_u}")
+shutil.rmtree(work + "_seeds", ignore_errors=True)
+seeded = []
+for s, d in ((1, 0.01), (2, -0.01)):
+    for r in (0.5, 1, 2):
+        test(f"shear_g_s{s}_n300_rate{r:g}", f"shear_g_s{s}_n300", r, root=work + "_seeds", listed=seeded,
+             drainage="undrained", q0=3e4, peak=lambda i, d=d: 2.4 * (0.30 + 40 * i + d), seed=s)
+gsec = study_report(work + "_seeds", seeded).split("## Rate dependence")[-1]
+form_g = gsec.split("The limit's form")[-1].split("\n## ")[0] if "The limit's form" in gsec else ""
+I_g = [4e-4 * r for _ in (1, 2) for r in (0.5, 1, 2)]
+y_g = [0.30 + 40 * i + d for d in (0.01, -0.01) for i in I_g[:3]]
+rates_g = [r for _ in (1, 2) for r in (0.5, 1, 2)]
+a_i, se_i, _ = line_limit(I_g, y_g)
+a_q, se_q, _ = line_limit(np.sqrt(I_g), y_g)
+want_g = (f"| shear_g_s*_n300 | s_u / sigma'_v0 | 3 (6) | {a_i:.3f} ± {se_i:.3f} | 1.000 | {a_q:.3f} ± {se_q:.3f} | "
+          f"{lof_p(np.sqrt(I_g), y_g, rates_g):.3f} |")
+if abs(a_i - 0.30) > 1e-9 or want_g not in form_g.splitlines():
+    fails.append(f"the limit's form over two seeds: expected\n  {want_g}\ngot\n{form_g}")
 for j in jobs:
     j["rate_group"] = ""
 if "## Rate dependence" in study_report(work, jobs):
