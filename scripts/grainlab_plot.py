@@ -1710,8 +1710,11 @@ def across_values_section(out, idx, heads):
     sigma'_v0 = S OCR^m (Ladd & Foott 1974), least squares in the logarithms (per E too, over the E axis, and per
     strain rate, over an axial_strain_rate axis: rate_section extrapolates s_u to I -> 0). Empty without
     such a test. Cyclic oedometer tests get a table of their own (cyclic_oedometer_rows): the strain their cycles
-    accumulate against the amplitude."""
-    rows, shansep, coed_rows, coed, quasi = [], {}, [], [], {}
+    accumulate against the amplitude. Drained tests get their end state side by side too, as their critical-state
+    tables measure it (the window's means, steady or not): whether tests that started apart (another OCR, e_0) end on
+    one state, as a unique critical-state line has them."""
+    rows, shansep, coed_rows, coed, quasi, ends = [], {}, [], [], {}, []
+    cs_cfg = idx.get("critical_state", {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005})
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
         if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
@@ -1748,6 +1751,12 @@ def across_values_section(out, idx, heads):
                 quasi.setdefault((j.get("E", 0), j["mu_r"]), {}).setdefault(f"{float(ocr):.3g}", []).append(
                     (float(ocr), *u, float(st.get("axial_strain_rate", 0))))
         M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
+        if st.get("drainage") == "drained":
+            c = critical_state(s, cs_cfg["window"], cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
+            ends.append(f"| {heads[j['name']]} | {j['name']} | {number_text(float(ocr) if ocr is not None else None, '.3g')} "
+                        f"| {float(s['e'][m][0]):.4f} | "
+                        + (f"{c['p'] / 1e3:.1f} | {c['e']:.4f} | {c['qp']:.3f} | {'yes' if c['ok'] else 'no'} |"
+                           if c is not None and "e" in c else "- | - | - | - |"))
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
                     f"{number_text(float(ocr) if ocr is not None else None, '.3g')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
@@ -1840,7 +1849,14 @@ def across_values_section(out, idx, heads):
                "two rows differ by what the limit's form leaves open), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error (`figures/shansep.png`: the tests and the "
                "lines).", "",
-               "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []), *coed_lines]
+               "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []),
+            *([f"The drained tests' end state: p', e and q/p' averaged over the last {cs_cfg['window']:g} of axial "
+               "strain, as each section's critical-state table measures them, steady there (critical: yes) or still "
+               "drifting (no; the section says by how much), beside the OCR and e_0 they started from: tests that "
+               "start apart and end at one e at one p' have forgotten their history, as a unique critical-state line "
+               "has it.", "",
+               "| section | test | OCR | e_0 | p' at end [kPa] | e at end | q/p' at end | critical |",
+               "|---|---|---|---|---|---|---|---|", *ends, ""] if ends else []), *coed_lines]
 
 
 def across_gradings_section(out, idx, figs):

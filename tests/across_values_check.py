@@ -127,6 +127,11 @@ for ocr in (2, 4, 8):  # at 0.5/s on each OCR's line in I: y(0.5) = y(1) - (y(2)
          ocr=ocr, rate=0.5)
     sqrt_lim.append(np.polyfit(np.sqrt([5e-4, 1e-3, 2.5e-4]), y, 1)[1])
 m_sqrt, c_sqrt = np.polyfit(np.log([2, 4, 8]), np.log(sqrt_lim), 1)
+# A drained test after the unloading to OCR 2, to 30 %: over the last 0.05 of strain (rows at 26, 28, 30 %) p' 135 kPa,
+# q/p' 0.700, e its e_0 less 0.04 (e falls 0.01 a row: drifting, so not critical)
+k_cd = len(jobs)
+test("cd_ocr2", 1.0, [(0.0, 100e3, 0.0), (0.1, 130e3, 90e3), (0.2, 135e3, 94.5e3), (0.26, 135e3, 94.5e3),
+                      (0.28, 135e3, 94.5e3), (0.30, 135e3, 94.5e3)], drainage="drained", ocr=2)
 
 fails = []
 # study.json's samples, as a study lists them: every value's section reports only the samples its tests shear
@@ -162,6 +167,12 @@ if not row_sqrt.startswith(f"| 0.1, sqrt(I) -> 0 | 3 OCRs (9 tests) | 2–8 | {m
         f"| {m_sqrt:.3f} ± " not in row_sqrt:
     fails.append(f"the SHANSEP row through the limits in sqrt(I): S {math.exp(c_sqrt):.3f}, m {m_sqrt:.3f} wanted, got "
                  f"'{row_sqrt}'")
+# the drained tests' end state: the window's means (cad_k1's shear, 10 % in three rows, is shorter than the window)
+ends = sec.split("The drained tests' end state")[-1].split("\n\n| section |")[-1] if "drained tests' end state" in sec else ""
+want_ends = [f"| kc.k_ratio = 1 | cad_k1 | - | {e0(2):.4f} | - | - | - | - |",
+             f"| unload.ocr = 2 | cd_ocr2 | 2 | {e0(k_cd):.4f} | 135.0 | {e0(k_cd) - 0.04:.4f} | 0.700 | no |"]
+if ends.split("\n\n")[0].splitlines()[2:] != want_ends:
+    fails.append("the drained tests' end state:\n" + ends + "\nwanted:\n" + "\n".join(want_ends))
 if "| 0.2, I -> 0 |" in sec:
     fails.append("an I -> 0 row from tests at one rate (mu_r 0.2): " + sec)
 if not os.path.isfile(os.path.join(work, "figures", "shansep.png")):
