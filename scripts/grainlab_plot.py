@@ -2844,8 +2844,10 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
         if su:
             su_txt, su_gap = limit(su, 1, 3)
             su_fits.append(f"| {g} | {len(su)} | {su_txt} | {su_gap} |")
-        forms += [r for r in (limit_forms_row(g, "max q/p'", pk, 1, 3), limit_forms_row(g, "critical q/p'", cs, 1, 3),
-                              limit_forms_row(g, "e_c", cs, 3, 4), limit_forms_row(g, "s_u / sigma'_v0", su, 1, 3))
+        # an undrained series by its strength alone: its stress ratio is taken where it has collapsed, its e is e_0
+        forms += [r for r in ((limit_forms_row(g, "s_u / sigma'_v0", su, 1, 3),) if su else
+                              (limit_forms_row(g, "max q/p'", pk, 1, 3), limit_forms_row(g, "critical q/p'", cs, 1, 3),
+                               limit_forms_row(g, "e_c", cs, 3, 4)))
                   if r is not None]
         I_top = max([q[0] for q in pk + cs], default=0.0)
         if I_top > LINEAR_I:
@@ -2887,7 +2889,8 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             *(["The limit's form: the line in I above is the low-I form of mu(I); a dense packing's excess friction has "
                "also been found to grow as a power of I below one in the quasi-static range (Hatano 2007, Phys. Rev. E "
                "75, 060301), which a line in sqrt(I) stands for: a limit that differs between the two is as uncertain "
-               "as their difference. Per series and measure over three rates or more: each form's value at I -> 0 "
+               "as their difference. Per series and measure over three rates or more (an undrained series by its s_u alone): each "
+               "form's value at I -> 0 "
                "(± one standard error) and its lack-of-fit p, an F test of the scatter of the rates' means about the "
                "line against the scatter of the tests at one rate (the seeds; '-' with one test per rate): p < 0.05 "
                "rejects that form at those rates. With two rates either form meets both exactly and the form cannot be "
