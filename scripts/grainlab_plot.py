@@ -1753,8 +1753,8 @@ def across_values_section(out, idx, heads):
         M = float(np.max(np.abs(s["q"][m] / s["p"][m])))
         if st.get("drainage") == "drained":
             c = critical_state(s, cs_cfg["window"], cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
-            ends.append(f"| {heads[j['name']]} | {j['name']} | {number_text(float(ocr) if ocr is not None else None, '.3g')} "
-                        f"| {float(s['e'][m][0]):.4f} | "
+            ocr_txt = number_text(float(ocr) if ocr is not None else None, '.3g')
+            ends.append(f"| {heads[j['name']]} | {j['name']} | {ocr_txt} | {float(s['e'][m][0]):.4f} | "
                         + (f"{c['p'] / 1e3:.1f} | {c['e']:.4f} | {c['qp']:.3f} | {'yes' if c['ok'] else 'no'} |"
                            if c is not None and "e" in c else "- | - | - | - |"))
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
@@ -2886,12 +2886,12 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
                "low-I line: a rate term that grows in proportion to the rate). The stress ratio's columns above take an "
                "undrained test where it has collapsed (a small p', a large I); its strength is taken at the peak of q.",
                "", *su_rows, "", *su_fits, ""] if len(su_fits) > 2 else []),
-            *(["The limit's form: the line in I above is the low-I form of mu(I); a dense packing's excess friction has "
-               "also been found to grow as a power of I below one in the quasi-static range (Hatano 2007, Phys. Rev. E "
-               "75, 060301), which a line in sqrt(I) stands for: a limit that differs between the two is as uncertain "
-               "as their difference. Per series and measure over three rates or more (an undrained series by its s_u alone): each "
-               "form's value at I -> 0 "
-               "(± one standard error) and its lack-of-fit p, an F test of the scatter of the rates' means about the "
+            *(["The limit's form: the line in I above is the low-I form of mu(I); a dense packing's excess friction "
+               "has also been found to grow as a power of I below one in the quasi-static range (Hatano 2007, Phys. "
+               "Rev. E 75, 060301), which a line in sqrt(I) stands for: a limit that differs between the two is as "
+               "uncertain as their difference. Per series and measure over three rates or more (an undrained series by "
+               "its s_u alone): each form's value at I -> 0 (± one standard error) and its lack-of-fit p, an F test of "
+               "the scatter of the rates' means about the "
                "line against the scatter of the tests at one rate (the seeds; '-' with one test per rate): p < 0.05 "
                "rejects that form at those rates. With two rates either form meets both exactly and the form cannot be "
                "told.", "",

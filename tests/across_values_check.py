@@ -123,8 +123,8 @@ sqrt_lim = []  # each OCR's line in sqrt(I) through its three rates' tests: its 
 for ocr in (2, 4, 8):  # at 0.5/s on each OCR's line in I: y(0.5) = y(1) - (y(2) - y(1)) / 2
     y = [0.25 * ocr ** 0.8, 0.5 * ocr ** 0.8 - 0.2 * ocr ** 0.7]
     y.append(y[0] - (y[1] - y[0]) / 2)
-    test(f"cu_ocr{ocr}_rate0.5", 1.0, [(0.0, 100e3, 0.0), (0.02, 90e3, 2 * y[2] * 100e3), (0.05, 80e3, 1.8 * y[2] * 100e3)],
-         ocr=ocr, rate=0.5)
+    test(f"cu_ocr{ocr}_rate0.5", 1.0,
+         [(0.0, 100e3, 0.0), (0.02, 90e3, 2 * y[2] * 100e3), (0.05, 80e3, 1.8 * y[2] * 100e3)], ocr=ocr, rate=0.5)
     sqrt_lim.append(np.polyfit(np.sqrt([5e-4, 1e-3, 2.5e-4]), y, 1)[1])
 m_sqrt, c_sqrt = np.polyfit(np.log([2, 4, 8]), np.log(sqrt_lim), 1)
 # A drained test after the unloading to OCR 2, to 30 %: over the last 0.05 of strain (rows at 26, 28, 30 %) p' 135 kPa,
@@ -168,7 +168,8 @@ if not row_sqrt.startswith(f"| 0.1, sqrt(I) -> 0 | 3 OCRs (9 tests) | 2–8 | {m
     fails.append(f"the SHANSEP row through the limits in sqrt(I): S {math.exp(c_sqrt):.3f}, m {m_sqrt:.3f} wanted, got "
                  f"'{row_sqrt}'")
 # the drained tests' end state: the window's means (cad_k1's shear, 10 % in three rows, is shorter than the window)
-ends = sec.split("The drained tests' end state")[-1].split("\n\n| section |")[-1] if "drained tests' end state" in sec else ""
+ends = sec.split("The drained tests' end state")[-1].split("\n\n| section |")[-1] \
+    if "drained tests' end state" in sec else ""
 want_ends = [f"| kc.k_ratio = 1 | cad_k1 | - | {e0(2):.4f} | - | - | - | - |",
              f"| unload.ocr = 2 | cd_ocr2 | 2 | {e0(k_cd):.4f} | 135.0 | {e0(k_cd) - 0.04:.4f} | 0.700 | no |"]
 if ends.split("\n\n")[0].splitlines()[2:] != want_ends:
