@@ -2856,11 +2856,12 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             if not pts:
                 continue
             (ln,) = a_.plot([q[0] for q in pts], [q[col] for q in pts], "o", label=g)
-            f = line_to_zero([q[0] for q in pts], [q[col] for q in pts])
-            if f is not None:
-                xs = np.linspace(0, max(q[0] for q in pts), 20)
-                a_.plot(xs, f[0] + f[2] * xs, "-", color=ln.get_color())
-            a_.set(xlabel="inertial number I", ylabel=lab, title=lab + " against I (line to I = 0)")
+            xs = np.linspace(0, max(q[0] for q in pts), 200)
+            for (_, form), style in zip(LIMIT_FORMS, ("-", "--")):  # the line in sqrt(I) over three rates or more
+                f = line_to_zero(form([q[0] for q in pts]), [q[col] for q in pts])
+                if f is not None and (style == "-" or len({q[-1] for q in pts}) >= 3):
+                    a_.plot(xs, f[0] + f[2] * form(xs), style, color=ln.get_color(), lw=1 if style == "-" else 0.8)
+            a_.set(xlabel="inertial number I", ylabel=lab, title=lab + " against I (to I = 0: line in I; dashed: in sqrt(I))")
     for a_ in ax:
         a_.grid(alpha=0.3)
         a_.set_xlim(left=0)
