@@ -2875,7 +2875,8 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
             "line in I (± one standard error from three tests on), the low-I form of the mu(I) rheology, mu_s + "
             "(mu_2 - mu_s) I / I_0 for I << I_0 (Jop et al. 2006, eq. 2). The slowest rate's excess over that limit (the mean of its tests, one per seed) "
             f"is what its rate still adds (quasi-static is commonly taken as I < {QUASI_STATIC_I:g}). "
-            "Figure: `figures/rate.png`.", "", *rows_out, "", *fits, "",
+            "Figure: `figures/rate.png` (dashed: the line in sqrt(I), over three rates or more; see the limit's "
+            "form below).", "", *rows_out, "", *fits, "",
             *([f"Past I = {LINEAR_I:g} the stress ratio bends below the line (mu(I) saturates towards mu_2 as I nears "
                "I_0), so a line through such tests understates the slope at small I and overstates the limit (a chord "
                "of a concave curve): "
