@@ -1699,6 +1699,51 @@ def isotropic_ocr(out, j):
     return max(p) / p[-1] if len(p) >= 2 and p[-1] > 0 else None
 
 
+def one_way_anova(groups):
+    """One-way analysis of variance: whether the means of the groups (a dict of lists) differ by more than the values
+    scatter within them. (F, p, k - 1, n - k) with F the between-group mean square over the within-group one; None
+    with fewer than two groups, no replicate in any (n = k), or no scatter within them."""
+    g = [np.asarray(v, dtype=float) for v in groups.values() if len(v)]
+    n, k = sum(len(v) for v in g), len(g)
+    if k < 2 or n <= k:
+        return None
+    grand = float(np.mean(np.concatenate(g)))
+    ss_b = sum(len(v) * (float(v.mean()) - grand) ** 2 for v in g)
+    ss_w = sum(float(np.sum((v - v.mean()) ** 2)) for v in g)
+    if ss_w <= 1e-12 * max(1.0, grand ** 2 * n):
+        return None
+    from scipy.stats import f as f_dist
+    F = (ss_b / (k - 1)) / (ss_w / (n - k))
+    return F, float(f_dist.sf(F, k - 1, n - k)), k - 1, n - k
+
+
+def end_states_verdict(crit):
+    """The line under the drained tests' end states: over their critical states (crit: (section, p', e, q/p') each),
+    if those are at one pressure level (pressure_levels: p'_c within CSL_LEVEL_GAP, so the critical-state line's own
+    slope cannot separate them), whether the stage axis moves e_c and q/p' by more than the seeds scatter within a
+    value (one_way_anova). Empty otherwise."""
+    if len(crit) < 3 or pressure_levels([c[1] for c in crit]) != 1:
+        return []
+    out = []
+    for col, what, digits in ((2, "e_c", 4), (3, "q/p'", 3)):
+        groups = {}
+        for c in crit:
+            groups.setdefault(c[0], []).append(c[col])
+        a = one_way_anova(groups)
+        if a is None:
+            continue
+        vals = [c[col] for c in crit]
+        out.append(f"{what} {min(vals):.{digits}f}–{max(vals):.{digits}f} (F = {a[0]:.2f} on {a[2]} and {a[3]} "
+                   f"degrees of freedom, p = {a[1]:.3f})")
+    if not out:
+        return []
+    p = [c[1] for c in crit]
+    return [f"Over the {len(crit)} critical states, at one pressure level (p'_c {min(p) / 1e3:.1f}–{max(p) / 1e3:.1f} "
+            "kPa), a one-way analysis of variance asks whether the sections' values move them by more than the tests "
+            "of one value (the seeds) scatter: " + "; ".join(out) + ". p < 0.05: the value moves it; larger: within "
+            "the seeds' scatter.", ""]
+
+
 def across_values_section(out, idx, heads):
     """The tests of a study over stage axes side by side (the sections after it report each value apart): per test its
     section's value(s) (heads: the job's name -> its section heading), the stress its last stage (the test) started
@@ -1713,7 +1758,7 @@ def across_values_section(out, idx, heads):
     accumulate against the amplitude. Drained tests get their end state side by side too, as their critical-state
     tables measure it (the window's means, steady or not): whether tests that started apart (another OCR, e_0) end on
     one state, as a unique critical-state line has them."""
-    rows, shansep, coed_rows, coed, quasi, ends = [], {}, [], [], {}, []
+    rows, shansep, coed_rows, coed, quasi, ends, crit = [], {}, [], [], {}, [], []
     cs_cfg = idx.get("critical_state", {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005})
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
@@ -1757,6 +1802,8 @@ def across_values_section(out, idx, heads):
             ends.append(f"| {heads[j['name']]} | {j['name']} | {ocr_txt} | {float(s['e'][m][0]):.4f} | "
                         + (f"{c['p'] / 1e3:.1f} | {c['e']:.4f} | {c['qp']:.3f} | {'yes' if c['ok'] else 'no'} |"
                            if c is not None and "e" in c else "- | - | - | - |"))
+            if c is not None and c.get("ok"):
+                crit.append((heads[j["name"]], float(c["p"]), float(c["e"]), float(c["qp"])))
         rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
                     f"{number_text(float(ocr) if ocr is not None else None, '.3g')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
@@ -1856,7 +1903,7 @@ def across_values_section(out, idx, heads):
                "start apart and end at one e at one p' have forgotten their history, as a unique critical-state line "
                "has it.", "",
                "| section | test | OCR | e_0 | p' at end [kPa] | e at end | q/p' at end | critical |",
-               "|---|---|---|---|---|---|---|---|", *ends, ""] if ends else []), *coed_lines]
+               "|---|---|---|---|---|---|---|---|", *ends, "", *end_states_verdict(crit)] if ends else []), *coed_lines]
 
 
 def across_gradings_section(out, idx, figs):
