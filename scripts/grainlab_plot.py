@@ -1738,8 +1738,8 @@ def end_states_verdict(crit):
     if not out:
         return []
     p = [c[1] for c in crit]
-    return [f"Over the {len(crit)} critical states, at one pressure level (p'_c {min(p) / 1e3:.1f}–{max(p) / 1e3:.1f} "
-            "kPa), a one-way analysis of variance asks whether the sections' values move them by more than the tests "
+    return [f"Over the {len(crit)} critical states, at one pressure level (p'_c {min(p) / 1e3:.1f}–"
+            f"{max(p) / 1e3:.1f} kPa), a one-way analysis of variance asks whether the sections' values move them by more than the tests "
             "of one value (the seeds) scatter: " + "; ".join(out) + ". p < 0.05: the value moves it; larger: within "
             "the seeds' scatter.", ""]
 

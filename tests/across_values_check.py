@@ -72,7 +72,8 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate
         row("kc", 2, 0.001 * i, (sz + 2 * s3) / 3, sz - s3)
     p0, q0 = ((200e3 + 2 * K * 200e3) / 3, 200e3 - K * 200e3) if ocr is None and iso_ocr is None else (100e3, 0.0)
     for i, (ea, p, q) in enumerate(shear_rows):  # e_0 = e0(k) of the k-th test, falling along the shear
-        row("cau", 1 if drainage == "undrained" else 2, ea, p, q, e0(len(jobs)) - 0.01 * i if steady_e is None else steady_e)
+        e = e0(len(jobs)) - 0.01 * i if steady_e is None else steady_e
+        row("cau", 1 if drainage == "undrained" else 2, ea, p, q, e)
     before = ({"name": "kc", "type": "triaxial", "drainage": "drained", "direction": "compression", "b": 0,
                "stress_path": "constant_k", "k_ratio": K, "p_0": 20e3, "q_0": 0} if ocr is None else
               {"name": "kc", "type": "triaxial", "drainage": "oedometric", "direction": "extension", "b": 0,
@@ -136,8 +137,8 @@ test("cd_ocr2", 1.0, [(0.0, 100e3, 0.0), (0.1, 130e3, 90e3), (0.2, 135e3, 94.5e3
 # Four more at critical state (e steady), two per OCR (2 and 4), at p'_c 135 and 140 kPa (one pressure level): e_c 0.70,
 # 0.72 and 0.71, 0.74, q/p' 0.70, 0.72 and 0.70, 0.74; the line under the table gives their one-way analysis of
 # variance over the two OCRs, worked out here by scipy's f_oneway
-cs_tests = [("cs_ocr2_a", 2, 0.70, 0.70, 135e3), ("cs_ocr2_b", 2, 0.72, 0.72, 140e3), ("cs_ocr4_a", 4, 0.71, 0.70, 135e3),
-            ("cs_ocr4_b", 4, 0.74, 0.74, 140e3)]
+cs_tests = [("cs_ocr2_a", 2, 0.70, 0.70, 135e3), ("cs_ocr2_b", 2, 0.72, 0.72, 140e3),
+            ("cs_ocr4_a", 4, 0.71, 0.70, 135e3), ("cs_ocr4_b", 4, 0.74, 0.74, 140e3)]
 for name, ocr, e_c, M, p_c in cs_tests:
     test(name, 1.0, [(0.0, 100e3, 0.0), (0.1, 130e3, 90e3), (0.2, p_c, M * p_c)] +
          [(ea, p_c, M * p_c) for ea in (0.26, 0.28, 0.30)], drainage="drained", ocr=ocr, steady_e=e_c)
@@ -181,14 +182,15 @@ ends = sec.split("The drained tests' end state")[-1].split("\n\n| section |")[-1
     if "drained tests' end state" in sec else ""
 want_ends = [f"| kc.k_ratio = 1 | cad_k1 | - | {e0(2):.4f} | - | - | - | - |",
              f"| unload.ocr = 2 | cd_ocr2 | 2 | {e0(k_cd):.4f} | 135.0 | {e0(k_cd) - 0.04:.4f} | 0.700 | no |"] + \
-    [f"| unload.ocr = {o} | {n} | {o} | {e:.4f} | {p / 1e3:.1f} | {e:.4f} | {M:.3f} | yes |" for n, o, e, M, p in cs_tests]
+    [f"| unload.ocr = {o} | {n} | {o} | {e:.4f} | {p / 1e3:.1f} | {e:.4f} | {M:.3f} | yes |"
+     for n, o, e, M, p in cs_tests]
 f_e = scipy.stats.f_oneway([0.70, 0.72], [0.71, 0.74])
 f_m = scipy.stats.f_oneway([0.70, 0.72], [0.70, 0.74])
-want_verdict = (f"Over the 4 critical states, at one pressure level (p'_c 135.0–140.0 kPa), a one-way analysis of variance "
-                "asks whether the sections' values move them by more than the tests of one value (the seeds) scatter: "
+want_verdict = (f"Over the 4 critical states, at one pressure level (p'_c 135.0–140.0 kPa), a one-way analysis of "
+                "variance asks whether the sections' values move them by more than the tests of one value (the seeds) scatter: "
                 f"e_c 0.7000–0.7400 (F = {f_e.statistic:.2f} on 1 and 2 degrees of freedom, p = {f_e.pvalue:.3f}); "
-                f"q/p' 0.700–0.740 (F = {f_m.statistic:.2f} on 1 and 2 degrees of freedom, p = {f_m.pvalue:.3f}). p < "
-                "0.05: the value moves it; larger: within the seeds' scatter.")
+                f"q/p' 0.700–0.740 (F = {f_m.statistic:.2f} on 1 and 2 degrees of freedom, p = {f_m.pvalue:.3f}). "
+                "p < 0.05: the value moves it; larger: within the seeds' scatter.")
 if want_verdict not in sec.splitlines():
     fails.append(f"the critical end states' analysis of variance: expected\n  {want_verdict}\ngot\n" +
                  "\n".join(x for x in sec.splitlines() if x.startswith("Over the")))
