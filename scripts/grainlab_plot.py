@@ -1739,9 +1739,9 @@ def end_states_verdict(crit):
         return []
     p = [c[1] for c in crit]
     return [f"Over the {len(crit)} critical states, at one pressure level (p'_c {min(p) / 1e3:.1f}–"
-            f"{max(p) / 1e3:.1f} kPa), a one-way analysis of variance asks whether the sections' values move them by more than the tests "
-            "of one value (the seeds) scatter: " + "; ".join(out) + ". p < 0.05: the value moves it; larger: within "
-            "the seeds' scatter.", ""]
+            f"{max(p) / 1e3:.1f} kPa), a one-way analysis of variance asks whether the sections' values move them "
+            "by more than the tests of one value (the seeds) scatter: " + "; ".join(out) + ". p < 0.05: the value "
+            "moves it; larger: within the seeds' scatter.", ""]
 
 
 def across_values_section(out, idx, heads):
@@ -2908,7 +2908,8 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
                 f = line_to_zero(form([q[0] for q in pts]), [q[col] for q in pts])
                 if f is not None and (style == "-" or len({q[-1] for q in pts}) >= 3):
                     a_.plot(xs, f[0] + f[2] * form(xs), style, color=ln.get_color(), lw=1 if style == "-" else 0.8)
-            a_.set(xlabel="inertial number I", ylabel=lab, title=lab + " against I (to I = 0: line in I; dashed: in sqrt(I))")
+            a_.set(xlabel="inertial number I", ylabel=lab,
+                   title=lab + " against I (to I = 0: line in I; dashed: in sqrt(I))")
     for a_ in ax:
         a_.grid(alpha=0.3)
         a_.set_xlim(left=0)
@@ -2939,8 +2940,8 @@ def rate_section(mono, window, tol, figs, peak=(0.0, None)):
                "has also been found to grow as a power of I below one in the quasi-static range (Hatano 2007, Phys. "
                "Rev. E 75, 060301), which a line in sqrt(I) stands for: a limit that differs between the two is as "
                "uncertain as their difference. Per series and measure over three rates or more (an undrained series by "
-               "its s_u alone): each form's value at I -> 0 (± one standard error) and its lack-of-fit p, an F test of "
-               "the scatter of the rates' means about the "
+               "its s_u alone): each form's value at I -> 0 (± one standard error) and its lack-of-fit p, an F "
+               "test of the scatter of the rates' means about the "
                "line against the scatter of the tests at one rate (the seeds; '-' with one test per rate): p < 0.05 "
                "rejects that form at those rates. With two rates either form meets both exactly and the form cannot be "
                "told.", "",

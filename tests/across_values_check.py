@@ -187,7 +187,8 @@ want_ends = [f"| kc.k_ratio = 1 | cad_k1 | - | {e0(2):.4f} | - | - | - | - |",
 f_e = scipy.stats.f_oneway([0.70, 0.72], [0.71, 0.74])
 f_m = scipy.stats.f_oneway([0.70, 0.72], [0.70, 0.74])
 want_verdict = (f"Over the 4 critical states, at one pressure level (p'_c 135.0–140.0 kPa), a one-way analysis of "
-                "variance asks whether the sections' values move them by more than the tests of one value (the seeds) scatter: "
+                "variance asks whether the sections' values move them by more than the tests of one value "
+                "(the seeds) scatter: "
                 f"e_c 0.7000–0.7400 (F = {f_e.statistic:.2f} on 1 and 2 degrees of freedom, p = {f_e.pvalue:.3f}); "
                 f"q/p' 0.700–0.740 (F = {f_m.statistic:.2f} on 1 and 2 degrees of freedom, p = {f_m.pvalue:.3f}). "
                 "p < 0.05: the value moves it; larger: within the seeds' scatter.")
