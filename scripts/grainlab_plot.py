@@ -1758,7 +1758,7 @@ def across_values_section(out, idx, heads):
     accumulate against the amplitude. Drained tests get their end state side by side too, as their critical-state
     tables measure it (the window's means, steady or not): whether tests that started apart (another OCR, e_0) end on
     one state, as a unique critical-state line has them."""
-    rows, shansep, coed_rows, coed, quasi, ends, crit = [], {}, [], [], {}, [], []
+    rows, shansep, coed_rows, coed, quasi, ends, crit, dropped = [], {}, [], [], {}, [], [], []
     cs_cfg = idx.get("critical_state", {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005})
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
@@ -1839,16 +1839,22 @@ def across_values_section(out, idx, heads):
             need = 2 if name == "I" else 3  # distinct rates per OCR
             if name != "I" and any(len({t[3] for t in pts}) < need for pts in by_ocr.values()):
                 continue
-            lim = []
+            lim, below = [], []
+            label = f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}, {name} -> 0"
             for pts in by_ocr.values():
                 f = line_to_zero(form([t[1] for t in pts]), [t[2] for t in pts]) if len({t[3] for t in pts}) >= need \
                     else None
                 if f is not None and f[0] > 0:
                     lim.append((float(np.mean([t[0] for t in pts])), f[0], len(pts)))
+                elif f is not None:  # a strength at or below zero: that form does not describe these tests
+                    below.append(f"OCR {float(np.mean([t[0] for t in pts])):.3g} ({f[0]:.3f})")
+            if below:
+                dropped.append(f"'{label}': the line in {name} takes s_u / sigma'_v0 to zero or below at I -> 0 for "
+                               + ", ".join(below) + " (that form does not describe those tests; they are left out"
+                               + (")" if len(lim) >= 2 else ", and too few OCRs remain for the row)"))
             if len(lim) < 2 or pressure_levels(np.array([t[0] for t in lim])) < 2:
                 continue
             x, y = np.log([t[0] for t in lim]), np.log([t[1] for t in lim])
-            label = f"{mu_r:g}{(f', E = {E:g} Pa' if E else ', base E') if several_E else ''}, {name} -> 0"
             n_txt = f"{len(lim)} OCRs ({sum(t[2] for t in lim)} tests)"
             ocr_txt = f"{min(t[0] for t in lim):.3g}–{max(t[0] for t in lim):.3g}"
             if len(lim) == 2:  # the line meets both: no standard error
@@ -1896,7 +1902,8 @@ def across_values_section(out, idx, heads):
                "two rows differ by what the limit's form leaves open), least squares in ln(s_u / sigma'_v0) "
                "against ln OCR over the undrained tests, ± one standard error (`figures/shansep.png`: the tests and the "
                "lines).", "",
-               "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, ""] if fits else []),
+               "| mu_r | tests | OCR | S | m |", "|---|---|---|---|---|", *fits, "",
+               *([("Not fitted: " + "; ".join(dropped) + "."), ""] if dropped else [])] if fits else []),
             *([f"The drained tests' end state: p', e and q/p' averaged over the last {cs_cfg['window']:g} of axial "
                "strain, as each section's critical-state table measures them, steady there (critical: yes) or still "
                "drifting (no; the section says by how much), beside the OCR and e_0 they started from: tests that "

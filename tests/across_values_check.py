@@ -22,7 +22,10 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
   rates would mix the rate's term into m), and the row at I -> 0 through each OCR's line in I: 0.2 OCR^0.7 exactly,
   S = 0.200 ± 0.000, m = 0.700 ± 0.000 (none for mu_r 0.2, whose tests share one rate); a third rate (0.5/s) on
   that line gives three rates per OCR and a row 'sqrt(I) -> 0' too, through each OCR's line in sqrt(I): its S and m
-  worked out here (least squares, as the report's) from those lines' intercepts.
+  worked out here (least squares, as the report's) from those lines' intercepts; at mu_r 0.3 the same lines at 1, 2
+  and 4 /s, where OCR 8's line in sqrt(I) ends below zero: its 'sqrt(I) -> 0' row leaves it out and says so.
+- drained tests: their end state over the critical-state window, and four at critical state at one pressure level,
+  two per OCR: the one-way analysis of variance of e_c and q/p' over the OCRs (scipy's f_oneway).
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
 import csv
@@ -50,7 +53,7 @@ def e0(k):
     return 0.65 + 0.001 * k
 
 
-def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate=1.0, steady_e=None):
+def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate=1.0, steady_e=None, mu_r=None):
     """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows;
     with ocr, an oedometric unloading to that OCR in the K path's place (its stage_keys unload.ocr), the shear from
     sigma'_v0 = 100 kPa isotropic; with iso_ocr, the shear alone, from a sample of its own seated at 50 kPa, preloaded
@@ -98,7 +101,8 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate
         w.writerows(rows)
     keys = ({"kc.k_ratio": K} if ocr is None and iso_ocr is None else {"unload.ocr": ocr} if iso_ocr is None
             else {"pre.pressure": 100e3 * iso_ocr})
-    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": sample, "mu_r": 0.1 if iso_ocr is None else 0.2,
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": sample,
+                 "mu_r": mu_r or (0.1 if iso_ocr is None else 0.2),
                  "e0": 0, "p0": 0, "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300,
                  "csr": 0, "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
                  "stage_keys": keys})
@@ -134,6 +138,17 @@ m_sqrt, c_sqrt = np.polyfit(np.log([2, 4, 8]), np.log(sqrt_lim), 1)
 k_cd = len(jobs)
 test("cd_ocr2", 1.0, [(0.0, 100e3, 0.0), (0.1, 130e3, 90e3), (0.2, 135e3, 94.5e3), (0.26, 135e3, 94.5e3),
                       (0.28, 135e3, 94.5e3), (0.30, 135e3, 94.5e3)], drainage="drained", ocr=2)
+# mu_r 0.3: the OCR tests on the same lines in I at 1, 2 and 4 /s, where the line in sqrt(I) through OCR 8's three takes
+# s_u / sigma'_v0 below zero at I -> 0: the 'sqrt(I) -> 0' row leaves it out and says so, with that limit
+neg_lim = {}
+for ocr in (2, 4, 8):
+    y = [0.25 * ocr ** 0.8, 0.5 * ocr ** 0.8 - 0.2 * ocr ** 0.7]
+    y.append(y[0] + 3 * (y[1] - y[0]))
+    for r, v in zip((1, 2, 4), y):
+        test(f"cu3_ocr{ocr}_rate{r}", 1.0,
+             [(0.0, 100e3, 0.0), (0.02, 90e3, 2 * v * 100e3), (0.05, 80e3, 1.8 * v * 100e3)], ocr=ocr, rate=float(r),
+             mu_r=0.3)
+    neg_lim[ocr] = np.polyfit(np.sqrt([5e-4, 1e-3, 2e-3]), y, 1)[1]
 # Four more at critical state (e steady), two per OCR (2 and 4), at p'_c 135 and 140 kPa (one pressure level): e_c 0.70,
 # 0.72 and 0.71, 0.74, q/p' 0.70, 0.72 and 0.70, 0.74; the line under the table gives their one-way analysis of
 # variance over the two OCRs, worked out here by scipy's f_oneway
@@ -197,6 +212,12 @@ if want_verdict not in sec.splitlines():
                  "\n".join(x for x in sec.splitlines() if x.startswith("Over the")))
 if ends.split("\n\n")[0].splitlines()[2:] != want_ends:
     fails.append("the drained tests' end state:\n" + ends + "\nwanted:\n" + "\n".join(want_ends))
+want_neg = (f"Not fitted: '0.3, sqrt(I) -> 0': the line in sqrt(I) takes s_u / sigma'_v0 to zero or below at I -> 0 "
+            f"for OCR 8 ({neg_lim[8]:.3f}) (that form does not describe those tests; they are left out).")
+if neg_lim[8] >= 0 or min(neg_lim[2], neg_lim[4]) <= 0 or want_neg not in sec.splitlines() or \
+        not any(x.startswith("| 0.3, sqrt(I) -> 0 | 2 OCRs (6 tests) | 2–4 | ") for x in sec.splitlines()):
+    fails.append(f"a limit below zero in sqrt(I) (mu_r 0.3, OCR 8 at {neg_lim[8]:.3f}) left out and said: expected\n  "
+                 f"{want_neg}\ngot\n" + "\n".join(x for x in sec.splitlines() if x.startswith(("Not fitted", "| 0.3"))))
 if "| 0.2, I -> 0 |" in sec:
     fails.append("an I -> 0 row from tests at one rate (mu_r 0.2): " + sec)
 if not os.path.isfile(os.path.join(work, "figures", "shansep.png")):
