@@ -14,6 +14,9 @@ number I (the low-I form of the mu(I) rheology): at its peak (10 % strain) q/p' 
   I and s_u / sigma'_v0, and 0.300 ± 0.000 at I -> 0 with the slowest's excess +0.008; drained studies have no such table.
   Series F, the same after a K0 loading at 0.5 /s to a larger q: each test's own rate and its shear stage's s_u, and
   the peak table's q_peak and max q/p' of the shear, not of the loading (its oedometric rows are the consolidation).
+- The limit's form (three rates or more): each limit by a line in I and in sqrt(I) with its lack-of-fit p; series E
+  (one test per rate) no p, an undrained series by its s_u alone, series D (two rates) no row; series G, two seeds at
+  three rates on 0.30 + 40 I +- 0.01: p 1.000 for the line in I, the sqrt(I) line's limit and p worked out here.
 - A test without a rate (rate_group ""): not in the section. Without any rate group there is no section.
 - Series D at 10 and 30 /s reaches I = 1.2e-2, past the line's low-I range (1e-2): a note names it, and only it.
 - The peak table gives each test's q_peak, and the walls' q less the damping's drag (2 % of q, NaN in the first two
