@@ -25,10 +25,12 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
   worked out here (least squares, as the report's) from those lines' intercepts; at mu_r 0.3 the same lines at 1, 2
   and 4 /s, where OCR 8's line in sqrt(I) ends below zero: its 'sqrt(I) -> 0' row leaves it out and says so.
 - drained tests: their end state over the critical-state window, and four at critical state at one pressure level,
-  two per OCR: the one-way analysis of variance of e_c and q/p' over the OCRs (scipy's f_oneway).
+  two per OCR: the one-way analysis of variance of e_c and q/p' over the OCRs (scipy's f_oneway); none over critical
+  states at two pressure levels or without a replicate (end_states_verdict called directly).
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
 import csv
+import importlib.util
 import json
 import math
 import os
@@ -38,7 +40,7 @@ import sys
 import numpy as np
 import scipy.stats
 
-from synthetic_study import study_report
+from synthetic_study import SCRIPT, study_report
 
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/across_values_check"
 shutil.rmtree(work, ignore_errors=True)
@@ -218,6 +220,17 @@ if neg_lim[8] >= 0 or min(neg_lim[2], neg_lim[4]) <= 0 or want_neg not in sec.sp
         not any(x.startswith("| 0.3, sqrt(I) -> 0 | 2 OCRs (6 tests) | 2–4 | ") for x in sec.splitlines()):
     fails.append(f"a limit below zero in sqrt(I) (mu_r 0.3, OCR 8 at {neg_lim[8]:.3f}) left out and said: expected\n  "
                  f"{want_neg}\ngot\n" + "\n".join(x for x in sec.splitlines() if x.startswith(("Not fitted", "| 0.3"))))
+# No analysis of variance where the critical states lie at two pressure levels (p'_c 135 and 280 kPa: the
+# critical-state line's slope, not the axis, would separate them), nor without a replicate in any value
+spec = importlib.util.spec_from_file_location("grainlab_plot", SCRIPT)
+gp = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(gp)
+two_levels = [("a", 135e3, 0.70, 0.70), ("a", 280e3, 0.68, 0.70), ("b", 135e3, 0.71, 0.70), ("b", 280e3, 0.69, 0.72)]
+if gp.end_states_verdict(two_levels) != [] or gp.end_states_verdict([(s, 135e3, e, 0.7) for s, e in
+                                                                        (("a", 0.70), ("b", 0.71), ("c", 0.72))]) != []:
+    fails.append("an analysis of variance over critical states at two pressure levels, or without replicates")
+if not gp.end_states_verdict([(s, p, e, M) for s, p, e, M in two_levels if p < 2e5] + [("a", 138e3, 0.72, 0.71)]):
+    fails.append("no analysis of variance over three critical states at one pressure level with a replicate")
 if "| 0.2, I -> 0 |" in sec:
     fails.append("an I -> 0 row from tests at one rate (mu_r 0.2): " + sec)
 if not os.path.isfile(os.path.join(work, "figures", "shansep.png")):
