@@ -1700,21 +1700,17 @@ def isotropic_ocr(out, j):
 
 
 def one_way_anova(groups):
-    """One-way analysis of variance: whether the means of the groups (a dict of lists) differ by more than the values
-    scatter within them. (F, p, k - 1, n - k) with F the between-group mean square over the within-group one; None
-    with fewer than two groups, no replicate in any (n = k), or no scatter within them."""
+    """One-way analysis of variance (scipy's f_oneway): whether the means of the groups (a dict of lists) differ by more
+    than the values scatter within them. (F, p, k - 1, n - k); None with fewer than two groups, no replicate in any
+    (n = k), or no scatter within them (F undefined)."""
     g = [np.asarray(v, dtype=float) for v in groups.values() if len(v)]
     n, k = sum(len(v) for v in g), len(g)
-    if k < 2 or n <= k:
+    if k < 2 or n <= k or sum(float(np.sum((v - v.mean()) ** 2)) for v in g) <= 1e-12 * max(1.0, sum(
+            float(np.sum(v ** 2)) for v in g)):
         return None
-    grand = float(np.mean(np.concatenate(g)))
-    ss_b = sum(len(v) * (float(v.mean()) - grand) ** 2 for v in g)
-    ss_w = sum(float(np.sum((v - v.mean()) ** 2)) for v in g)
-    if ss_w <= 1e-12 * max(1.0, grand ** 2 * n):
-        return None
-    from scipy.stats import f as f_dist
-    F = (ss_b / (k - 1)) / (ss_w / (n - k))
-    return F, float(f_dist.sf(F, k - 1, n - k)), k - 1, n - k
+    from scipy.stats import f_oneway
+    r = f_oneway(*g)
+    return float(r.statistic), float(r.pvalue), k - 1, n - k
 
 
 def end_states_verdict(crit):

@@ -25,7 +25,7 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
   worked out here (least squares, as the report's) from those lines' intercepts; at mu_r 0.3 the same lines at 1, 2
   and 4 /s, where OCR 8's line in sqrt(I) ends below zero: its 'sqrt(I) -> 0' row leaves it out and says so.
 - drained tests: their end state over the critical-state window, and four at critical state at one pressure level,
-  two per OCR: the one-way analysis of variance of e_c and q/p' over the OCRs (scipy's f_oneway); none over critical
+  two per OCR: the one-way analysis of variance of e_c and q/p' over the OCRs (from its definition); none over critical
   states at two pressure levels or without a replicate (end_states_verdict called directly).
 Each value has its section; the table comes before them, a row a test. Printed to 1-3 decimals and exact here.
 """
@@ -153,7 +153,7 @@ for ocr in (2, 4, 8):
     neg_lim[ocr] = np.polyfit(np.sqrt([5e-4, 1e-3, 2e-3]), y, 1)[1]
 # Four more at critical state (e steady), two per OCR (2 and 4), at p'_c 135 and 140 kPa (one pressure level): e_c 0.70,
 # 0.72 and 0.71, 0.74, q/p' 0.70, 0.72 and 0.70, 0.74; the line under the table gives their one-way analysis of
-# variance over the two OCRs, worked out here by scipy's f_oneway
+# variance over the two OCRs, worked out here from its definition (anova)
 cs_tests = [("cs_ocr2_a", 2, 0.70, 0.70, 135e3), ("cs_ocr2_b", 2, 0.72, 0.72, 140e3),
             ("cs_ocr4_a", 4, 0.71, 0.70, 135e3), ("cs_ocr4_b", 4, 0.74, 0.74, 140e3)]
 for name, ocr, e_c, M, p_c in cs_tests:
@@ -201,13 +201,25 @@ want_ends = [f"| kc.k_ratio = 1 | cad_k1 | - | {e0(2):.4f} | - | - | - | - |",
              f"| unload.ocr = 2 | cd_ocr2 | 2 | {e0(k_cd):.4f} | 135.0 | {e0(k_cd) - 0.04:.4f} | 0.700 | no |"] + \
     [f"| unload.ocr = {o} | {n} | {o} | {e:.4f} | {p / 1e3:.1f} | {e:.4f} | {M:.3f} | yes |"
      for n, o, e, M, p in cs_tests]
-f_e = scipy.stats.f_oneway([0.70, 0.72], [0.71, 0.74])
-f_m = scipy.stats.f_oneway([0.70, 0.72], [0.70, 0.74])
+
+
+def anova(*groups):
+    """F (between-group mean square over within-group) and its p, from the definition."""
+    allv = [v for g in groups for v in g]
+    grand, n, k = sum(allv) / len(allv), len(allv), len(groups)
+    ss_b = sum(len(g) * (sum(g) / len(g) - grand) ** 2 for g in groups)
+    ss_w = sum((v - sum(g) / len(g)) ** 2 for g in groups for v in g)
+    F = (ss_b / (k - 1)) / (ss_w / (n - k))
+    return F, scipy.stats.f.sf(F, k - 1, n - k)
+
+
+f_e = anova([0.70, 0.72], [0.71, 0.74])
+f_m = anova([0.70, 0.72], [0.70, 0.74])
 want_verdict = (f"Over the 4 critical states, at one pressure level (p'_c 135.0–140.0 kPa), a one-way analysis of "
                 "variance asks whether the sections' values move them by more than the tests of one value "
                 "(the seeds) scatter: "
-                f"e_c 0.7000–0.7400 (F = {f_e.statistic:.2f} on 1 and 2 degrees of freedom, p = {f_e.pvalue:.3f}); "
-                f"q/p' 0.700–0.740 (F = {f_m.statistic:.2f} on 1 and 2 degrees of freedom, p = {f_m.pvalue:.3f}). "
+                f"e_c 0.7000–0.7400 (F = {f_e[0]:.2f} on 1 and 2 degrees of freedom, p = {f_e[1]:.3f}); "
+                f"q/p' 0.700–0.740 (F = {f_m[0]:.2f} on 1 and 2 degrees of freedom, p = {f_m[1]:.3f}). "
                 "p < 0.05: the value moves it; larger: within the seeds' scatter.")
 if want_verdict not in sec.splitlines():
     fails.append(f"the critical end states' analysis of variance: expected\n  {want_verdict}\ngot\n" +
