@@ -1705,8 +1705,8 @@ def one_way_anova(groups):
     (n = k), or no scatter within them (F undefined)."""
     g = [np.asarray(v, dtype=float) for v in groups.values() if len(v)]
     n, k = sum(len(v) for v in g), len(g)
-    if k < 2 or n <= k or sum(float(np.sum((v - v.mean()) ** 2)) for v in g) <= 1e-12 * max(1.0, sum(
-            float(np.sum(v ** 2)) for v in g)):
+    ss_w = sum(float(np.sum((v - v.mean()) ** 2)) for v in g)  # the scatter within the groups
+    if k < 2 or n <= k or ss_w <= 1e-12 * max(1.0, sum(float(np.sum(v ** 2)) for v in g)):
         return None
     from scipy.stats import f_oneway
     r = f_oneway(*g)
@@ -2773,8 +2773,8 @@ def lack_of_fit(x, y, groups):
     n, k = len(y), len(keys)
     if k < 3 or n <= k:
         return None
-    A = np.vstack([x, np.ones_like(x)]).T
-    yh = A @ np.linalg.lstsq(A, y, rcond=None)[0]
+    icpt, _, slope = line_to_zero(x, y)  # (k >= 3 groups: x spans a range)
+    yh = icpt + slope * x
     member = [np.array([g == key for g in groups]) for key in keys]
     ss_pe = sum(float(np.sum((y[m] - y[m].mean()) ** 2)) for m in member)
     ss_lof = sum(int(m.sum()) * float(y[m].mean() - yh[m].mean()) ** 2 for m in member)
