@@ -1775,16 +1775,14 @@ def across_values_section(out, idx, heads):
             coed_rows += cyclic_oedometer_rows(j, d, s, heads[j["name"]])
             coed.append((j, d, s))
             continue
-        m = s["stage"] == st["name"]
-        if st.get("type") != "triaxial" or not m.any():
+        pk = shear_peak(s, st)
+        if st.get("type") != "triaxial" or pk is None:
             continue
-        ext = st.get("direction") == "extension"
-        q = -s["q"][m] if ext else s["q"][m]
-        k = int(np.argmax(q))
+        m, k = pk
         p0, q0 = float(st["p_0"]), float(st["q_0"])
         undrained = st.get("drainage") == "undrained"
         su = abs(float(s["q"][m][k])) / 2
-        ratio = su / (p0 + 2 * q0 / 3)
+        ratio = su / vertical_stress_0(st)
         if undrained and ocr is not None and ocr > 0:
             shansep.setdefault((j.get("E", 0), j["mu_r"], float(st.get("axial_strain_rate", 0))), []).append(
                 (float(ocr), ratio))
@@ -1800,7 +1798,7 @@ def across_values_section(out, idx, heads):
                            if c is not None and "e" in c else "- | - | - | - |"))
             if c is not None and c.get("ok"):
                 crit.append((heads[j["name"]], float(c["p"]), float(c["e"]), float(c["qp"])))
-        rising = " (rising)" if k == len(q) - 1 else ""  # no peak: q still rose at the stage's end
+        rising = " (rising)" if k == int(m.sum()) - 1 else ""  # no peak: q still rose at the stage's end
         rows.append(f"| {heads[j['name']]} | {j['name']} | {st.get('drainage')} | "
                     f"{number_text(float(ocr) if ocr is not None else None, '.3g')} | {p0 / 1e3:.1f} | {q0 / 1e3:.1f} | "
                     f"{float(s['e'][m][0]):.4f} | {float(s['q'][m][k]) / 1e3:.1f}{rising} | "
@@ -2963,20 +2961,35 @@ def test_stage(run_dir):
         return None
 
 
-def undrained_strength(s, st):
-    """(I, s_u / sigma'_v0) of an undrained test's shear stage st (test_stage) in its series s: s_u = |q_peak| / 2 of
-    the stage's rows (the largest |q| along its loading, a single row, as across_values_section takes it) over the
-    vertical stress it was consolidated to, sigma'_v0 = p'_0 + 2 q_0 / 3, and the inertial number of that row. None
-    without the stage, its start stress or the inertial number."""
-    try:
-        v0 = float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
-    except (KeyError, TypeError, ValueError):
-        return None
+def shear_peak(s, st):
+    """(m, k) of a shear stage st (summary.json's) in its series s: m the stage's rows, k the row among them of the
+    largest q along its loading (-q in extension): the peak of |q| as a single row, which across_values_section's
+    table and undrained_strength both take. None where the series has no row of the stage."""
     m = s["stage"] == st.get("name")
-    if v0 <= 0 or not m.any() or "inertial_number" not in s:
+    if not m.any():
         return None
     q = -s["q"][m] if st.get("direction") == "extension" else s["q"][m]
-    k = int(np.argmax(q))
+    return m, int(np.argmax(q))
+
+
+def vertical_stress_0(st):
+    """sigma'_v0 = p'_0 + 2 q_0 / 3 of a stage st (summary.json's): the vertical stress it started from, which s_u is
+    normalised by (SHANSEP; CAU against CIU). KeyError/TypeError/ValueError without its start stress."""
+    return float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
+
+
+def undrained_strength(s, st):
+    """(I, s_u / sigma'_v0) of an undrained test's shear stage st (test_stage) in its series s: s_u = |q_peak| / 2 at
+    the stage's shear_peak over the vertical stress it was consolidated to (vertical_stress_0), and the inertial
+    number of that row. None without the stage, its start stress or the inertial number."""
+    try:
+        v0 = vertical_stress_0(st)
+    except (KeyError, TypeError, ValueError):
+        return None
+    pk = shear_peak(s, st)
+    if v0 <= 0 or pk is None or "inertial_number" not in s:
+        return None
+    m, k = pk
     I = float(s["inertial_number"][m][k])
     return (I, abs(float(s["q"][m][k])) / 2 / v0) if math.isfinite(I) else None
 
@@ -3200,7 +3213,7 @@ def cyclic_oedometer_rows(j, d, s, head=None):
         A = st.get("sigma_v_amplitude")
         sv0 = st.get("sigma_v_0")
         if sv0 is None and st.get("p_0") is not None:  # a strain reversal's start, as the run takes it
-            sv0 = float(st["p_0"]) + 2 * float(st.get("q_0", 0)) / 3
+            sv0 = vertical_stress_0(st)
         amp = f"{A / 1e3:.1f} ({A / sv0:.2f})" if A and sv0 else f"eps_a ± {c['emax'][0]:.3g}"
         strain = (f"{c['eps'][0]:.3f} | {c['eps'][-1]:.3f} | {cycle_increments(c['eps'])} | "
                   f"{power_law_text(c['N'], c['eps'])} | {rate_decay_text(c['N'], c['eps'])} | "

@@ -6,7 +6,8 @@ as a run writes them (summary.json's stages with p_0, q_0; series rows by stage 
 - K = 0.5: the shear starts at p'_0 = 133.3, q_0 = 100 kPa (sigma'_v0 = 200 kPa), peaks at q = 180 kPa at 2 % and
   softens: s_u = 90 kPa, s_u / sigma'_v0 = 0.450; its largest q/p' is 1.2 (on the softening branch, p' falling);
 - K = 1: p'_0 = 200, q_0 = 0, q rises to 150 kPa at the stage's end: '(rising)', s_u = 75 kPa, 0.375, max q/p' 150/190;
-- a drained test in the same study: no s_u ('-');
+- a drained test in the same study: no s_u ('-'); an undrained extension: its peak the most negative q (-90 kPa),
+  s_u = 45 kPa, 0.225;
 - each test's e_0, the void ratio of its shear's first row (0.650, 0.651, ...: one a test; falling along the shear);
 - three undrained tests after an oedometric unloading to OCR 2, 4 and 8 (summary.json's OCR; study.json's stage_keys
   unload.ocr), at sigma'_v0 = 100 kPa with s_u / sigma'_v0 = 0.25 OCR^0.8 exactly: their OCR column, and SHANSEP's
@@ -55,7 +56,8 @@ def e0(k):
     return 0.65 + 0.001 * k
 
 
-def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate=1.0, steady_e=None, mu_r=None):
+def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate=1.0, steady_e=None, mu_r=None,
+         direction="compression"):
     """A K path from 20 kPa to sigma_v = 200 kPa (K = 1: isotropic to 200 kPa), then the shear's (eps_a, p, q) rows;
     with ocr, an oedometric unloading to that OCR in the K path's place (its stage_keys unload.ocr), the shear from
     sigma'_v0 = 100 kPa isotropic; with iso_ocr, the shear alone, from a sample of its own seated at 50 kPa, preloaded
@@ -84,7 +86,7 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate
               {"name": "kc", "type": "triaxial", "drainage": "oedometric", "direction": "extension", "b": 0,
                "p_0": 200e3, "q_0": 0, "K0": 0.8, "OCR": ocr})
     stages = [{"name": "seat", "type": "isotropic"}, before,
-              {"name": "cau", "type": "triaxial", "drainage": drainage, "direction": "compression", "b": 0,
+              {"name": "cau", "type": "triaxial", "drainage": drainage, "direction": direction, "b": 0,
                "p_0": p0, "q_0": q0, "axial_strain_rate": rate}]
     sample = "sample_x"
     if iso_ocr is not None:
@@ -105,7 +107,7 @@ def test(name, K, shear_rows, drainage="undrained", ocr=None, iso_ocr=None, rate
             else {"pre.pressure": 100e3 * iso_ocr})
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": sample,
                  "mu_r": mu_r or (0.1 if iso_ocr is None else 0.2),
-                 "e0": 0, "p0": 0, "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300,
+                 "e0": 0, "p0": 0, "drainage": drainage, "direction": direction, "b": 0, "seed": 1, "count": 300,
                  "csr": 0, "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0, "rate_group": "",
                  "stage_keys": keys})
 
@@ -159,6 +161,11 @@ cs_tests = [("cs_ocr2_a", 2, 0.70, 0.70, 135e3), ("cs_ocr2_b", 2, 0.72, 0.72, 14
 for name, ocr, e_c, M, p_c in cs_tests:
     test(name, 1.0, [(0.0, 100e3, 0.0), (0.1, 130e3, 90e3), (0.2, p_c, M * p_c)] +
          [(ea, p_c, M * p_c) for ea in (0.26, 0.28, 0.30)], drainage="drained", ocr=ocr, steady_e=e_c)
+# An undrained extension from sigma'_v0 = 200 kPa (K = 1): q falls to -90 kPa at 5 % and comes back to -80: its peak is
+# the most negative q (q_peak -90 kPa, s_u 45 kPa, 0.225), not the largest q (0 at its start); max |q/p'| 90/170
+k_ext = len(jobs)
+test("cae_k1", 1.0, [(0.0, 200e3, 0.0), (0.02, 180e3, -60e3), (0.05, 170e3, -90e3), (0.1, 165e3, -80e3)],
+     direction="extension")
 
 fails = []
 # study.json's samples, as a study lists them: every value's section reports only the samples its tests shear
@@ -171,7 +178,8 @@ if "## Across the values" not in text:
 sec = text.split("## Across the values")[1].split("\n## ")[0]
 want = [f"| kc.k_ratio = 0.5 | cau_k0.5 | undrained | - | 133.3 | 100.0 | {e0(0):.4f} | 180.0 | 90.0 (0.450) | 1.200 |",
         f"| kc.k_ratio = 1 | cau_k1 | undrained | - | 200.0 | 0.0 | {e0(1):.4f} | 150.0 (rising) | 75.0 (0.375) | 0.789 |",
-        f"| kc.k_ratio = 1 | cad_k1 | drained | - | 200.0 | 0.0 | {e0(2):.4f} | 200.0 (rising) | - | 0.741 |"]
+        f"| kc.k_ratio = 1 | cad_k1 | drained | - | 200.0 | 0.0 | {e0(2):.4f} | 200.0 (rising) | - | 0.741 |",
+        f"| kc.k_ratio = 1 | cae_k1 | undrained | - | 200.0 | 0.0 | {e0(k_ext):.4f} | -90.0 | 45.0 (0.225) | 0.529 |"]
 for k, ocr in enumerate((2, 4, 8)):
     r = 0.25 * ocr ** 0.8
     want.append(f"| unload.ocr = {ocr} | cu_ocr{ocr} | undrained | {ocr} | 100.0 | 0.0 | {e0(3 + k):.4f} | {2 * r * 100:.1f} | "
