@@ -1210,6 +1210,24 @@ def pressure_levels(p):
     return levels
 
 
+def csl_groups(states):
+    """The critical states (run, state) of csl() as its lines are fitted: per (mu_r, extension, b, rate)."""
+    groups = {}
+    for _, cs in states:
+        groups.setdefault((cs["mu_r"], cs["ext"], cs["b"], cs["rate"]), []).append(cs)
+    return groups
+
+
+def line_at(x, y, x0):
+    """The least-squares line through (x, y) (three points or more) at x0, with the standard error of the line there
+    (the fitted mean's, s sqrt(1/n + (x0 - mean x)^2 / Sxx): the line's own uncertainty, not a new point's scatter)."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    slope, icpt, _, _ = fit(x, y)
+    s2 = float(np.sum((y - icpt - slope * x) ** 2)) / (len(x) - 2)
+    sxx = float(np.sum((x - x.mean()) ** 2))
+    return icpt + slope * x0, math.sqrt(s2 * (1 / len(x) + (x0 - x.mean()) ** 2 / sxx))
+
+
 def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     states = []
     for run, s in runs:
@@ -1224,9 +1242,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     # fabric anisotropies (a_c is signed against the stress deviator, SPEC §7, so > 0 in both: its size differs), so
     # their lines are fitted apart; so are the rates of a rate series (the same p'_0 at several I: a line through them
     # would be a rate effect, or singular), named where the runs have more than one
-    groups = {}
-    for run, cs in states:
-        groups.setdefault((cs["mu_r"], cs["ext"], cs["b"], cs["rate"]), []).append(cs)
+    groups = csl_groups(states)
     several_rates = len({k[3] for k in groups}) > 1
     lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | interior e_c = a + b p' | a_c = c + d ln(p'/1 kPa) "
              "| M = abs(q/p') (phi_cs) | largest I | M walls, less drag, interior |", "|---|---|---|---|---|---|---|---|---|"]
@@ -1754,7 +1770,7 @@ def across_values_section(out, idx, heads):
     accumulate against the amplitude. Drained tests get their end state side by side too, as their critical-state
     tables measure it (the window's means, steady or not): whether tests that started apart (another OCR, e_0) end on
     one state, as a unique critical-state line has them."""
-    rows, shansep, coed_rows, coed, quasi, ends, crit, dropped = [], {}, [], [], {}, [], [], []
+    rows, shansep, coed_rows, coed, quasi, ends, crit, dropped, mono = [], {}, [], [], {}, [], [], [], []
     cs_cfg = idx.get("critical_state", {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005})
     for j in idx["jobs"]:
         d = os.path.join(out, j["dir"])
@@ -1778,6 +1794,8 @@ def across_values_section(out, idx, heads):
         pk = shear_peak(s, st)
         if st.get("type") != "triaxial" or pk is None:
             continue
+        if s["monotonic"].any():
+            mono.append((j, d, s, st["name"]))
         m, k = pk
         p0, q0 = float(st["p_0"]), float(st["q_0"])
         undrained = st.get("drainage") == "undrained"
@@ -1904,7 +1922,49 @@ def across_values_section(out, idx, heads):
                "start apart and end at one e at one p' have forgotten their history, as a unique critical-state line "
                "has it.", "",
                "| section | test | OCR | e_0 | p' at end [kPa] | e at end | q/p' at end | critical |",
-               "|---|---|---|---|---|---|---|---|", *ends, "", *end_states_verdict(crit)] if ends else []), *coed_lines]
+               "|---|---|---|---|---|---|---|---|", *ends, "", *end_states_verdict(crit)] if ends else []),
+            *pooled_state_parameter(out, idx, mono, heads), *coed_lines]
+
+
+# The state-parameter section's lines: (measure, the psi it is set against, the fits table's name, format)
+STATE_PARAMETER_FITS = (("dphi", "psi0", "phi'_max - phi'_cs [°] on psi_0", ".2f"),
+                        ("d", "psi0", "(-d)_max on psi_0", ".3f"),
+                        ("d", "psi_d", "(-d)_max on psi at it", ".3f"))
+
+
+# A stage axis on the shear stage's own end moves where a test stops, not what it is: its values' tests may be pooled
+SHEAR_END_KEYS = ("max_axial_strain", "max_steps")
+
+
+def pooled_state_parameter(out, idx, mono, heads):
+    """The state-parameter section (state_parameter_section) over the values of a study's stage axes together: one
+    critical-state line through the critical states of every value's tests (the sections below fit each value's
+    apart), so that samples prepared apart (a preparation stage's friction or preload, a K path) are set against one
+    line, as Been & Jefferies's state parameter has it. Pooled only where nothing but the sample or the test's
+    consolidation differs: tests of another E, sphere count or grading, or whose shear stage a stage axis sets (but
+    its end), are pooled apart (mono: (job, run directory, series, its shear stage's name))."""
+    cs_cfg = idx.get("critical_state", {"window": 0.05, "qp_tol": 0.05, "p_tol": 0.05, "e_tol": 0.005})
+    tol = (cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
+    pools = {}
+    for j, d, s, shear in mono:
+        own = tuple(sorted((k, v) for k, v in j.get("stage_keys", {}).items()
+                           if k.split(".")[0] == shear and k.split(".", 1)[-1] not in SHEAR_END_KEYS))
+        pools.setdefault((j.get("E", 0), j.get("count", 0), j.get("grading", ""), own), []).append((j, d, s))
+    lines = []
+    os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+    for n, (key, runs) in enumerate(sorted(pools.items(), key=lambda kv: str(kv[0]))):
+        states = [(d, c) for _, d, s in runs if (c := critical_state(s, cs_cfg["window"], *tol)) and c["ok"]]
+        what = ", ".join(x for x in ([f"E = {key[0]:g} Pa"] if len(pools) > 1 and key[0] else [])
+                         + ([f"{key[1]} spheres"] if len({k[1] for k in pools}) > 1 else [])
+                         + ([f"grading {key[2]}"] if len({k[2] for k in pools}) > 1 else [])
+                         + [f"{k} = {v:g}" for k, v in key[3]])
+        lines += state_parameter_section(
+            runs, states, cs_cfg["window"], tol, os.path.join(out, "figures"), peak_settings(idx), heads,
+            "### State parameter across the values" + (f": {what}" if what else ""),
+            "state_parameter" + (f"_{n + 1}" if len(pools) > 1 else ""),
+            "The drained compressions of every value together, on one critical-state line through all their critical "
+            "states (each value's section below fits its own). ")
+    return lines
 
 
 def across_gradings_section(out, idx, figs):
@@ -2122,6 +2182,7 @@ def study_lines(out, idx, figs_rel, fits=None):
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
              *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
+             *state_parameter_section(mono, states, cs_cfg["window"], tol, figs, peak),
              *stiffness_section(mono, figs),
              *contacts_section([(j["name"], d) for j, d, _ in mono]),
              *size_classes.report_section(size_tests(out, mono)),
@@ -2187,6 +2248,113 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
             "| test | mu_r | phi'_max [°] | phi'_cs [°] | (-d)_max ± se (eps_a %) | psi_max [°] | (phi'_max - phi'_cs) / "
             "(-d)_max [°] | Rowe K | phi_f [°] (rms) | phi_mu [°] |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
+
+
+def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), heads=None,
+                            title="## State parameter (drained compression)", figname="state_parameter", lead=""):
+    """The state parameter psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985) of the drained compression tests (b = 0):
+    the void ratio at the start of the shear less the critical-state line's at the same p' (csl's line e_c = a + b p',
+    per mu_r and rate, through the study's own critical states at three pressure levels or more, dense and loose
+    tests alike), beside the test's peak friction over the line's phi'_cs and its largest dilatancy (-d)_max
+    (dilatancy.analyse, as the stress-dilatancy table); over three tests or more of a line, each measure's line in
+    psi_0 and, for comparison, in e_0 alone: whether psi_0 gathers density and pressure into one relation (Been &
+    Jefferies's finding for sands), which e_0 cannot where the pressures differ. psi_end: the end window's e less the
+    line's at its p' (about 0 on the line). Empty without such a test in a group with a line. heads: the test's name ->
+    its section's heading (a column of its own: the table across a stage axis's values, which pools them); title, the
+    figure's name and a lead sentence for that use."""
+    groups = {k: g for k, g in csl_groups(states).items() if pressure_levels([c["p"] for c in g]) >= 3}
+    tests = {}
+    for j, d, s in mono:
+        ps = peak_state(s, peak)
+        if j["drainage"] != "drained" or ps["ext"] or ps["b"] > 0 or "M" not in ps or "eps_v" not in s:
+            continue
+        m = s["monotonic"]
+        key = (s["mu_r"][m][-1], False, ps["b"], float(s.get("rate", 0.0)))
+        if key not in groups:
+            continue
+        pc, ec = [c["p"] / 1e3 for c in groups[key]], [c["e"] for c in groups[key]]
+        r0 = int(np.flatnonzero(ps["m"])[0])  # the shear's first row: its e_0 and p'_0
+        p0, e0 = float(s["p"][r0]) / 1e3, float(s["e"][r0])
+        e_line, se_line = line_at(pc, ec, p0)
+        c = critical_state(s, window, *tol)
+        psi_end = (float(c["e"]) - line_at(pc, ec, float(c["p"]) / 1e3)[0], c["ok"]) if c and "e" in c else None
+        a = dilatancy.analyse(s["eps_a"][m], s["eps_v"][m], s["q_p"][m])
+        phi_cs = friction_angle(float(np.mean([x["M"] for x in groups[key]])), False)
+        # psi where the test dilates fastest (the row of (-d)_max): Nor-Sand's D_min = chi psi is in the current state
+        # (Jefferies 1993), which a sample that contracts first reaches denser than it started
+        psi_d = float("nan")
+        if np.isfinite(a["d"]).any():
+            k_d = int(np.nanargmin(a["d"]))
+            psi_d = float(s["e"][m][k_d]) - line_at(pc, ec, float(s["p"][m][k_d]) / 1e3)[0]
+        tests.setdefault(key, []).append(dict(
+            name=j["name"], mu_r=j["mu_r"], p0=p0, e0=e0, e_line=e_line, se_line=se_line, psi0=e0 - e_line,
+            outside=not min(pc) <= p0 <= max(pc), psi_end=psi_end, phi=ps["phi"], dphi=ps["phi"] - phi_cs,
+            phi_cs=phi_cs, d=a["neg_d_max"], d_se=a["se"], psi_d=psi_d))
+    if not tests:
+        return []
+    several_rates = len({k[3] for k in tests}) > 1
+    rows, fit_rows, outside = [], [], False
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4.4))
+    for key, g in sorted(tests.items()):
+        label = f"{key[0]:g}" + (rate_text(key[3], ", ") if several_rates else "")
+        for t in g:
+            outside |= t["outside"]
+            end = ("-" if t["psi_end"] is None else
+                   f"{t['psi_end'][0]:+.4f}" + ("" if t["psi_end"][1] else " (not critical)"))
+            rows.append(("" if heads is None else f"| {heads[t['name']]} ") +
+                        f"| {t['name']} | {label} | {t['p0']:.1f} | {t['e0']:.4f} | {t['e_line']:.4f} ± "
+                        f"{t['se_line']:.4f}{' *' if t['outside'] else ''} | {t['psi0']:+.4f} | {end} | "
+                        f"{t['phi']:.1f} | {t['phi_cs']:.1f} | "
+                        f"{t['dphi']:+.1f} | {number_text(t['d'], '.3f')} ± {number_text(t['d_se'], '.3f')} | "
+                        f"{number_text(t['psi_d'], '+.4f')} |")
+        e0 = np.array([t["e0"] for t in g])
+        for k_ax, (col, xcol, name, fmt) in enumerate(STATE_PARAMETER_FITS):
+            x, y = np.array([t[xcol] for t in g]), np.array([t[col] for t in g])
+            ok = np.isfinite(y) & np.isfinite(x)
+            pts = ax[k_ax].plot(x[ok], y[ok], "o", label=f"mu_r = {label}")[0]
+            for t in g:  # a psi from the line beyond its critical states' pressures: hollow
+                if t["outside"] and math.isfinite(t[col]) and math.isfinite(t[xcol]):
+                    ax[k_ax].plot([t[xcol]], [t[col]], "o", mfc="white", color=pts.get_color())
+            if ok.sum() < 3 or np.ptp(x[ok]) <= 0 or np.ptp(e0[ok]) <= 0:
+                continue
+            B, A, sB, sA = fit(x[ok], y[ok])
+            rms = float(np.sqrt(np.mean((y[ok] - A - B * x[ok]) ** 2)))
+            Be, Ae, _, _ = fit(e0[ok], y[ok])
+            rms_e = float(np.sqrt(np.mean((y[ok] - Ae - Be * e0[ok]) ** 2)))
+            xs = np.linspace(x[ok].min(), x[ok].max(), 2)
+            ax[k_ax].plot(xs, A + B * xs, "-", lw=1, color=pts.get_color())
+            fit_rows.append(f"| {label} | {int(ok.sum())} | {name} | {A:{fmt}} ± {sA:{fmt}} | "
+                            f"{B:{fmt}} ± {sB:{fmt}} | {rms:{fmt}} | {rms_e:{fmt}} |")
+    for a_, (_, xcol, yl, _) in zip(ax, STATE_PARAMETER_FITS):
+        a_.axhline(0, color="0.5", lw=0.8)
+        a_.axvline(0, color="0.5", lw=0.8)
+        a_.set(xlabel="psi_0 = e_0 - e_c(p'_0)" if xcol == "psi0" else "psi at (-d)_max", ylabel=yl.split(" on ")[0])
+        a_.grid(alpha=0.3)
+        legend(a_, fontsize=8)
+    save(fig, figs, figname)
+    return [title, "", lead +
+            "The state parameter psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985; not the dilation angle psi_max "
+            "above): the void ratio at the start of the shear less the critical-state line's (the section above: "
+            "e_c = a + b p', through the critical states of the tests of its mu_r and rate, dense and loose alike) at "
+            "the same p', with the line's standard error there; < 0 denser than critical (the test dilates to reach "
+            "the line), > 0 looser. psi_end: the end window's e less the line's at its p' (about 0 on the line; "
+            "'(not critical)': the end window drifted). phi'_cs: the line's (its critical states' mean q/p'); "
+            "phi'_max and (-d)_max as in the tables above; psi at (-d)_max: e less the line's e_c at the p' of the "
+            "row where the test dilates fastest, the current state that Nor-Sand's D_min = chi psi takes (Jefferies "
+            "1993; its D = d eps_v / d eps_q, here d = d eps_v / d eps_a): a sample that contracts first reaches it "
+            "denser than it started." +
+            (" *: p'_0 outside the pressures of the line's critical states (e_c extrapolated along the line; a drained "
+             "shear at constant sigma_3 ends at a higher p' than it starts)." if outside else "") +
+            f" `figures/{figname}.png` draws the three lines below (hollow: *).",
+            "", ("" if heads is None else "| section ") + "| test | mu_r | p'_0 [kPa] | e_0 | e_c(p'_0) | psi_0 "
+            "| psi_end | phi'_max [°] | phi'_cs [°] | phi'_max - phi'_cs [°] | (-d)_max ± se | psi at (-d)_max |",
+            "|---" * (12 if heads is None else 13) + "|", *rows, "",
+            *(["Each measure on a least-squares line in a psi (its value at psi = 0, where the line puts the critical "
+               "state, and its slope, ± one standard error) and the rms of its residuals beside the rms about a line "
+               "in e_0 alone: one relation in psi for density and pressure together leaves the smaller residuals "
+               "where the tests' pressures differ.", "",
+               "| mu_r | tests | measure | at psi = 0 | slope | rms | rms about a line in e_0 |",
+               "|---|---|---|---|---|---|---|", *fit_rows, ""] if fit_rows else [])]
 
 
 # The reference pressure of the stiffness fits E = E_ref (sigma'_3 / P_REF)^m: the hardening-soil model's p_ref

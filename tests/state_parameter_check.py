@@ -1,0 +1,192 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's state-parameter section (grainlab_plot.py state_parameter_section).
+
+Nine synthetic drained compressions (mu_r 0.1) at p'_0 = 50, 100 and 200 kPa, three states each, built so that:
+- every one ends at critical state (q/p' = 0.75 steady from 20 % to 40 %, p' = 3 p'_0 / (3 - q/p'), e steady) on the
+  line e_c = 0.80 - 5e-4 p' [kPa], so the report's critical-state line is that line exactly;
+- its state parameter psi_0 = e_0 - e_c(p'_0) is the chosen one (-0.06 ... +0.01);
+- its peak friction angle is phi'_cs + 0.5 - 40 psi_0 degrees (q/p' peaks at 10 %) and its largest dilatancy
+  (-d)_max = 0.03 - 2 psi_0 (eps_v piecewise linear: contraction to 5 %, dilation at that rate to 20 %, then none).
+The section must give each test's e_c(p'_0), psi_0 and psi_end (0 on the line), phi'_cs = asin(2.25 / 6.75), the
+difference, (-d)_max and psi at the row of (-d)_max (e less the line's at that row's p', the row found here by
+scripts/dilatancy.py); mark the 50 kPa tests' e_c as extrapolated (their p'_0 below the line's lowest p'_c, 66.7 kPa);
+and fit both measures in psi_0: 0.50 and -40.00 (0.030 and -2.000) with zero residual, where the line in e_0 alone
+leaves a residual (the pressures differ), and (-d)_max on psi at it by least squares worked out here. A mu_r 0.3 test
+(one critical state: no line) and an undrained test are not in the section; without any line, there is no section.
+The same nine over a stage axis: pooled on one line in the table across the values over a preparation stage's key
+(consolidate.mu) or the shear's end (shear.max_axial_strain), a line per value over a key of the shear (shear.mu).
+"""
+import csv
+import json
+import math
+import os
+import shutil
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+import dilatancy as D  # noqa: E402
+from synthetic_study import study_report  # noqa: E402
+
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/state_parameter_check"
+shutil.rmtree(work, ignore_errors=True)
+cols = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t",
+        "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y",
+        "sigma_z"]
+jobs = []
+A_LINE, B_LINE = 0.80, -5e-4  # e_c = A_LINE + B_LINE p' [kPa]
+M_CS = 0.75
+PHI_CS = math.degrees(math.asin(3 * M_CS / (6 + M_CS)))
+eps = np.round(np.arange(0, 0.4001, 0.0025), 10)  # rows every 0.25 %: the dilatancy windows (2 %) lie in a segment
+
+
+def e_line(p_kpa):
+    return A_LINE + B_LINE * p_kpa
+
+
+def test(name, p0, psi0, mu_r=0.1, drainage="drained", keys=None):
+    """A drained compression from p'_0 [kPa] at state psi0, as the docstring builds it; returns its measures. keys:
+    its stage-axis values (study.json's stage_keys, 'stage.key' -> value)."""
+    e0 = e_line(p0) + psi0
+    phi_max = PHI_CS + 0.5 - 40 * psi0
+    s = math.sin(math.radians(phi_max))
+    M_pk = 6 * s / (3 - s)
+    dil = 0.03 - 2 * psi0  # (-d)_max, > 0 for every psi0 here
+    p_c = 3 * p0 / (3 - M_CS)
+    # eps_v at the end takes e from e_0 to the line's e_c(p'_c): e = e_0 - (1 + e_0) eps_v; contraction at rate c to
+    # 5 %, dilation at rate dil to 20 %
+    ev_end = (e0 - e_line(p_c)) / (1 + e0)
+    c = (ev_end + 0.15 * dil) / 0.05
+    assert c > -dil, "the contraction must not dilate faster than the dilation segment"
+    ev = np.where(eps <= 0.05, c * eps, np.where(eps <= 0.20, 0.05 * c - dil * (eps - 0.05), ev_end))
+    eta = np.where(eps <= 0.10, M_pk * eps / 0.10, np.where(eps <= 0.20, M_pk + (M_CS - M_pk) * (eps - 0.10) / 0.10,
+                                                            M_CS))
+    if drainage == "undrained":
+        eta = 0.5 + 3 * eps  # still rising at its end (q/p' by 0.15 over the window): no critical state
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": 0.25,
+                               "drainage": drainage, "direction": "compression", "p_0": p0 * 1e3, "q_0": 0}]}, f)
+    rows = []
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i, (ea, v, qp) in enumerate(zip(eps, ev, eta)):
+            p = 3 * p0 * 1e3 / (3 - qp)  # constant sigma_3 = p'_0
+            e = e0 - (1 + e0) * v
+            row = dict(time=i, step=i, eps_a=ea, eps_v=v, p=p, q=qp * p, q_p=qp, e=e, mu=0.5, mu_r=mu_r,
+                       stage_type=2 if drainage == "drained" else 1, a_c=0.1, a_d=0.05, a_n=0.1, a_t=0.02,
+                       sff_share_c=0.25, sff_share_d=0.25, sff_share_n=0.25, sff_share_t=0.25, sff=qp,
+                       inertial_number=5e-4, sigma_x=p - qp * p / 3, sigma_y=p - qp * p / 3, sigma_z=p + 2 * qp * p / 3)
+            w.writerow(["shear"] + [row[k] for k in cols])
+            rows.append((p, e))
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": mu_r, "e0": 0, "p0": p0 * 1e3,
+                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
+                 "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0.25, "rate_group": "",
+                 **({"stage_keys": keys} if keys else {})})
+    # psi where the test dilates fastest: the row the dilatancy's windows find (the segment's rate is one, so which
+    # of its rows depends on round-off), its e less the line's at its p'
+    k_d = int(np.nanargmin(D.analyse(eps, ev, eta)["d"]))
+    psi_d = rows[k_d][1] - e_line(rows[k_d][0] / 1e3)
+    return dict(name=name, p0=p0, e0=e0, psi0=psi0, phi=phi_max, dil=dil, psi_d=psi_d)
+
+
+fails = []
+want = [test(f"cd_p{p0}_{k}", p0, psi) for p0, psis in ((50, (-0.05, -0.02, 0.01)), (100, (-0.06, -0.03, 0.0)),
+                                                        (200, (-0.04, -0.01, 0.005))) for k, psi in enumerate(psis)]
+test("other_mu_r", 100, -0.02, mu_r=0.3)
+test("undrained", 100, 0.0, drainage="undrained")
+text = study_report(work, jobs)
+head = "## State parameter (drained compression)"
+if head not in text:
+    sys.exit(f"state_parameter_check: no '{head}' in report.md")
+sec = text.split(head)[1].split("\n## ")[0]
+rows = {r.split(" | ")[0][2:]: r.split(" | ") for r in sec.splitlines() if r.startswith("| cd_") or
+        r.startswith("| other") or r.startswith("| undrained")}
+if sorted(rows) != sorted(t["name"] for t in want):
+    fails.append(f"the section's tests: {sorted(rows)}, expected the nine mu_r 0.1 drained ones")
+for t in want:
+    r = rows.get(t["name"])
+    if r is None or len(r) != 12:
+        fails.append(f"{t['name']}: row {r}")
+        continue
+    outside = t["p0"] < 3 * 50 / (3 - M_CS)  # below the line's lowest p'_c: extrapolated, marked *
+    got_ec = f"{e_line(t['p0']):.4f} ± 0.0000" + (" *" if outside else "")
+    expect = [f"{t['p0']:.1f}", f"{t['e0']:.4f}", got_ec, f"{t['psi0']:+.4f}", "+0.0000", f"{t['phi']:.1f}",
+              f"{PHI_CS:.1f}", f"{t['phi'] - PHI_CS:+.1f}"]
+    got = [r[2], r[3], r[4], r[5].replace("-0.0000", "+0.0000"), r[6].replace("-0.0000", "+0.0000"), r[7], r[8], r[9]]
+    if got != expect:
+        fails.append(f"{t['name']}: {got}, expected {expect}")
+    if abs(float(r[10].split(" ± ")[0]) - t["dil"]) > 5e-4:
+        fails.append(f"{t['name']}: (-d)_max {r[10]}, expected {t['dil']:.3f}")
+    if r[11].rstrip(" |") != f"{t['psi_d']:+.4f}":
+        fails.append(f"{t['name']}: psi at (-d)_max {r[11]}, expected {t['psi_d']:+.4f}")
+if "*: p'_0 outside the pressures" not in sec:
+    fails.append("no note on the extrapolated e_c (*)")
+fit_rows = [r for r in sec.splitlines() if r.startswith("| 0.1 | 9 |")]
+# the line in e_0 alone misses: its residual, worked out here
+psi = np.array([t["psi0"] for t in want])
+e0 = np.array([t["e0"] for t in want])
+rms_e = []
+for y in (np.array([t["phi"] - PHI_CS for t in want]), np.array([t["dil"] for t in want])):
+    k, c = np.polyfit(e0, y, 1)
+    rms_e.append(float(np.sqrt(np.mean((y - c - k * e0) ** 2))))
+# (-d)_max on psi at it: least squares worked out here (the rows' psi are not on one line with (-d)_max)
+psi_d = np.array([t["psi_d"] for t in want])
+dil = np.array([t["dil"] for t in want])
+k_dd, c_dd = np.polyfit(psi_d, dil, 1)
+rms_dd = float(np.sqrt(np.mean((dil - c_dd - k_dd * psi_d) ** 2)))
+expect_fits = [f"| 0.1 | 9 | phi'_max - phi'_cs [°] on psi_0 | 0.50 ± 0.00 | -40.00 ± 0.00 | 0.00 | "
+               f"{rms_e[0]:.2f} |",
+               f"| 0.1 | 9 | (-d)_max on psi_0 | 0.030 ± 0.000 | -2.000 ± 0.000 | 0.000 | {rms_e[1]:.3f} |",
+               f"| 0.1 | 9 | (-d)_max on psi at it | {c_dd:.3f} ± "]
+# (the peak's row is the table's phi'_max; the fit takes the unrounded one: exact)
+got_fits = [r.replace("-0.00 |", "0.00 |").replace("-0.000 |", "0.000 |") for r in fit_rows]
+if got_fits[:2] != expect_fits[:2] or len(got_fits) != 3 or not got_fits[2].startswith(expect_fits[2]) or \
+        f"| {k_dd:.3f} ± " not in got_fits[2] or not got_fits[2].endswith(f"| {rms_dd:.3f} | {rms_e[1]:.3f} |"):
+    fails.append(f"the fits: {fit_rows}, expected {expect_fits} (the third: slope {k_dd:.3f}, rms {rms_dd:.3f})")
+if min(rms_e) < 0.01 * np.ptp(psi):
+    fails.append(f"the line in e_0 fits as well as psi_0 ({rms_e}): the test cannot tell them apart")
+# The same nine as a study over a preparation stage's axis (consolidate.mu, a value per state): the table across the
+# values pools them on one line (a section column, the same psi_0 as above); over an axis of the shear stage itself
+# (shear.mu: another material at each value) each value's three get a line of their own, but over its end
+# (shear.max_axial_strain) they are pooled
+STATES = ((50, (-0.05, -0.02, 0.01)), (100, (-0.06, -0.03, 0.0)), (200, (-0.04, -0.01, 0.005)))
+for axis in ("consolidate.mu", "shear.mu", "shear.max_axial_strain"):
+    shutil.rmtree(work)
+    jobs.clear()
+    for p0, psis in STATES:
+        for k, psi in enumerate(psis):
+            test(f"cd_p{p0}_{k}", p0, psi, keys={axis: (0.1, 0.3, 0.5)[k]})
+    text = study_report(work, jobs)
+    across = text.split("## Across the values")[1].split("\n## ")[0] if "## Across the values" in text else ""
+    heads = [x for x in across.splitlines() if x.startswith("### State parameter across the values")]
+    if axis == "consolidate.mu":
+        want_heads = ["### State parameter across the values"]
+        for t in want:
+            k = int(t["name"][-1])
+            sp = across.split("### State parameter across the values")[-1]
+            start = f"| {axis} = {(0.1, 0.3, 0.5)[k]:g} | {t['name']} |"
+            row = next((x for x in sp.splitlines() if x.startswith(start)), "")
+            if f"| {t['psi0']:+.4f} |".replace("-0.0000", "+0.0000") not in row.replace("-0.0000", "+0.0000"):
+                fails.append(f"pooled over {axis}: {t['name']}'s row {row!r}, psi_0 {t['psi0']:+.4f} wanted")
+    elif axis == "shear.mu":
+        want_heads = [f"### State parameter across the values: {axis} = {v:g}" for v in (0.1, 0.3, 0.5)]
+    else:  # the shear's own end: where it stops, not what it is: pooled
+        want_heads = ["### State parameter across the values"]
+    if heads != want_heads:
+        fails.append(f"over {axis}: the state-parameter headings across the values {heads}, expected {want_heads}")
+# without a line (the mu_r 0.3 test alone): no section
+shutil.rmtree(work)
+jobs.clear()
+test("lonely", 100, -0.02)
+if head in study_report(work, jobs):
+    fails.append("a section without a critical-state line")
+if fails:
+    sys.exit("state_parameter_check: " + "\n".join(fails))
+print(f"state_parameter_check: ok (9 tests on the line, psi_0 -0.06 to +0.01; rms about a line in e_0 {rms_e[0]:.2f}° "
+      f"and {rms_e[1]:.3f}; psi at (-d)_max {psi_d.min():+.4f} to {psi_d.max():+.4f}, on it (-d)_max {c_dd:.3f} "
+      f"{k_dd:+.3f} psi)")
