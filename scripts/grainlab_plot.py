@@ -2293,10 +2293,15 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
     if not tests:
         return []
     several_rates = len({k[3] for k in tests}) > 1
-    rows, fit_rows, outside = [], [], False
+    rows, fit_rows, outside, lines_txt = [], [], False, []
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.4))
     for key, g in sorted(tests.items()):
         label = f"{key[0]:g}" + (rate_text(key[3], ", ") if several_rates else "")
+        pc = np.array([c["p"] / 1e3 for c in groups[key]])
+        b_, a_, sb_, sa_ = fit(pc, np.array([c["e"] for c in groups[key]]))
+        lines_txt.append(f"mu_r {label}: e_c = {a_:.4f} ± {sa_:.4f} + ({b_:.3e} ± {sb_:.1e}) p' [kPa] through "
+                         f"{len(pc)} critical states at p'_c {pc.min():.0f}–{pc.max():.0f} kPa, phi'_cs "
+                         f"{g[0]['phi_cs']:.1f}°")
         for t in g:
             outside |= t["outside"]
             end = ("-" if t["psi_end"] is None else
@@ -2345,7 +2350,8 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "denser than it started." +
             (" *: p'_0 outside the pressures of the line's critical states (e_c extrapolated along the line; a drained "
              "shear at constant sigma_3 ends at a higher p' than it starts)." if outside else "") +
-            f" `figures/{figname}.png` draws the three lines below (hollow: *).",
+            f" `figures/{figname}.png` draws the three lines below (hollow: *). The line" +
+            ("s: " if len(lines_txt) > 1 else ": ") + "; ".join(lines_txt) + ".",
             "", ("" if heads is None else "| section ") + "| test | mu_r | p'_0 [kPa] | e_0 | e_c(p'_0) | psi_0 "
             "| psi_end | phi'_max [°] | phi'_cs [°] | phi'_max - phi'_cs [°] | (-d)_max ± se | psi at (-d)_max |",
             "|---" * (12 if heads is None else 13) + "|", *rows, "",

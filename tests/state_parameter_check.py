@@ -7,7 +7,8 @@ Nine synthetic drained compressions (mu_r 0.1) at p'_0 = 50, 100 and 200 kPa, th
 - its state parameter psi_0 = e_0 - e_c(p'_0) is the chosen one (-0.06 ... +0.01);
 - its peak friction angle is phi'_cs + 0.5 - 40 psi_0 degrees (q/p' peaks at 10 %) and its largest dilatancy
   (-d)_max = 0.03 - 2 psi_0 (eps_v piecewise linear: contraction to 5 %, dilation at that rate to 20 %, then none).
-The section must give each test's e_c(p'_0), psi_0 and psi_end (0 on the line), phi'_cs = asin(2.25 / 6.75), the
+The section must give its line (e_c = 0.8000 - 5.000e-04 p' through the nine critical states at 67-267 kPa), each
+test's e_c(p'_0), psi_0 and psi_end (0 on the line), phi'_cs = asin(2.25 / 6.75), the
 difference, (-d)_max and psi at the row of (-d)_max (e less the line's at that row's p', the row found here by
 scripts/dilatancy.py); mark the 50 kPa tests' e_c as extrapolated (their p'_0 below the line's lowest p'_c, 66.7 kPa);
 and fit both measures in psi_0: 0.50 and -40.00 (0.030 and -2.000) with zero residual, where the line in e_0 alone
@@ -124,6 +125,10 @@ for t in want:
         fails.append(f"{t['name']}: (-d)_max {r[10]}, expected {t['dil']:.3f}")
     if r[11].rstrip(" |") != f"{t['psi_d']:+.4f}":
         fails.append(f"{t['name']}: psi at (-d)_max {r[11]}, expected {t['psi_d']:+.4f}")
+line_txt = f"{A_LINE:.4f} ± 0.0000 + ({B_LINE:.3e} ± "
+if f"The line: mu_r 0.1: e_c = {line_txt}" not in sec or "through 9 critical states at p'_c 67–267 kPa, phi'_cs " \
+        f"{PHI_CS:.1f}°." not in sec:
+    fails.append(f"the line's text (e_c = {line_txt}...): {sec.split('The line')[-1][:200]!r}")
 if "*: p'_0 outside the pressures" not in sec:
     fails.append("no note on the extrapolated e_c (*)")
 fit_rows = [r for r in sec.splitlines() if r.startswith("| 0.1 | 9 |")]
