@@ -2282,14 +2282,15 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
         phi_cs = friction_angle(float(np.mean([x["M"] for x in groups[key]])), False)
         # psi where the test dilates fastest (the row of (-d)_max): Nor-Sand's D_min = chi psi is in the current state
         # (Jefferies 1993), which a sample that contracts first reaches denser than it started
-        psi_d = float("nan")
+        psi_d, outside_d = float("nan"), False
         if np.isfinite(a["d"]).any():
             k_d = int(np.nanargmin(a["d"]))
-            psi_d = float(s["e"][m][k_d]) - line_at(pc, ec, float(s["p"][m][k_d]) / 1e3)[0]
+            p_d = float(s["p"][m][k_d]) / 1e3
+            psi_d, outside_d = float(s["e"][m][k_d]) - line_at(pc, ec, p_d)[0], not min(pc) <= p_d <= max(pc)
         tests.setdefault(key, []).append(dict(
             name=j["name"], mu_r=j["mu_r"], p0=p0, e0=e0, e_line=e_line, se_line=se_line, psi0=e0 - e_line,
             outside=not min(pc) <= p0 <= max(pc), psi_end=psi_end, phi=ps["phi"], dphi=ps["phi"] - phi_cs,
-            phi_cs=phi_cs, d=a["neg_d_max"], d_se=a["se"], psi_d=psi_d))
+            phi_cs=phi_cs, d=a["neg_d_max"], d_se=a["se"], psi_d=psi_d, outside_psi_d=outside_d))
     if not tests:
         return []
     several_rates = len({k[3] for k in tests}) > 1
@@ -2318,7 +2319,8 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
             ok = np.isfinite(y) & np.isfinite(x)
             pts = ax[k_ax].plot(x[ok], y[ok], "o", label=f"mu_r = {label}")[0]
             for t in g:  # a psi from the line beyond its critical states' pressures: hollow
-                if t["outside"] and math.isfinite(t[col]) and math.isfinite(t[xcol]):
+                if t["outside" if xcol == "psi0" else "outside_psi_d"] and math.isfinite(t[col]) and \
+                        math.isfinite(t[xcol]):
                     ax[k_ax].plot([t[xcol]], [t[col]], "o", mfc="white", color=pts.get_color())
             if ok.sum() < 3 or np.ptp(x[ok]) <= 0 or np.ptp(e0[ok]) <= 0:
                 continue
@@ -2350,7 +2352,8 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "denser than it started." +
             (" *: p'_0 outside the pressures of the line's critical states (e_c extrapolated along the line; a drained "
              "shear at constant sigma_3 ends at a higher p' than it starts)." if outside else "") +
-            f" `figures/{figname}.png` draws the three lines below (hollow: *). The line" +
+            f" `figures/{figname}.png` draws the three lines below (hollow: a psi from the line beyond its critical "
+            "states' pressures). The line" +
             ("s: " if len(lines_txt) > 1 else ": ") + "; ".join(lines_txt) + ".",
             "", ("" if heads is None else "| section ") + "| test | mu_r | p'_0 [kPa] | e_0 | e_c(p'_0) | psi_0 "
             "| psi_end | phi'_max [°] | phi'_cs [°] | phi'_max - phi'_cs [°] | (-d)_max ± se | psi at (-d)_max |",
