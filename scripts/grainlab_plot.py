@@ -1954,7 +1954,8 @@ def pooled_state_parameter(out, idx, mono, heads):
     os.makedirs(os.path.join(out, "figures"), exist_ok=True)
     for n, (key, runs) in enumerate(sorted(pools.items(), key=lambda kv: str(kv[0]))):
         states = [(d, c) for _, d, s in runs if (c := critical_state(s, cs_cfg["window"], *tol)) and c["ok"]]
-        what = ", ".join(x for x in ([f"E = {key[0]:g} Pa"] if len(pools) > 1 and key[0] else [])
+        what = ", ".join(x for x in ([f"E = {key[0]:g} Pa" if key[0] else "base E"]
+                                     if len({k[0] for k in pools}) > 1 else [])
                          + ([f"{key[1]} spheres"] if len({k[1] for k in pools}) > 1 else [])
                          + ([f"grading {key[2]}"] if len({k[2] for k in pools}) > 1 else [])
                          + [f"{k} = {v:g}" for k, v in key[3]])

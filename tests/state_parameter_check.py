@@ -46,7 +46,7 @@ def e_line(p_kpa):
     return A_LINE + B_LINE * p_kpa
 
 
-def test(name, p0, psi0, mu_r=0.1, drainage="drained", keys=None):
+def test(name, p0, psi0, mu_r=0.1, drainage="drained", keys=None, E=None):
     """A drained compression from p'_0 [kPa] at state psi0, as the docstring builds it; returns its measures. keys:
     its stage-axis values (study.json's stage_keys, 'stage.key' -> value)."""
     e0 = e_line(p0) + psi0
@@ -87,7 +87,7 @@ def test(name, p0, psi0, mu_r=0.1, drainage="drained", keys=None):
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": mu_r, "e0": 0, "p0": p0 * 1e3,
                  "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
                  "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0.25, "rate_group": "",
-                 **({"stage_keys": keys} if keys else {})})
+                 **({"stage_keys": keys} if keys else {}), **({"E": E} if E else {})})
     # psi where the test dilates fastest: the row the dilatancy's windows find (the segment's rate is one, so which
     # of its rows depends on round-off), its e less the line's at its p'
     k_d = int(np.nanargmin(D.analyse(eps, ev, eta)["d"]))
@@ -158,14 +158,16 @@ if min(rms_e) < 0.01 * np.ptp(psi):
 # The same nine as a study over a preparation stage's axis (consolidate.mu, a value per state): the table across the
 # values pools them on one line (a section column, the same psi_0 as above); over an axis of the shear stage itself
 # (shear.mu: another material at each value) each value's three get a line of their own, but over its end
-# (shear.max_axial_strain) they are pooled
+# (shear.max_axial_strain) they are pooled; at two contact stiffnesses (E: 1e8, 1e9) a line per E
 STATES = ((50, (-0.05, -0.02, 0.01)), (100, (-0.06, -0.03, 0.0)), (200, (-0.04, -0.01, 0.005)))
-for axis in ("consolidate.mu", "shear.mu", "shear.max_axial_strain"):
+for axis in ("consolidate.mu", "shear.mu", "shear.max_axial_strain", "E"):
     shutil.rmtree(work)
     jobs.clear()
-    for p0, psis in STATES:
-        for k, psi in enumerate(psis):
-            test(f"cd_p{p0}_{k}", p0, psi, keys={axis: (0.1, 0.3, 0.5)[k]})
+    for E in ((1e8, 1e9) if axis == "E" else (None,)):  # the E axis: the nine at two stiffnesses, pooled apart
+        for p0, psis in STATES:
+            for k, psi in enumerate(psis):
+                test(f"cd_p{p0}_{k}" + (f"_E{E:g}" if E else ""), p0, psi, E=E,
+                     keys={"consolidate.mu" if axis == "E" else axis: (0.1, 0.3, 0.5)[k]})
     text = study_report(work, jobs)
     across = text.split("## Across the values")[1].split("\n## ")[0] if "## Across the values" in text else ""
     heads = [x for x in across.splitlines() if x.startswith("### State parameter across the values")]
@@ -180,6 +182,8 @@ for axis in ("consolidate.mu", "shear.mu", "shear.max_axial_strain"):
                 fails.append(f"pooled over {axis}: {t['name']}'s row {row!r}, psi_0 {t['psi0']:+.4f} wanted")
     elif axis == "shear.mu":
         want_heads = [f"### State parameter across the values: {axis} = {v:g}" for v in (0.1, 0.3, 0.5)]
+    elif axis == "E":
+        want_heads = [f"### State parameter across the values: E = {E:g} Pa" for E in (1e8, 1e9)]
     else:  # the shear's own end: where it stops, not what it is: pooled
         want_heads = ["### State parameter across the values"]
     if heads != want_heads:
