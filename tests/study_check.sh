@@ -57,7 +57,8 @@ for s in "$work"/jobs/shear_*; do
   [ -f "$s/done" ] || { echo "$s did not finish"; exit 1; }
 done
 for sec in "## Peak states" "## Critical states" "## Critical-state lines" "## Stress-force-fabric shares" \
-           "## Where the critical state is measured" "## Stress and dilatancy" "## Contact network at the end"; do
+           "## Where the critical state is measured" "## Stress and dilatancy" "## State parameter (drained compression)" \
+           "## Contact network at the end"; do
   grep -q "$sec" "$work/report.md" || { echo "report.md lacks '$sec'"; exit 1; }
 done
 verdicts=$(grep -cE '^\| shear_.* \| (yes|no: )' "$work/report.md")
