@@ -28,7 +28,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
 import dilatancy as D  # noqa: E402
-from synthetic_study import study_report  # noqa: E402
+from synthetic_study import SHEAR_COLUMNS, study_report  # noqa: E402
 
 fails = []
 
@@ -94,9 +94,7 @@ if noisy["psi_max"] == noisy["psi_max"]:
 # the report's section
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/dilatancy_check"
 shutil.rmtree(work, ignore_errors=True)
-cols = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t",
-        "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y",
-        "sigma_z"]
+cols = SHEAR_COLUMNS
 jobs = []
 
 

@@ -28,13 +28,11 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
 import dilatancy as D  # noqa: E402
-from synthetic_study import study_report  # noqa: E402
+from synthetic_study import SHEAR_COLUMNS, study_report  # noqa: E402
 
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/state_parameter_check"
 shutil.rmtree(work, ignore_errors=True)
-cols = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu", "mu_r", "stage_type", "a_c", "a_d", "a_n", "a_t",
-        "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x", "sigma_y",
-        "sigma_z"]
+cols = SHEAR_COLUMNS
 jobs = []
 A_LINE, B_LINE = 0.80, -5e-4  # e_c = A_LINE + B_LINE p' [kPa]
 M_CS = 0.75

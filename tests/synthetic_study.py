@@ -5,6 +5,13 @@ import os
 import subprocess
 import sys
 
+# The series columns of a synthetic drained or undrained shear with its volume (eps_v) and grain friction (mu): what
+# the report's peak, critical-state, dilatancy and state-parameter sections read (dilatancy_check.py,
+# state_parameter_check.py)
+SHEAR_COLUMNS = ["time", "step", "eps_a", "eps_v", "p", "q", "q_p", "e", "mu", "mu_r", "stage_type", "a_c", "a_d", "a_n",
+                 "a_t", "sff_share_c", "sff_share_d", "sff_share_n", "sff_share_t", "sff", "inertial_number", "sigma_x",
+                 "sigma_y", "sigma_z"]
+
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts", "grainlab_plot.py")
 
 
