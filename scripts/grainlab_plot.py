@@ -1965,6 +1965,11 @@ def pooled_state_parameter(out, idx, mono, heads):
             "state_parameter" + (f"_{n + 1}" if len(pools) > 1 else ""),
             "The drained compressions of every value together, on one critical-state line through all their critical "
             "states (each value's section below fits its own). ")
+        lines += undrained_state_section(
+            runs, states, cs_cfg["window"], tol, os.path.join(out, "figures"), peak_settings(idx), heads,
+            "### Undrained state parameter across the values" + (f": {what}" if what else ""),
+            "state_parameter_undrained" + (f"_{n + 1}" if len(pools) > 1 else ""),
+            "The undrained compressions of every value together, on the line of the section above. ")
     return lines
 
 
@@ -2184,6 +2189,7 @@ def study_lines(out, idx, figs_rel, fits=None):
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
              *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
              *state_parameter_section(mono, states, cs_cfg["window"], tol, figs, peak),
+             *undrained_state_section(mono, states, cs_cfg["window"], tol, figs, peak),
              *stiffness_section(mono, figs),
              *contacts_section([(j["name"], d) for j, d, _ in mono]),
              *size_classes.report_section(size_tests(out, mono)),
@@ -2363,6 +2369,197 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
                "state, and its slope, ± one standard error) and the rms of its residuals beside the rms about a line "
                "in e_0 alone: one relation in psi for density and pressure together leaves the smaller residuals "
                "where the tests' pressures differ.", "",
+               "| mu_r | tests | measure | at psi = 0 | slope | rms | rms about a line in e_0 |",
+               "|---|---|---|---|---|---|---|", *fit_rows, ""] if fit_rows else [])]
+
+
+# The share of p'_0 that r_u = u / p'_0 must reach for a monotonic undrained test to count as liquefied: a cyclic
+# stage's default liquefaction_ru (src/config.hpp), initial liquefaction (Seed & Lee 1966), p' at 5 % of p'_0 or less.
+LIQUEFIED_RU = 0.95
+# How far p' must rise past its least (single rows) by the end of an undrained test for that least to be a phase
+# transformation (contraction turning into dilation, Ishihara, Tatsuoka & Yasuda 1975) rather than the last rows of a
+# path that falls to its end, or of one that rises from the first row: PT_RISE_NOISE_NOTE
+PT_RISE = 0.05
+
+
+def undrained_response(s, rows):
+    """The shape of an undrained compression over its rows (in time order, single rows: a loose sample's instability
+    peaks within the first per cent of strain, which the peak window, 2 % in the studies that set one, would smear):
+    the largest fall of q below its running maximum relative to that maximum, which a contractive sample's instability
+    makes (q_pk at eps_pk, the trough q_min at eps_min after it, and the brittleness index I_B = (q_pk - q_min) / q_pk,
+    Bishop 1967 with the trough for his residual: 0 where q never falls, 1 where it falls to nothing; a few per cent
+    are a dilating sample's fluctuation); the least p' (p_min at eps_pmin) and whether p' rises PT_RISE past it by
+    the end, a phase transformation (pt: q/p' there; None where p' falls to the end or rises from the first row); r_u
+    = u / p'_0 at its largest (ru_max, u the series' pore pressure; None without the column)."""
+    q, p, ea = s["q"][rows], s["p"][rows], s["eps_a"][rows]
+    top = np.maximum.accumulate(q)
+    fall = np.where(top > 0, (top - q) / np.where(top > 0, top, 1.0), 0.0)
+    k_min = int(np.argmax(fall))
+    k_pk = int(np.argmax(q[:k_min + 1]))
+    k_pt = int(np.argmin(p))
+    pt = None
+    if 0 < k_pt < len(p) - 1 and p[-1] > p[k_pt] * (1 + PT_RISE):
+        pt = float(s["q_p"][rows][k_pt])
+    p0 = float(p[0])
+    ru = float(np.nanmax(s["u"][rows])) / p0 if "u" in s and p0 > 0 else None
+    return dict(q_pk=float(q[k_pk]), eps_pk=float(ea[k_pk]), q_min=float(q[k_min]), eps_min=float(ea[k_min]),
+                ib=float(fall[k_min]), p_min=float(p[k_pt]), eps_pmin=float(ea[k_pt]), pt=pt,
+                ru_max=ru if ru is not None and math.isfinite(ru) else None)
+
+
+UNDRAINED_STATE_FITS = (("ib", "I_B on psi_0", ".3f"), ("p_min_p0", "p'_min / p'_0 on psi_0", ".3f"))
+
+
+def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), heads=None,
+                            title="## State parameter (undrained compression)", figname="state_parameter_undrained",
+                            lead=""):
+    """The undrained compression tests (b = 0) against the critical-state line of their mu_r and rate (csl's e_c =
+    a + b p', through the critical states of every test of the group, drained and undrained: SPEC §7 fits one line
+    through both, the critical state's uniqueness): each test's state parameter psi_0 = e_0 - e_c(p'_0) (Been &
+    Jefferies 1985) and the p' at which the line says it ends, the line's p' at its void ratio (a constant-volume test
+    keeps e_0): (e_0 - a) / b, less than p'_0 for psi_0 > 0, none (liquefaction) where e_0 >= a with b < 0, the line
+    below e_0 at every p' > 0; beside the measured end (critical_state's window), the instability (undrained_response:
+    q's first peak, its trough and the brittleness I_B), the phase transformation and r_u at its largest. Over three
+    tests or more of a line, I_B and q_pk / p'_0 on a line in psi_0 and, for comparison, in e_0 alone. heads, title,
+    figname and lead as state_parameter_section's. Empty without such a test in a group with a line."""
+    groups = {k: g for k, g in csl_groups(states).items() if pressure_levels([c["p"] for c in g]) >= 3}
+    tests = {}
+    for j, d, s in mono:
+        ps = peak_state(s, peak)
+        if j["drainage"] != "undrained" or ps["ext"] or ps["b"] > 0 or not len(ps["rows"]):
+            continue
+        m = s["monotonic"]
+        key = (s["mu_r"][m][-1], False, ps["b"], float(s.get("rate", 0.0)))
+        if key not in groups:
+            continue
+        pc, ec = [c["p"] / 1e3 for c in groups[key]], [c["e"] for c in groups[key]]
+        b_, a_, _, _ = fit(np.array(pc), np.array(ec))
+        r0 = int(np.flatnonzero(ps["m"])[0])
+        p0, e0 = float(s["p"][r0]) / 1e3, float(s["e"][r0])
+        e_line, se_line = line_at(pc, ec, p0)
+        # the line's p' at e_0, with the line's standard error there carried along it (se_e / |b|)
+        p_pred, se_pred = None, None
+        if b_ < 0:
+            p_pred = max((e0 - a_) / b_, 0.0)
+            se_pred = line_at(pc, ec, p_pred)[1] / abs(b_)
+        c = critical_state(s, window, *tol)
+        end = None
+        if c and "e" in c:
+            end = dict(p=float(c["p"]) / 1e3, ok=c["ok"], psi=float(c["e"]) - line_at(pc, ec, float(c["p"]) / 1e3)[0],
+                       q=float(c["p"]) * float(c["qp"]) / 1e3)
+        r = undrained_response(s, ps["rows"])
+        tests.setdefault(key, []).append(dict(
+            name=j["name"], p0=p0, e0=e0, e_line=e_line, se_line=se_line, psi0=e0 - e_line,
+            outside=not min(pc) <= p0 <= max(pc), p_pred=p_pred, se_pred=se_pred,
+            pred_outside=p_pred is not None and not min(pc) <= p_pred <= max(pc), end=end,
+            ib=r["ib"], p_min_p0=r["p_min"] / 1e3 / p0, r=r,
+            path=(s["p"][ps["rows"]] / 1e3 / p0, s["q"][ps["rows"]] / 1e3 / p0), M=float(np.mean(
+                [x["M"] for x in groups[key]]))))
+    if not tests:
+        return []
+    several_rates = len({k[3] for k in tests}) > 1
+    rows, fit_rows, lines_txt, resid = [], [], [], []
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4.4))
+    for key, g in sorted(tests.items()):
+        label = f"{key[0]:g}" + (rate_text(key[3], ", ") if several_rates else "")
+        pc = np.array([c["p"] / 1e3 for c in groups[key]])
+        b_, a_, sb_, sa_ = fit(pc, np.array([c["e"] for c in groups[key]]))
+        lines_txt.append(f"mu_r {label}: e_c = {a_:.4f} ± {sa_:.4f} + ({b_:.3e} ± {sb_:.1e}) p' [kPa] through "
+                         f"{len(pc)} critical states at p'_c {pc.min():.0f}–{pc.max():.0f} kPa, M = {g[0]['M']:.3f}")
+        for t in sorted(g, key=lambda t: (t["p0"], t["e0"])):
+            r, end = t["r"], t["end"]
+            if t["p_pred"] is None:
+                pred = "-"
+            elif t["p_pred"] <= 0:
+                pred = "0 (liquefies)"
+            else:
+                pred = f"{t['p_pred']:.0f} ± {t['se_pred']:.0f}" + (" *" if t["pred_outside"] else "")
+            if end is not None and end["ok"] and t["p_pred"] is not None:
+                resid.append(end["p"] - t["p_pred"])
+            end_txt = "- | -" if end is None else (f"{end['p']:.1f}" + ("" if end["ok"] else " (not critical)") +
+                                                   f" | {end['psi']:+.4f}")
+            soft = r["ib"] > 0
+            ru = r["ru_max"]
+            rows.append(("" if heads is None else f"| {heads[t['name']]} ") +
+                        f"| {t['name']} | {label} | {t['p0']:.1f} | {t['e0']:.4f} | {t['psi0']:+.4f}"
+                        f"{' *' if t['outside'] else ''} | {pred} | {end_txt} | "
+                        + (f"{r['q_pk'] / 1e3 / t['p0']:.3f} ({100 * r['eps_pk']:.1f}) | "
+                           f"{r['q_min'] / 1e3 / t['p0']:.3f} ({100 * r['eps_min']:.1f})" if soft else "- | -") +
+                        f" | {r['ib']:.3f} | {t['p_min_p0']:.3f} ({100 * r['eps_pmin']:.1f}) | "
+                        f"{'-' if r['pt'] is None else format(r['pt'], '.3f')} | " +
+                        ("- |" if ru is None else f"{ru:.3f}{' (liquefied)' if ru >= LIQUEFIED_RU else ''} |"))
+        (ln,) = ax[1].plot([], [])
+        for t in g:
+            ax[0].plot(*t["path"], "-", lw=1, label=f"{t['name']} (psi_0 {t['psi0']:+.3f})")
+            if t["end"] is not None and t["p_pred"] is not None:
+                ax[1].plot([t["p_pred"]], [t["end"]["p"]], "o", color=ln.get_color(),
+                           mfc=ln.get_color() if t["end"]["ok"] else "white")
+        ax[1].plot([], [], "o", color=ln.get_color(), label=f"mu_r = {label}")
+        pts = ax[2].plot([t["psi0"] for t in g], [t["ib"] for t in g], "o", color=ln.get_color(),
+                         label=f"I_B, mu_r = {label}")[0]
+        ax[2].plot([t["psi0"] for t in g], [t["p_min_p0"] for t in g], "s", mfc="white", color=ln.get_color(),
+                   label=f"p'_min / p'_0, mu_r = {label}")
+        e0 = np.array([t["e0"] for t in g])
+        for col, name, fmt in UNDRAINED_STATE_FITS:
+            x, y = np.array([t["psi0"] for t in g]), np.array([t[col] for t in g])
+            ok = np.isfinite(y) & np.isfinite(x)
+            if ok.sum() < 3 or np.ptp(x[ok]) <= 0 or np.ptp(e0[ok]) <= 0:
+                continue
+            B, A, sB, sA = fit(x[ok], y[ok])
+            rms = float(np.sqrt(np.mean((y[ok] - A - B * x[ok]) ** 2)))
+            Be, Ae, _, _ = fit(e0[ok], y[ok])
+            rms_e = float(np.sqrt(np.mean((y[ok] - Ae - Be * e0[ok]) ** 2)))
+            xs = np.linspace(x[ok].min(), x[ok].max(), 2)
+            ax[2].plot(xs, A + B * xs, "-" if col == "ib" else ":", lw=1, color=pts.get_color())
+            fit_rows.append(f"| {label} | {int(ok.sum())} | {name} | {A:{fmt}} ± {sA:{fmt}} | "
+                            f"{B:{fmt}} ± {sB:{fmt}} | {rms:{fmt}} | {rms_e:{fmt}} |")
+        xs = np.linspace(0, max(max(float(np.max(t["path"][0])) for t in g), 1.0), 2)
+        ax[0].plot(xs, g[0]["M"] * xs, "--", color="0.4", lw=1)
+    lim = max([1.0] + [v for a_ in ax[1].lines for v in (*a_.get_xdata(), *a_.get_ydata())])
+    ax[1].plot([0, lim], [0, lim], "-", color="0.5", lw=0.8)
+    ax[0].set(xlabel="p' / p'_0", ylabel="q / p'_0", title="stress paths (dashed: q = M p')")
+    ax[1].set(xlabel="p'_c from the line at e_0 [kPa]", ylabel="p' at the end [kPa]",
+              title="end against the line (hollow: not critical)")
+    ax[2].set(xlabel="psi_0 = e_0 - e_c(p'_0)", ylabel="I_B; p'_min / p'_0",
+              title="brittleness I_B (filled), least p' (hollow)")
+    for a_ in ax:
+        a_.grid(alpha=0.3)
+        legend(a_, fontsize=7)
+    save(fig, figs, figname)
+    resid_txt = ""
+    if resid:
+        resid_txt = (f" Of the {len(resid)} tests at critical state, the measured p'_end less the line's p'_c: " +
+                     ", ".join(f"{int(round(x)):+d}" for x in resid) + " kPa.")
+    return [title, "", lead +
+            "The undrained (constant-volume) compressions against the critical-state line of their mu_r and rate "
+            "(the section above: e_c = a + b p' through the critical states of the group's tests, drained and "
+            "undrained, as SPEC §7 fits it): psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985), and the p' at which the "
+            "line says the test ends: the line's p' at the test's void ratio, which a constant-volume test keeps, "
+            "p'_c = (e_0 - a) / b ± the line's standard error there over |b|; below p'_0 where psi_0 > 0 (the loose "
+            "sample contracts, its pore pressure rises), '0 (liquefies)' where the line lies below e_0 at every "
+            "p' > 0 (e_0 >= a). p'_end and psi_end: the end window's p' and e less the line's at that p' (about 0 "
+            "on the line; '(not critical)': the window drifted). The instability, on single rows (a loose sample's "
+            "peak lies within the first per cent of strain, narrower than a peak window): q at the peak q_pk before "
+            "its largest fall relative to the running maximum, and at the trough q_min of that fall, over p'_0 (axial "
+            "strain in %), and the brittleness I_B = (q_pk - q_min) / q_pk (Bishop 1967, the trough for his "
+            "residual: 1 where q falls to nothing; 0: q never falls, '-' for the peak and trough; a few hundredths: "
+            "a dilating sample's fluctuation). p'_min: the least p' over p'_0 (its axial strain in %), and q/p' there "
+            "where p' rises past it by the end (by " + f"{100 * PT_RISE:g} %: the phase transformation, Ishihara, "
+            "Tatsuoka & Yasuda 1975, where contraction turns into dilation; '-' where p' falls to the end or rises "
+            "from the start); r_u,max = u / p'_0 at its largest (u the series' pore pressure, SPEC §6; "
+            f"'(liquefied)' from {LIQUEFIED_RU:g}, a cyclic stage's default liquefaction_ru)." +
+            " *: p'_0 or p'_c outside the pressures of the line's critical states (the line extrapolated)." +
+            f" `figures/{figname}.png`: the stress paths over p'_0, the measured end against the line's p'_c, and "
+            "I_B and p'_min / p'_0 against psi_0. The line" + ("s: " if len(lines_txt) > 1 else ": ") +
+            "; ".join(lines_txt) + "." +
+            resid_txt,
+            "", ("" if heads is None else "| section ") + "| test | mu_r | p'_0 [kPa] | e_0 | psi_0 | p'_c from the "
+            "line [kPa] | p'_end [kPa] | psi_end | q_pk / p'_0 (eps_a %) | q_min / p'_0 (eps_a %) | I_B | "
+            "p'_min / p'_0 (eps_a %) | q/p' at PT | r_u,max |",
+            "|---" * (14 if heads is None else 15) + "|", *rows, "",
+            *(["I_B and p'_min / p'_0 on a least-squares line in psi_0 (its value at psi = 0 and slope, ± one "
+               "standard error), the rms of its residuals beside the rms about "
+               "a line in e_0 alone.", "",
                "| mu_r | tests | measure | at psi = 0 | slope | rms | rms about a line in e_0 |",
                "|---|---|---|---|---|---|---|", *fit_rows, ""] if fit_rows else [])]
 

@@ -1,0 +1,214 @@
+#!/usr/bin/env python3
+"""Known-answer test of the study report's undrained state-parameter section (grainlab_plot.py
+undrained_state_section, undrained_response).
+
+Nine synthetic drained compressions (mu_r 0.1) at p'_0 = 50, 100 and 200 kPa end at critical state (q/p' = 0.75) on
+the line e_c = 0.80 - 5e-4 p' [kPa], which the report's critical-state line is then exactly. Six undrained
+compressions (constant e = e_0) of the same mu_r, with piecewise-linear paths of known shape:
+- liquefies: e_0 = 0.81 at 100 kPa (psi_0 +0.06, e_0 above the line's intercept: the line says it liquefies), q
+  rises to 30 kPa at 1 % and falls with p' to 0.375 and 0.5 kPa at 5 % and on to 0.09 and 0.12 kPa at 40 %: I_B =
+  0.997, no phase transformation, r_u,max = 0.9991 (liquefied); p' still falling at the end: not critical, and not
+  on the line (as a liquefied sample's p' near 0, which fluctuates by much of itself);
+- limited liquefaction at 100 kPa (psi_0 -0.02) and at 50 kPa (-0.04, its p'_0 below the line's pressures: *): q
+  peaks at 0.4 p'_0 at 1 %, falls to 0.1 p'_0 at 5 % with p' to 0.2 p'_0 (I_B 0.75, phase transformation at q/p'
+  0.5), then p' rises to the line's p'_c at e_0 (140 and 130 kPa) by 20 % with q = 0.75 p' and stays: on the line;
+- dilative at 100 kPa (psi_0 -0.1): p' dips to 95 kPa at 1 % and rises toward p'_c = 300 kPa (above the line's
+  pressures: *), which it reaches at the end, still rising (not critical), q rising all along: I_B 0 ('-' peak and
+  trough), phase transformation at 1 %;
+- steady at 200 kPa (psi_0 +0.02, the line's p'_c 160 kPa): q peaks at 140 kPa at 2 % and falls to 118 at 10 %
+  (I_B 22 / 140) with p' to 158, which then rises to 160 kPa by 30 %: 1.3 %, short of a phase transformation;
+- dilative from the start at 200 kPa (psi_0 -0.02): p' rises 200 -> 240 kPa (p'_c) from the first row: no phase
+  transformation, p'_min / p'_0 1.000 at 0.
+The section must list the six (not the drained tests nor a test of another mu_r), each measure as built, the line's
+p'_c at e_0 with '0 (liquefies)' for the first, the residual of each critical end against it, and I_B and p'_min /
+p'_0 on lines in psi_0 by least squares worked out here, beside the rms about a line in e_0. Over a preparation stage
+axis the table across the values pools them; without a line, there is no section.
+"""
+import csv
+import json
+import os
+import shutil
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from synthetic_study import SHEAR_COLUMNS, study_report  # noqa: E402
+
+work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/undrained_state_check"
+shutil.rmtree(work, ignore_errors=True)
+cols = SHEAR_COLUMNS + ["u"]
+jobs = []
+A_LINE, B_LINE = 0.80, -5e-4  # e_c = A_LINE + B_LINE p' [kPa]
+M_CS = 0.75
+eps = np.round(np.arange(0, 0.4001, 0.0025), 10)
+
+
+def e_line(p_kpa):
+    return A_LINE + B_LINE * p_kpa
+
+
+def write(name, p, q, e, p0, mu_r=0.1, drainage="drained", keys=None):
+    """A compression test's run (p, q [kPa] and e per row of eps) and its job in study.json."""
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": 0.25,
+                               "drainage": drainage, "direction": "compression", "p_0": p0 * 1e3, "q_0": 0}]}, f)
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i, (ea, pk, qk, ek) in enumerate(zip(eps, p, q, e)):
+            P, Q = pk * 1e3, qk * 1e3
+            row = dict(time=i, step=i, eps_a=ea, eps_v=(e[0] - ek) / (1 + e[0]), p=P, q=Q, q_p=qk / pk, e=ek,
+                       mu=0.5, mu_r=mu_r, stage_type=2 if drainage == "drained" else 1, a_c=0.1, a_d=0.05, a_n=0.1,
+                       a_t=0.02, sff_share_c=0.25, sff_share_d=0.25, sff_share_n=0.25, sff_share_t=0.25, sff=qk / pk,
+                       inertial_number=5e-4, sigma_x=P - Q / 3, sigma_y=P - Q / 3, sigma_z=P + 2 * Q / 3,
+                       u=(p0 + qk / 3 - pk) * 1e3 if drainage == "undrained" else 0.0)  # SPEC §6: u = p'_0 + q/3 - p'
+            w.writerow(["shear"] + [row[k] for k in cols])
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": mu_r, "e0": 0, "p0": p0 * 1e3,
+                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
+                 "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0.25, "rate_group": "",
+                 **({"stage_keys": keys} if keys else {})})
+
+
+def drained(name, p0, psi0, mu_r=0.1, keys=None):
+    """At constant sigma_3 = p'_0, q/p' up to M_CS by 10 %, e from e_0 to the line's at p'_c by 20 %: critical."""
+    eta = np.minimum(M_CS * eps / 0.10, M_CS)
+    p = 3 * p0 / (3 - eta)
+    e0 = e_line(p0) + psi0
+    e = e0 + (e_line(3 * p0 / (3 - M_CS)) - e0) * np.minimum(eps / 0.20, 1)
+    write(name, p, eta * p, e, p0, mu_r, keys=keys)
+
+
+def lin(points):
+    """The piecewise-linear function through (eps, value) points, constant past the last, at every row."""
+    x, y = zip(*points)
+    return np.interp(eps, x, y)
+
+
+def undrained(name, p0, e0, p_pts, q_pts, mu_r=0.1, keys=None):
+    write(name, lin(p_pts), lin(q_pts), np.full(len(eps), e0), p0, mu_r, "undrained", keys)
+
+
+def p_line(e0):
+    """The line's p' at void ratio e0 [kPa]."""
+    return (e0 - A_LINE) / B_LINE
+
+
+def build(keys=None):
+    k = 0
+    for p0, psis in ((50, (-0.05, -0.02, 0.01)), (100, (-0.06, -0.03, 0.0)), (200, (-0.04, -0.01, 0.005))):
+        for psi in psis:
+            drained(f"cd_p{p0}_{k}", p0, psi, keys=keys and {"consolidate.mu": (0.1, 0.3, 0.5)[k % 3]})
+            k += 1
+    kk = keys and {"consolidate.mu": 0.5}
+    undrained("cu_liquefies", 100, 0.81, [(0, 100), (0.01, 80), (0.05, 0.5), (0.4, 0.12)],
+              [(0, 0), (0.01, 30), (0.05, 0.375), (0.4, 0.09)], keys=kk)
+    for p0, psi in ((100, -0.02), (50, -0.04)):
+        e0 = e_line(p0) + psi
+        pc = p_line(e0)
+        undrained(f"cu_limited_p{p0}", p0, e0, [(0, p0), (0.01, 0.84 * p0), (0.05, 0.2 * p0), (0.2, pc)],
+                  [(0, 0), (0.01, 0.4 * p0), (0.05, 0.1 * p0), (0.2, M_CS * pc)], keys=kk)
+    undrained("cu_dilative", 100, e_line(100) - 0.1, [(0, 100), (0.01, 95), (0.4, 300)], [(0, 0), (0.4, 225)],
+              keys=kk)
+    undrained("cu_dilative_p200", 200, e_line(200) - 0.02, [(0, 200), (0.2, 240)], [(0, 0), (0.2, 180)], keys=kk)
+    undrained("cu_steady", 200, e_line(200) + 0.02, [(0, 200), (0.1, 158), (0.3, 160)],
+              [(0, 0), (0.02, 140), (0.1, 118), (0.3, 120)], keys=kk)
+    undrained("cu_other_mu_r", 100, 0.73, [(0, 100), (0.2, 140)], [(0, 0), (0.2, 105)], mu_r=0.3, keys=kk)
+
+
+# the liquefied test's end window (the rows within 5 % of strain of the last, as critical_state takes it): the mean
+# of its p' rows, falling from 0.5 at 5 % to 0.12 kPa at 40 %
+P_END_LIQ = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], [0.05, 0.4], [0.5, 0.12])))
+# the dilative test's: p' rising from 95 kPa at 1 % to 300 at 40 %; and its q (0 -> 225 kPa over 40 %)
+P_END_DIL = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], [0.01, 0.4], [95, 300])))
+
+
+def q_dil(x):
+    return 225 * x / 0.4
+
+
+# name -> psi_0, the line's p'_c, p'_end, psi_end, q_pk / p'_0 (eps %), q_min / p'_0 (eps %), I_B,
+#         p'_min / p'_0 (eps %), q/p' at PT, r_u,max; built above
+WANT = {
+    "cu_liquefies": (+0.06, "0 (liquefies)", f"{P_END_LIQ:.1f} (not critical)", e_line(100) + 0.06 - e_line(P_END_LIQ),
+                     "0.300 (1.0)", "0.001 (40.0)", (30 - 0.09) / 30, "0.001 (40.0)", "-",
+                     f"{1 + 0.03 / 100 - 0.0012:.3f} (liquefied)"),
+    "cu_limited_p100": (-0.02, "140 ± 0", "140.0", 0.0, "0.400 (1.0)", "0.100 (5.0)", 0.75, "0.200 (5.0)", "0.500",
+                        f"{(100 + 10 / 3 - 20) / 100:.3f}"),
+    "cu_limited_p50": (-0.04, "130 ± 0", "130.0", 0.0, "0.400 (1.0)", "0.100 (5.0)", 0.75, "0.200 (5.0)", "0.500",
+                       f"{(50 + 5 / 3 - 10) / 50:.3f}"),
+    "cu_dilative": (-0.1, "300 ± 0 *", f"{P_END_DIL:.1f} (not critical)", e_line(100) - 0.1 - e_line(P_END_DIL),
+                    "-", "-", 0.0, "0.950 (1.0)", f"{q_dil(0.01) / 95:.3f}",
+                    f"{(100 + q_dil(0.01) / 3 - 95) / 100:.3f}"),
+    "cu_dilative_p200": (-0.02, "240 ± 0", "240.0", 0.0, "-", "-", 0.0, "1.000 (0.0)", "-", "0.100"),
+    "cu_steady": (+0.02, "160 ± 0", "160.0", 0.0, "0.700 (2.0)", "0.590 (10.0)", 22 / 140, "0.790 (10.0)", "-",
+                  f"{(200 + 118 / 3 - 158) / 200:.3f}"),
+}
+build()
+text = study_report(work, jobs)
+head = "## State parameter (undrained compression)"
+fails = []
+if head not in text:
+    sys.exit(f"undrained_state_check: no '{head}' in report.md")
+sec = text.split(head)[1].split("\n## ")[0]
+rows = {r.split(" | ")[0][2:]: [x.strip() for x in r.strip("| ").split(" | ")] for r in sec.splitlines()
+        if r.startswith("| c")}
+if sorted(rows) != sorted(WANT):
+    fails.append(f"the section's tests: {sorted(rows)}, expected {sorted(WANT)}")
+for name, w in WANT.items():
+    r = rows.get(name)
+    if r is None or len(r) != 14:
+        fails.append(f"{name}: row {r}")
+        continue
+    psi0 = f"{w[0]:+.4f}" + (" *" if name.endswith("p50") else "")
+    expect = [psi0, w[1], w[2], f"{w[3]:+.4f}", w[4], w[5], f"{w[6]:.3f}", w[7], w[8], w[9]]
+    got = [r[4], r[5], r[6], r[7].replace("-0.0000", "+0.0000"), r[8], r[9], r[10], r[11], r[12], r[13]]
+    if got != expect:
+        fails.append(f"{name}: {got}, expected {expect}")
+if "Of the 4 tests at critical state, the measured p'_end less the line's p'_c: +0, +0, +0, +0 kPa." not in sec:
+    fails.append(f"the residuals against the line: {sec[:0] + sec.split('Of the')[-1][:160]!r}")
+# the fits: least squares worked out here, in psi_0 and in e_0
+names = sorted(WANT)
+psi = np.array([WANT[n][0] for n in names])
+e0 = np.array([{"cu_liquefies": 0.81}.get(n, e_line({"cu_limited_p50": 50, "cu_dilative_p200": 200,
+                                                     "cu_steady": 200}.get(n, 100))
+                                             + WANT[n][0]) for n in names])
+pmin = {"cu_liquefies": 0.0012, "cu_limited_p100": 0.2, "cu_limited_p50": 0.2, "cu_dilative": 0.95,
+        "cu_dilative_p200": 1.0, "cu_steady": 0.79}
+for col, y in (("I_B on psi_0", np.array([WANT[n][6] for n in names])),
+               ("p'_min / p'_0 on psi_0", np.array([pmin[n] for n in names]))):
+    k, c = np.polyfit(psi, y, 1)
+    rms = float(np.sqrt(np.mean((y - c - k * psi) ** 2)))
+    ke, ce = np.polyfit(e0, y, 1)
+    rms_e = float(np.sqrt(np.mean((y - ce - ke * e0) ** 2)))
+    want = f"| 0.1 | 6 | {col} | {c:.3f} ± "
+    row = next((x for x in sec.splitlines() if x.startswith(f"| 0.1 | 6 | {col} |")), "")
+    if not row.startswith(want) or f"| {k:.3f} ± " not in row or not row.endswith(f"| {rms:.3f} | {rms_e:.3f} |"):
+        fails.append(f"the fit {col}: {row!r}, expected {c:.3f} + {k:.3f} psi_0, rms {rms:.3f}, on e_0 {rms_e:.3f}")
+if "The line: mu_r 0.1: e_c = 0.8000 ± 0.0000 + (-5.000e-04 ± " not in sec:
+    fails.append(f"the line's text: {sec.split('The line')[-1][:120]!r}")
+# pooled across a preparation stage axis's values
+shutil.rmtree(work)
+jobs.clear()
+build(keys=True)
+text = study_report(work, jobs)
+across = text.split("## Across the values")[1].split("\n## ")[0] if "## Across the values" in text else ""
+sp = across.split("### Undrained state parameter across the values")
+if len(sp) != 2 or not any(x.startswith("| consolidate.mu = 0.5 | cu_limited_p100 |") and "| 140 ± 0 |" in x
+                           for x in sp[1].splitlines()):
+    fails.append(f"pooled over consolidate.mu: {sp[-1][:300]!r}")
+# without a line (one drained test): no section
+shutil.rmtree(work)
+jobs.clear()
+drained("lonely", 100, -0.02)
+undrained("cu_alone", 100, 0.73, [(0, 100), (0.2, 140)], [(0, 0), (0.2, 105)])
+if head in study_report(work, jobs):
+    fails.append("a section without a critical-state line")
+if fails:
+    sys.exit("undrained_state_check: " + "\n".join(fails))
+print("undrained_state_check: ok (6 undrained tests against the line: liquefaction, limited liquefaction at two "
+      "pressures, a steady state, dilation with and without a phase transformation; I_B, p'_min, r_u,max and the "
+      "fits as built)")
