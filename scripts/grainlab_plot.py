@@ -2454,7 +2454,8 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
             pred_outside=p_pred is not None and not min(pc) <= p_pred <= max(pc), end=end,
             ib=r["ib"], p_min_p0=r["p_min"] / 1e3 / p0, r=r,
             path=(s["p"][ps["rows"]] / 1e3 / p0, s["q"][ps["rows"]] / 1e3 / p0), M=float(np.mean(
-                [x["M"] for x in groups[key]]))))
+                [x["M"] for x in groups[key]])), M_walls=float(np.mean([x["M_walls"] for x in groups[key]]))
+            if all(x.get("M_walls") is not None for x in groups[key]) else None))
     if not tests:
         return []
     several_rates = len({k[3] for k in tests}) > 1
@@ -2490,7 +2491,7 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
                         ("- |" if ru is None else f"{ru:.3f}{' (liquefied)' if ru >= LIQUEFIED_RU else ''} |"))
         (ln,) = ax[1].plot([], [])
         for t in g:
-            ax[0].plot(*t["path"], "-", lw=1, label=f"{t['name']} (psi_0 {t['psi0']:+.3f})")
+            ax[0].plot(*t["path"], "-", lw=1, label=f"p'_0 {t['p0']:.0f} kPa, psi_0 {t['psi0']:+.3f}")
             if t["end"] is not None and t["p_pred"] is not None:
                 ax[1].plot([t["p_pred"]], [t["end"]["p"]], "o", color=ln.get_color(),
                            mfc=ln.get_color() if t["end"]["ok"] else "white")
@@ -2514,10 +2515,12 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
             fit_rows.append(f"| {label} | {int(ok.sum())} | {name} | {A:{fmt}} ± {sA:{fmt}} | "
                             f"{B:{fmt}} ± {sB:{fmt}} | {rms:{fmt}} | {rms_e:{fmt}} |")
         xs = np.linspace(0, max(max(float(np.max(t["path"][0])) for t in g), 1.0), 2)
-        ax[0].plot(xs, g[0]["M"] * xs, "--", color="0.4", lw=1)
+        # the paths are the walls' p' and q (series p, q): their line is the walls' M at critical state
+        # (STRESS_MEASURES_TEXT), the contacts' M where the states did not measure it
+        ax[0].plot(xs, (g[0]["M_walls"] or g[0]["M"]) * xs, "--", color="0.4", lw=1)
     lim = max([1.0] + [v for a_ in ax[1].lines for v in (*a_.get_xdata(), *a_.get_ydata())])
     ax[1].plot([0, lim], [0, lim], "-", color="0.5", lw=0.8)
-    ax[0].set(xlabel="p' / p'_0", ylabel="q / p'_0", title="stress paths (dashed: q = M p')")
+    ax[0].set(xlabel="p' / p'_0 (walls)", ylabel="q / p'_0 (walls)", title="stress paths (dashed: the walls' M)")
     ax[1].set(xlabel="p'_c from the line at e_0 [kPa]", ylabel="p' at the end [kPa]",
               title="end against the line (hollow: not critical)")
     ax[2].set(xlabel="psi_0 = e_0 - e_c(p'_0)", ylabel="I_B; p'_min / p'_0",
@@ -2549,7 +2552,8 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "from the start); r_u,max = u / p'_0 at its largest (u the series' pore pressure, SPEC §6; "
             f"'(liquefied)' from {LIQUEFIED_RU:g}, a cyclic stage's default liquefaction_ru)." +
             " *: p'_0 or p'_c outside the pressures of the line's critical states (the line extrapolated)." +
-            f" `figures/{figname}.png`: the stress paths over p'_0, the measured end against the line's p'_c, and "
+            f" `figures/{figname}.png`: the stress paths over p'_0 (the walls' p' and q, dashed "
+            "their M at critical state), the measured end against the line's p'_c, and "
             "I_B and p'_min / p'_0 against psi_0. The line" + ("s: " if len(lines_txt) > 1 else ": ") +
             "; ".join(lines_txt) + "." +
             resid_txt,
