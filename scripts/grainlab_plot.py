@@ -2376,29 +2376,38 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
 # The share of p'_0 that r_u = u / p'_0 must reach for a monotonic undrained test to count as liquefied: a cyclic
 # stage's default liquefaction_ru (src/config.hpp), initial liquefaction (Seed & Lee 1966), p' at 5 % of p'_0 or less.
 LIQUEFIED_RU = 0.95
-# How far p' must rise past its least (single rows) by the end of an undrained test for that least to be a phase
-# transformation (contraction turning into dilation, Ishihara, Tatsuoka & Yasuda 1975) rather than the last rows of a
-# path that falls to its end, or of one that rises from the first row: PT_RISE_NOISE_NOTE
-PT_RISE = 0.05
+# How far p' must rise after its least (single rows) in an undrained test for that least to be a phase transformation
+# (contraction turning into dilation, Ishihara, Tatsuoka & Yasuda 1975) rather than a fluctuation: by PT_RISE of the
+# least and PT_REGAIN of p'_0 both. configs/state-parameter-undrained-study.yaml (5 000 spheres): p' at a steady end
+# fluctuates by a standard deviation of 1.5-5 % (a range of 5-15 %) of itself, far below PT_RISE; a liquefied
+# sample's p' below 1 % of p'_0 fluctuates by as much as itself, far below PT_REGAIN; its transformations rise 1.7 to
+# 100 times their least, and the liquefied samples' regain 15-30 % of p'_0 by 40 % of strain.
+PT_RISE = 0.5
+PT_REGAIN = 0.1
 
 
 def undrained_response(s, rows):
     """The shape of an undrained compression over its rows (in time order, single rows: a loose sample's instability
     peaks within the first per cent of strain, which the peak window, 2 % in the studies that set one, would smear):
     the largest fall of q below its running maximum relative to that maximum, which a contractive sample's instability
-    makes (q_pk at eps_pk, the trough q_min at eps_min after it, and the brittleness index I_B = (q_pk - q_min) / q_pk,
-    Bishop 1967 with the trough for his residual: 0 where q never falls, 1 where it falls to nothing; a few per cent
-    are a dilating sample's fluctuation); the least p' (p_min at eps_pmin) and whether p' rises PT_RISE past it by
-    the end, a phase transformation (pt: q/p' there; None where p' falls to the end or rises from the first row); r_u
-    = u / p'_0 at its largest (ru_max, u the series' pore pressure; None without the column)."""
+    makes, up to the least p' (q_pk at eps_pk, the trough q_min at eps_min after it, and the brittleness index I_B =
+    (q_pk - q_min) / q_pk, Bishop 1967 with the trough for his residual: 0 where q never falls, 1 where it falls to
+    nothing; a few per cent are a contracting sample's fluctuation); the least p' (p_min at eps_pmin) and whether p'
+    rises past it after it (PT_RISE, PT_REGAIN), a phase transformation (pt: q/p' there; None where p' falls to the end
+    or rises from the first row); r_u = u / p'_0 at its largest (ru_max, u the series' pore pressure; None without the
+    column)."""
     q, p, ea = s["q"][rows], s["p"][rows], s["eps_a"][rows]
-    top = np.maximum.accumulate(q)
-    fall = np.where(top > 0, (top - q) / np.where(top > 0, top, 1.0), 0.0)
+    k_pt = int(np.argmin(p))
+    # q falls in an undrained compression only while p' does (a contraction): the fall is sought up to the least p',
+    # past which a dilating sample's q rises toward, and then fluctuates about, its critical state (by up to 15 % on
+    # 5 000 spheres near 300 kPa, configs/state-parameter-undrained-study.yaml), which is no instability
+    top = np.maximum.accumulate(q[:k_pt + 1])
+    fall = np.where(top > 0, (top - q[:k_pt + 1]) / np.where(top > 0, top, 1.0), 0.0)
     k_min = int(np.argmax(fall))
     k_pk = int(np.argmax(q[:k_min + 1]))
-    k_pt = int(np.argmin(p))
     pt = None
-    if 0 < k_pt < len(p) - 1 and p[-1] > p[k_pt] * (1 + PT_RISE):
+    rise = float(np.max(p[k_pt:]) - p[k_pt])
+    if 0 < k_pt and rise > PT_RISE * p[k_pt] and rise > PT_REGAIN * p[0]:
         pt = float(s["q_p"][rows][k_pt])
     p0 = float(p[0])
     ru = float(np.nanmax(s["u"][rows])) / p0 if "u" in s and p0 > 0 else None
@@ -2543,13 +2552,15 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "p' > 0 (e_0 >= a). p'_end and psi_end: the end window's p' and e less the line's at that p' (about 0 "
             "on the line; '(not critical)': the window drifted). The instability, on single rows (a loose sample's "
             "peak lies within the first per cent of strain, narrower than a peak window): q at the peak q_pk before "
-            "its largest fall relative to the running maximum, and at the trough q_min of that fall, over p'_0 (axial "
+            "its largest fall relative to the running maximum up to the least p' (past it the sample dilates: q rises "
+            "toward its critical state and fluctuates there), and at the trough q_min of that fall, over p'_0 (axial "
             "strain in %), and the brittleness I_B = (q_pk - q_min) / q_pk (Bishop 1967, the trough for his "
             "residual: 1 where q falls to nothing; 0: q never falls, '-' for the peak and trough; a few hundredths: "
-            "a dilating sample's fluctuation). p'_min: the least p' over p'_0 (its axial strain in %), and q/p' there "
-            "where p' rises past it by the end (by " + f"{100 * PT_RISE:g} %: the phase transformation, Ishihara, "
-            "Tatsuoka & Yasuda 1975, where contraction turns into dilation; '-' where p' falls to the end or rises "
-            "from the start); r_u,max = u / p'_0 at its largest (u the series' pore pressure, SPEC §6; "
+            "a fluctuation). p'_min: the least p' over p'_0 (its axial strain in %), and q/p' there "
+            f"where p' rises after it by more than {100 * PT_RISE:g} % of it and {100 * PT_REGAIN:g} % of p'_0 (the "
+            "phase transformation, Ishihara, Tatsuoka & Yasuda 1975, where contraction turns into dilation; '-' "
+            "where p' falls to the end, or rises from the start, or only fluctuates about its least); r_u,max = u / "
+            "p'_0 at its largest (u the series' pore pressure, SPEC §6; "
             f"'(liquefied)' from {LIQUEFIED_RU:g}, a cyclic stage's default liquefaction_ru)." +
             " *: p'_0 or p'_c outside the pressures of the line's critical states (the line extrapolated)." +
             f" `figures/{figname}.png`: the stress paths over p'_0 (the walls' p' and q, dashed "
