@@ -2388,14 +2388,15 @@ PT_REGAIN = 0.1
 
 def undrained_response(s, rows):
     """The shape of an undrained compression over its rows (in time order, single rows: a loose sample's instability
-    peaks within the first per cent of strain, which the peak window, 2 % in the studies that set one, would smear):
-    the largest fall of q below its running maximum relative to that maximum, which a contractive sample's instability
+    peaks within the first per cent of strain, which the peak window, 2 % in the studies that set one, would smear): the
+    largest fall of q below its running maximum relative to that maximum, which a contractive sample's instability
     makes, up to the least p' (q_pk at eps_pk, the trough q_min at eps_min after it, and the brittleness index I_B =
     (q_pk - q_min) / q_pk, Bishop 1967 with the trough for his residual: 0 where q never falls, 1 where it falls to
-    nothing; a few per cent are a contracting sample's fluctuation); the least p' (p_min at eps_pmin) and whether p'
-    rises past it after it (PT_RISE, PT_REGAIN), a phase transformation (pt: q/p' there; None where p' falls to the end
-    or rises from the first row); r_u = u / p'_0 at its largest (ru_max, u the series' pore pressure; None without the
-    column)."""
+    nothing; a few per cent are a contracting sample's fluctuation; eta_pk: the contacts' q/p' at q_pk, Lade's
+    instability line); the least p' (p_min at eps_pmin) and whether p' rises past it after it (PT_RISE, PT_REGAIN), a
+    phase transformation (pt: the contacts' q/p' there; None where p' falls to the end or rises from the first row, or
+    where the least is liquefied, r_u >= LIQUEFIED_RU: regains, a re-jamming); r_u = u / p'_0 at its largest (ru_max, u
+    the series' pore pressure; None without the column)."""
     q, p, ea = s["q"][rows], s["p"][rows], s["eps_a"][rows]
     k_pt = int(np.argmin(p))
     # q falls in an undrained compression only while p' does (a contraction): the fall is sought up to the least p',
@@ -2407,12 +2408,17 @@ def undrained_response(s, rows):
     k_pk = int(np.argmax(q[:k_min + 1]))
     pt = None
     rise = float(np.max(p[k_pt:]) - p[k_pt])
+    regains = False
     if 0 < k_pt and rise > PT_RISE * p[k_pt] and rise > PT_REGAIN * p[0]:
-        pt = float(s["q_p"][rows][k_pt])
+        # past r_u = LIQUEFIED_RU the skeleton has gone: a few contacts' q/p' is no transformation's stress ratio, and
+        # the rise is the sample's re-jamming at constant volume
+        regains = bool(p[k_pt] <= (1 - LIQUEFIED_RU) * p[0])
+        pt = None if regains else float(s["q_p"][rows][k_pt])
     p0 = float(p[0])
     ru = float(np.nanmax(s["u"][rows])) / p0 if "u" in s and p0 > 0 else None
-    return dict(q_pk=float(q[k_pk]), eps_pk=float(ea[k_pk]), q_min=float(q[k_min]), eps_min=float(ea[k_min]),
-                ib=float(fall[k_min]), p_min=float(p[k_pt]), eps_pmin=float(ea[k_pt]), pt=pt,
+    return dict(q_pk=float(q[k_pk]), eps_pk=float(ea[k_pk]), eta_pk=float(s["q_p"][rows][k_pk]), q_min=float(q[k_min]),
+                eps_min=float(ea[k_min]), ib=float(fall[k_min]), p_min=float(p[k_pt]), eps_pmin=float(ea[k_pt]), pt=pt,
+                regains=regains,
                 ru_max=ru if ru is not None and math.isfinite(ru) else None)
 
 
@@ -2493,10 +2499,10 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
             rows.append(("" if heads is None else f"| {heads[t['name']]} ") +
                         f"| {t['name']} | {label} | {t['p0']:.1f} | {t['e0']:.4f} | {t['psi0']:+.4f}"
                         f"{' *' if t['outside'] else ''} | {pred} | {end_txt} | "
-                        + (f"{r['q_pk'] / 1e3 / t['p0']:.3f} ({100 * r['eps_pk']:.1f}) | "
-                           f"{r['q_min'] / 1e3 / t['p0']:.3f} ({100 * r['eps_min']:.1f})" if soft else "- | -") +
-                        f" | {r['ib']:.3f} | {t['p_min_p0']:.3f} ({100 * r['eps_pmin']:.1f}) | "
-                        f"{'-' if r['pt'] is None else format(r['pt'], '.3f')} | " +
+                        + (f"{r['q_pk'] / 1e3 / t['p0']:.3f} ({100 * r['eps_pk']:.1f}) | {r['eta_pk']:.3f} | "
+                           f"{r['q_min'] / 1e3 / t['p0']:.3f} ({100 * r['eps_min']:.1f})" if soft else "- | - | -") +
+                        f" | {r['ib']:.3f} | {t['p_min_p0']:.3f} ({100 * r['eps_pmin']:.1f}) | " +
+                        ("- (regains)" if r["regains"] else "-" if r["pt"] is None else f"{r['pt']:.3f}") + " | " +
                         ("- |" if ru is None else f"{ru:.3f}{' (liquefied)' if ru >= LIQUEFIED_RU else ''} |"))
         (ln,) = ax[1].plot([], [])
         for t in g:
@@ -2554,12 +2560,15 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "peak lies within the first per cent of strain, narrower than a peak window): q at the peak q_pk before "
             "its largest fall relative to the running maximum up to the least p' (past it the sample dilates: q rises "
             "toward its critical state and fluctuates there), and at the trough q_min of that fall, over p'_0 (axial "
-            "strain in %), and the brittleness I_B = (q_pk - q_min) / q_pk (Bishop 1967, the trough for his "
-            "residual: 1 where q falls to nothing; 0: q never falls, '-' for the peak and trough; a few hundredths: "
-            "a fluctuation). p'_min: the least p' over p'_0 (its axial strain in %), and q/p' there "
+            "strain in %), with the contacts' q/p' at q_pk (the instability line's stress ratio, Lade 1992), and the "
+            "brittleness I_B = (q_pk - q_min) / q_pk (Bishop 1967, the trough for his residual: 1 where q falls to "
+            "nothing; 0: q never falls, '-' for the peak and trough; a few hundredths: a fluctuation). p'_min: the "
+            "least p' over p'_0 (its axial strain in %), and q/p' there "
             f"where p' rises after it by more than {100 * PT_RISE:g} % of it and {100 * PT_REGAIN:g} % of p'_0 (the "
             "phase transformation, Ishihara, Tatsuoka & Yasuda 1975, where contraction turns into dilation; '-' "
-            "where p' falls to the end, or rises from the start, or only fluctuates about its least); r_u,max = u / "
+            "where p' falls to the end, or rises from the start, or only fluctuates about its least; '- (regains)' "
+            f"where its least is liquefied, below {100 * (1 - LIQUEFIED_RU):.3g} % of p'_0: a few contacts' q/p' is no "
+            "transformation's, and the rise a re-jamming at constant volume); r_u,max = u / "
             "p'_0 at its largest (u the series' pore pressure, SPEC §6; "
             f"'(liquefied)' from {LIQUEFIED_RU:g}, a cyclic stage's default liquefaction_ru)." +
             " *: p'_0 or p'_c outside the pressures of the line's critical states (the line extrapolated)." +
@@ -2569,9 +2578,9 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "; ".join(lines_txt) + "." +
             resid_txt,
             "", ("" if heads is None else "| section ") + "| test | mu_r | p'_0 [kPa] | e_0 | psi_0 | p'_c from the "
-            "line [kPa] | p'_end [kPa] | psi_end | q_pk / p'_0 (eps_a %) | q_min / p'_0 (eps_a %) | I_B | "
-            "p'_min / p'_0 (eps_a %) | q/p' at PT | r_u,max |",
-            "|---" * (14 if heads is None else 15) + "|", *rows, "",
+            "line [kPa] | p'_end [kPa] | psi_end | q_pk / p'_0 (eps_a %) | q/p' at q_pk | q_min / p'_0 (eps_a %) | I_B "
+            "| p'_min / p'_0 (eps_a %) | q/p' at PT | r_u,max |",
+            "|---" * (15 if heads is None else 16) + "|", *rows, "",
             *(["I_B and p'_min / p'_0 on a least-squares line in psi_0 (its value at psi = 0 and slope, ± one "
                "standard error), the rms of its residuals beside the rms about "
                "a line in e_0 alone.", "",

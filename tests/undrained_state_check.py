@@ -3,13 +3,17 @@
 undrained_state_section, undrained_response).
 
 Nine synthetic drained compressions (mu_r 0.1) at p'_0 = 50, 100 and 200 kPa end at critical state (q/p' = 0.75) on
-the line e_c = 0.80 - 5e-4 p' [kPa], which the report's critical-state line is then exactly. Seven undrained
+the line e_c = 0.80 - 5e-4 p' [kPa], which the report's critical-state line is then exactly. Eight undrained
 compressions (constant e = e_0) of the same mu_r, with piecewise-linear paths of known shape:
 - liquefies: e_0 = 0.81 at 100 kPa (psi_0 +0.06, e_0 above the line's intercept: the line says it liquefies), q
   rises to 30 kPa at 1 % and falls with p' to 0.375 and 0.5 kPa at 5 % and on to 0.06 and 0.08 kPa at 30 %: I_B =
   0.998, r_u,max = 0.9994 (liquefied); p' then fluctuates (0.3 kPa at 35 %, 0.12 at 40 %: more than half its least
   but not a tenth of p'_0, no phase transformation), not critical and not on the line (as a liquefied sample's p'
   near 0, which fluctuates by as much as itself);
+- liquefies and re-jams: e_0 = 0.805 at 200 kPa (psi_0 +0.105): q peaks at 40 kPa at 0.5 % (p' 180: q/p' 0.222
+  there), p' falls to 5 kPa at 3 % (2.5 % of p'_0: I_B 0.906, r_u,max 0.981) and from 10 % rises to 30 kPa at 40 %: a
+  rise past both thresholds from a liquefied least, '- (regains)', no transformation (a sixth of the end's p', so
+  the least is liquefied against p'_0, not against where the test ends);
 - limited liquefaction at 100 kPa (psi_0 -0.02) and at 50 kPa (-0.04, its p'_0 below the line's pressures: *): q
   peaks at 0.4 p'_0 at 1 %, falls to 0.1 p'_0 at 5 % with p' to 0.2 p'_0 (I_B 0.75, phase transformation at q/p'
   0.5), then p' rises to the line's p'_c at e_0 (140 and 130 kPa) by 20 % with q = 0.75 p' and stays: on the line;
@@ -26,7 +30,7 @@ compressions (constant e = e_0) of the same mu_r, with piecewise-linear paths of
   the end (not critical): no phase transformation, p'_min / p'_0 1.000 at 0, r_u,max 0 (at the start); q falls by a
   fifth at 31 % and is back by 33 %: a dilating sample's
   fluctuation about its critical state, past the least p', which I_B leaves out (0).
-The section must list the seven (not the drained tests nor a test of another mu_r), each measure as built, the line's
+The section must list the eight (not the drained tests nor a test of another mu_r), each measure as built, the line's
 p'_c at e_0 with '0 (liquefies)' for the first, the residual of each critical end against it, and I_B and p'_min /
 p'_0 on lines in psi_0 by least squares worked out here, beside the rms about a line in e_0. Over a preparation stage
 axis the table across the values pools them; without a line, there is no section.
@@ -114,6 +118,8 @@ LIQ_P = [(0, 100), (0.01, 80), (0.05, 0.5), (0.3, 0.08), (0.35, 0.3), (0.4, 0.12
 
 # a late collapse at 50 kPa (psi_0 0): limited liquefaction to p' 10 kPa at 5 %, a rise to 40 kPa at 15 % (a phase
 # transformation) and a fall to 16 and 12 kPa at 30 and 40 %, q = 0.75 p' from 15 % on
+# liquefies at 200 kPa (e_0 0.805, above the line's intercept) by 3 % and re-jams from 10 %: p' 5 -> 30 kPa by 40 %
+REG_P = [(0, 200), (0.005, 180), (0.03, 5), (0.1, 5), (0.4, 30)]
 DIL2_P = [(0, 200), (0.4, 400)]  # the dilative test at 200 kPa: p' rising from the first row to the end
 LATE_P = [(0, 50), (0.01, 42), (0.05, 10), (0.15, 40), (0.25, 16), (0.3, 16), (0.4, 12)]
 LATE_Q = [(0, 0), (0.01, 20), (0.05, 5), (0.15, 30), (0.25, 12), (0.3, 12), (0.4, 9)]
@@ -138,6 +144,7 @@ def build(keys=None):
     undrained("cu_dilative_p200", 200, e_line(200) - 0.06, DIL2_P, [(0, 0), (0.2, 240), (0.3, 240), (0.31, 192),
                                                                    (0.33, 240), (0.4, 300)], keys=kk)
     undrained("cu_late", 50, e_line(50), LATE_P, LATE_Q, keys=kk)
+    undrained("cu_regains", 200, 0.805, REG_P, [(0, 0), (0.005, 40)] + [(x, 0.75 * y) for x, y in REG_P[2:]], keys=kk)
     undrained("cu_steady", 200, e_line(200) + 0.02, [(0, 200), (0.1, 158), (0.2, 185), (0.3, 160)],
               [(0, 0), (0.02, 140), (0.1, 118), (0.2, 138.75), (0.3, 120)], keys=kk)
     undrained("cu_other_mu_r", 100, 0.73, [(0, 100), (0.2, 140)], [(0, 0), (0.2, 105)], mu_r=0.3, keys=kk)
@@ -147,6 +154,7 @@ def build(keys=None):
 # of its p' rows (LIQ_P)
 P_END_LIQ = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], *zip(*LIQ_P))))
 P_END_DIL2 = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], *zip(*DIL2_P))))
+P_END_REG = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], *zip(*REG_P))))
 P_END_LATE = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], *zip(*LATE_P))))
 # the dilative test's: p' rising from 95 kPa at 1 % to 300 at 40 %; and its q (0 -> 225 kPa over 40 %)
 P_END_DIL = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], [0.01, 0.4], [95, 300])))
@@ -156,26 +164,29 @@ def q_dil(x):
     return 225 * x / 0.4
 
 
-# name -> psi_0, the line's p'_c, p'_end, psi_end, q_pk / p'_0 (eps %), q_min / p'_0 (eps %), I_B,
+# name -> psi_0, the line's p'_c, p'_end, psi_end, q_pk / p'_0 (eps %), q/p' at q_pk, q_min / p'_0 (eps %), I_B,
 #         p'_min / p'_0 (eps %), q/p' at PT, r_u,max; built above
 WANT = {
     "cu_liquefies": (+0.06, "0 (liquefies)", f"{P_END_LIQ:.1f} (not critical)", e_line(100) + 0.06 - e_line(P_END_LIQ),
-                     "0.300 (1.0)", "0.001 (30.0)", (30 - 0.06) / 30, "0.001 (30.0)", "-",
+                     "0.300 (1.0)", f"{30 / 80:.3f}", "0.001 (30.0)", (30 - 0.06) / 30, "0.001 (30.0)", "-",
                      f"{1 + 0.02 / 100 - 0.0008:.3f} (liquefied)"),
-    "cu_limited_p100": (-0.02, "140 ± 0", "140.0", 0.0, "0.400 (1.0)", "0.100 (5.0)", 0.75, "0.200 (5.0)", "0.500",
-                        f"{(100 + 10 / 3 - 20) / 100:.3f}"),
-    "cu_limited_p50": (-0.04, "130 ± 0", "130.0", 0.0, "0.400 (1.0)", "0.100 (5.0)", 0.75, "0.200 (5.0)", "0.500",
-                       f"{(50 + 5 / 3 - 10) / 50:.3f}"),
+    "cu_limited_p100": (-0.02, "140 ± 0", "140.0", 0.0, "0.400 (1.0)", f"{40 / 84:.3f}", "0.100 (5.0)", 0.75,
+                        "0.200 (5.0)", "0.500", f"{(100 + 10 / 3 - 20) / 100:.3f}"),
+    "cu_limited_p50": (-0.04, "130 ± 0", "130.0", 0.0, "0.400 (1.0)", f"{20 / 42:.3f}", "0.100 (5.0)", 0.75,
+                       "0.200 (5.0)", "0.500", f"{(50 + 5 / 3 - 10) / 50:.3f}"),
     "cu_dilative": (-0.1, "300 ± 0 *", f"{P_END_DIL:.1f} (not critical)", e_line(100) - 0.1 - e_line(P_END_DIL),
-                    "-", "-", 0.0, "0.950 (1.0)", f"{q_dil(0.01) / 95:.3f}",
+                    "-", "-", "-", 0.0, "0.950 (1.0)", f"{q_dil(0.01) / 95:.3f}",
                     f"{(100 + q_dil(0.01) / 3 - 95) / 100:.3f}"),
     "cu_dilative_p200": (-0.06, "320 ± 0 *", f"{P_END_DIL2:.1f} (not critical)", -B_LINE * (P_END_DIL2 - 320), "-",
-                         "-", 0.0, "1.000 (0.0)", "-", "0.000"),
+                         "-", "-", 0.0, "1.000 (0.0)", "-", "0.000"),
     "cu_late": (0.0, "50 ± 0 *", f"{P_END_LATE:.1f} (not critical)", -B_LINE * (P_END_LATE - 50), "0.400 (1.0)",
-                "0.100 (5.0)", 0.75, "0.200 (5.0)", "0.500",
+                f"{20 / 42:.3f}", "0.100 (5.0)", 0.75, "0.200 (5.0)", "0.500",
                 f"{max(50 + q / 3 - p for (_, p), (_, q) in zip(LATE_P, LATE_Q)) / 50:.3f}"),
-    "cu_steady": (+0.02, "160 ± 0", "160.0", 0.0, "0.700 (2.0)", "0.590 (10.0)", 22 / 140, "0.790 (10.0)", "-",
-                  f"{(200 + 118 / 3 - 158) / 200:.3f}"),
+    "cu_steady": (+0.02, "160 ± 0", "160.0", 0.0, "0.700 (2.0)", f"{140 / 191.6:.3f}", "0.590 (10.0)", 22 / 140,
+                  "0.790 (10.0)", "-", f"{(200 + 118 / 3 - 158) / 200:.3f}"),
+    "cu_regains": (0.805 - e_line(200), "0 (liquefies)", f"{P_END_REG:.1f} (not critical)",
+                   0.805 - e_line(P_END_REG), "0.200 (0.5)", f"{40 / 180:.3f}", "0.019 (3.0)", (40 - 3.75) / 40,
+                   "0.025 (3.0)", "- (regains)", f"{(200 + 1.25 - 5) / 200:.3f} (liquefied)"),
 }
 build()
 text = study_report(work, jobs)
@@ -190,12 +201,12 @@ if sorted(rows) != sorted(WANT):
     fails.append(f"the section's tests: {sorted(rows)}, expected {sorted(WANT)}")
 for name, w in WANT.items():
     r = rows.get(name)
-    if r is None or len(r) != 14:
+    if r is None or len(r) != 15:
         fails.append(f"{name}: row {r}")
         continue
     psi0 = f"{w[0]:+.4f}" + (" *" if name in ("cu_limited_p50", "cu_late") else "")
-    expect = [psi0, w[1], w[2], f"{w[3]:+.4f}", w[4], w[5], f"{w[6]:.3f}", w[7], w[8], w[9]]
-    got = [r[4].replace("-0.0000", "+0.0000"), r[5], r[6], r[7].replace("-0.0000", "+0.0000"), *r[8:14]]
+    expect = [psi0, w[1], w[2], f"{w[3]:+.4f}", w[4], w[5], w[6], f"{w[7]:.3f}", w[8], w[9], w[10]]
+    got = [r[4].replace("-0.0000", "+0.0000"), r[5], r[6], r[7].replace("-0.0000", "+0.0000"), *r[8:15]]
     if got != expect:
         fails.append(f"{name}: {got}, expected {expect}")
 if "Of the 3 tests at critical state, the measured p'_end less the line's p'_c: +0, +0, +0 kPa." not in sec:
@@ -205,15 +216,15 @@ names = sorted(WANT)
 psi = np.array([WANT[n][0] for n in names])
 e0 = np.array([E0[n] for n in names])
 pmin = {"cu_liquefies": 0.0008, "cu_limited_p100": 0.2, "cu_limited_p50": 0.2, "cu_dilative": 0.95,
-        "cu_dilative_p200": 1.0, "cu_steady": 0.79, "cu_late": 0.2}
-for col, y in (("I_B on psi_0", np.array([WANT[n][6] for n in names])),
+        "cu_dilative_p200": 1.0, "cu_steady": 0.79, "cu_late": 0.2, "cu_regains": 0.025}
+for col, y in (("I_B on psi_0", np.array([WANT[n][7] for n in names])),
                ("p'_min / p'_0 on psi_0", np.array([pmin[n] for n in names]))):
     k, c = np.polyfit(psi, y, 1)
     rms = float(np.sqrt(np.mean((y - c - k * psi) ** 2)))
     ke, ce = np.polyfit(e0, y, 1)
     rms_e = float(np.sqrt(np.mean((y - ce - ke * e0) ** 2)))
-    want = f"| 0.1 | 7 | {col} | {c:.3f} ± "
-    row = next((x for x in sec.splitlines() if x.startswith(f"| 0.1 | 7 | {col} |")), "")
+    want = f"| 0.1 | 8 | {col} | {c:.3f} ± "
+    row = next((x for x in sec.splitlines() if x.startswith(f"| 0.1 | 8 | {col} |")), "")
     if not row.startswith(want) or f"| {k:.3f} ± " not in row or not row.endswith(f"| {rms:.3f} | {rms_e:.3f} |"):
         fails.append(f"the fit {col}: {row!r}, expected {c:.3f} + {k:.3f} psi_0, rms {rms:.3f}, on e_0 {rms_e:.3f}")
 if "The line: mu_r 0.1: e_c = 0.8000 ± 0.0000 + (-5.000e-04 ± " not in sec:
@@ -237,6 +248,7 @@ if head in study_report(work, jobs):
     fails.append("a section without a critical-state line")
 if fails:
     sys.exit("undrained_state_check: " + "\n".join(fails))
-print("undrained_state_check: ok (7 undrained tests against the line: liquefaction, limited liquefaction at two "
-      "pressures, a steady state, a late collapse, dilation with and without a phase transformation; I_B, p'_min, "
+print("undrained_state_check: ok (8 undrained tests against the line: liquefaction with and without re-jamming, "
+      "limited liquefaction at two pressures, a steady state, a late collapse, dilation with and without a phase "
+      "transformation; I_B, p'_min, "
       "r_u,max and the fits as built)")
