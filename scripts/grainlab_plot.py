@@ -2257,6 +2257,22 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
+def psi_fit(label, name, fmt, x, y, e0):
+    """A measure y (its table name and format) on a least-squares line in a state parameter x over the tests where both
+    are finite, three or more with x and e_0 spread: (the line's value at x = 0, its slope, and the row of the state
+    tables: both ± one standard error, the rms of its residuals and, beside it, the rms about a line in e_0 alone);
+    None with too few."""
+    ok = np.isfinite(y) & np.isfinite(x)
+    if ok.sum() < 3 or np.ptp(x[ok]) <= 0 or np.ptp(e0[ok]) <= 0:
+        return None
+    B, A, sB, sA = fit(x[ok], y[ok])
+    rms = float(np.sqrt(np.mean((y[ok] - A - B * x[ok]) ** 2)))
+    Be, Ae, _, _ = fit(e0[ok], y[ok])
+    rms_e = float(np.sqrt(np.mean((y[ok] - Ae - Be * e0[ok]) ** 2)))
+    return A, B, (f"| {label} | {int(ok.sum())} | {name} | {A:{fmt}} ± {sA:{fmt}} | {B:{fmt}} ± {sB:{fmt}} | "
+                  f"{rms:{fmt}} | {rms_e:{fmt}} |")
+
+
 def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), heads=None,
                             title="## State parameter (drained compression)", figname="state_parameter", lead=""):
     """The state parameter psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985) of the drained compression tests (b = 0):
@@ -2329,16 +2345,11 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
                 if t["outside" if xcol == "psi0" else "outside_psi_d"] and math.isfinite(t[col]) and \
                         math.isfinite(t[xcol]):
                     ax[k_ax].plot([t[xcol]], [t[col]], "o", mfc="white", color=pts.get_color())
-            if ok.sum() < 3 or np.ptp(x[ok]) <= 0 or np.ptp(e0[ok]) <= 0:
-                continue
-            B, A, sB, sA = fit(x[ok], y[ok])
-            rms = float(np.sqrt(np.mean((y[ok] - A - B * x[ok]) ** 2)))
-            Be, Ae, _, _ = fit(e0[ok], y[ok])
-            rms_e = float(np.sqrt(np.mean((y[ok] - Ae - Be * e0[ok]) ** 2)))
-            xs = np.linspace(x[ok].min(), x[ok].max(), 2)
-            ax[k_ax].plot(xs, A + B * xs, "-", lw=1, color=pts.get_color())
-            fit_rows.append(f"| {label} | {int(ok.sum())} | {name} | {A:{fmt}} ± {sA:{fmt}} | "
-                            f"{B:{fmt}} ± {sB:{fmt}} | {rms:{fmt}} | {rms_e:{fmt}} |")
+            line = psi_fit(label, name, fmt, x, y, e0)
+            if line is not None:
+                xs = np.linspace(x[ok].min(), x[ok].max(), 2)
+                ax[k_ax].plot(xs, line[0] + line[1] * xs, "-", lw=1, color=pts.get_color())
+                fit_rows.append(line[2])
     for a_, (_, xcol, yl, _) in zip(ax, STATE_PARAMETER_FITS):
         a_.axhline(0, color="0.5", lw=0.8)
         a_.axvline(0, color="0.5", lw=0.8)
@@ -2518,17 +2529,11 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
         e0 = np.array([t["e0"] for t in g])
         for col, name, fmt in UNDRAINED_STATE_FITS:
             x, y = np.array([t["psi0"] for t in g]), np.array([t[col] for t in g])
-            ok = np.isfinite(y) & np.isfinite(x)
-            if ok.sum() < 3 or np.ptp(x[ok]) <= 0 or np.ptp(e0[ok]) <= 0:
-                continue
-            B, A, sB, sA = fit(x[ok], y[ok])
-            rms = float(np.sqrt(np.mean((y[ok] - A - B * x[ok]) ** 2)))
-            Be, Ae, _, _ = fit(e0[ok], y[ok])
-            rms_e = float(np.sqrt(np.mean((y[ok] - Ae - Be * e0[ok]) ** 2)))
-            xs = np.linspace(x[ok].min(), x[ok].max(), 2)
-            ax[2].plot(xs, A + B * xs, "-" if col == "ib" else ":", lw=1, color=pts.get_color())
-            fit_rows.append(f"| {label} | {int(ok.sum())} | {name} | {A:{fmt}} ± {sA:{fmt}} | "
-                            f"{B:{fmt}} ± {sB:{fmt}} | {rms:{fmt}} | {rms_e:{fmt}} |")
+            line = psi_fit(label, name, fmt, x, y, e0)
+            if line is not None:
+                xs = np.linspace(np.nanmin(x), np.nanmax(x), 2)
+                ax[2].plot(xs, line[0] + line[1] * xs, "-" if col == "ib" else ":", lw=1, color=pts.get_color())
+                fit_rows.append(line[2])
         xs = np.linspace(0, max(max(float(np.max(t["path"][0])) for t in g), 1.0), 2)
         # the paths are the walls' p' and q (series p, q): their line is the walls' M at critical state
         # (STRESS_MEASURES_TEXT), the contacts' M where the states did not measure it

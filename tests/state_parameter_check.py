@@ -17,8 +17,6 @@ leaves a residual (the pressures differ), and (-d)_max on psi at it by least squ
 The same nine over a stage axis: pooled on one line in the table across the values over a preparation stage's key
 (consolidate.mu) or the shear's end (shear.max_axial_strain), a line per value over a key of the shear (shear.mu).
 """
-import csv
-import json
 import math
 import os
 import shutil
@@ -28,7 +26,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
 import dilatancy as D  # noqa: E402
-from synthetic_study import SHEAR_COLUMNS, study_report  # noqa: E402
+from synthetic_study import SHEAR_COLUMNS, shear_row, study_report, write_compression  # noqa: E402
 
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/state_parameter_check"
 shutil.rmtree(work, ignore_errors=True)
@@ -63,29 +61,11 @@ def test(name, p0, psi0, mu_r=0.1, drainage="drained", keys=None, E=None):
                                                             M_CS))
     if drainage == "undrained":
         eta = 0.5 + 3 * eps  # still rising at its end (q/p' by 0.15 over the window): no critical state
-    run = os.path.join(work, "jobs", name, "run")
-    os.makedirs(run)
-    open(os.path.join(work, "jobs", name, "done"), "w").close()
-    with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": 0.25,
-                               "drainage": drainage, "direction": "compression", "p_0": p0 * 1e3, "q_0": 0}]}, f)
-    rows = []
-    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["stage"] + cols)
-        for i, (ea, v, qp) in enumerate(zip(eps, ev, eta)):
-            p = 3 * p0 * 1e3 / (3 - qp)  # constant sigma_3 = p'_0
-            e = e0 - (1 + e0) * v
-            row = dict(time=i, step=i, eps_a=ea, eps_v=v, p=p, q=qp * p, q_p=qp, e=e, mu=0.5, mu_r=mu_r,
-                       stage_type=2 if drainage == "drained" else 1, a_c=0.1, a_d=0.05, a_n=0.1, a_t=0.02,
-                       sff_share_c=0.25, sff_share_d=0.25, sff_share_n=0.25, sff_share_t=0.25, sff=qp,
-                       inertial_number=5e-4, sigma_x=p - qp * p / 3, sigma_y=p - qp * p / 3, sigma_z=p + 2 * qp * p / 3)
-            w.writerow(["shear"] + [row[k] for k in cols])
-            rows.append((p, e))
-    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": mu_r, "e0": 0, "p0": p0 * 1e3,
-                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
-                 "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0.25, "rate_group": "",
-                 **({"stage_keys": keys} if keys else {}), **({"E": E} if E else {})})
+    p = 3 * p0 * 1e3 / (3 - eta)  # constant sigma_3 = p'_0
+    e = e0 - (1 + e0) * ev
+    series = [shear_row(i, *r, mu_r, drainage) for i, r in enumerate(zip(eps, ev, p, eta * p, e))]
+    jobs.append(write_compression(work, name, p0, drainage, series, cols, mu_r, keys, E))
+    rows = list(zip(p, e))
     # psi where the test dilates fastest: the row the dilatancy's windows find (the segment's rate is one, so which
     # of its rows depends on round-off), its e less the line's at its p'
     k_d = int(np.nanargmin(D.analyse(eps, ev, eta)["d"]))

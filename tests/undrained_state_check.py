@@ -35,8 +35,6 @@ p'_c at e_0 with '0 (liquefies)' for the first, the residual of each critical en
 p'_0 on lines in psi_0 by least squares worked out here, beside the rms about a line in e_0. Over a preparation stage
 axis the table across the values pools them; without a line, there is no section.
 """
-import csv
-import json
 import os
 import shutil
 import sys
@@ -44,7 +42,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from synthetic_study import SHEAR_COLUMNS, study_report  # noqa: E402
+from synthetic_study import SHEAR_COLUMNS, shear_row, study_report, write_compression  # noqa: E402
 
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/undrained_state_check"
 shutil.rmtree(work, ignore_errors=True)
@@ -61,27 +59,11 @@ def e_line(p_kpa):
 
 def write(name, p, q, e, p0, mu_r=0.1, drainage="drained", keys=None):
     """A compression test's run (p, q [kPa] and e per row of eps) and its job in study.json."""
-    run = os.path.join(work, "jobs", name, "run")
-    os.makedirs(run)
-    open(os.path.join(work, "jobs", name, "done"), "w").close()
-    with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "axial_strain_rate": 0.25,
-                               "drainage": drainage, "direction": "compression", "p_0": p0 * 1e3, "q_0": 0}]}, f)
-    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["stage"] + cols)
-        for i, (ea, pk, qk, ek) in enumerate(zip(eps, p, q, e)):
-            P, Q = pk * 1e3, qk * 1e3
-            row = dict(time=i, step=i, eps_a=ea, eps_v=(e[0] - ek) / (1 + e[0]), p=P, q=Q, q_p=qk / pk, e=ek,
-                       mu=0.5, mu_r=mu_r, stage_type=2 if drainage == "drained" else 1, a_c=0.1, a_d=0.05, a_n=0.1,
-                       a_t=0.02, sff_share_c=0.25, sff_share_d=0.25, sff_share_n=0.25, sff_share_t=0.25, sff=qk / pk,
-                       inertial_number=5e-4, sigma_x=P - Q / 3, sigma_y=P - Q / 3, sigma_z=P + 2 * Q / 3,
-                       u=(p0 + qk / 3 - pk) * 1e3 if drainage == "undrained" else 0.0)  # SPEC §6: u = p'_0 + q/3 - p'
-            w.writerow(["shear"] + [row[k] for k in cols])
-    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_x", "mu_r": mu_r, "e0": 0, "p0": p0 * 1e3,
-                 "drainage": drainage, "direction": "compression", "b": 0, "seed": 1, "count": 300, "csr": 0,
-                 "cycles": 0, "strain_amplitude": 0, "axial_strain_rate": 0.25, "rate_group": "",
-                 **({"stage_keys": keys} if keys else {})})
+    # SPEC §6: u = p'_0 + q/3 - p' (0 in a drained test)
+    rows = [shear_row(i, ea, (e[0] - ek) / (1 + e[0]), pk * 1e3, qk * 1e3, ek, mu_r, drainage,
+                      u=(p0 + qk / 3 - pk) * 1e3 if drainage == "undrained" else 0.0)
+            for i, (ea, pk, qk, ek) in enumerate(zip(eps, p, q, e))]
+    jobs.append(write_compression(work, name, p0, drainage, rows, cols, mu_r, keys))
 
 
 def drained(name, p0, psi0, mu_r=0.1, keys=None):
