@@ -2257,6 +2257,29 @@ def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
+def line_groups(states):
+    """csl_groups' groups of critical states (per mu_r, direction, b and rate) with a line: three pressure levels or
+    more (pressure_levels)."""
+    return {k: g for k, g in csl_groups(states).items() if pressure_levels([c["p"] for c in g]) >= 3}
+
+
+def line_tests(mono, groups, peak, drainage, usable):
+    """The compression tests (b = 0) of a drainage in mono ((job, run directory, series) each) whose group has a line
+    (line_groups) and which usable(series, peak_state) accepts: (job, series, its peak_state, its monotonic rows, the
+    group's key, the line's p'_c [kPa] and e_c, the shear's p'_0 [kPa] and e_0 at its first row) each."""
+    for j, _, s in mono:
+        ps = peak_state(s, peak)
+        if j["drainage"] != drainage or ps["ext"] or ps["b"] > 0 or not usable(s, ps):
+            continue
+        m = s["monotonic"]
+        key = (s["mu_r"][m][-1], False, ps["b"], float(s.get("rate", 0.0)))
+        if key not in groups:
+            continue
+        r0 = int(np.flatnonzero(ps["m"])[0])  # the shear's first row: its e_0 and p'_0
+        yield (j, s, ps, m, key, [c["p"] / 1e3 for c in groups[key]], [c["e"] for c in groups[key]],
+               float(s["p"][r0]) / 1e3, float(s["e"][r0]))
+
+
 def psi_fit(label, name, fmt, x, y, e0):
     """A measure y (its table name and format) on a least-squares line in a state parameter x over the tests where both
     are finite, three or more with x and e_0 spread: (the line's value at x = 0, its slope, and the row of the state
@@ -2285,19 +2308,10 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
     line's at its p' (about 0 on the line). Empty without such a test in a group with a line. heads: the test's name ->
     its section's heading (a column of its own: the table across a stage axis's values, which pools them); title, the
     figure's name and a lead sentence for that use."""
-    groups = {k: g for k, g in csl_groups(states).items() if pressure_levels([c["p"] for c in g]) >= 3}
+    groups = line_groups(states)
     tests = {}
-    for j, d, s in mono:
-        ps = peak_state(s, peak)
-        if j["drainage"] != "drained" or ps["ext"] or ps["b"] > 0 or "M" not in ps or "eps_v" not in s:
-            continue
-        m = s["monotonic"]
-        key = (s["mu_r"][m][-1], False, ps["b"], float(s.get("rate", 0.0)))
-        if key not in groups:
-            continue
-        pc, ec = [c["p"] / 1e3 for c in groups[key]], [c["e"] for c in groups[key]]
-        r0 = int(np.flatnonzero(ps["m"])[0])  # the shear's first row: its e_0 and p'_0
-        p0, e0 = float(s["p"][r0]) / 1e3, float(s["e"][r0])
+    for j, s, ps, m, key, pc, ec, p0, e0 in line_tests(mono, groups, peak, "drained",
+                                                       lambda s, ps: "M" in ps and "eps_v" in s):
         e_line, se_line = line_at(pc, ec, p0)
         c = critical_state(s, window, *tol)
         psi_end = (float(c["e"]) - line_at(pc, ec, float(c["p"]) / 1e3)[0], c["ok"]) if c and "e" in c else None
@@ -2446,22 +2460,12 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
     keeps e_0): (e_0 - a) / b, less than p'_0 for psi_0 > 0, none (liquefaction) where e_0 >= a with b < 0, the line
     below e_0 at every p' > 0; beside the measured end (critical_state's window), the instability (undrained_response:
     q's first peak, its trough and the brittleness I_B), the phase transformation and r_u at its largest. Over three
-    tests or more of a line, I_B and q_pk / p'_0 on a line in psi_0 and, for comparison, in e_0 alone. heads, title,
+    tests or more of a line, I_B and p'_min / p'_0 on a line in psi_0 and, for comparison, in e_0 alone. heads, title,
     figname and lead as state_parameter_section's. Empty without such a test in a group with a line."""
-    groups = {k: g for k, g in csl_groups(states).items() if pressure_levels([c["p"] for c in g]) >= 3}
+    groups = line_groups(states)
     tests = {}
-    for j, d, s in mono:
-        ps = peak_state(s, peak)
-        if j["drainage"] != "undrained" or ps["ext"] or ps["b"] > 0 or not len(ps["rows"]):
-            continue
-        m = s["monotonic"]
-        key = (s["mu_r"][m][-1], False, ps["b"], float(s.get("rate", 0.0)))
-        if key not in groups:
-            continue
-        pc, ec = [c["p"] / 1e3 for c in groups[key]], [c["e"] for c in groups[key]]
+    for j, s, ps, m, key, pc, ec, p0, e0 in line_tests(mono, groups, peak, "undrained", lambda s, ps: len(ps["rows"])):
         b_, a_, _, _ = fit(np.array(pc), np.array(ec))
-        r0 = int(np.flatnonzero(ps["m"])[0])
-        p0, e0 = float(s["p"][r0]) / 1e3, float(s["e"][r0])
         e_line, se_line = line_at(pc, ec, p0)
         # the line's p' at e_0, with the line's standard error there carried along it (se_e / |b|)
         p_pred, se_pred = None, None
