@@ -2280,6 +2280,16 @@ def line_tests(mono, groups, peak, drainage, usable):
                float(s["p"][r0]) / 1e3, float(s["e"][r0]))
 
 
+def line_text(groups, key, several_rates):
+    """(label, text) of a group's line in the state-parameter sections: its mu_r (and rate, where the tests have
+    several), and e_c = a + b p' with standard errors through its critical states (their count and pressures)."""
+    label = f"{key[0]:g}" + (rate_text(key[3], ", ") if several_rates else "")
+    pc = np.array([c["p"] / 1e3 for c in groups[key]])
+    b, a, sb, sa = fit(pc, np.array([c["e"] for c in groups[key]]))
+    return label, (f"mu_r {label}: e_c = {a:.4f} ± {sa:.4f} + ({b:.3e} ± {sb:.1e}) p' [kPa] through {len(pc)} "
+                   f"critical states at p'_c {pc.min():.0f}–{pc.max():.0f} kPa")
+
+
 def psi_fit(label, name, fmt, x, y, e0):
     """A measure y (its table name and format) on a least-squares line in a state parameter x over the tests where both
     are finite, three or more with x and e_0 spread: (the line's value at x = 0, its slope, and the row of the state
@@ -2334,12 +2344,8 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
     rows, fit_rows, outside, lines_txt = [], [], False, []
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.4))
     for key, g in sorted(tests.items()):
-        label = f"{key[0]:g}" + (rate_text(key[3], ", ") if several_rates else "")
-        pc = np.array([c["p"] / 1e3 for c in groups[key]])
-        b_, a_, sb_, sa_ = fit(pc, np.array([c["e"] for c in groups[key]]))
-        lines_txt.append(f"mu_r {label}: e_c = {a_:.4f} ± {sa_:.4f} + ({b_:.3e} ± {sb_:.1e}) p' [kPa] through "
-                         f"{len(pc)} critical states at p'_c {pc.min():.0f}–{pc.max():.0f} kPa, phi'_cs "
-                         f"{g[0]['phi_cs']:.1f}°")
+        label, line_txt = line_text(groups, key, several_rates)
+        lines_txt.append(f"{line_txt}, phi'_cs {g[0]['phi_cs']:.1f}°")
         for t in g:
             outside |= t["outside"]
             end = ("-" if t["psi_end"] is None else
@@ -2492,11 +2498,8 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
     rows, fit_rows, lines_txt, resid = [], [], [], []
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.4))
     for key, g in sorted(tests.items()):
-        label = f"{key[0]:g}" + (rate_text(key[3], ", ") if several_rates else "")
-        pc = np.array([c["p"] / 1e3 for c in groups[key]])
-        b_, a_, sb_, sa_ = fit(pc, np.array([c["e"] for c in groups[key]]))
-        lines_txt.append(f"mu_r {label}: e_c = {a_:.4f} ± {sa_:.4f} + ({b_:.3e} ± {sb_:.1e}) p' [kPa] through "
-                         f"{len(pc)} critical states at p'_c {pc.min():.0f}–{pc.max():.0f} kPa, M = {g[0]['M']:.3f}")
+        label, line_txt = line_text(groups, key, several_rates)
+        lines_txt.append(f"{line_txt}, M = {g[0]['M']:.3f}")
         for t in sorted(g, key=lambda t: (t["p0"], t["e0"])):
             r, end = t["r"], t["end"]
             if t["p_pred"] is None:
