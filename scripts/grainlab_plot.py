@@ -2411,8 +2411,9 @@ LIQUEFIED_RU = 0.95
 # (contraction turning into dilation, Ishihara, Tatsuoka & Yasuda 1975) rather than a fluctuation: by PT_RISE of the
 # least and PT_REGAIN of p'_0 both. configs/state-parameter-undrained-study.yaml (5 000 spheres): p' at a steady end
 # fluctuates by a standard deviation of 1.5-5 % (a range of 5-15 %) of itself, far below PT_RISE; a liquefied
-# sample's p' below 1 % of p'_0 fluctuates by as much as itself, far below PT_REGAIN; its transformations rise 1.7 to
-# 100 times their least, and the liquefied samples' regain 15-30 % of p'_0 by 40 % of strain.
+# sample's p' (below 1 % of p'_0) by about 40 % of itself, within a range under 1 % of p'_0, far below PT_REGAIN;
+# the medium samples' transformations rise 1.7 to 73 times their least, and the loose ones re-jam by 19-25 % of p'_0
+# within 40 % of strain.
 PT_RISE = 0.5
 PT_REGAIN = 0.1
 
