@@ -1244,8 +1244,10 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     # would be a rate effect, or singular), named where the runs have more than one
     groups = csl_groups(states)
     several_rates = len({k[3] for k in groups}) > 1
-    lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | interior e_c = a + b p' | a_c = c + d ln(p'/1 kPa) "
-             "| M = abs(q/p') (phi_cs) | largest I | M walls, less drag, interior |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| mu_r | direction | n | e_c = a + b p' [p' in kPa] | e_c = e_Γ - λ ln(p'/1 kPa) | rms misfit of e_c: "
+             "linear, ln | interior e_c = a + b p' | a_c = c + d ln(p'/1 kPa) | M = abs(q/p') (phi_cs) | largest I | "
+             "M walls, less drag, interior |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    fitted = False
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         p = np.array([c["p"] for c in g]) / 1e3
@@ -1269,9 +1271,15 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
         if pressure_levels(p) >= 3:
             b, a, sb, sa = fit(p, e)
+            # Schofield & Wroth's form of the same states, e_c = e_Gamma - lambda ln p' (their Gamma is the specific
+            # volume 1 + e_Gamma at 1 kPa): the lambda a reader compares with the isotropic compression's
+            mlam, eg, slam, seg = fit(np.log(p), e)
+            misfit = [math.sqrt(float(np.sum((e - y) ** 2)) / (len(e) - 2)) for y in (a + b * p, eg + mlam * np.log(p))]
             d, c, sd, sc = fit(np.log(p), ac)
             xs = np.linspace(p.min(), p.max(), 20)
             ax[0].plot(xs, a + b * xs, "-", color=ln.get_color())
+            ax[0].plot(xs, eg + mlam * np.log(xs), ":", color=ln.get_color())
+            fitted = True
             ax[1].plot(np.log(xs), c + d * np.log(xs), "-", color=ln.get_color())
             # The interior's line (series e_inner, without the looser layer along the walls: the material's rather
             # than a walled specimen's), where every state measured it; dashed, its states hollow
@@ -1282,20 +1290,29 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
                 ax[0].plot(p, ei, "s" if ext else "o", mfc="none", color=ln.get_color())
                 ax[0].plot(xs, ai + bi * xs, "--", color=ln.get_color())
                 inner = f"a = {ai:.4f} ± {sai:.4f}, b = {bi:.3e} ± {sbi:.1e}"
-            lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | {inner} | "
+            lines.append(f"| {mur:g} | {direction} | {len(g)} | a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} | "
+                         f"e_Γ = {eg:.4f} ± {seg:.4f}, λ = {-mlam:.4f} ± {slam:.4f} | "
+                         f"{misfit[0]:.4f}, {misfit[1]:.4f} | {inner} | "
                          f"c = {c:.4f} ± {sc:.4f}, d = {d:.4f} ± {sd:.4f} | {m_txt} |")
         else:
             lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states {100 * CSL_LEVEL_GAP:g} % "
-                         "apart in p'_c: no fit | | | "
+                         "apart in p'_c: no fit | | | | | "
                          f"{m_txt} |")
-    ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c", title="critical-state line e_c - p' (hollow, dashed: interior)")
+    ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c",
+              title="critical-state line e_c - p' (dotted: in ln p'; hollow, dashed: interior)")
     ax[1].set(xlabel="ln p'_c [kPa]", ylabel="a_c at critical state", title="a_c - ln p'")
     for a_ in ax:
         a_.grid(alpha=0.3)
         legend(a_, fontsize=8)
     save(fig, out, "csl")
     if not groups:
-        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | | | |")
+        lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | | | | | |")
+    if fitted:
+        lines += ["", "e_Γ, λ: the same critical states on Schofield & Wroth's (1968) e_c = e_Γ - λ ln(p'/1 kPa) "
+                  "(their Γ is the specific volume 1 + e_Γ), whose λ compares with the isotropic compression index (the "
+                  "compression section). The rms misfit of e_c is each line's residual standard error (both have two "
+                  "parameters): the smaller describes these states better over their range of p'_c (dotted in the "
+                  "figure: the ln line). The state parameter is measured from the linear line (SPEC §7)."]
     note = inertial_note([c for _, c in states])
     text = "\n".join(lines + (["", note] if note else []))
     if not quiet:
@@ -2471,7 +2488,7 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
     figname and lead as state_parameter_section's. Empty without such a test in a group with a line."""
     groups = line_groups(states)
     tests = {}
-    for j, s, ps, m, key, pc, ec, p0, e0 in line_tests(mono, groups, peak, "undrained", lambda s, ps: len(ps["rows"])):
+    for j, s, ps, _, key, pc, ec, p0, e0 in line_tests(mono, groups, peak, "undrained", lambda s, ps: len(ps["rows"])):
         b_, a_, _, _ = fit(np.array(pc), np.array(ec))
         e_line, se_line = line_at(pc, ec, p0)
         # the line's p' at e_0, with the line's standard error there carried along it (se_e / |b|)
@@ -2482,8 +2499,7 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
         c = critical_state(s, window, *tol)
         end = None
         if c and "e" in c:
-            end = dict(p=float(c["p"]) / 1e3, ok=c["ok"], psi=float(c["e"]) - line_at(pc, ec, float(c["p"]) / 1e3)[0],
-                       q=float(c["p"]) * float(c["qp"]) / 1e3)
+            end = dict(p=float(c["p"]) / 1e3, ok=c["ok"], psi=float(c["e"]) - line_at(pc, ec, float(c["p"]) / 1e3)[0])
         r = undrained_response(s, ps["rows"])
         tests.setdefault(key, []).append(dict(
             name=j["name"], p0=p0, e0=e0, e_line=e_line, se_line=se_line, psi0=e0 - e_line,

@@ -22,9 +22,23 @@ shutil.rmtree(work, ignore_errors=True)
 cols = ["time", "step", "eps_a", "p", "q_p", "e", "a_c", "mu_r", "stage_type", "inertial_number"]
 truth = {0.1: (0.80, -2.0e-4, 0.10, 0.02), 0.5: (0.95, -3.0e-4, 0.20, 0.03)}
 inner_truth = (0.70, -1.0e-4)  # mu_r 0.5: the interior's line (series e_inner); mu_r 0.1 runs have no such column
+P_C = [100.0, 190.0, 300.0, 450.0]  # the compressions' p'_c [kPa]
+
+
+def line_fit(x, y):
+    """Least-squares slope and intercept of y on x, the residual standard error s (n - 2 degrees of freedom) and the
+    standard errors of the slope and the intercept (s / sqrt(Sxx), s sqrt(1/n + mean(x)^2 / Sxx))."""
+    n, mx, my = len(x), sum(x) / len(x), sum(y) / len(y)
+    sxx = sum((u - mx) ** 2 for u in x)
+    slope = sum((u - mx) * (v - my) for u, v in zip(x, y)) / sxx
+    icpt = my - slope * mx
+    s = math.sqrt(sum((v - icpt - slope * u) ** 2 for u, v in zip(x, y)) / (n - 2))
+    return slope, icpt, s, s / math.sqrt(sxx), s * math.sqrt(1 / n + mx ** 2 / sxx)
+
+
 runs = []
 for mur, (a, b, c, d) in truth.items():
-    for k, pc in enumerate([100.0, 190.0, 300.0, 450.0]):
+    for k, pc in enumerate(P_C):
         run = os.path.join(work, f"mur{mur}_{k}")
         os.makedirs(run)
         with open(os.path.join(run, "series.csv"), "w", newline="") as f:
@@ -48,6 +62,21 @@ for mur, (a, b, c, d) in truth.items():
                 w.writerow(["shear", i, i, ea, p, 0.6, e, ac, mur, 1, I] +
                            (ei + [0.72 * p] + inner + drag if mur == 0.5 else []))
         runs.append(run)
+# Compressions of mu_r 0.3 on Schofield & Wroth's e_c = e_Gamma - lambda ln(p'/1 kPa) instead: that line's e_Gamma and
+# lambda come back with no misfit, the linear line's misfit is not 0 (and the linear truths above the reverse)
+ln_truth = (0.90, 0.025)
+for k, pc in enumerate(P_C):
+    run = os.path.join(work, f"ln_{k}")
+    os.makedirs(run)
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i in range(41):
+            ea = 0.01 * i
+            p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
+            w.writerow(["shear", i, i, ea, p, 0.6, ln_truth[0] - ln_truth[1] * math.log(pc) if ea >= 0.3 else 0.7,
+                        0.1, 0.3, 1, 2e-4])
+    runs.append(run)
 # Extensions of mu_r 0.1: eps_a to -40 %, q/p' = -0.6, on their own lines
 ext_truth = (0.85, -1.0e-4, -0.15, 0.01)
 for k, pc in enumerate([100.0, 190.0, 300.0]):
@@ -118,19 +147,29 @@ for mur, (a, b, c, d) in truth.items():
     assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
     assert "| 0.600 ± 0.000 (15.8°) | " + ("2.6e-04 | -, -, - |" if mur == 0.1 else "4.0e-03 | 0.720, 0.700, 0.660 |") \
         in line, line
-    inner = line.split("|")[5].strip()
+    # exact on the linear line; the ln line through the same points (least squares, written out) misses them
+    lam, eg, rms, slam, seg = line_fit([math.log(pc) for pc in P_C], [a + b * pc for pc in P_C])
+    assert f"| e_Γ = {eg:.4f} ± {seg:.4f}, λ = {-lam:.4f} ± {slam:.4f} |" in line, line
+    assert line.split("|")[6].strip() == f"0.0000, {rms:.4f}" and rms > 0.001, line
+    inner = line.split("|")[7].strip()
     if mur == 0.5:
         assert inner.startswith(f"a = {inner_truth[0]:.4f} ± 0.0000, b = {inner_truth[1]:.3e} ± "), line
     else:
         assert inner == "-", line  # no e_inner in the series: not measured, no line
+line = next(l for l in table.splitlines() if l.startswith("| 0.3 | compression |"))
+assert f"| e_Γ = {ln_truth[0]:.4f} ± 0.0000, λ = {ln_truth[1]:.4f} ± 0.0000 |" in line, line
+b, a, rms, sb, sa = line_fit(P_C, [ln_truth[0] - ln_truth[1] * math.log(pc) for pc in P_C])
+assert f"| a = {a:.4f} ± {sa:.4f}, b = {b:.3e} ± {sb:.1e} |" in line, line
+assert line.split("|")[6].strip() == f"{rms:.4f}, 0.0000" and rms > 0.001, line
+assert line.split("|")[7].strip() == "-" and "| 0.600 ± 0.000 (15.8°) | 2.0e-04 | -, -, - |" in line, line
 a, b, c, d = ext_truth
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | extension |"))
-assert "| 3 |" in line and line.split("|")[5].strip() == "-", line
+assert "| 3 |" in line and line.split("|")[7].strip() == "-", line
 assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in line and f"d = {d:.4f}" in line, line
 assert "| 0.600 ± 0.000 (19.5°) | - | -, -, - |" in line, line
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | compression, b = 0.5 |"))
 assert "| 3 |" in line and "(30.0°) | - |" in line, line
-assert "\n4 of 14 critical states were reached at an inertial number above the quasi-static limit I < 0.001 " \
+assert "\n4 of 18 critical states were reached at an inertial number above the quasi-static limit I < 0.001 " \
     "(up to 4.0e-03;" in table, table
 assert os.path.isfile(os.path.join(work, "fig", "csl.png"))
 print("csl ok")

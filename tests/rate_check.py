@@ -130,15 +130,15 @@ if "| not at critical state | - |" not in b3:
 if "shear_c" in sec.split("## ")[0]:
     fails.append("a test without a rate is in the rate section")
 csl_rows = [l for l in text.split("## Critical-state lines")[1].split("## ")[0].splitlines() if l.startswith("| 0.3 |")]
-if csl_rows != ["| 0.3 | compression, 0.5/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
+if csl_rows != ["| 0.3 | compression, 0.5/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | | | "
                 f"0.605 ({phi(0.605):.1f}°) | 2.0e-04 | 0.605, 0.593, - |",
-                "| 0.3 | compression, 1/s | 3 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
+                "| 0.3 | compression, 1/s | 3 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | | | "
                 f"0.610 ± 0.000 ({phi(0.61):.1f}°) | 4.0e-04 | 0.610, 0.598, - |",
-                "| 0.3 | compression, 2/s | 2 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
+                "| 0.3 | compression, 2/s | 2 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | | | "
                 f"0.620 ± 0.000 ({phi(0.62):.1f}°) | 8.0e-04 | 0.620, 0.608, - |",
-                "| 0.3 | compression, 10/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
+                "| 0.3 | compression, 10/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | | | "
                 f"0.700 ({phi(0.7):.1f}°) | 4.0e-03 | 0.700, 0.686, - |",
-                "| 0.3 | compression, 30/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | "
+                "| 0.3 | compression, 30/s | 1 | fewer than 3 critical states 10 % apart in p'_c: no fit | | | | | "
                 f"0.900 ({phi(0.9):.1f}°) | 1.2e-02 | 0.900, 0.882, - |"]:
     fails.append("critical-state lines not one per rate: " + "\n".join(csl_rows))
 # The peak table gives the I at each test's largest stress ratio (the steady I, not the start-up's twice that), and a

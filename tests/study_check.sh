@@ -105,14 +105,16 @@ while IFS='|' read -r _ name _ _ _ _ qld _ _ _ I _; do
 done < <(sed -n '/^## Peak states/,/^## Critical states/p' "$work/report.md" | grep -E '^\| shear_') || exit 1
 [ "$n" -eq 6 ] || { echo "expected 6 peak rows, read $n"; exit 1; }
 # Critical-state lines: one fitted row per mu_r (all compression), each from at least three critical states, with the
-# e_c - p' slope negative (a CSL that rises with p' would mean the steadiness test or the fit is broken), the
-# interior's line (series e_inner) fitted too, and M with its friction angle.
+# e_c - p' slope negative (a CSL that rises with p' would mean the steadiness test or the fit is broken), the same
+# states' e_c - ln p' line (lambda > 0 likewise) and both lines' misfits, the interior's line (series e_inner) fitted
+# too, and M with its friction angle.
 lines=$(sed -n '/^## Critical-state lines/,/^## /p' "$work/report.md" | grep -E '^\| [0-9.]+ \| compression \| [0-9]+ \|')
 [ "$(printf '%s\n' "$lines" | grep -c .)" -eq 2 ] || { echo "expected a critical-state line row for each of 2 mu_r: $lines"; exit 1; }
 printf '%s\n' "$lines" | awk -F'|' '{
   n = $4 + 0
-  if (n < 3 || $5 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = -[0-9.e+-]+ ±/ || $6 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = / ||
-      $7 !~ /c = [-0-9.e+]+ ± / || $8 !~ /[0-9.]+ ± [0-9.]+ \([0-9.]+°\)/) {
+  if (n < 3 || $5 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = -[0-9.e+-]+ ±/ ||
+      $6 !~ /e_Γ = [0-9.]+ ± [0-9.]+, λ = [0-9.]+ ±/ || $7 !~ /^ [0-9.]+, [0-9.]+ $/ ||
+      $8 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = / || $9 !~ /c = [-0-9.e+]+ ± / || $10 !~ /[0-9.]+ ± [0-9.]+ \([0-9.]+°\)/) {
     print "critical-state line not fitted from >= 3 critical states (or e_c rises with p\x27): " $0; bad = 1 }
 } END { exit bad }' || exit 1
 [ -f "$work/figures/stress_paths.png" ] || { echo "no stress-path figure"; exit 1; }
