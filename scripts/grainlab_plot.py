@@ -16,7 +16,9 @@ import json
 import glob
 import math
 import os
+import signal
 import sys
+import traceback
 
 # The modules plot, csl and the study report need, checked before any is imported: an interpreter without one (a
 # virtual environment, GRAINLAB_PYTHON set to another python) ended in an ImportError's traceback.
@@ -159,7 +161,7 @@ def label(run, s):
     return f"{run_name(run)} (mu_r={mur:g})"
 
 
-def save(fig, out, name):
+def _write_figure(fig, out, name):
     fig.tight_layout()  # keeps a row's axis labels off the titles of the row below
     # The tight box once for both files: bbox_inches="tight" draws the figure a second time in each savefig to find
     # it, a fifth of a report's time (study_tiny's report: 9.2 -> 7.2 s). Its padding is savefig's default.
@@ -168,8 +170,87 @@ def save(fig, out, name):
         # format= because the temporary name does not end in .png / .pdf
         write_atomically(os.path.join(out, f"{name}.{ext}"),
                          lambda tmp, e=ext: fig.savefig(tmp, dpi=130, bbox_inches=box, format=e))
+
+
+# Figures being written by forked children: (pid, read end of the pipe that brings back the child's error, path).
+# Laying a figure out and rendering it (PNG and PDF) is most of a report's time and needs nothing of what follows,
+# so each figure is written by a child of its own while the parent goes on computing, up to one child per core
+# (the study's jobs have finished when its report runs; perf/NOTES.md, session 63). The figures are the same files.
+# Only the command does so (__main__ sets FIGURES_IN_CHILDREN, and waits for them): a module that imports this one
+# finds each figure written when save returns.
+_FIGURE_CHILDREN = []
+FIGURES_IN_CHILDREN = False
+
+
+def _figure_slots():
+    if not FIGURES_IN_CHILDREN:
+        return 1
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return 1
+
+
+def _reap_figure():
+    """Waits for the oldest figure child; raises its error in the parent (an OSError as it was raised: the one-line
+    message naming the file; anything else as a RuntimeError carrying the child's traceback)."""
+    pid, r, path = _FIGURE_CHILDREN.pop(0)
+    with os.fdopen(r, "rb") as f:
+        msg = f.read()  # to EOF: the child has exited (or closed it) by then; read before waitpid (a full pipe)
+    _, status = os.waitpid(pid, 0)
+    if msg:
+        kind, *what = json.loads(msg)
+        if kind == "os":
+            raise OSError(*what)
+        raise RuntimeError(f"the figure {path} failed:\n{what[0]}")
+    if status != 0:
+        raise RuntimeError(f"the figure {path} failed (its writer's wait status {status})")
+
+
+def figures_done():
+    """Waits for every figure child; raises the first error among them once all have ended (none left running to
+    leave a temporary file behind the error)."""
+    first = None
+    while _FIGURE_CHILDREN:
+        try:
+            _reap_figure()
+        except (OSError, RuntimeError) as e:
+            first = first or e
+    if first is not None:
+        raise first
+
+
+def save(fig, out, name):
+    """Writes fig as out/name.png and .pdf (atomically), in a forked child where more than one core is free to the
+    process (figures_done waits for them), and closes it."""
+    path = os.path.join(out, name + ".png")
+    if _figure_slots() < 2:
+        _write_figure(fig, out, name)
+    else:
+        while len(_FIGURE_CHILDREN) >= _figure_slots():
+            _reap_figure()
+        sys.stdout.flush()  # the child must not write the parent's buffered lines a second time
+        sys.stderr.flush()
+        r, w = os.pipe()
+        pid = os.fork()
+        if pid == 0:  # the child: write the figure, report an error through the pipe, exit without Python's cleanup
+            os.close(r)
+            code = 0
+            try:
+                # a SIGTERM of the report (its study stopped) ends the child through write_atomically's cleanup
+                signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+                _write_figure(fig, out, name)
+            except OSError as e:
+                code = 1
+                os.write(w, json.dumps(["os", e.errno, e.strerror, e.filename]).encode())
+            except BaseException:  # noqa: B902 - anything, reported to the parent
+                code = 1
+                os.write(w, json.dumps(["tb", traceback.format_exc()]).encode())
+            os._exit(code)
+        os.close(w)
+        _FIGURE_CHILDREN.append((pid, r, path))
     plt.close(fig)
-    print(os.path.join(out, name + ".png"))
+    print(path)
 
 
 def finish(fig, ax, legend_ax, fontsize, out, name):
@@ -1317,6 +1398,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     text = "\n".join(lines + (["", note] if note else []))
     if not quiet:
         print(text)
+    figures_done()  # csl.png first, as when the figures were written in turn
     write_text_atomically(os.path.join(out, "csl.md"), text + "\n")
     return text, states
 
@@ -1605,6 +1687,7 @@ def probe_report(out, idx):
     legend(ax[0], fontsize=7)
     save(fig, figs, "response_envelopes")
     lines += samples_section(out, idx["jobs"], idx.get("samples"))
+    figures_done()  # a figure that failed stops the report before it is written, as when they were written in turn
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -1678,6 +1761,7 @@ def study(out):
             part = grading_lines(out, sub_idx, "figures/" + "_".join(dirs))
             lines += ["## " + ", ".join(heads)]
             lines += ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
+    figures_done()  # a figure that failed stops the report before it is written, as when they were written in turn
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -3171,6 +3255,7 @@ def preparation_report(out, idx):
              + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".", "",
              *([f"Figures: {', '.join(shown)}.", ""] if shown else []),
              *samples_section(out, [], finished), *prep, *comp]
+    figures_done()  # a figure that failed stops the report before it is written, as when they were written in turn
     write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
     print(os.path.join(out, "report.md"))
 
@@ -4356,10 +4441,20 @@ class _Console:
 
 if __name__ == "__main__":
     sys.stdout = _Console(sys.stdout)
+    FIGURES_IN_CHILDREN = True
     # A file-system error (an --out that cannot be created, a full disk, no permission) is one line naming the
     # path, like the engine's errors; what was written before stays whole (scripts/atomic_write.py).
     try:
-        main()
+        try:
+            main()
+            figures_done()
+        finally:
+            # an error of the parent's own: the figures being written end first (their errors second to it)
+            while _FIGURE_CHILDREN:
+                try:
+                    _reap_figure()
+                except (OSError, RuntimeError):
+                    pass
         sys.stdout.flush()
     except OSError as e:
         where = f"{e.filename}: " if e.filename else ""

@@ -7,6 +7,8 @@
      dip with the two blocks beside it moving rigidly, plus noise: found at its dip, azimuth and place;
   3. noise alone on an affine motion: no band (contrast well below BAND_CONTRAST);
   4. a sample about one band width across: "too small", no contrast;
+  4b. the band search (directions a chunk at a time) gives, to the bit, what a search of one direction at a time
+     written out here gives: on a band, on noise, on a uniform field, with the chunks' edges inside the directions;
   5. the increments of a run: which snapshot pairs (a triaxial stage's, from the previous stage's end or the sample
      file; not a cyclic stage's), with their eps_a; the increment over a critical-state window (extension's eps_a < 0);
   6. given a run (the smoke run: undrained to 1 %), its localisation.csv: the cloud's fitted eps_zz is the walls'
@@ -80,6 +82,45 @@ XA = rng.uniform(0, 6, (300, 3))
 row, _, _ = L.analyse(XA, XA @ F.T, 1.0)
 assert row["localised"] == "too small" and math.isnan(row["band_contrast"]), row
 print("a 6-diameter sample: too small to tell")
+
+
+
+# 4b. the band search against one direction at a time (the module docstring's definition, written out): each
+# direction's slabs in turn, a slab that does not qualify counting as contrast 0, the first of the largest
+def slabs_one_at_a_time(X, eta, d, width=L.BAND_WIDTH):
+    c, total, n, w = X.mean(0), eta.sum(), len(eta), int(round(width))
+    rows = []
+    for dip, az, normal in L.band_directions():
+        s = (X - c) @ normal / d
+        lo = math.floor(s.min())
+        b = np.floor(s - lo).astype(int)
+        cnt, sm = np.bincount(b), np.bincount(b, weights=eta)
+        row, any_ok = (math.nan,) * 3, False
+        if len(cnt) >= w:
+            kc, ks = np.convolve(cnt, np.ones(w), "valid"), np.convolve(sm, np.ones(w), "valid")
+            top = None
+            for i in range(len(kc)):
+                ok = L.BAND_MIN_SHARE * n <= kc[i] <= L.BAND_MAX_SHARE * n
+                any_ok |= ok
+                outside = (total - ks[i]) / max(n - kc[i], 1) if ok else 0.0
+                con = ks[i] / max(kc[i], 1) / outside if ok and outside > 0 else 0.0
+                if top is None or con > top[0]:
+                    top = (con, lo + i + w / 2, kc[i] / n)
+            row = top if any_ok else row
+        rows.append(row)
+    return np.array(rows)
+
+
+for what, n_pts in (("band", 3000), ("noise", 700), ("uniform", 1100)):
+    XA = rng.uniform(0, 16, (n_pts, 3))
+    eta = {"band": np.where(np.abs(XA @ np.array([0.6, 0.0, 0.8]) - 9) < 3, 5.0, 1.0) + rng.uniform(0, 0.3, n_pts),
+           "noise": rng.uniform(0, 1, n_pts), "uniform": np.full(n_pts, 0.25)}[what]
+    (got, found), want = L.slab_contrasts(XA, eta, 1.0), slabs_one_at_a_time(XA, eta, 1.0)
+    assert len(list(L.band_directions())) % max(1, L.BAND_CHUNK // n_pts) != 0, "no partial chunk"
+    assert got.shape == want.shape and np.array_equal(got, want, equal_nan=True), \
+        f"{what}: {np.sum(~((got == want) | np.isnan(want)))} directions' slabs differ from one direction at a time"
+    assert np.array_equal(found, ~np.isnan(want[:, 0])) and found.sum() > 0.9 * len(want), f"{what}: {found.sum()}"
+print("band search: the same to the bit as one direction at a time (band, noise, uniform)")
 
 # 5. a run's increments
 import h5py  # noqa: E402
