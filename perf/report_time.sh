@@ -23,7 +23,9 @@ for _ in $(seq 1 "$rounds"); do
   run "$tmp/base/scripts" >> "$tmp/base.t"; cp "$study/report.md" "$tmp/base.md"
   run "$here/scripts" >> "$tmp/now.t"; cp "$study/report.md" "$tmp/now.md"
 done
-median() { sort -g "$1" | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+median() {
+  sort -g "$1" | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
+}
 same=$(cmp -s "$tmp/base.md" "$tmp/now.md" && echo yes || echo no)
 echo "report of $study, $rounds rounds, $(nproc) cores: $base $(median "$tmp/base.t") s, this checkout" \
      "$(median "$tmp/now.t") s (median); the same report.md: $same"

@@ -11,6 +11,7 @@ Several runs are overlaid with a legend (e.g. the mu_r study).
 """
 import argparse
 import csv
+import ctypes
 import importlib.util
 import json
 import glob
@@ -174,21 +175,33 @@ def _write_figure(fig, out, name):
 
 # Figures being written by forked children: (pid, read end of the pipe that brings back the child's error, path).
 # Laying a figure out and rendering it (PNG and PDF) is most of a report's time and needs nothing of what follows,
-# so each figure is written by a child of its own while the parent goes on computing, up to one child per core
-# (the study's jobs have finished when its report runs; perf/NOTES.md, session 63). The figures are the same files.
-# Only the command does so (__main__ sets FIGURES_IN_CHILDREN, and waits for them): a module that imports this one
-# finds each figure written when save returns.
+# so each figure is written by a child of its own while the parent goes on (perf/NOTES.md, session 63). The figures
+# are the same files. FIGURE_JOBS children at most: the command's figure_jobs (GRAINLAB_FIGURE_JOBS, else the cores it
+# may run on; the study's jobs have finished when its report runs). Its figures come in bursts (a section's several at
+# its end), during which the parent mostly waits, so it is not counted: on 2 cores one child at a time gained nothing
+# on the quick study's report (6.0-6.8 s against 5.7-6.5 s in turn), two at a time 1.2-1.5 s. 1: each figure written
+# in turn by the command itself, as for a module that imports this one.
 _FIGURE_CHILDREN = []
-FIGURES_IN_CHILDREN = False
+FIGURE_JOBS = 1
 
 
-def _figure_slots():
-    if not FIGURES_IN_CHILDREN:
-        return 1
+def figure_jobs(cmd):
+    """The figures the command writes at once: GRAINLAB_FIGURE_JOBS (a whole number >= 1; exits naming it otherwise),
+    else the cores the process may run on."""
+    env = os.environ.get("GRAINLAB_FIGURE_JOBS")
+    if env is None or env == "":
+        try:
+            return len(os.sched_getaffinity(0))
+        except AttributeError:  # not Linux: no fork either, as far as these figures go
+            return 1
     try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        return 1
+        n = int(env)
+    except ValueError:
+        n = 0
+    if n < 1:
+        sys.exit(f"grainlab {cmd}: error: GRAINLAB_FIGURE_JOBS = '{env}': the figures written at once, a whole "
+                 "number >= 1 (1: each in turn)")
+    return n
 
 
 def _reap_figure():
@@ -220,33 +233,47 @@ def figures_done():
         raise first
 
 
+def _die_with_parent():
+    """A SIGTERM to this process when its parent ends (Linux's PR_SET_PDEATHSIG; nothing where there is none)."""
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM, 0, 0, 0)  # 1: PR_SET_PDEATHSIG
+    except (AttributeError, OSError):
+        pass
+
+
 def save(fig, out, name):
-    """Writes fig as out/name.png and .pdf (atomically), in a forked child where more than one core is free to the
-    process (figures_done waits for them), and closes it."""
+    """Writes fig as out/name.png and .pdf (atomically), in a forked child where FIGURE_JOBS > 1 (figures_done waits
+    for them), and closes it."""
     path = os.path.join(out, name + ".png")
-    if _figure_slots() < 2:
+    if FIGURE_JOBS < 2:
         _write_figure(fig, out, name)
     else:
-        while len(_FIGURE_CHILDREN) >= _figure_slots():
+        while len(_FIGURE_CHILDREN) >= FIGURE_JOBS:
             _reap_figure()
         sys.stdout.flush()  # the child must not write the parent's buffered lines a second time
         sys.stderr.flush()
         r, w = os.pipe()
+        parent = os.getpid()
         pid = os.fork()
         if pid == 0:  # the child: write the figure, report an error through the pipe, exit without Python's cleanup
-            os.close(r)
-            code = 0
+            code = 1
             try:
-                # a SIGTERM of the report (its study stopped) ends the child through write_atomically's cleanup
+                os.close(r)
+                # A SIGTERM ends the child through write_atomically's cleanup (no temporary file left), and the
+                # child gets one when the report ends before it (killed, or stopped with its study): no figure is
+                # written after the command has gone.
                 signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+                _die_with_parent()
+                if os.getppid() != parent:  # gone already, before the line above
+                    sys.exit(143)
                 _write_figure(fig, out, name)
-            except OSError as e:
-                code = 1
-                os.write(w, json.dumps(["os", e.errno, e.strerror, e.filename]).encode())
-            except BaseException:  # noqa: B902 - anything, reported to the parent
-                code = 1
-                os.write(w, json.dumps(["tb", traceback.format_exc()]).encode())
-            os._exit(code)
+                code = 0
+            except BaseException as e:  # noqa: B902 - anything, reported to the parent
+                msg = (["os", e.errno, e.strerror, e.filename] if isinstance(e, OSError)
+                       else ["tb", traceback.format_exc()])
+                os.write(w, json.dumps(msg).encode())  # a parent that has gone: EPIPE, and the exit below all the same
+            finally:
+                os._exit(code)  # never back into the parent's code, whatever was raised
         os.close(w)
         _FIGURE_CHILDREN.append((pid, r, path))
     plt.close(fig)
@@ -4441,7 +4468,7 @@ class _Console:
 
 if __name__ == "__main__":
     sys.stdout = _Console(sys.stdout)
-    FIGURES_IN_CHILDREN = True
+    FIGURE_JOBS = figure_jobs(sys.argv[1] if len(sys.argv) > 1 else "")
     # A file-system error (an --out that cannot be created, a full disk, no permission) is one line naming the
     # path, like the engine's errors; what was written before stays whole (scripts/atomic_write.py).
     try:

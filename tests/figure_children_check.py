@@ -1,12 +1,16 @@
 #!/usr/bin/env python3
 """The figures of `grainlab plot`, `csl` and the study report are written by forked children (grainlab_plot.save with
-FIGURES_IN_CHILDREN, as the command sets it): the same PNG as a figure written in the process itself; an error of a
+FIGURE_JOBS > 1, as the command sets it from GRAINLAB_FIGURE_JOBS or its cores; a bad value is one error line naming
+the variable): the same PNG as a figure written in the process itself; an error of a
 child comes back to the parent when it waits (figures_done): an OSError as raised (the one-line message naming the
 file), anything else as a RuntimeError carrying the child's traceback; every child is waited for, none left running
-or unreaped, no temporary file left; no line the parent printed before a fork is printed twice."""
+or unreaped, no temporary file left; no line the parent printed before a fork is printed twice; a child whose command is
+killed ends at once, writing nothing."""
 import os
+import signal
 import subprocess
 import sys
+import time
 
 work = sys.argv[1]
 os.makedirs(work, exist_ok=True)
@@ -31,18 +35,26 @@ class Broken(g.matplotlib.artist.Artist):
         raise ValueError("this artist cannot be drawn")
 
 
-if g._figure_slots() != 1:
+if g.FIGURE_JOBS != 1:
     fails.append("a module importing grainlab_plot must get its figures written in turn")
-g.FIGURES_IN_CHILDREN = True
-if len(os.sched_getaffinity(0)) > 1 and g._figure_slots() < 2:
-    fails.append("the command's figures are not written by children on a machine with several cores")
-# Where the machine lends one core only, the test still runs every figure through a child (two slots).
-g._figure_slots = lambda: 2
+os.environ.pop("GRAINLAB_FIGURE_JOBS", None)
+if g.figure_jobs("plot") != len(os.sched_getaffinity(0)):
+    fails.append("without GRAINLAB_FIGURE_JOBS the command does not write as many figures at once as it has cores")
+os.environ["GRAINLAB_FIGURE_JOBS"] = "3"
+if g.figure_jobs("plot") != 3:
+    fails.append("GRAINLAB_FIGURE_JOBS=3 not taken")
+for bad in ("0", "two", "-1", "1.5"):
+    os.environ["GRAINLAB_FIGURE_JOBS"] = bad
+    out = subprocess.run([sys.executable, g.__file__, "plot", work], capture_output=True, text=True)
+    want = f"grainlab plot: error: GRAINLAB_FIGURE_JOBS = '{bad}': the figures written at once, a whole number >= 1"
+    if out.returncode != 1 or not out.stderr.startswith(want) or out.stderr.count("\n") != 1:
+        fails.append(f"GRAINLAB_FIGURE_JOBS={bad}: exit {out.returncode}, {out.stderr!r}")
+del os.environ["GRAINLAB_FIGURE_JOBS"]
+# Whatever the machine lends, the test runs every figure through a child, two at a time.
 
 # 1. The same bytes as written in the process itself; several children at once (more figures than slots).
-g.FIGURES_IN_CHILDREN = False
 g.save(figure("a"), work, "inline")
-g.FIGURES_IN_CHILDREN = True
+g.FIGURE_JOBS = 2
 for k in range(5):
     g.save(figure("a"), work, f"child{k}")
 if len(g._FIGURE_CHILDREN) > 2:
@@ -87,8 +99,8 @@ except ChildProcessError:
     pass
 
 # 4. The command: a line printed before the forks once in its output (stdout a file: block-buffered).
-code = ("import sys; sys.path.insert(0, %r); import grainlab_plot as g; g.FIGURES_IN_CHILDREN = True; "
-        "g._figure_slots = lambda: 2; print('before the figures'); fig = g.plt.figure(); "
+code = ("import sys; sys.path.insert(0, %r); import grainlab_plot as g; g.FIGURE_JOBS = 2; "
+        "print('before the figures'); fig = g.plt.figure(); "
         "g.save(fig, %r, 'one'); g.save(g.plt.figure(), %r, 'two'); g.figures_done()") % (
             os.path.dirname(g.__file__), work, work)
 with open(os.path.join(work, "stdout.txt"), "w") as f:
@@ -96,6 +108,42 @@ with open(os.path.join(work, "stdout.txt"), "w") as f:
 lines = open(os.path.join(work, "stdout.txt")).read().splitlines()
 if rc != 0 or lines.count("before the figures") != 1 or len(lines) != 3:
     fails.append(f"the command printed (exit {rc}): {lines}")
+
+# 5. The command killed (SIGKILL: no cleanup of its own) while a child writes its figure's temporary file (slowly):
+# the child ends within a second (a SIGTERM at its parent's death), removes the temporary file, writes no figure and
+# runs none of the command's code (nothing on stderr: it once went on with the parent's program).
+slow = os.path.join(work, "slow")
+os.makedirs(slow, exist_ok=True)
+code = ("import sys, os, time; sys.path.insert(0, %r); import grainlab_plot as g; g.FIGURE_JOBS = 2\n"
+        "def slow(tmp):\n"
+        "    open(tmp, 'w').write('half a figure')\n"
+        "    time.sleep(30)\n"
+        "g._write_figure = lambda fig, out, name: g.write_atomically(os.path.join(out, name + '.png'), slow)\n"
+        "g.save(g.plt.figure(), %r, 'slow')\n"
+        "print(g._FIGURE_CHILDREN[0][0], flush=True); time.sleep(60)\n") % (os.path.dirname(g.__file__), slow)
+cmd = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+cmd.stdout.readline()  # save's line naming the figure
+child = int(cmd.stdout.readline())
+for _ in range(100):  # the child in its writing
+    if os.listdir(slow):
+        break
+    time.sleep(0.05)
+cmd.kill()
+cmd.wait()
+for _ in range(40):
+    try:
+        os.kill(child, 0)
+    except ProcessLookupError:
+        break
+    time.sleep(0.05)
+else:
+    os.kill(child, signal.SIGKILL)
+    fails.append("a figure's child outlived its killed command by 2 s")
+if os.listdir(slow):
+    fails.append(f"the killed command's child left {os.listdir(slow)}")
+err = cmd.stderr.read()
+if err:
+    fails.append(f"the killed command's child wrote to stderr: {err}")
 
 if fails:
     sys.exit("figure_children_check:\n  " + "\n  ".join(fails))
