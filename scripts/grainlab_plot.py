@@ -1417,7 +1417,8 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         lines.append(f"| – | – | 0 | no run at critical state: nothing to fit ({len(runs)} examined) | | | | | | | |")
     if fitted:
         lines += ["", "e_Γ, λ: the same critical states on Schofield & Wroth's (1968) e_c = e_Γ - λ ln(p'/1 kPa) "
-                  "(their Γ is the specific volume 1 + e_Γ), whose λ compares with the isotropic compression index (the "
+                  "(their Γ is the specific volume 1 + e_Γ), whose λ "
+                  "compares with the isotropic compression index (the "
                   "compression section). The rms misfit of e_c is each line's residual standard error (both have two "
                   "parameters): the smaller describes these states better over their range of p'_c (dotted in the "
                   "figure: the ln line). The state parameter is measured from the linear line (SPEC §7)."]

@@ -99,9 +99,10 @@ def slab_contrasts(X, eta, d, width=BAND_WIDTH):
 
     The directions are searched a chunk at a time, each chunk's bins counted in one bincount and its slabs compared in
     whole arrays: one direction at a time, ~15 small array operations for each of 1 621 directions, the search took
-    1.6 of the 2.9 s the quick study's report spent outside its figures (perf/NOTES.md, session 63). Every number is the one the direction's own
-    arithmetic gave (the same projections, sums in the same order, the same slab sums by np.convolve), so the result
-    is the same to the bit (tests/localisation_check.py: against one direction at a time)."""
+    1.6 of the 2.9 s the quick study's report spent outside its figures (perf/NOTES.md, session 63). Every number is
+    the one the direction's own arithmetic gave (the same projections, sums in the same order, the same slab sums by
+    np.convolve), so the result is the same to the bit (tests/localisation_check.py: against one direction at a
+    time)."""
     Y = X - X.mean(0)
     total, n = eta.sum(), len(eta)
     w = int(round(width))
@@ -115,13 +116,14 @@ def slab_contrasts(X, eta, d, width=BAND_WIDTH):
         m = len(chunk)
         S = np.empty((m, n))
         for k, (_, _, normal) in enumerate(chunk):
-            S[k] = Y @ normal / d  # one direction's projection, as a matrix-vector product (gemm may round otherwise)
+            S[k] = Y @ normal / d  # a matrix-vector product per direction, as before: a chunk's gemm might round apart
         # particles binned by whole diameters along each normal; a slab is `w` consecutive bins
         lo = np.floor(S.min(1))
         B = np.floor(S - lo[:, None]).astype(int)
         nb = B.max(1) + 1  # each direction's number of bins
         L = int(nb.max())
-        flat = (B + (np.arange(m) * L)[:, None]).ravel()  # direction by direction, the particles in order (each bin's sum)
+        # direction by direction, the particles in order (so each bin sums its particles in the order it did)
+        flat = (B + (np.arange(m) * L)[:, None]).ravel()
         cnt = np.bincount(flat, minlength=m * L).reshape(m, L)
         sm = np.bincount(flat, weights=np.tile(eta, m), minlength=m * L).reshape(m, L)
         # each direction's slabs from the left; past its last one (a direction with fewer bins) kc stays 0

@@ -114,7 +114,8 @@ printf '%s\n' "$lines" | awk -F'|' '{
   n = $4 + 0
   if (n < 3 || $5 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = -[0-9.e+-]+ ±/ ||
       $6 !~ /e_Γ = [0-9.]+ ± [0-9.]+, λ = [0-9.]+ ±/ || $7 !~ /^ [0-9.]+, [0-9.]+ $/ ||
-      $8 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = / || $9 !~ /c = [-0-9.e+]+ ± / || $10 !~ /[0-9.]+ ± [0-9.]+ \([0-9.]+°\)/) {
+      $8 !~ /a = [-0-9.e+]+ ± [0-9.e+-]+, b = / || $9 !~ /c = [-0-9.e+]+ ± / ||
+      $10 !~ /[0-9.]+ ± [0-9.]+ \([0-9.]+°\)/) {
     print "critical-state line not fitted from >= 3 critical states (or e_c rises with p\x27): " $0; bad = 1 }
 } END { exit bad }' || exit 1
 [ -f "$work/figures/stress_paths.png" ] || { echo "no stress-path figure"; exit 1; }
