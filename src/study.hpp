@@ -109,6 +109,9 @@ struct StudyPlan {
   // the grading axis's curves: the shortest time step of each curve's sample jobs [s] (a wider curve's fines step
   // shorter: SPEC §4's m_min against k_max), by curve name
   std::map<std::string, double> grading_dt;
+  // each shear's planned work, its spheres times its planned steps (a capped stage's cap), by job name: run_study
+  // starts the longest first
+  std::map<std::string, double> shear_work;
 };
 StudyPlan plan_study(const Study& s);
 

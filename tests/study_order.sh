@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The study starts its longest jobs first (Graham's LPT rule, run_study): on tests/data/tiny-study-base.yaml, mu_r 0
+# and 0.3 at 100 kPa (the mu_r 0.3 shear takes ~2.6x the steps, the rolling time-step limit) and the mu_r 0.3 sample
+# sheared again at a quarter of the rate (an extra job: 4x the steps again). One job at a time, so jobs end in the
+# order they start: the samples by their longest shear (mu_r 0.3's first), then the shears by planned work. In the
+# study's own order mu_r 0's sample and shear would come first. The shears' steps as run confirm the plan's order.
+set -u
+bin=$1; src=$2; work=$3
+fail() { echo "study_order: $*"; exit 1; }
+rm -rf "$work" && mkdir -p "$work" && cp "$src/tiny-study-base.yaml" "$work"/ && cd "$work" || exit 1
+cat > order.yaml <<'YAML'
+base: tiny-study-base.yaml
+axes:
+  mu_r: [0.0, 0.3]
+  p0: [100e3]
+extra:
+  - {mu_r: 0.3, p0: 100e3, axial_strain_rate: 0.25}
+YAML
+plan=$("$bin" validate order.yaml 2>&1) || fail "validate failed: $plan"
+out=$("$bin" study order.yaml --out st --jobs 1 2>&1) || fail "the study failed: $out"
+got=$(printf '%s\n' "$out" | sed -n 's/^\[[0-9]*\/[0-9]*\] \([^ ]*\) done$/\1/p' | tr '\n' ' ')
+want="sample_mur0.3_ebase_p100k_s3_n300 sample_mur0_ebase_p100k_s3_n300 "
+want+="shear_drained_mur0.3_ebase_p100k_s3_n300_rate0.25 shear_drained_mur0.3_ebase_p100k_s3_n300 "
+want+="shear_drained_mur0_ebase_p100k_s3_n300 "
+[ "$got" = "$want" ] || fail "jobs ended in the order: $got; longest first is: $want"
+# the steps behind that order: the mu_r 0.3 shear's over twice mu_r 0's at the same strain, its slow twin's more
+steps() { awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "step") c = i; next } { s = $c } END { print s }' \
+            "st/jobs/$1/run/series.csv"; }
+s0=$(steps shear_drained_mur0_ebase_p100k_s3_n300); s3=$(steps shear_drained_mur0.3_ebase_p100k_s3_n300)
+s6=$(steps shear_drained_mur0.3_ebase_p100k_s3_n300_rate0.25)
+[ "$s3" -gt $((2 * s0)) ] && [ "$s6" -gt "$s3" ] ||
+  fail "the shears' steps (mu_r 0: $s0, mu_r 0.3: $s3, at a quarter of the rate: $s6) do not make that order" \
+       "the longest first"
+echo "study_order: ok ($got)"
