@@ -1430,10 +1430,12 @@ int run_study(const Study& s, const StudyOptions& o) {
   // (plan_study, ~0.3 s for the quick study, 2 s for the paper's); where it fails, the study's own order. The order
   // changes no result: each job runs alone on its own files.
   std::map<std::string, double> work;
-  try {
-    work = plan_study(s).shear_work;
-  } catch (const std::exception&) {
-    // each job still runs and reports its own error
+  if (std::any_of(s.shears.begin(), s.shears.end(), [&](const StudyJob& j) { return !done(j); })) {
+    try {
+      work = plan_study(s).shear_work;
+    } catch (const std::exception&) {
+      // each job still runs and reports its own error
+    }
   }
   const auto work_of = [&](const StudyJob& j) {
     const auto it = work.find(j.name);
