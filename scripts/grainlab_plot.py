@@ -233,6 +233,13 @@ def figures_done():
         raise first
 
 
+def write_report(out, lines):
+    """out/report.md from its lines, once every figure is written: a figure that failed stops the report before it,
+    as when they were written in turn."""
+    figures_done()
+    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+
+
 def _die_with_parent():
     """A SIGTERM to this process when its parent ends (Linux's PR_SET_PDEATHSIG; nothing where there is none)."""
     try:
@@ -250,7 +257,9 @@ def save(fig, out, name):
     else:
         while len(_FIGURE_CHILDREN) >= FIGURE_JOBS:
             _reap_figure()
-        sys.stdout.flush()  # the child must not write the parent's buffered lines a second time
+        # The child leaves by os._exit, which writes no buffer; anything it prints itself (a warning) then follows
+        # the parent's lines instead of carrying them along.
+        sys.stdout.flush()
         sys.stderr.flush()
         r, w = os.pipe()
         parent = os.getpid()
@@ -1715,8 +1724,7 @@ def probe_report(out, idx):
     legend(ax[0], fontsize=7)
     save(fig, figs, "response_envelopes")
     lines += samples_section(out, idx["jobs"], idx.get("samples"))
-    figures_done()  # a figure that failed stops the report before it is written, as when they were written in turn
-    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+    write_report(out, lines)
     print(os.path.join(out, "report.md"))
 
 
@@ -1789,8 +1797,7 @@ def study(out):
             part = grading_lines(out, sub_idx, "figures/" + "_".join(dirs))
             lines += ["## " + ", ".join(heads)]
             lines += ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
-    figures_done()  # a figure that failed stops the report before it is written, as when they were written in turn
-    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+    write_report(out, lines)
     print(os.path.join(out, "report.md"))
 
 
@@ -3283,8 +3290,7 @@ def preparation_report(out, idx):
              + (f"; not (yet) finished: {', '.join(missing)}" if missing else "") + ".", "",
              *([f"Figures: {', '.join(shown)}.", ""] if shown else []),
              *samples_section(out, [], finished), *prep, *comp]
-    figures_done()  # a figure that failed stops the report before it is written, as when they were written in turn
-    write_text_atomically(os.path.join(out, "report.md"), "\n".join(lines))
+    write_report(out, lines)
     print(os.path.join(out, "report.md"))
 
 
