@@ -1,10 +1,12 @@
 // grainlab command line: run and validate configs.
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <set>
 #include <sstream>
@@ -13,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "import.hpp"
 #include "simulation.hpp"
 #include "study.hpp"
 
@@ -39,6 +42,10 @@ int usage(FILE* f) {
                "                                                          critical-state lines per mu_r (W: the axial-strain\n"
                "                                                          span a critical state holds steady, 0.05)\n"
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
+               "       grainlab import PACKING.txt [--out SAMPLE.h5] [--box XLO XHI YLO YHI ZLO ZHI | --box FILE]\n"
+               "                       [--scale S] [--density RHO] [--density-scaling S]\n"
+               "                                                          a packing made elsewhere (x y z r a line, m) as a\n"
+               "                                                          sample file: sample: {file: SAMPLE.h5}\n"
                "       grainlab version                                   build: version, source commit, Kokkos, backend\n");
   if (f != stdout) return 2;  // after a bad command line, the usage alone
   std::fprintf(f,
@@ -102,6 +109,96 @@ int take_file(const std::string& arg, std::string& file) {
   file = arg;
   return 1;
 }
+// A number option (a finite double; the range is the command's to check, naming its key): anything else gets one
+// line and exit 2, as whole_number.
+bool real_number(const char* option, const char* text, double& value) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end || errno == ERANGE || !std::isfinite(v)) {
+    std::fprintf(stderr, "grainlab: %s must be a number, got '%s'\n", option, text);
+    return false;
+  }
+  value = v;
+  return true;
+}
+// `grainlab import`: its options, then import_packing (import.hpp), whose lines it prints.
+int import_command(int argc, char** argv) {
+  grainlab::ImportOptions io;
+  std::string packing;
+  for (int a = 2; a < argc; ++a) {
+    const std::string s = argv[a];
+    if (s == "-h" || s == "--help") return usage(stdout);
+    if (const int f = take_file(s, packing); f != 0) {
+      if (f < 0) return 2;
+      continue;
+    }
+    if (a + 1 >= argc) {
+      std::fprintf(stderr, "grainlab: %s needs a value\n", s.c_str());
+      return 2;
+    }
+    if (s == "--out") {
+      io.out = argv[++a];
+    } else if (s == "--box") {
+      // six numbers, or a file holding them (the shared race's scene_32k_box.txt)
+      double b[6];
+      char* end = nullptr;
+      std::strtod(argv[a + 1], &end);
+      if (end != argv[a + 1] && !*end) {
+        if (a + 6 >= argc) {
+          std::fprintf(stderr, "grainlab: --box needs six numbers: xlo xhi ylo yhi zlo zhi (m)\n");
+          return 2;
+        }
+        for (double& v : b)
+          if (!real_number("--box", argv[++a], v)) return 2;
+      } else {
+        const std::string f = argv[++a];
+        std::ifstream in(f);
+        std::string extra;
+        bool ok = bool(in);
+        for (double& v : b) ok = ok && bool(in >> v);
+        if (!ok || (in >> extra)) {
+          std::fprintf(stderr, "grainlab: --box %s: %s\n", f.c_str(),
+                       ok       ? "holds more than six numbers (xlo xhi ylo yhi zlo zhi, m)"
+                       : !std::filesystem::is_regular_file(f) ? "cannot read it (six numbers, or a file of them)"
+                                : "not six numbers xlo xhi ylo yhi zlo zhi (m)");
+          return 2;
+        }
+      }
+      io.box_given = true;
+      io.lo = {b[0], b[2], b[4]};
+      io.hi = {b[1], b[3], b[5]};
+    } else if (s == "--scale" || s == "--density" || s == "--density-scaling") {
+      double v = 0;
+      if (!real_number(s.c_str(), argv[++a], v)) return 2;
+      (s == "--scale" ? io.scale : s == "--density" ? io.density : io.density_scaling) = v;
+    } else {
+      std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
+      return usage(stderr);
+    }
+  }
+  if (packing.empty()) {
+    std::fprintf(stderr, "grainlab import: which packing? (a text file of x y z r lines is missing)\n");
+    return usage(stderr);
+  }
+  io.packing = packing;
+  if (io.out.empty()) {  // beside the packing, its name with .h5
+    std::filesystem::path p(packing);
+    io.out = p.replace_extension(".h5").string();
+  }
+  if (io.box_given)  // --scale applies to the box as to the spheres: one unit for all
+    for (int k = 0; k < 3; ++k) {
+      io.lo[k] *= io.scale;
+      io.hi[k] *= io.scale;
+    }
+  try {
+    for (const std::string& line : grainlab::import_packing(io)) std::printf("%s\n", line.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
+    return 1;
+  }
+  return 0;
+}
 // An option that takes a value, given last without one ("--out" at the end of the line).
 bool missing_value(const std::string& option, int a, int argc) {
   for (const char* o : {"--out", "--threads", "--jobs", "--stop-after-steps"})
@@ -121,6 +218,7 @@ int main(int argc, char** argv) {
     std::printf("%s\n", grainlab::version_line().c_str());
     return 0;
   }
+  if (cmd == "import") return import_command(argc, argv);
   if (cmd == "plot" || cmd == "csl") {
     // The figures are matplotlib's: hand over to the script shipped with the sources. The interpreter is
     // $GRAINLAB_PYTHON, else Debian's /usr/bin/python3 (where scripts/setup-deps.sh installs matplotlib),

@@ -1,0 +1,40 @@
+#pragma once
+// `grainlab import`: a packing made elsewhere (YADE's export.text, a LIGGGHTS or LAMMPS dump cut to x y z r, a
+// CT scan's spheres, the shared race scene) as a grainlab sample file, which `sample: {file: ...}` then starts runs
+// and studies from like any sample_<stage>.h5: the same plan, resume and digest checks, no code path of its own.
+#include <string>
+#include <vector>
+
+#include "engine.hpp"
+
+namespace grainlab {
+
+struct ImportOptions {
+  std::string packing;        // text: one sphere a line, `x y z r` (blanks or commas between), `#` comments
+  std::string out;            // the sample file to write; never replaces a file
+  bool box_given = false;     // else the box is the spheres' bounding box (each wall touching the outermost sphere)
+  Vec3d lo{}, hi{};           // the walls' box [m] (after scale)
+  Real scale = 1;             // multiplies x, y, z and r: 1e-3 for a file in mm
+  Real density = 2650;        // [kg/m^3], as sample.density
+  Real density_scaling = 1;   // as sample.density_scaling
+};
+
+// What a packing's spheres do to each other and to the walls: pairs that overlap (touch), the largest overlap over
+// the smaller radius (SPEC §2's delta; what numerics.max_overlap bounds) and that over a sphere's radius against a
+// wall. O(N): spheres binned in cells of the largest diameter.
+struct PackingContacts {
+  long touching = 0;
+  Real max_overlap = 0;      // delta / min(r_i, r_j), 0 without a touching pair
+  int max_i = -1, max_j = -1;
+  Real max_wall_overlap = 0;  // (r - distance to the wall) / r
+  long wall_touching = 0;     // sphere-wall pairs that overlap
+};
+PackingContacts packing_contacts(const std::vector<Vec3d>& x, const std::vector<Real>& r, const Vec3d& lo,
+                                 const Vec3d& hi);
+
+// Reads, checks and writes the packing (atomically; the spheres in spatial order, their file rows kept in the sample
+// as /import/row). Returns the lines to print: what came in and what a run will meet. Throws std::runtime_error with
+// a message naming the file, the line and the allowed range.
+std::vector<std::string> import_packing(const ImportOptions& opt);
+
+}  // namespace grainlab

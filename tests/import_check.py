@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""`grainlab import` (src/import.cpp): a text packing (x y z r a line, here in mm with --scale 1e-3, lines shuffled,
+comments, commas, a CRLF line) becomes a sample file whose spheres are the file's to the bit, in spatial order, with
+/import/index mapping each back to its row; the box (--box, or the spheres' bounding box) as the six walls; the counts
+it prints (overlapping pairs, the largest overlap and its lines, sphere-wall overlaps, solid fraction) against a
+brute-force N^2 count written out here; a run starts from the file. Bad input: one error line naming the file, the line
+and the allowed range, exit 1 (2 for a bad command line), and nothing written or replaced."""
+import glob
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+grainlab, work = sys.argv[1], sys.argv[2]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+fails = []
+
+
+def check(ok, what):
+    if not ok:
+        fails.append(what)
+
+
+def run(*args, cwd=work):
+    p = subprocess.run([grainlab, *args], cwd=cwd, capture_output=True, text=True)
+    return p.returncode, p.stdout, p.stderr
+
+
+# An 8 x 8 x 8 grid of spheres 0.4 mm apart (radii 0.195-0.21 mm, centres jittered by up to 0.003 mm): most
+# neighbours overlap, by up to an eighth of a radius, the outer layer presses walls at 0 and 3.2 mm; written in mm, in
+# shuffled order.
+rng = np.random.default_rng(5)
+g = np.arange(8) * 0.4 + 0.2
+x = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T + rng.uniform(-0.003, 0.003, (512, 3))
+r = rng.uniform(0.195, 0.21, 512)
+perm = rng.permutation(512)
+x, r = x[perm], r[perm]
+texts = [f"{a!r} {b!r} {c!r} {d!r}" for (a, b, c), d in zip(x, r)]
+lines, line_of = ["# x y z r [mm]", ""], []
+for k, t in enumerate(texts):
+    if k % 50 == 7:
+        lines.append("# a comment between spheres")
+    if k % 9 == 4:
+        t = t.replace(" ", ", ")
+    line_of.append(len(lines) + 1)
+    lines.append(t + ("\r" if k == 100 else ""))
+packing = os.path.join(work, "packing.txt")
+with open(packing, "w") as f:
+    f.write("\n".join(lines) + "\n")
+# the file's values as the C++ reads them: strtod and Python's float round alike, and both multiply by the same 1e-3
+xf = np.array([[float(v) * 1e-3 for v in t.split()[:3]] for t in texts])
+rf = np.array([float(t.split()[3]) * 1e-3 for t in texts])
+
+rc, out, err = run("import", "packing.txt", "--scale", "1e-3", "--box", "0", "3.2", "0", "3.2", "0", "3.2",
+                   "--density", "2500", "--density-scaling", "10", "--out", "s.h5")
+check(rc == 0 and not err, f"import failed ({rc}): {err}")
+print(out, end="")
+
+# --- the brute-force oracle: every pair once
+d = np.sqrt(((xf[:, None, :] - xf[None, :, :]) ** 2).sum(-1))
+ov = (rf[:, None] + rf[None, :] - d) / np.minimum(rf[:, None], rf[None, :])
+iu = np.triu_indices(512, 1)
+touching = int((ov[iu] > 0).sum())
+k_max = int(np.argmax(ov[iu]))
+i_max, j_max = iu[0][k_max], iu[1][k_max]
+lo, hi = np.zeros(3), np.full(3, 3.2e-3)
+gaps = np.concatenate([xf - lo, hi - xf], axis=1)
+wov = (rf[:, None] - gaps) / rf[:, None]
+Vs = (4 / 3 * np.pi * rf ** 3).sum()
+V = 3.2e-3 ** 3
+want = (f"contacts: {touching} overlapping pairs (Z {2 * touching / 512:.3g}), the largest overlap "
+        f"{ov[iu][k_max]:.3g} of the smaller radius (lines {min(line_of[i_max], line_of[j_max])} and "
+        f"{max(line_of[i_max], line_of[j_max])}); {int((wov > 1e-12).sum())} sphere-wall overlaps, the largest "
+        f"{wov.max():.3g} of the sphere's radius")
+check(touching > 500 and (wov > 0).sum() > 100, f"the oracle's scene is not what the test needs ({touching} pairs)")
+check(want in out, f"the contacts line differs from the N^2 count:\n  want {want}\n  got  {out}")
+check(f"solid fraction {Vs / V:.4g}, void ratio e {(V - Vs) / Vs:.4g}" in out, "solid fraction or e differ")
+check(f"imported 512 spheres from packing.txt: diameters {2 * rf.min() * 1e3:.4g} mm to {2 * rf.max() * 1e3:.4g} mm"
+      in out, "the first line's count or diameters differ")
+
+with h5py.File(os.path.join(work, "s.h5"), "r") as f:
+    idx = f["/import/index"][()]
+    sx, sr = f["/state/x"][()], f["/state/r"][()]
+    check(sorted(idx.tolist()) == list(range(512)), "/import/index is not a permutation of the file's rows")
+    check(np.array_equal(sx, xf[idx]) and np.array_equal(sr, rf[idx]), "the sample's spheres are not the file's bits")
+    for name in ("v", "w", "f", "t"):
+        check(not f[f"/state/{name}"][()].any(), f"/state/{name} is not zero")
+    check(len(f["/state/pair_i"][()]) == 0, "an imported sample carries contact history")
+    walls = f["/state/walls"][()].reshape(8, -1)
+    check(np.array_equal(walls[:6, 3], [0, -3.2e-3, 0, -3.2e-3, 0, -3.2e-3]), f"walls not at the box: {walls[:6, 3]}")
+    check(f.attrs["density"] == 2500 and f.attrs["density_scaling"] == 10, "density or its scaling not recorded")
+    src = f.attrs["imported_from"]
+    check((src.decode() if isinstance(src, bytes) else src).endswith("/packing.txt"), "the source is not recorded")
+    # spatial order: consecutive spheres of the sample lie far closer together than the shuffled file's
+    step = np.linalg.norm(np.diff(sx, axis=0), axis=1).mean()
+    check(step < 0.4 * np.linalg.norm(np.diff(xf, axis=0), axis=1).mean(), f"not in spatial order ({step:.3g} m)")
+
+# --box FILE (the shared race's scene_32k_box.txt form): the same sample as the six numbers
+with open(os.path.join(work, "box.txt"), "w") as f:
+    f.write("0 3.2\n0 3.2\n0 3.2\n")
+with open(os.path.join(work, "box7.txt"), "w") as f:
+    f.write("0 3.2 0 3.2 0 3.2 1\n")
+rc, out, err = run("import", "packing.txt", "--scale", "1e-3", "--box", "box.txt", "--density", "2500",
+                   "--density-scaling", "10", "--out", "s_box.h5")
+with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(work, "s_box.h5"), "r") as b:
+    check(rc == 0 and all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls",
+                                                                      "/import/index")), f"--box FILE: {rc} {err}")
+
+# --- a run starts from it, as from any sample file
+with open(os.path.join(work, "run.yaml"), "w") as f:
+    f.write("sample: {file: s.h5}\nstages:\n  - {name: c, type: isotropic, pressure: 50e3, max_steps: 400}\n"
+            "output: {every: 100}\n")
+rc, out, err = run("run", "run.yaml", "--out", "r", "--quiet", "--threads", "1")
+check(rc == 0, f"a run from the imported sample failed ({rc}): {err}")
+if rc == 0:
+    s = json.load(open(os.path.join(work, "r", "summary.json")))
+    check(s["sample"]["spheres"] == 512 and s["stages"][0]["steps"] > 0, f"the run's summary: {s['sample']}")
+
+# --- the default box: the spheres' bounding box, the default out beside the packing
+rc, out, err = run("import", "packing.txt", "--scale", "1e-3")
+check(rc == 0 and "(the spheres' bounding box)" in out and "no sphere presses a wall" in out and
+      os.path.exists(os.path.join(work, "packing.h5")), f"the default box or out: {rc} {out} {err}")
+with h5py.File(os.path.join(work, "packing.h5"), "r") as f:
+    walls = f["/state/walls"][()].reshape(8, -1)
+    blo, bhi = (xf - rf[:, None]).min(0), (xf + rf[:, None]).max(0)
+    check(np.array_equal(walls[:6, 3], [blo[0], -bhi[0], blo[1], -bhi[1], blo[2], -bhi[2]]),
+          "the walls are not the bounding box")
+
+# --- bad input: one line, the exit code, nothing written
+ok_line = texts[0]
+cases = [  # (file text, extra args, exit code, message part)
+    (ok_line + "\n1 2 3\n", [], 1, "bad.txt:2: 3 numbers in '1 2 3', four expected"),
+    (ok_line + "\n1 2 3 0\n", [], 1, "bad.txt:2: r = 0 must be > 0"),
+    (ok_line + "\n1 nan 3 0.2\n", [], 1, "bad.txt:2: y = nan is not a finite number"),
+    ("x y z r\n" + ok_line + "\n", [], 1, "bad.txt:1: 'x y z r' is not four numbers"),
+    ("# nothing\n\n", [], 1, "bad.txt: no spheres in it"),
+    ("1 1 1 2000\n", [], 1, "bad.txt:1: r = 2 m (after --scale 0.001) is above 1 m (sample.r_max's range is (0, 1])"),
+    (ok_line + "\n3.3 1 1 0.2\n", ["--box", "0", "3.2", "0", "3.2", "0", "3.2"], 1,
+     "bad.txt:2: the centre's x = 0.0033 m is outside the box's [0, 0.0032] m"),
+    (ok_line + "\n", ["--box", "0", "3.2", "1", "1", "0", "3.2"], 1, "--box: ylo = 0.001 must be below yhi = 0.001"),
+    (ok_line + "\n", ["--box", "0", "3.2", "0"], 2, "--box needs six numbers"),
+    (ok_line + "\n", ["--box", "box7.txt"], 2, "--box box7.txt: holds more than six numbers"),
+    (ok_line + "\n", ["--box", "packing.txt"], 2, "--box packing.txt: not six numbers xlo xhi ylo yhi zlo zhi"),
+    (ok_line + "\n", ["--density", "0"], 1, "--density = 0 kg/m^3 is outside sample.density's range (0, 1e6]"),
+    (ok_line + "\n", ["--density-scaling", "0.5"], 1, "--density-scaling = 0.5 is outside sample.density_scaling's"),
+    (ok_line + "\n", ["--scale", "abc"], 2, "--scale must be a number, got 'abc'"),
+]
+for k, (text, extra, code, part) in enumerate(cases):
+    with open(os.path.join(work, "bad.txt"), "w") as f:
+        f.write(text)
+    rc, out, err = run("import", "bad.txt", "--scale", "1e-3", *extra, "--out", f"bad{k}.h5")
+    check(rc == code and part in err and len(err.strip().splitlines()) == 1 and not out,
+          f"case {k}: exit {rc} (want {code}), stderr {err!r}, want '{part}'")
+    check(not os.path.exists(os.path.join(work, f"bad{k}.h5")), f"case {k} wrote its output")
+# an overlap past numerics.max_overlap's default: imported, with a warning that a run would stop at once
+with open(os.path.join(work, "deep.txt"), "w") as f:
+    f.write("1 1 1 0.2\n1.34 1 1 0.2\n")
+rc, out, err = run("import", "deep.txt", "--scale", "1e-3", "--out", "deep.h5")
+check(rc == 0 and "the largest overlap 0.3 of the smaller radius (lines 1 and 2)" in out and
+      "warning: an overlap of 0.3 is past numerics.max_overlap's default 0.2" in out, f"a deep overlap: {rc} {out}")
+rc, out, err = run("import", "gone.txt", "--out", "g.h5")
+check(rc == 1 and "gone.txt: cannot read it" in err, f"a missing packing: {rc} {err}")
+# an existing file is never replaced
+before = open(os.path.join(work, "s.h5"), "rb").read()
+rc, out, err = run("import", "packing.txt", "--scale", "1e-3", "--out", "s.h5")
+check(rc == 1 and "s.h5: exists; import never replaces a file" in err, f"an existing out: {rc} {err}")
+check(open(os.path.join(work, "s.h5"), "rb").read() == before, "an existing sample file was changed")
+left = glob.glob(os.path.join(work, "*tmp*"))
+check(not left, f"temporary files left: {left}")
+
+if fails:
+    print("FAIL:\n  " + "\n  ".join(fails))
+    sys.exit(1)
+print("import_check: ok")
