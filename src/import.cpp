@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -37,56 +38,166 @@ struct Read {
   std::vector<Vec3d> x;
   std::vector<Real> r;
   std::vector<long> line;  // each sphere's line in the file (1-based), for messages
+  // a LAMMPS or LIGGGHTS dump: its last snapshot's timestep, how many it holds, its box and its atoms' ids
+  bool dump = false;
+  long timestep = 0, snapshots = 0;
+  Vec3d lo{}, hi{};
+  std::vector<long> id;
 };
 
-// One sphere a line: four numbers (blanks or commas between them); blank lines and lines starting with # skipped.
-Read read_packing(const std::string& path, Real scale) {
-  std::ifstream f(path);
-  if (!f) throw std::runtime_error(path + ": cannot read it (" + std::strerror(errno) + ")");
+[[noreturn]] void bad(const std::string& path, long ln, const std::string& why) {
+  throw std::runtime_error(path + ":" + std::to_string(ln) + ": " + why);
+}
+
+// A sphere's values as read: finite, r > 0, r <= 1 m after the scale (sample.r_max's range: a radius past 1 m is a
+// file in other units far more often than a sample of boulders).
+void add_sphere(Read& in, const std::string& path, long ln, const Real v[4], Real scale) {
+  const char* names[4] = {"x", "y", "z", "r"};
+  for (int c = 0; c < 4; ++c)
+    if (!std::isfinite(v[c])) bad(path, ln, std::string(names[c]) + " = " + num(v[c]) + " is not a finite number");
+  if (!(v[3] > 0)) bad(path, ln, "r = " + num(v[3]) + " must be > 0");
+  if (in.r.size() >= 100000000)
+    throw std::runtime_error(path + ": more than 100000000 spheres (sample.count's range is [1, 1e8])");
+  if (v[3] * scale > 1)
+    bad(path, ln, "r = " + num(v[3] * scale) + " m" + (scale != 1 ? " (after --scale " + num(scale) + ")" : std::string()) +
+                      " is above 1 m (sample.r_max's range is (0, 1]): a file in mm takes --scale 1e-3");
+  in.x.push_back({v[0] * scale, v[1] * scale, v[2] * scale});
+  in.r.push_back(v[3] * scale);
+  in.line.push_back(ln);
+}
+
+// The numbers of a line (blanks between them); false where a token is not a number.
+bool numbers(const std::string& s, std::vector<double>& out) {
+  out.clear();
+  const char* p = s.c_str();
+  for (;;) {
+    while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
+    if (!*p) return true;
+    char* end = nullptr;
+    const double d = std::strtod(p, &end);
+    if (end == p || (*end && *end != ' ' && *end != '\t' && *end != '\r')) return false;
+    out.push_back(d);
+    p = end;
+  }
+}
+
+// A LAMMPS or LIGGGHTS text dump (`dump custom` with x y z, or xs ys zs, or xu yu zu, and radius or diameter): its
+// last snapshot, the box bounds as the walls (an orthogonal box; a triclinic one is refused).
+Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
   Read in;
   std::string text;
   long ln = 0;
-  const char* names[4] = {"x", "y", "z", "r"};
+  std::vector<double> v;
+  auto next = [&](const char* what) {
+    if (!std::getline(f, text)) throw std::runtime_error(path + ": ends after line " + std::to_string(ln) + ", " + what +
+                                                         " expected (a dump cut short?)");
+    ++ln;
+  };
+  long natoms = -1;
+  Vec3d lo{}, hi{};
+  bool box = false;
+  while (std::getline(f, text)) {
+    ++ln;
+    if (text.rfind("ITEM: TIMESTEP", 0) == 0) {
+      next("the timestep");
+      if (!numbers(text, v) || v.size() != 1) bad(path, ln, quoted(text) + " is not a timestep");
+      in.timestep = long(v[0]);
+      ++in.snapshots;
+      natoms = -1;
+      box = false;
+    } else if (text.rfind("ITEM: NUMBER OF ATOMS", 0) == 0) {
+      next("the number of atoms");
+      if (!numbers(text, v) || v.size() != 1 || !(v[0] >= 1) || v[0] > 1e8)
+        bad(path, ln, quoted(text) + " is not a number of atoms in [1, 1e8]");
+      natoms = long(v[0]);
+    } else if (text.rfind("ITEM: BOX BOUNDS", 0) == 0) {
+      if (text.find("xy") != std::string::npos)
+        bad(path, ln, "a triclinic box: the walls are an orthogonal box (give it with --box)");
+      for (int a = 0; a < 3; ++a) {
+        next("the box bounds");
+        if (!numbers(text, v) || v.size() != 2) bad(path, ln, quoted(text) + " is not two bounds lo hi");
+        lo[a] = v[0];
+        hi[a] = v[1];
+      }
+      box = true;
+    } else if (text.rfind("ITEM: ATOMS", 0) == 0) {
+      if (natoms < 0 || !box) bad(path, ln, "ITEM: ATOMS before the snapshot's NUMBER OF ATOMS and BOX BOUNDS");
+      std::istringstream cols(text.substr(11));
+      std::vector<std::string> names;
+      for (std::string c; cols >> c;) names.push_back(c);
+      auto col = [&](std::initializer_list<const char*> any) {
+        for (const char* a : any)
+          if (auto it = std::find(names.begin(), names.end(), a); it != names.end()) return int(it - names.begin());
+        return -1;
+      };
+      const int cx[3] = {col({"x", "xu", "xs"}), col({"y", "yu", "ys"}), col({"z", "zu", "zs"})};
+      const int cr = col({"radius"}), cd = col({"diameter"}), cid = col({"id"});
+      if (cx[0] < 0 || cx[1] < 0 || cx[2] < 0 || (cr < 0 && cd < 0))
+        bad(path, ln, "ITEM: ATOMS has no x y z (or xs ys zs, xu yu zu) and radius (or diameter) columns: dump it "
+                      "with `dump custom ... id x y z radius`");
+      bool scaled[3];
+      for (int a = 0; a < 3; ++a) scaled[a] = names[size_t(cx[a])][1] == 's';
+      Read snap;
+      snap.x.reserve(size_t(natoms));
+      for (long k = 0; k < natoms; ++k) {
+        next("an atom line");
+        if (!numbers(text, v) || v.size() != names.size())
+          bad(path, ln, quoted(text) + " is not " + std::to_string(names.size()) + " numbers, one for each column of "
+                        "ITEM: ATOMS");
+        Real sphere[4];
+        for (int a = 0; a < 3; ++a) {
+          const Real c = v[size_t(cx[a])];
+          sphere[a] = scaled[a] ? lo[a] + c * (hi[a] - lo[a]) : c;
+        }
+        sphere[3] = cr >= 0 ? v[size_t(cr)] : 0.5 * v[size_t(cd)];
+        add_sphere(snap, path, ln, sphere, scale);
+        if (cid >= 0) snap.id.push_back(long(v[size_t(cid)]));
+      }
+      snap.dump = true;
+      snap.timestep = in.timestep;
+      snap.snapshots = in.snapshots;
+      for (int a = 0; a < 3; ++a) {
+        snap.lo[a] = lo[a] * scale;
+        snap.hi[a] = hi[a] * scale;
+      }
+      in = std::move(snap);
+    } else if (text.find_first_not_of(" \t\r") != std::string::npos) {
+      bad(path, ln, quoted(text) + " is no part of a LAMMPS dump (ITEM: lines, then their values)");
+    }
+  }
+  if (f.bad()) throw std::runtime_error(path + ": read error");
+  if (in.r.empty()) throw std::runtime_error(path + ": a dump without an ITEM: ATOMS snapshot");
+  return in;
+}
+
+// One sphere a line: four numbers (blanks or commas between them); blank lines and lines starting with # skipped. A
+// file whose first line starts with "ITEM:" is a LAMMPS or LIGGGHTS dump (read_dump).
+Read read_packing(const std::string& path, Real scale) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot read it (" + std::strerror(errno) + ")");
+  if (f.peek() == 'I') {
+    std::string first;
+    std::getline(f, first);
+    f.seekg(0);
+    if (first.rfind("ITEM:", 0) == 0) return read_dump(f, path, scale);
+  }
+  Read in;
+  std::string text;
+  long ln = 0;
+  std::vector<double> v;
   while (std::getline(f, text)) {
     ++ln;
     const size_t b = text.find_first_not_of(" \t\r");
     if (b == std::string::npos || text[b] == '#') continue;
     std::string s = text;
     std::replace(s.begin(), s.end(), ',', ' ');
-    Real v[4];
-    int k = 0;
-    const char* p = s.c_str();
-    for (;;) {
-      while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
-      if (!*p) break;
-      char* end = nullptr;
-      const double d = std::strtod(p, &end);
-      if (end == p || (*end && *end != ' ' && *end != '\t' && *end != '\r'))
-        throw std::runtime_error(path + ":" + std::to_string(ln) + ": " + quoted(text) + " is not four numbers x y z r "
-                                 "(metres, blanks or commas between; a header line starts with #)");
-      if (k < 4) v[k] = d;
-      ++k;
-      p = end;
-    }
-    if (k != 4)
-      throw std::runtime_error(path + ":" + std::to_string(ln) + ": " + std::to_string(k) + " numbers in " + quoted(text) +
-                               ", four expected: x y z r (one sphere a line; cut other columns, or start the line with #)");
-    for (int c = 0; c < 4; ++c)
-      if (!std::isfinite(v[c]))
-        throw std::runtime_error(path + ":" + std::to_string(ln) + ": " + names[c] + " = " + num(v[c]) +
-                                 " is not a finite number");
-    if (!(v[3] > 0))
-      throw std::runtime_error(path + ":" + std::to_string(ln) + ": r = " + num(v[3]) + " must be > 0");
-    if (in.r.size() >= 100000000)
-      throw std::runtime_error(path + ": more than 100000000 spheres (sample.count's range is [1, 1e8])");
-    in.x.push_back({v[0] * scale, v[1] * scale, v[2] * scale});
-    in.r.push_back(v[3] * scale);
-    in.line.push_back(ln);
-    // sample.r_max's range: a radius past 1 m is a file in other units far more often than a sample of boulders
-    if (in.r.back() > 1)
-      throw std::runtime_error(path + ":" + std::to_string(ln) + ": r = " + num(in.r.back()) + " m" +
-                               (scale != 1 ? " (after --scale " + num(scale) + ")" : std::string()) +
-                               " is above 1 m (sample.r_max's range is (0, 1]): a file in mm takes --scale 1e-3");
+    if (!numbers(s, v))
+      bad(path, ln, quoted(text) + " is not four numbers x y z r (metres, blanks or commas between; a header line "
+                    "starts with #)");
+    if (v.size() != 4)
+      bad(path, ln, std::to_string(v.size()) + " numbers in " + quoted(text) + ", four expected: x y z r (one sphere a "
+                    "line; cut other columns, or start the line with #)");
+    add_sphere(in, path, ln, v.data(), scale);
   }
   if (f.bad()) throw std::runtime_error(path + ": read error");
   if (in.r.empty()) throw std::runtime_error(path + ": no spheres in it (one a line: x y z r, in metres)");
@@ -174,7 +285,15 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   const size_t n = in.r.size();
 
   Vec3d lo = opt.lo, hi = opt.hi;
-  if (!opt.box_given) {  // each wall touches the outermost sphere on its side: no sphere presses a wall yet
+  // the walls: --box, else a dump's box bounds, else the spheres' bounding box
+  const std::string box_from = opt.box_given ? "--box" : in.dump ? "the dump's box bounds" : "the spheres' bounding box";
+  if (!opt.box_given && in.dump) {
+    lo = in.lo;
+    hi = in.hi;
+    for (int a = 0; a < 3; ++a)
+      if (!(lo[a] < hi[a]))
+        throw std::runtime_error(opt.packing + ": the dump's box bounds on " + axis[a] + " are not lo < hi (give --box)");
+  } else if (!opt.box_given) {  // each wall touches the outermost sphere on its side: no sphere presses a wall yet
     lo = {in.x[0][0] - in.r[0], in.x[0][1] - in.r[0], in.x[0][2] - in.r[0]};
     hi = {in.x[0][0] + in.r[0], in.x[0][1] + in.r[0], in.x[0][2] + in.r[0]};
     for (size_t i = 0; i < n; ++i)
@@ -188,7 +307,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
       if (!(in.x[i][a] > lo[a] && in.x[i][a] < hi[a]))
         throw std::runtime_error(opt.packing + ":" + std::to_string(in.line[i]) + ": the centre's " + axis[a] + " = " +
                                  num(in.x[i][a], 6) + " m is outside the box's [" + num(lo[a], 6) + ", " + num(hi[a], 6) +
-                                 "] m (--box): every centre must lie between the walls");
+                                 "] m (" + box_from + "): every centre must lie between the walls");
 
   // Spatial (Morton) order: a file's order is often random in space, and the contact kernel's neighbour reads need
   // neighbours close in memory (perf/NOTES.md attempt 3a: 1.7x on the race scene, whose file order is random).
@@ -229,14 +348,24 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
     // row), so that results can be laid beside the file's own columns
     w.group("/import");
     w.write("/import/index", index);
+    if (!in.id.empty()) {  // a dump's atom ids (LAMMPS's `id` column), sphere by sphere of the sample
+      std::vector<std::int64_t> ids(n);
+      for (size_t k = 0; k < n; ++k) ids[k] = in.id[size_t(index[k])];
+      w.write("/import/id", ids);
+      w.attr("import_timestep", double(in.timestep));
+    }
   });
 
   const auto [rmin, rmax] = std::minmax_element(s.r.begin(), s.r.end());
   std::vector<std::string> lines;
-  lines.push_back("imported " + std::to_string(n) + " spheres from " + opt.packing + ": diameters " + mm(2 * *rmin) +
+  lines.push_back("imported " + std::to_string(n) + " spheres from " + opt.packing +
+                  (in.dump ? " (timestep " + std::to_string(in.timestep) + ", the last of " +
+                                 std::to_string(in.snapshots) + " snapshot" + (in.snapshots > 1 ? "s" : "") + ")"
+                           : std::string()) +
+                  ": diameters " + mm(2 * *rmin) +
                   " to " + mm(2 * *rmax) + "; by mass d50 " + mm(gi.d50) + ", Cu " + num(gi.cu, 3));
   lines.push_back("box " + mm(hi[0] - lo[0]) + " x " + mm(hi[1] - lo[1]) + " x " + mm(hi[2] - lo[2]) +
-                  (opt.box_given ? " (--box)" : " (the spheres' bounding box)") + ": solid fraction " +
+                  " (" + box_from + "): solid fraction " +
                   num(Vs / V, 4) + ", void ratio e " + num((V - Vs) / Vs, 4));
   std::string c = "contacts: " + std::to_string(pc.touching) + " overlapping pairs (Z " +
                   num(2.0 * double(pc.touching) / double(n), 3) + ")";

@@ -1,6 +1,6 @@
 #pragma once
-// `grainlab import`: a packing made elsewhere (YADE's export.text, a LIGGGHTS or LAMMPS dump cut to x y z r, a
-// CT scan's spheres, the shared race scene) as a grainlab sample file, which `sample: {file: ...}` then starts runs
+// `grainlab import`: a packing made elsewhere (YADE's export.text, a CT scan's spheres, the shared race scene: x y z r
+// a line; or a LAMMPS / LIGGGHTS text dump, its last snapshot) as a grainlab sample file, which `sample: {file: ...}` then starts runs
 // and studies from like any sample_<stage>.h5: the same plan, resume and digest checks, no code path of its own.
 #include <string>
 #include <vector>
@@ -10,7 +10,7 @@
 namespace grainlab {
 
 struct ImportOptions {
-  std::string packing;        // text: one sphere a line, `x y z r` (blanks or commas between), `#` comments
+  std::string packing;        // text: one sphere a line, `x y z r` (blanks or commas between), `#` comments; or a dump
   std::string out;            // the sample file to write; never replaces a file
   bool box_given = false;     // else the box is the spheres' bounding box (each wall touching the outermost sphere)
   Vec3d lo{}, hi{};           // the walls' box [m] (after scale)
@@ -33,7 +33,7 @@ PackingContacts packing_contacts(const std::vector<Vec3d>& x, const std::vector<
                                  const Vec3d& hi);
 
 // Reads, checks and writes the packing (atomically; the spheres in spatial order, their file rows kept in the sample
-// as /import/row). Returns the lines to print: what came in and what a run will meet. Throws std::runtime_error with
+// as /import/index, a dump's atom ids as /import/id). Returns the lines to print: what came in and what a run will meet. Throws std::runtime_error with
 // a message naming the file, the line and the allowed range.
 std::vector<std::string> import_packing(const ImportOptions& opt);
 

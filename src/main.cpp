@@ -44,8 +44,9 @@ int usage(FILE* f) {
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab import PACKING.txt [--out SAMPLE.h5] [--box XLO XHI YLO YHI ZLO ZHI | --box FILE]\n"
                "                       [--scale S] [--density RHO] [--density-scaling S]\n"
-               "                                                          a packing made elsewhere (x y z r a line, m) as a\n"
-               "                                                          sample file: sample: {file: SAMPLE.h5}\n"
+               "                                                          a packing made elsewhere (x y z r a line, m; or a\n"
+               "                                                          LAMMPS/LIGGGHTS dump) as a sample file for\n"
+               "                                                          sample: {file: SAMPLE.h5}\n"
                "       grainlab version                                   build: version, source commit, Kokkos, backend\n");
   if (f != stdout) return 2;  // after a bad command line, the usage alone
   std::fprintf(f,

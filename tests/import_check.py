@@ -111,6 +111,35 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(wor
     check(rc == 0 and all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls",
                                                                       "/import/index")), f"--box FILE: {rc} {err}")
 
+# --- a LAMMPS / LIGGGHTS dump: its last snapshot, its box bounds as the walls, its atom ids kept
+def dump_snapshot(step, cols, rows, box=("0 3.2", "0 3.2", "0 3.2"), bounds="ff ff ff"):
+    return (f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{len(rows)}\nITEM: BOX BOUNDS {bounds}\n" +
+            "\n".join(box) + f"\nITEM: ATOMS {cols}\n" + "\n".join(rows) + "\n")
+
+
+ids = rng.permutation(512) + 1
+t = [tx.split() for tx in texts]
+first = dump_snapshot(0, "id type x y z radius", [f"{i} 1 1.6 1.6 1.6 0.2" for i in ids])  # not the one read
+last = dump_snapshot(5000, "id type x y z radius vx", [f"{i} 1 {a} {b} {c} {d} 0.5" for i, (a, b, c, d) in zip(ids, t)])
+with open(os.path.join(work, "packed.dump"), "w") as f:
+    f.write(first + last)
+rc, out, err = run("import", "packed.dump", "--scale", "1e-3", "--density", "2500", "--density-scaling", "10")
+check(rc == 0 and "(timestep 5000, the last of 2 snapshots)" in out and "(the dump's box bounds)" in out and
+      want.split(" (lines")[0] + f" (lines {531 + min(i_max, j_max)} and {531 + max(i_max, j_max)})" in out,
+      f"the dump: {rc} {out} {err}")  # the second snapshot's atoms start at line 531
+with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(work, "packed.h5"), "r") as b:
+    check(all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls", "/import/index")),
+          "the dump's sample is not the text file's")
+    check(np.array_equal(b["/import/id"][()], ids[b["/import/index"][()]]), "the dump's atom ids are not kept")
+# scaled coordinates (xs ys zs) and diameters: the same spheres within a rounding
+rows = [f"{i} {float(a) / 3.2!r} {float(b) / 3.2!r} {float(c) / 3.2!r} {2 * float(d)!r}" for i, (a, b, c, d) in zip(ids, t)]
+with open(os.path.join(work, "scaled.dump"), "w") as f:
+    f.write(dump_snapshot(7, "id xs ys zs diameter", rows))
+rc, out, err = run("import", "scaled.dump", "--scale", "1e-3")
+with h5py.File(os.path.join(work, "scaled.h5"), "r") as b:
+    check(rc == 0 and np.allclose(b["/state/x"][()], xf[b["/import/index"][()]], rtol=0, atol=1e-18) and
+          np.allclose(b["/state/r"][()], rf[b["/import/index"][()]], rtol=1e-15, atol=0), f"xs ys zs, diameter: {err}")
+
 # --- a run starts from it, as from any sample file
 with open(os.path.join(work, "run.yaml"), "w") as f:
     f.write("sample: {file: s.h5}\nstages:\n  - {name: c, type: isotropic, pressure: 50e3, max_steps: 400}\n"
@@ -157,6 +186,19 @@ for k, (text, extra, code, part) in enumerate(cases):
     check(rc == code and part in err and len(err.strip().splitlines()) == 1 and not out,
           f"case {k}: exit {rc} (want {code}), stderr {err!r}, want '{part}'")
     check(not os.path.exists(os.path.join(work, f"bad{k}.h5")), f"case {k} wrote its output")
+# a dump's errors
+for k, (text, part) in enumerate([
+        (dump_snapshot(1, "id x y z", ["1 1 1 1"]), "bad.dump:9: ITEM: ATOMS has no x y z (or xs ys zs, xu yu zu) and "
+                                                    "radius (or diameter) columns"),
+        (dump_snapshot(1, "id x y z radius", ["1 1 1 1 0.2"], bounds="xy xz yz pp pp pp"), "bad.dump:5: a triclinic box"),
+        (dump_snapshot(1, "id x y z radius", ["1 1 1 1 0.2", "2 2 2 2 0.2"])[:-13], "bad.dump: ends after line 10, an "
+                                                                                  "atom line expected"),
+        (dump_snapshot(1, "id x y z radius", ["1 1 1 0.2"]), "bad.dump:10: '1 1 1 0.2' is not 5 numbers")]):
+    with open(os.path.join(work, "bad.dump"), "w") as f:
+        f.write(text)
+    rc, out, err = run("import", "bad.dump", "--out", f"bad_dump{k}.h5")
+    check(rc == 1 and part in err and not os.path.exists(os.path.join(work, f"bad_dump{k}.h5")),
+          f"dump case {k}: exit {rc}, stderr {err!r}, want '{part}'")
 # an overlap past numerics.max_overlap's default: imported, with a warning that a run would stop at once
 with open(os.path.join(work, "deep.txt"), "w") as f:
     f.write("1 1 1 0.2\n1.34 1 1 0.2\n")
