@@ -387,4 +387,102 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   return lines;
 }
 
+std::vector<std::string> export_sample(const ExportOptions& opt) {
+  if (opt.format != "xyzr" && opt.format != "lammps")
+    throw std::runtime_error("--format " + opt.format + ": xyzr or lammps");
+  std::vector<Vec3d> x;
+  std::vector<Real> r;
+  bool box = false;
+  Vec3d lo{}, hi{};
+  Real density = 0, scaling = 1;
+  std::string what;
+  {
+    const H5Reader h(opt.in);
+    if (h.has("/state")) {  // a sample file or a checkpoint (read_state's checks and messages)
+      const EngineState s = read_state(h);
+      x = s.x;
+      r = s.r;
+      if (s.walls_are_box && s.walls.count == 6) {
+        box = true;
+        for (int a = 0; a < 3; ++a) {  // make_box_walls: wall 2a at x_a = lo (normal +e_a), wall 2a + 1 at hi (-e_a)
+          lo[a] = s.walls.w[2 * a].offset;
+          hi[a] = -s.walls.w[2 * a + 1].offset;
+        }
+      }
+      if (h.has("density")) {
+        density = h.attr_double("density");
+        scaling = h.attr_double("density_scaling");
+        what = "a sample";
+      } else {
+        what = "a checkpoint";
+        if (h.has("sample_density")) density = h.attr_double("sample_density");
+      }
+    } else if (h.has("/particles")) {  // a snapshot: spheres without the walls' state
+      x = h.vec3("/particles/x");
+      r = h.doubles("/particles/r");
+      what = "a snapshot";
+    } else if (h.has("/series")) {
+      throw std::runtime_error(opt.in + ": a run's series (run.h5), no spheres: export the run's sample file, one of "
+                               "its checkpoints or a snapshot");
+    } else {
+      throw std::runtime_error(opt.in + ": neither a sample, a checkpoint nor a snapshot of grainlab's");
+    }
+  }
+  const size_t n = r.size();
+  if (n == 0 || x.size() != n) throw std::runtime_error(opt.in + ": no spheres in it");
+  if (opt.format == "lammps" && !box)
+    throw std::runtime_error(opt.in + ": " + what + " without its box walls: a LAMMPS data file needs the box (export a "
+                             "sample file or checkpoint of the run)");
+  if (opt.format == "lammps" && !(density > 0))
+    throw std::runtime_error(opt.in + ": no density recorded (a checkpoint of a run that generated its sample): export "
+                             "the run's sample file");
+  const fs::path op(opt.out);
+  const std::string box_out = (op.parent_path() / (op.stem().string() + "_box.txt")).string();
+  const bool two = box && opt.format == "xyzr";
+  std::error_code ec;
+  for (const std::string& f : {opt.out, box_out})
+    if ((f == opt.out || two) && fs::exists(f, ec))
+      throw std::runtime_error(f + ": exists; export never replaces a file: remove it or name another --out");
+  auto g17 = [](Real v) {  // 17 significant digits: read back, the same double
+    char b[32];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return std::string(b);
+  };
+  std::string text;
+  text.reserve(n * 100);
+  const std::string src = fs::absolute(opt.in, ec).lexically_normal().string();
+  std::vector<std::string> lines;
+  if (opt.format == "xyzr") {
+    text += "# x y z r [m]: " + std::to_string(n) + " spheres of " + src + " (grainlab export)\n";
+    for (size_t i = 0; i < n; ++i)
+      text += g17(x[i][0]) + " " + g17(x[i][1]) + " " + g17(x[i][2]) + " " + g17(r[i]) + "\n";
+    if (box) {  // first: a crash between the two leaves no sphere file that lacks its box
+      std::string b;
+      for (int a = 0; a < 3; ++a) b += g17(lo[a]) + " " + g17(hi[a]) + (a < 2 ? " " : "\n");
+      write_file_atomic(box_out, b);
+    }
+    write_file_atomic(opt.out, text);
+    lines.push_back("exported " + std::to_string(n) + " spheres of " + what + " to " + opt.out +
+                    (box ? " and its walls to " + box_out + " (grainlab import " + opt.out + " --box " + box_out +
+                               " reads them back to the bit)"
+                         : " (a snapshot records no walls)"));
+  } else {
+    // atom_style sphere (LAMMPS) / granular (LIGGGHTS): id type diameter density x y z. The physical density: grainlab's
+    // density_scaling is a time-step device of its own, said in the header.
+    text += "LAMMPS data file: " + std::to_string(n) + " spheres of " + src + " (grainlab export; the box is its walls; "
+            "density_scaling " + g17(scaling) + " not applied)\n\n";
+    text += std::to_string(n) + " atoms\n1 atom types\n\n";
+    const char* ax[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) text += g17(lo[a]) + " " + g17(hi[a]) + " " + ax[a] + "lo " + ax[a] + "hi\n";
+    text += "\nAtoms # sphere\n\n";
+    for (size_t i = 0; i < n; ++i)
+      text += std::to_string(i + 1) + " 1 " + g17(2 * r[i]) + " " + g17(density) + " " + g17(x[i][0]) + " " +
+              g17(x[i][1]) + " " + g17(x[i][2]) + "\n";
+    write_file_atomic(opt.out, text);
+    lines.push_back("exported " + std::to_string(n) + " spheres of " + what + " to " + opt.out +
+                    " (LAMMPS data, atom_style sphere: read_data " + opt.out + "; the walls are the box faces)");
+  }
+  return lines;
+}
+
 }  // namespace grainlab

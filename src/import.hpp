@@ -37,4 +37,15 @@ PackingContacts packing_contacts(const std::vector<Vec3d>& x, const std::vector<
 // a message naming the file, the line and the allowed range.
 std::vector<std::string> import_packing(const ImportOptions& opt);
 
+// `grainlab export`: the other way, a sample file or checkpoint (its spheres and box walls) or a snapshot (its spheres)
+// as text for another code: `xyzr`, one sphere a line at 17 significant digits (so that `grainlab import` of it gives
+// the same doubles) beside OUT_box.txt (xlo xhi ylo yhi zlo zhi, the shared race scene's form); or `lammps`, a data file
+// for atom_style sphere / granular (id type diameter density x y z), its box the walls'. Written atomically, never over
+// a file. Returns the lines to print.
+struct ExportOptions {
+  std::string in, out;
+  std::string format = "xyzr";  // xyzr or lammps
+};
+std::vector<std::string> export_sample(const ExportOptions& opt);
+
 }  // namespace grainlab

@@ -47,6 +47,9 @@ int usage(FILE* f) {
                "                                                          a packing made elsewhere (x y z r a line, m; or a\n"
                "                                                          LAMMPS/LIGGGHTS dump) as a sample file for\n"
                "                                                          sample: {file: SAMPLE.h5}\n"
+               "       grainlab export SAMPLE.h5 [--out FILE] [--format xyzr|lammps]\n"
+               "                                                          a sample, checkpoint or snapshot as text for\n"
+               "                                                          another code (x y z r and its box; a LAMMPS data file)\n"
                "       grainlab version                                   build: version, source commit, Kokkos, backend\n");
   if (f != stdout) return 2;  // after a bad command line, the usage alone
   std::fprintf(f,
@@ -200,6 +203,49 @@ int import_command(int argc, char** argv) {
   }
   return 0;
 }
+// `grainlab export`: its options, then export_sample (import.hpp).
+int export_command(int argc, char** argv) {
+  grainlab::ExportOptions eo;
+  std::string in;
+  for (int a = 2; a < argc; ++a) {
+    const std::string s = argv[a];
+    if (s == "-h" || s == "--help") return usage(stdout);
+    if (const int f = take_file(s, in); f != 0) {
+      if (f < 0) return 2;
+      continue;
+    }
+    if (a + 1 >= argc) {
+      std::fprintf(stderr, "grainlab: %s needs a value\n", s.c_str());
+      return 2;
+    }
+    if (s == "--out") {
+      eo.out = argv[++a];
+    } else if (s == "--format") {
+      eo.format = argv[++a];
+      if (eo.format != "xyzr" && eo.format != "lammps") {
+        std::fprintf(stderr, "grainlab: --format must be xyzr or lammps, got '%s'\n", eo.format.c_str());
+        return 2;
+      }
+    } else {
+      std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
+      return usage(stderr);
+    }
+  }
+  if (in.empty()) {
+    std::fprintf(stderr, "grainlab export: which file? (a sample, checkpoint or snapshot .h5 is missing)\n");
+    return usage(stderr);
+  }
+  eo.in = in;
+  if (eo.out.empty())  // beside the input, its name with .txt (xyzr) or .data (lammps)
+    eo.out = std::filesystem::path(in).replace_extension(eo.format == "xyzr" ? ".txt" : ".data").string();
+  try {
+    for (const std::string& line : grainlab::export_sample(eo)) std::printf("%s\n", line.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
+    return 1;
+  }
+  return 0;
+}
 // An option that takes a value, given last without one ("--out" at the end of the line).
 bool missing_value(const std::string& option, int a, int argc) {
   for (const char* o : {"--out", "--threads", "--jobs", "--stop-after-steps"})
@@ -220,6 +266,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (cmd == "import") return import_command(argc, argv);
+  if (cmd == "export") return export_command(argc, argv);
   if (cmd == "plot" || cmd == "csl") {
     // The figures are matplotlib's: hand over to the script shipped with the sources. The interpreter is
     // $GRAINLAB_PYTHON, else Debian's /usr/bin/python3 (where scripts/setup-deps.sh installs matplotlib),

@@ -132,7 +132,8 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(wor
           "the dump's sample is not the text file's")
     check(np.array_equal(b["/import/id"][()], ids[b["/import/index"][()]]), "the dump's atom ids are not kept")
 # scaled coordinates (xs ys zs) and diameters: the same spheres within a rounding
-rows = [f"{i} {float(a) / 3.2!r} {float(b) / 3.2!r} {float(c) / 3.2!r} {2 * float(d)!r}" for i, (a, b, c, d) in zip(ids, t)]
+rows = [f"{i} {float(a) / 3.2!r} {float(b) / 3.2!r} {float(c) / 3.2!r} {2 * float(d)!r}"
+        for i, (a, b, c, d) in zip(ids, t)]
 with open(os.path.join(work, "scaled.dump"), "w") as f:
     f.write(dump_snapshot(7, "id xs ys zs diameter", rows))
 rc, out, err = run("import", "scaled.dump", "--scale", "1e-3")
@@ -149,6 +150,39 @@ check(rc == 0, f"a run from the imported sample failed ({rc}): {err}")
 if rc == 0:
     s = json.load(open(os.path.join(work, "r", "summary.json")))
     check(s["sample"]["spheres"] == 512 and s["stages"][0]["steps"] > 0, f"the run's summary: {s['sample']}")
+
+# --- export, the other way: x y z r and the box read back by import to the bit; a LAMMPS data file
+rc, out, err = run("export", "s.h5")
+check(rc == 0 and "grainlab import s.txt --box s_box.txt reads them back to the bit" in out, f"export: {rc} {err}")
+rc, out, err = run("import", "s.txt", "--box", "s_box.txt", "--density", "2500", "--density-scaling", "10",
+                   "--out", "round.h5")
+with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(work, "round.h5"), "r") as b:
+    check(rc == 0 and all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls")) and
+          np.array_equal(b["/import/index"][()], np.arange(512)), f"export then import is not the sample: {rc} {err}")
+rc, out, err = run("export", "s.h5", "--format", "lammps")
+with open(os.path.join(work, "s.data")) as f:
+    data = f.read().split("\n")
+atoms = np.array([[float(v) for v in line.split()] for line in data[data.index("Atoms # sphere") + 2:] if line])
+with h5py.File(os.path.join(work, "s.h5"), "r") as a:
+    check(rc == 0 and "512 atoms" in data and "0 0.0032000000000000002 zlo zhi" in data and
+          np.array_equal(atoms[:, 0], np.arange(1, 513)) and (atoms[:, 1] == 1).all() and
+          np.array_equal(atoms[:, 2], 2 * a["/state/r"][()]) and (atoms[:, 3] == 2500).all() and
+          np.array_equal(atoms[:, 4:7], a["/state/x"][()]), f"the LAMMPS data file: {rc} {err}")
+snap = sorted(glob.glob(os.path.join(work, "r", "snapshots", "*.h5")))[-1]
+rc, out, err = run("export", snap, "--out", "snap.txt")
+with h5py.File(snap, "r") as a:
+    back = np.loadtxt(os.path.join(work, "snap.txt"))
+    check(rc == 0 and "(a snapshot records no walls)" in out and
+          np.array_equal(back, np.column_stack([a["/particles/x"][()], a["/particles/r"][()]])), f"a snapshot: {err}")
+before = open(os.path.join(work, "s.txt"), "rb").read()
+for args, code, part in [(["s.h5"], 1, "s.txt: exists; export never replaces a file"),
+                         ([snap, "--format", "lammps", "--out", "x.data"], 1, "a snapshot without its box walls"),
+                         (["s.h5", "--format", "vtk"], 2, "--format must be xyzr or lammps, got 'vtk'"),
+                         (["r/run.h5", "--out", "x.txt"], 1, "r/run.h5: a run's series (run.h5)")]:
+    rc, out, err = run("export", *args)
+    check(rc == code and part in err and len(err.strip().splitlines()) == 1, f"export {args}: {rc} {err!r}")
+check(open(os.path.join(work, "s.txt"), "rb").read() == before and not os.path.exists(os.path.join(work, "x.data"))
+      and not os.path.exists(os.path.join(work, "x.txt")), "a refused export wrote or changed a file")
 
 # --- the default box: the spheres' bounding box, the default out beside the packing
 rc, out, err = run("import", "packing.txt", "--scale", "1e-3")
@@ -190,7 +224,8 @@ for k, (text, extra, code, part) in enumerate(cases):
 for k, (text, part) in enumerate([
         (dump_snapshot(1, "id x y z", ["1 1 1 1"]), "bad.dump:9: ITEM: ATOMS has no x y z (or xs ys zs, xu yu zu) and "
                                                     "radius (or diameter) columns"),
-        (dump_snapshot(1, "id x y z radius", ["1 1 1 1 0.2"], bounds="xy xz yz pp pp pp"), "bad.dump:5: a triclinic box"),
+        (dump_snapshot(1, "id x y z radius", ["1 1 1 1 0.2"], bounds="xy xz yz pp pp pp"),
+         "bad.dump:5: a triclinic box"),
         (dump_snapshot(1, "id x y z radius", ["1 1 1 1 0.2", "2 2 2 2 0.2"])[:-13], "bad.dump: ends after line 10, an "
                                                                                   "atom line expected"),
         (dump_snapshot(1, "id x y z radius", ["1 1 1 0.2"]), "bad.dump:10: '1 1 1 0.2' is not 5 numbers")]):
