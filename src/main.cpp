@@ -126,14 +126,15 @@ bool real_number(const char* option, const char* text, double& value) {
   value = v;
   return true;
 }
-// `grainlab import`: its options, then import_packing (import.hpp), whose lines it prints.
-int import_command(int argc, char** argv) {
-  grainlab::ImportOptions io;
-  std::string packing;
+// The command line of a command that takes one file and options with values (import, export): take(option, a) reads
+// the option's value(s) from argv, moving a past them, and returns 0, or 2 after one line saying why, or -1 for an
+// option it does not know. Returns -1 when the line is read, else the exit code (help: 0; a bad line: 2).
+template <class Take>
+int file_and_options(int argc, char** argv, std::string& file, const Take& take) {
   for (int a = 2; a < argc; ++a) {
     const std::string s = argv[a];
     if (s == "-h" || s == "--help") return usage(stdout);
-    if (const int f = take_file(s, packing); f != 0) {
+    if (const int f = take_file(s, file); f != 0) {
       if (f < 0) return 2;
       continue;
     }
@@ -141,6 +142,31 @@ int import_command(int argc, char** argv) {
       std::fprintf(stderr, "grainlab: %s needs a value\n", s.c_str());
       return 2;
     }
+    const int rc = take(s, a);
+    if (rc == -1) {
+      std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
+      return usage(stderr);
+    }
+    if (rc != 0) return rc;
+  }
+  return -1;
+}
+// A command's lines printed, or its error as one line (exit 1).
+template <class F>
+int print_lines(const F& lines) {
+  try {
+    for (const std::string& line : lines()) std::printf("%s\n", line.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
+    return 1;
+  }
+  return 0;
+}
+// `grainlab import`: its options, then import_packing (import.hpp).
+int import_command(int argc, char** argv) {
+  grainlab::ImportOptions io;
+  std::string packing;
+  const int rc = file_and_options(argc, argv, packing, [&](const std::string& s, int& a) {
     if (s == "--out") {
       io.out = argv[++a];
     } else if (s == "--box") {
@@ -177,47 +203,30 @@ int import_command(int argc, char** argv) {
       if (!real_number(s.c_str(), argv[++a], v)) return 2;
       (s == "--scale" ? io.scale : s == "--density" ? io.density : io.density_scaling) = v;
     } else {
-      std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
-      return usage(stderr);
+      return -1;
     }
-  }
+    return 0;
+  });
+  if (rc >= 0) return rc;
   if (packing.empty()) {
     std::fprintf(stderr, "grainlab import: which packing? (a text file of x y z r lines is missing)\n");
     return usage(stderr);
   }
   io.packing = packing;
-  if (io.out.empty()) {  // beside the packing, its name with .h5
-    std::filesystem::path p(packing);
-    io.out = p.replace_extension(".h5").string();
-  }
+  if (io.out.empty())  // beside the packing, its name with .h5
+    io.out = std::filesystem::path(packing).replace_extension(".h5").string();
   if (io.box_given)  // --scale applies to the box as to the spheres: one unit for all
     for (int k = 0; k < 3; ++k) {
       io.lo[k] *= io.scale;
       io.hi[k] *= io.scale;
     }
-  try {
-    for (const std::string& line : grainlab::import_packing(io)) std::printf("%s\n", line.c_str());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
-    return 1;
-  }
-  return 0;
+  return print_lines([&] { return grainlab::import_packing(io); });
 }
 // `grainlab export`: its options, then export_sample (import.hpp).
 int export_command(int argc, char** argv) {
   grainlab::ExportOptions eo;
   std::string in;
-  for (int a = 2; a < argc; ++a) {
-    const std::string s = argv[a];
-    if (s == "-h" || s == "--help") return usage(stdout);
-    if (const int f = take_file(s, in); f != 0) {
-      if (f < 0) return 2;
-      continue;
-    }
-    if (a + 1 >= argc) {
-      std::fprintf(stderr, "grainlab: %s needs a value\n", s.c_str());
-      return 2;
-    }
+  const int rc = file_and_options(argc, argv, in, [&](const std::string& s, int& a) {
     if (s == "--out") {
       eo.out = argv[++a];
     } else if (s == "--format") {
@@ -227,10 +236,11 @@ int export_command(int argc, char** argv) {
         return 2;
       }
     } else {
-      std::fprintf(stderr, "grainlab: unknown option '%s'\n", s.c_str());
-      return usage(stderr);
+      return -1;
     }
-  }
+    return 0;
+  });
+  if (rc >= 0) return rc;
   if (in.empty()) {
     std::fprintf(stderr, "grainlab export: which file? (a sample, checkpoint or snapshot .h5 is missing)\n");
     return usage(stderr);
@@ -238,13 +248,7 @@ int export_command(int argc, char** argv) {
   eo.in = in;
   if (eo.out.empty())  // beside the input, its name with .txt (xyzr) or .data (lammps)
     eo.out = std::filesystem::path(in).replace_extension(eo.format == "xyzr" ? ".txt" : ".data").string();
-  try {
-    for (const std::string& line : grainlab::export_sample(eo)) std::printf("%s\n", line.c_str());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "grainlab: error: %s\n", one_line(e.what()).c_str());
-    return 1;
-  }
-  return 0;
+  return print_lines([&] { return grainlab::export_sample(eo); });
 }
 // An option that takes a value, given last without one ("--out" at the end of the line).
 bool missing_value(const std::string& option, int a, int argc) {
