@@ -165,7 +165,7 @@ def plane_roses(n, fn, f0, plane, errors=False):
     centres = (np.arange(PLANE_BINS) + 0.5) * np.pi / PLANE_BINS
     if not errors:
         return centres, dens, fnm
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):  # an empty bin (0 / 0 there): NaN, as its mean f_n
         return centres, dens, fnm, dens / np.sqrt(cnt), se_f, cnt
 
 
