@@ -520,6 +520,16 @@ SampleFile read_sample_file(const std::string& path) {
                   (held.empty() ? std::string(": a run starts from a sample_<stage>.h5 of the run that prepared it")
                                 : held));
   }
+  if (std::ifstream f(path, std::ios::binary); f) {
+    // A packing made elsewhere, named as the sample itself: text (no NUL in its first bytes, no HDF5 signature) is
+    // said to be one, with the command that makes a sample of it, rather than "not an HDF5 file".
+    char head[512];
+    f.read(head, sizeof head);
+    const std::string b(head, size_t(f.gcount()));
+    if (!b.empty() && b.rfind("\x89HDF", 0) != 0 && b.find('\0') == std::string::npos)
+      throw H5Error(path + ": text, not an HDF5 file (a sample is one): a packing of x y z r lines or a LAMMPS/LIGGGHTS "
+                           "dump becomes a sample with `grainlab import " + path + "`");
+  }
   const H5Reader r(path);
   EngineState s = read_state(r);
   if (!r.has("density") || !r.has("density_scaling"))

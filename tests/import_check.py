@@ -184,6 +184,13 @@ for args, code, part in [(["s.h5"], 1, "s.txt: exists; export never replaces a f
 check(open(os.path.join(work, "s.txt"), "rb").read() == before and not os.path.exists(os.path.join(work, "x.data"))
       and not os.path.exists(os.path.join(work, "x.txt")), "a refused export wrote or changed a file")
 
+# --- the packing itself as sample.file: one line naming the command that makes a sample of it
+with open(os.path.join(work, "text_sample.yaml"), "w") as f:
+    f.write("sample: {file: packing.txt}\nstages:\n  - {name: c, type: isotropic, pressure: 50e3}\n")
+rc, out, err = run("validate", "text_sample.yaml")
+check(rc == 1 and "packing.txt: text, not an HDF5 file (a sample is one): a packing of x y z r lines or a "
+      "LAMMPS/LIGGGHTS dump becomes a sample with `grainlab import " in err, f"a text packing as sample.file: {rc} {err}")
+
 # --- the default box: the spheres' bounding box, the default out beside the packing
 rc, out, err = run("import", "packing.txt", "--scale", "1e-3")
 check(rc == 0 and "(the spheres' bounding box)" in out and "no sphere presses a wall" in out and
