@@ -96,8 +96,10 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
   long natoms = -1;
   Vec3d lo{}, hi{};
   bool box = false;
+  bool other = false;  // within an ITEM: this reader skips, until the next ITEM:
   while (std::getline(f, text)) {
     ++ln;
+    if (text.rfind("ITEM:", 0) == 0) other = false;
     if (text.rfind("ITEM: TIMESTEP", 0) == 0) {
       next("the timestep");
       if (!numbers(text, v) || v.size() != 1) bad(path, ln, quoted(text) + " is not a timestep");
@@ -161,7 +163,9 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
         snap.hi[a] = hi[a] * scale;
       }
       in = std::move(snap);
-    } else if (text.find_first_not_of(" \t\r") != std::string::npos) {
+    } else if (text.rfind("ITEM:", 0) == 0) {
+      other = true;  // ITEM: TIME, ITEM: UNITS (dump_modify time / units yes): values nothing here needs
+    } else if (!other && text.find_first_not_of(" \t\r") != std::string::npos) {
       bad(path, ln, quoted(text) + " is no part of a LAMMPS dump (ITEM: lines, then their values)");
     }
   }
@@ -358,7 +362,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
 
   const auto [rmin, rmax] = std::minmax_element(s.r.begin(), s.r.end());
   std::vector<std::string> lines;
-  lines.push_back("imported " + std::to_string(n) + " spheres from " + opt.packing +
+  lines.push_back("imported " + std::to_string(n) + " sphere" + (n == 1 ? "" : "s") + " from " + opt.packing +
                   (in.dump ? " (timestep " + std::to_string(in.timestep) + ", the last of " +
                                  std::to_string(in.snapshots) + " snapshot" + (in.snapshots > 1 ? "s" : "") + ")"
                            : std::string()) +

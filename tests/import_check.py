@@ -131,6 +131,12 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(wor
     check(all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls", "/import/index")),
           "the dump's sample is not the text file's")
     check(np.array_equal(b["/import/id"][()], ids[b["/import/index"][()]]), "the dump's atom ids are not kept")
+# ITEM: UNITS and ITEM: TIME (dump_modify units / time yes) before the timestep: skipped
+with open(os.path.join(work, "timed.dump"), "w") as f:
+    f.write("ITEM: UNITS\nsi\nITEM: TIME\n0.0005\n" + last)
+rc, out, err = run("import", "timed.dump", "--scale", "1e-3")
+with h5py.File(os.path.join(work, "packed.h5"), "r") as a, h5py.File(os.path.join(work, "timed.h5"), "r") as b:
+    check(rc == 0 and np.array_equal(a["/state/x"][()], b["/state/x"][()]), f"ITEM: UNITS / TIME: {rc} {err}")
 # scaled coordinates (xs ys zs) and diameters: the same spheres within a rounding
 rows = [f"{i} {float(a) / 3.2!r} {float(b) / 3.2!r} {float(c) / 3.2!r} {2 * float(d)!r}"
         for i, (a, b, c, d) in zip(ids, t)]

@@ -2,8 +2,9 @@
 # grainlab -> LAMMPS -> grainlab: a sample exported as a LAMMPS data file (`grainlab export --format lammps`) is read by
 # LAMMPS itself (`lmp`, Debian's `lammps` package), which dumps it back at 17 digits; `grainlab import` of that dump is
 # the sample again, to the bit (spheres, walls; each atom id the sphere's row of the sample, plus 1). Then LAMMPS moves the spheres
-# 300 steps between granular walls at the box faces and dumps them in its default format, with more columns and four
-# snapshots: imported, its last one. Skipped (exit 77) where no `lmp` is on the PATH (`apt-get install lammps`).
+# 300 steps between granular walls at the box faces and dumps them in its default format, with more columns, its units
+# and times, and four snapshots: imported, its last one. Skipped (exit 77) where no `lmp` is on the PATH
+# (`apt-get install lammps`).
 set -u
 bin=$1; work=$2
 command -v lmp > /dev/null || { echo "lammps_roundtrip: skipped: no lmp on the PATH (apt-get install lammps)"; exit 77; }
@@ -58,6 +59,7 @@ fix             wz all wall/gran ${w} zplane $(zlo) $(zhi)
 fix             int all nve/sphere
 timestep        1.0e-8
 dump            d all custom 100 run.dump id type x y z radius vx vy vz
+dump_modify     d time yes units yes
 run             300
 LMP
 lmp -in in.run -log none > lmp_run.txt 2>&1 || { echo "LAMMPS could not run the exported sample:"; tail -5 lmp_run.txt; exit 1; }
