@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -59,8 +59,9 @@ void add_sphere(Read& in, const std::string& path, long ln, const Real v[4], Rea
   if (in.r.size() >= 100000000)
     throw std::runtime_error(path + ": more than 100000000 spheres (sample.count's range is [1, 1e8])");
   if (v[3] * scale > 1)
-    bad(path, ln, "r = " + num(v[3] * scale) + " m" + (scale != 1 ? " (after --scale " + num(scale) + ")" : std::string()) +
-                      " is above 1 m (sample.r_max's range is (0, 1]): a file in mm takes --scale 1e-3");
+    bad(path, ln,
+        "r = " + num(v[3] * scale) + " m" + (scale != 1 ? " (after --scale " + num(scale) + ")" : std::string()) +
+            " is above 1 m (sample.r_max's range is (0, 1]): a file in mm takes --scale 1e-3");
   in.x.push_back({v[0] * scale, v[1] * scale, v[2] * scale});
   in.r.push_back(v[3] * scale);
   in.line.push_back(ln);
@@ -89,8 +90,9 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
   long ln = 0;
   std::vector<double> v;
   auto next = [&](const char* what) {
-    if (!std::getline(f, text)) throw std::runtime_error(path + ": ends after line " + std::to_string(ln) + ", " + what +
-                                                         " expected (a dump cut short?)");
+    if (!std::getline(f, text))
+      throw std::runtime_error(path + ": ends after line " + std::to_string(ln) + ", " + what +
+                               " expected (a dump cut short?)");
     ++ln;
   };
   long natoms = -1;
@@ -135,8 +137,9 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
       const int cx[3] = {col({"x", "xu", "xs"}), col({"y", "yu", "ys"}), col({"z", "zu", "zs"})};
       const int cr = col({"radius"}), cd = col({"diameter"}), cid = col({"id"});
       if (cx[0] < 0 || cx[1] < 0 || cx[2] < 0 || (cr < 0 && cd < 0))
-        bad(path, ln, "ITEM: ATOMS has no x y z (or xs ys zs, xu yu zu) and radius (or diameter) columns: dump it "
-                      "with `dump custom ... id x y z radius`");
+        bad(path, ln,
+            "ITEM: ATOMS has no x y z (or xs ys zs, xu yu zu) and radius (or diameter) columns: dump it "
+            "with `dump custom ... id x y z radius`");
       bool scaled[3];
       for (int a = 0; a < 3; ++a) scaled[a] = names[size_t(cx[a])][1] == 's';
       Read snap;
@@ -144,8 +147,10 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
       for (long k = 0; k < natoms; ++k) {
         next("an atom line");
         if (!numbers(text, v) || v.size() != names.size())
-          bad(path, ln, quoted(text) + " is not " + std::to_string(names.size()) + " numbers, one for each column of "
-                        "ITEM: ATOMS");
+          bad(path, ln,
+              quoted(text) + " is not " + std::to_string(names.size()) +
+                  " numbers, one for each column of "
+                  "ITEM: ATOMS");
         Real sphere[4];
         for (int a = 0; a < 3; ++a) {
           const Real c = v[size_t(cx[a])];
@@ -196,11 +201,15 @@ Read read_packing(const std::string& path, Real scale) {
     std::string s = text;
     std::replace(s.begin(), s.end(), ',', ' ');
     if (!numbers(s, v))
-      bad(path, ln, quoted(text) + " is not four numbers x y z r (metres, blanks or commas between; a header line "
-                    "starts with #)");
+      bad(path, ln,
+          quoted(text) +
+              " is not four numbers x y z r (metres, blanks or commas between; a header line "
+              "starts with #)");
     if (v.size() != 4)
-      bad(path, ln, std::to_string(v.size()) + " numbers in " + quoted(text) + ", four expected: x y z r (one sphere a "
-                    "line; cut other columns, or start the line with #)");
+      bad(path, ln,
+          std::to_string(v.size()) + " numbers in " + quoted(text) +
+              ", four expected: x y z r (one sphere a "
+              "line; cut other columns, or start the line with #)");
     add_sphere(in, path, ln, v.data(), scale);
   }
   if (f.bad()) throw std::runtime_error(path + ": read error");
@@ -290,13 +299,16 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
 
   Vec3d lo = opt.lo, hi = opt.hi;
   // the walls: --box, else a dump's box bounds, else the spheres' bounding box
-  const std::string box_from = opt.box_given ? "--box" : in.dump ? "the dump's box bounds" : "the spheres' bounding box";
+  const std::string box_from = opt.box_given ? "--box"
+                               : in.dump     ? "the dump's box bounds"
+                                             : "the spheres' bounding box";
   if (!opt.box_given && in.dump) {
     lo = in.lo;
     hi = in.hi;
     for (int a = 0; a < 3; ++a)
       if (!(lo[a] < hi[a]))
-        throw std::runtime_error(opt.packing + ": the dump's box bounds on " + axis[a] + " are not lo < hi (give --box)");
+        throw std::runtime_error(opt.packing + ": the dump's box bounds on " + axis[a] +
+                                 " are not lo < hi (give --box)");
   } else if (!opt.box_given) {  // each wall touches the outermost sphere on its side: no sphere presses a wall yet
     lo = {in.x[0][0] - in.r[0], in.x[0][1] - in.r[0], in.x[0][2] - in.r[0]};
     hi = {in.x[0][0] + in.r[0], in.x[0][1] + in.r[0], in.x[0][2] + in.r[0]};
@@ -310,8 +322,8 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
     for (int a = 0; a < 3; ++a)
       if (!(in.x[i][a] > lo[a] && in.x[i][a] < hi[a]))
         throw std::runtime_error(opt.packing + ":" + std::to_string(in.line[i]) + ": the centre's " + axis[a] + " = " +
-                                 num(in.x[i][a], 6) + " m is outside the box's [" + num(lo[a], 6) + ", " + num(hi[a], 6) +
-                                 "] m (" + box_from + "): every centre must lie between the walls");
+                                 num(in.x[i][a], 6) + " m is outside the box's [" + num(lo[a], 6) + ", " +
+                                 num(hi[a], 6) + "] m (" + box_from + "): every centre must lie between the walls");
 
   // Spatial (Morton) order: a file's order is often random in space, and the contact kernel's neighbour reads need
   // neighbours close in memory (perf/NOTES.md attempt 3a: 1.7x on the race scene, whose file order is random).
@@ -366,11 +378,10 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
                   (in.dump ? " (timestep " + std::to_string(in.timestep) + ", the last of " +
                                  std::to_string(in.snapshots) + " snapshot" + (in.snapshots > 1 ? "s" : "") + ")"
                            : std::string()) +
-                  ": diameters " + mm(2 * *rmin) +
-                  " to " + mm(2 * *rmax) + "; by mass d50 " + mm(gi.d50) + ", Cu " + num(gi.cu, 3));
-  lines.push_back("box " + mm(hi[0] - lo[0]) + " x " + mm(hi[1] - lo[1]) + " x " + mm(hi[2] - lo[2]) +
-                  " (" + box_from + "): solid fraction " +
-                  num(Vs / V, 4) + ", void ratio e " + num((V - Vs) / Vs, 4));
+                  ": diameters " + mm(2 * *rmin) + " to " + mm(2 * *rmax) + "; by mass d50 " + mm(gi.d50) + ", Cu " +
+                  num(gi.cu, 3));
+  lines.push_back("box " + mm(hi[0] - lo[0]) + " x " + mm(hi[1] - lo[1]) + " x " + mm(hi[2] - lo[2]) + " (" + box_from +
+                  "): solid fraction " + num(Vs / V, 4) + ", void ratio e " + num((V - Vs) / Vs, 4));
   std::string c = "contacts: " + std::to_string(pc.touching) + " overlapping pairs (Z " +
                   num(2.0 * double(pc.touching) / double(n), 3) + ")";
   const long line_i = pc.touching > 0 ? in.line[size_t(index[size_t(pc.max_i)])] : 0;
@@ -379,8 +390,8 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
     c += ", the largest overlap " + num(pc.max_overlap, 3) + " of the smaller radius (lines " +
          std::to_string(std::min(line_i, line_j)) + " and " + std::to_string(std::max(line_i, line_j)) + ")";
   c += pc.wall_touching > 0 ? "; " + std::to_string(pc.wall_touching) + " sphere-wall overlaps, the largest " +
-                                   num(pc.max_wall_overlap, 3) + " of the sphere's radius"
-                             : "; no sphere presses a wall";
+                                  num(pc.max_wall_overlap, 3) + " of the sphere's radius"
+                            : "; no sphere presses a wall";
   lines.push_back(c);
   // numerics.max_overlap's default: a run stops with a diagnosis where an overlap passes it
   if (std::max(pc.max_overlap, pc.max_wall_overlap) > 0.2)
@@ -426,7 +437,8 @@ std::vector<std::string> export_sample(const ExportOptions& opt) {
       r = h.doubles("/particles/r");
       what = "a snapshot";
     } else if (h.has("/series")) {
-      throw std::runtime_error(opt.in + ": a run's series (run.h5), no spheres: export the run's sample file, one of "
+      throw std::runtime_error(opt.in +
+                               ": a run's series (run.h5), no spheres: export the run's sample file, one of "
                                "its checkpoints or a snapshot");
     } else {
       throw std::runtime_error(opt.in + ": neither a sample, a checkpoint nor a snapshot of grainlab's");
@@ -435,10 +447,12 @@ std::vector<std::string> export_sample(const ExportOptions& opt) {
   const size_t n = r.size();
   if (n == 0 || x.size() != n) throw std::runtime_error(opt.in + ": no spheres in it");
   if (opt.format == "lammps" && !box)
-    throw std::runtime_error(opt.in + ": " + what + " without its box walls: a LAMMPS data file needs the box (export a "
+    throw std::runtime_error(opt.in + ": " + what +
+                             " without its box walls: a LAMMPS data file needs the box (export a "
                              "sample file or checkpoint of the run)");
   if (opt.format == "lammps" && !(density > 0))
-    throw std::runtime_error(opt.in + ": no density recorded (a checkpoint of a run that generated its sample): export "
+    throw std::runtime_error(opt.in +
+                             ": no density recorded (a checkpoint of a run that generated its sample): export "
                              "the run's sample file");
   const fs::path op(opt.out);
   const std::string box_out = (op.parent_path() / (op.stem().string() + "_box.txt")).string();
@@ -471,10 +485,12 @@ std::vector<std::string> export_sample(const ExportOptions& opt) {
                                " reads them back to the bit)"
                          : " (a snapshot records no walls)"));
   } else {
-    // atom_style sphere (LAMMPS) / granular (LIGGGHTS): id type diameter density x y z. The physical density: grainlab's
-    // density_scaling is a time-step device of its own, said in the header.
-    text += "LAMMPS data file: " + std::to_string(n) + " spheres of " + src + " (grainlab export; the box is its walls; "
-            "density_scaling " + g17(scaling) + " not applied)\n\n";
+    // atom_style sphere (LAMMPS) / granular (LIGGGHTS): id type diameter density x y z. The physical density:
+    // grainlab's density_scaling is a time-step device of its own, said in the header.
+    text += "LAMMPS data file: " + std::to_string(n) + " spheres of " + src +
+            " (grainlab export; the box is its walls; "
+            "density_scaling " +
+            g17(scaling) + " not applied)\n\n";
     text += std::to_string(n) + " atoms\n1 atom types\n\n";
     const char* ax[3] = {"x", "y", "z"};
     for (int a = 0; a < 3; ++a) text += g17(lo[a]) + " " + g17(hi[a]) + " " + ax[a] + "lo " + ax[a] + "hi\n";

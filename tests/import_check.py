@@ -195,7 +195,8 @@ with open(os.path.join(work, "text_sample.yaml"), "w") as f:
     f.write("sample: {file: packing.txt}\nstages:\n  - {name: c, type: isotropic, pressure: 50e3}\n")
 rc, out, err = run("validate", "text_sample.yaml")
 check(rc == 1 and "packing.txt: text, not an HDF5 file (a sample is one): a packing of x y z r lines or a "
-      "LAMMPS/LIGGGHTS dump becomes a sample with `grainlab import " in err, f"a text packing as sample.file: {rc} {err}")
+      "LAMMPS/LIGGGHTS dump becomes a sample with `grainlab import " in err,
+      f"a text packing as sample.file: {rc} {err}")
 
 # --- the default box: the spheres' bounding box, the default out beside the packing
 rc, out, err = run("import", "packing.txt", "--scale", "1e-3")

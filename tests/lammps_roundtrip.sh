@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # grainlab -> LAMMPS -> grainlab: a sample exported as a LAMMPS data file (`grainlab export --format lammps`) is read by
 # LAMMPS itself (`lmp`, Debian's `lammps` package), which dumps it back at 17 digits; `grainlab import` of that dump is
-# the sample again, to the bit (spheres, walls; each atom id the sphere's row of the sample, plus 1). Then LAMMPS moves the spheres
-# 300 steps between granular walls at the box faces and dumps them in its default format, with more columns, its units
-# and times, and four snapshots: imported, its last one. Skipped (exit 77) where no `lmp` is on the PATH
-# (`apt-get install lammps`).
+# the sample again, to the bit (spheres, walls; each atom id the sphere's row of the sample, plus 1). Then LAMMPS
+# moves the spheres 300 steps between granular walls at the box faces and dumps them in its default format, with more
+# columns, its units and times, and four snapshots: imported, its last one. Skipped (exit 77) where no `lmp` is on the
+# PATH (`apt-get install lammps`).
 set -u
 bin=$1; work=$2
-command -v lmp > /dev/null || { echo "lammps_roundtrip: skipped: no lmp on the PATH (apt-get install lammps)"; exit 77; }
+command -v lmp > /dev/null ||
+  { echo "lammps_roundtrip: skipped: no lmp on the PATH (apt-get install lammps)"; exit 77; }
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 py=/usr/bin/python3
 # a small sample of grainlab's own: 300 spheres consolidated (the smoke config's first stage)
@@ -27,7 +28,8 @@ dump            d all custom 1 back.dump id x y z radius
 dump_modify     d sort id format float %.17g
 run             0
 LMP
-lmp -in in.back -log none > lmp_back.txt 2>&1 || { echo "LAMMPS could not read the exported data file:"; tail -5 lmp_back.txt; exit 1; }
+lmp -in in.back -log none > lmp_back.txt 2>&1 ||
+  { echo "LAMMPS could not read the exported data file:"; tail -5 lmp_back.txt; exit 1; }
 "$bin" import back.dump --out back.h5 > /dev/null || { echo "import of LAMMPS's dump failed"; exit 1; }
 $py - <<'PY' || exit 1
 import h5py, numpy as np, sys
@@ -62,7 +64,8 @@ dump            d all custom 100 run.dump id type x y z radius vx vy vz
 dump_modify     d time yes units yes
 run             300
 LMP
-lmp -in in.run -log none > lmp_run.txt 2>&1 || { echo "LAMMPS could not run the exported sample:"; tail -5 lmp_run.txt; exit 1; }
+lmp -in in.run -log none > lmp_run.txt 2>&1 ||
+  { echo "LAMMPS could not run the exported sample:"; tail -5 lmp_run.txt; exit 1; }
 out=$("$bin" import run.dump --out run.h5) || { echo "import of LAMMPS's run dump failed"; exit 1; }
 printf '%s\n' "$out" | grep -q "^imported 300 spheres from run.dump (timestep 300, the last of 4 snapshots)" ||
   { echo "not the dump's last snapshot: $out"; exit 1; }
