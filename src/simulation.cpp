@@ -527,8 +527,8 @@ SampleFile read_sample_file(const std::string& path) {
     f.read(head, sizeof head);
     const std::string b(head, size_t(f.gcount()));
     if (!b.empty() && b.rfind("\x89HDF", 0) != 0 && b.find('\0') == std::string::npos)
-      throw H5Error(path + ": text, not an HDF5 file (a sample is one): a packing of x y z r lines or a LAMMPS/LIGGGHTS "
-                           "dump becomes a sample with `grainlab import " + path + "`");
+      throw H5Error(path + ": text, not an HDF5 file (a sample is one): a packing of x y z r lines or a "
+                           "LAMMPS/LIGGGHTS dump becomes a sample with `grainlab import " + path + "`");
   }
   const H5Reader r(path);
   EngineState s = read_state(r);
