@@ -224,6 +224,8 @@ void Engine::evaluate() {
   forces_current_ = false;  // P.f, P.t are the last instant's until a gather (diagnostics(), damping_moment())
 }
 
+void Engine::load_walls_now() { loads_ = reduce_wall_loads(P_, walls_, params_.E_wall, red_); }
+
 void Engine::fused_step(DragMeasure* drag) {
   const ContactParams& cp = params_.contact;
   compute_pair_forces(P_, lists_[cur_], hist_[cur_], pf_, cp, ContactFeatures{cp.mu_r > 0, cp.normal_damping > 0},

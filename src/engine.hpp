@@ -200,6 +200,9 @@ class Engine {
   const WallSet& walls() const { return walls_; }
   WallControl& wall_control(int k) { return control_.at(k); }
   const WallLoads& wall_loads() const { return loads_; }
+  // The wall loads of the positions as they are (no step, nothing else changed): for a state that carries no record of
+  // them, a packing imported from elsewhere, whose first stage measures its stress from them (Laboratory::build_engine).
+  void load_walls_now();
   bool walls_are_box() const { return box_; }
   Real wall_position(int k) const;  // box walls: the coordinate of the plane along its axis
   void set_wall_position(int k, Real pos);

@@ -962,6 +962,13 @@ void Laboratory::build_engine() {
     sample->dt = eng_->dt();
     sample->mu_r = ep.contact.mu_r;
     eng_->restore(*sample);
+    // A sample without a record of its wall loads (`grainlab import`'s: no step has pressed its walls yet) gets them
+    // from its positions, at this run's wall stiffness: the first stage measures its stress from them, and a shear
+    // from zero loads would hold sigma_3 at p'_0 = 0 against walls the overlaps press. Every sample an isotropic stage
+    // wrote has them (its walls touch), so its runs keep their bits.
+    bool recorded = false;
+    for (int k = 0; k < sample->walls.count; ++k) recorded |= sample->loads.touching[k] > 0 || sample->loads.force[k] != 0;
+    if (!recorded) eng_->load_walls_now();
   }
 }
 

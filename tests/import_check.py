@@ -100,6 +100,26 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as f:
     step = np.linalg.norm(np.diff(sx, axis=0), axis=1).mean()
     check(step < 0.4 * np.linalg.norm(np.diff(xf, axis=0), axis=1).mean(), f"not in spatial order ({step:.3g} m)")
 
+# --- a shear straight from the imported sample: its p'_0 is the stress its walls' overlaps press with at this run's
+# stiffness (k_w = E_wall r, SPEC §3; E 100 MPa by default), not 0 (a sample file's state records no loads until a step
+# has pressed the walls: the run computes them)
+with open(os.path.join(work, "shear.yaml"), "w") as f:
+    f.write("sample: {file: s.h5}\nstages:\n  - {name: sh, type: triaxial, drainage: drained, axial_strain_rate: 1, "
+            "max_axial_strain: 0.001}\n")
+rc, out, err = run("run", "shear.yaml", "--out", "sh", "--quiet", "--threads", "1")
+sig = []
+for a in range(3):
+    area = 3.2e-3 ** 2  # every face of the 3.2 mm cube
+    lo_pen = np.clip(rf - (xf[:, a] - 0), 0, None)
+    hi_pen = np.clip(rf - (3.2e-3 - xf[:, a]), 0, None)
+    sig.append(0.5 * ((1e8 * rf * lo_pen).sum() + (1e8 * rf * hi_pen).sum()) / area)
+p_walls = sum(sig) / 3
+if rc == 0:
+    p0 = json.load(open(os.path.join(work, "sh", "summary.json")))["stages"][0]["p_0"]
+    check(abs(p0 - p_walls) < 1e-9 * p_walls and p_walls > 1e3, f"the shear's p'_0 {p0} Pa, the walls' {p_walls} Pa")
+else:
+    check(False, f"a shear straight from the imported sample failed ({rc}): {err}")
+
 # --box FILE (the shared race's scene_32k_box.txt form): the same sample as the six numbers
 with open(os.path.join(work, "box.txt"), "w") as f:
     f.write("0 3.2\n0 3.2\n0 3.2\n")
