@@ -43,6 +43,11 @@ struct Read {
   long timestep = 0, snapshots = 0;
   Vec3d lo{}, hi{};
   std::vector<long> id;
+  // a LAMMPS data file (read_data's): its box and ids as a dump's, and its atoms' one density (0: they differ, at
+  // lines density_lines)
+  bool data = false;
+  Real density = 0;
+  long density_lines[2] = {0, 0};
 };
 
 [[noreturn]] void bad(const std::string& path, long ln, const std::string& why) {
@@ -179,8 +184,114 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
   return in;
 }
 
+// A line's first word, and whether it starts with a letter (a data file's section or header keyword).
+std::string first_word(const std::string& text) {
+  std::istringstream is(text);
+  std::string w;
+  is >> w;
+  return w;
+}
+bool is_word(const std::string& w) { return !w.empty() && std::isalpha(static_cast<unsigned char>(w[0])); }
+
+// A LAMMPS data file (read_data's; LIGGGHTS's the same) of atom_style sphere or granular: the header's atom count and
+// box (an orthogonal one), then the Atoms section's rows `id type diameter density x y z` (and image flags ix iy iz);
+// other sections skipped.
+Read read_data(std::ifstream& f, const std::string& path, Real scale) {
+  Read in;
+  in.data = true;
+  std::string text;
+  long ln = 1, natoms = -1;
+  std::getline(f, text);  // the title line
+  bool bounds[3] = {false, false, false};
+  std::vector<double> v;
+  std::string section;  // the section being read ("" in the header)
+  long rows = 0;
+  while (std::getline(f, text)) {
+    ++ln;
+    const std::string body = text.substr(0, text.find('#'));
+    const std::string w = first_word(body);
+    if (w.empty()) continue;
+    if (is_word(w)) {  // a section's keyword
+      section = w;
+      if (section == "Atoms") {
+        if (natoms < 0) bad(path, ln, "an Atoms section before the header's `N atoms`");
+        const size_t hash = text.find('#');
+        const std::string style = hash == std::string::npos ? "" : first_word(text.substr(hash + 1));
+        if (!style.empty() && style != "sphere" && style != "granular")
+          bad(path, ln,
+              "atom_style " + style +
+                  ": only sphere or granular atoms (id type diameter density x y z) "
+                  "carry radii");
+      }
+      continue;
+    }
+    if (section.empty()) {  // the header: counts and box bounds
+      std::istringstream is(body);
+      std::vector<std::string> t;
+      for (std::string x; is >> x;) t.push_back(x);
+      if (t.size() == 2 && t[1] == "atoms") {
+        if (!numbers(t[0], v) || v.size() != 1 || !(v[0] >= 1) || v[0] > 1e8)
+          bad(path, ln, quoted(text) + " is not a number of atoms in [1, 1e8]");
+        natoms = long(v[0]);
+      } else if (t.size() == 4 && (t[2] == "xlo" || t[2] == "ylo" || t[2] == "zlo") &&
+                 t[3] == t[2].substr(0, 1) + "hi") {
+        const int a = t[2][0] - 'x';
+        if (!numbers(t[0] + " " + t[1], v) || v.size() != 2) bad(path, ln, quoted(text) + " is not two bounds lo hi");
+        in.lo[a] = v[0] * scale;
+        in.hi[a] = v[1] * scale;
+        bounds[a] = true;
+      } else if (t.size() == 6 && t[3] == "xy") {
+        bad(path, ln, "a triclinic box: the walls are an orthogonal box (give it with --box)");
+      }
+      continue;
+    }
+    if (section != "Atoms") continue;  // Velocities, Masses, ...: nothing a sample at rest needs
+    if (!numbers(body, v) || (v.size() != 7 && v.size() != 10))
+      bad(path, ln, quoted(text) + " is not an atom_style sphere row: id type diameter density x y z (ix iy iz)");
+    if (++rows > natoms) bad(path, ln, "more Atoms rows than the header's " + std::to_string(natoms) + " atoms");
+    const Real sphere[4] = {v[4], v[5], v[6], 0.5 * v[2]};
+    add_sphere(in, path, ln, sphere, scale);
+    in.id.push_back(long(v[0]));
+    if (in.r.size() == 1) {
+      in.density = v[3];
+      in.density_lines[0] = ln;
+    } else if (v[3] != in.density && in.density_lines[1] == 0) {
+      in.density_lines[1] = ln;
+    }
+  }
+  if (f.bad()) throw std::runtime_error(path + ": read error");
+  if (natoms < 0) throw std::runtime_error(path + ": a LAMMPS data file without `N atoms` in its header");
+  if (rows != natoms)
+    throw std::runtime_error(path + ": " + std::to_string(rows) + " Atoms rows for the header's " +
+                             std::to_string(natoms) + " atoms (a file cut short?)");
+  for (int a = 0; a < 3; ++a)
+    if (!bounds[a])
+      throw std::runtime_error(path + ": no `" + std::string(1, char('x' + a)) + "lo " + std::string(1, char('x' + a)) +
+                               "hi` line in the header");
+  return in;
+}
+
+// Whether a file (not a dump) is a LAMMPS data file: `N atoms` on a line of its first 20 (a packing's lines are
+// numbers only).
+bool looks_like_data(std::ifstream& f) {
+  std::string text;
+  bool data = false;
+  for (int k = 0; k < 20 && std::getline(f, text); ++k) {
+    std::istringstream is(text.substr(0, text.find('#')));
+    std::string n, w, rest;
+    if (is >> n >> w && w == "atoms" && !(is >> rest) && n.find_first_not_of("0123456789") == std::string::npos) {
+      data = k > 0;  // the first line is the title, whatever it says
+      if (data) break;
+    }
+  }
+  f.clear();
+  f.seekg(0);
+  return data;
+}
+
 // One sphere a line: four numbers (blanks or commas between them); blank lines and lines starting with # skipped. A
-// file whose first line starts with "ITEM:" is a LAMMPS or LIGGGHTS dump (read_dump).
+// file whose first line starts with "ITEM:" is a LAMMPS or LIGGGHTS dump (read_dump), one with `N atoms` in its header
+// a LAMMPS data file (read_data).
 Read read_packing(const std::string& path, Real scale) {
   std::ifstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot read it (" + std::strerror(errno) + ")");
@@ -190,6 +301,7 @@ Read read_packing(const std::string& path, Real scale) {
     f.seekg(0);
     if (first.rfind("ITEM:", 0) == 0) return read_dump(f, path, scale);
   }
+  if (looks_like_data(f)) return read_data(f, path, scale);
   Read in;
   std::string text;
   long ln = 0;
@@ -296,19 +408,32 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
     throw std::runtime_error(opt.out + ": exists; import never replaces a file: remove it or name another --out");
   Read in = read_packing(opt.packing, opt.scale);
   const size_t n = in.r.size();
+  // The density: --density, else a data file's atoms' (one for all: grainlab has one), else sample.density's default.
+  Real density = opt.density;
+  if (in.data && !opt.density_given) {
+    if (in.density_lines[1] > 0)
+      throw std::runtime_error(opt.packing + ": the atoms' densities differ (lines " +
+                               std::to_string(in.density_lines[0]) + " and " + std::to_string(in.density_lines[1]) +
+                               "): a sample has one density, give it with --density");
+    density = in.density;
+    if (!(density > 0 && density <= 1e6))
+      throw std::runtime_error(opt.packing + ":" + std::to_string(in.density_lines[0]) + ": density " + num(density) +
+                               " kg/m^3 is outside sample.density's range (0, 1e6] (give --density)");
+  }
 
   Vec3d lo = opt.lo, hi = opt.hi;
-  // the walls: --box, else a dump's box bounds, else the spheres' bounding box
+  // the walls: --box, else a dump's or data file's box bounds, else the spheres' bounding box
   const std::string box_from = opt.box_given ? "--box"
                                : in.dump     ? "the dump's box bounds"
+                               : in.data     ? "the data file's box"
                                              : "the spheres' bounding box";
-  if (!opt.box_given && in.dump) {
+  if (!opt.box_given && (in.dump || in.data)) {
     lo = in.lo;
     hi = in.hi;
     for (int a = 0; a < 3; ++a)
       if (!(lo[a] < hi[a]))
-        throw std::runtime_error(opt.packing + ": the dump's box bounds on " + axis[a] +
-                                 " are not lo < hi (give --box)");
+        throw std::runtime_error(opt.packing + ": the " + (in.dump ? "dump's" : "data file's") + " box bounds on " +
+                                 axis[a] + " are not lo < hi (give --box)");
   } else if (!opt.box_given) {  // each wall touches the outermost sphere on its side: no sphere presses a wall yet
     lo = {in.x[0][0] - in.r[0], in.x[0][1] - in.r[0], in.x[0][2] - in.r[0]};
     hi = {in.x[0][0] + in.r[0], in.x[0][1] + in.r[0], in.x[0][2] + in.r[0]};
@@ -353,7 +478,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   const std::string from = fs::absolute(opt.packing, ec).lexically_normal().string();
   write_h5_atomic(opt.out, [&](H5Writer& w) {
     write_state(w, s);
-    w.attr("density", opt.density);
+    w.attr("density", density);
     w.attr("density_scaling", opt.density_scaling);
     w.attr("stage", std::string("import"));
     w.attr("imported_from", from);
@@ -364,11 +489,11 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
     // row), so that results can be laid beside the file's own columns
     w.group("/import");
     w.write("/import/index", index);
-    if (!in.id.empty()) {  // a dump's atom ids (LAMMPS's `id` column), sphere by sphere of the sample
+    if (!in.id.empty()) {  // a dump's or data file's atom ids (LAMMPS's `id`), sphere by sphere of the sample
       std::vector<std::int64_t> ids(n);
       for (size_t k = 0; k < n; ++k) ids[k] = in.id[size_t(index[k])];
       w.write("/import/id", ids);
-      w.attr("import_timestep", double(in.timestep));
+      if (in.dump) w.attr("import_timestep", double(in.timestep));
     }
   });
 
@@ -377,7 +502,8 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   lines.push_back("imported " + std::to_string(n) + " sphere" + (n == 1 ? "" : "s") + " from " + opt.packing +
                   (in.dump ? " (timestep " + std::to_string(in.timestep) + ", the last of " +
                                  std::to_string(in.snapshots) + " snapshot" + (in.snapshots > 1 ? "s" : "") + ")"
-                           : std::string()) +
+                   : in.data ? " (a LAMMPS data file, density " + num(density) + " kg/m^3)"
+                             : std::string()) +
                   ": diameters " + mm(2 * *rmin) + " to " + mm(2 * *rmax) + "; by mass d50 " + mm(gi.d50) + ", Cu " +
                   num(gi.cu, 3));
   lines.push_back("box " + mm(hi[0] - lo[0]) + " x " + mm(hi[1] - lo[1]) + " x " + mm(hi[2] - lo[2]) + " (" + box_from +

@@ -11,13 +11,14 @@
 namespace grainlab {
 
 struct ImportOptions {
-  std::string packing;       // text: one sphere a line, `x y z r` (blanks or commas between), `#` comments; or a dump
-  std::string out;           // the sample file to write; never replaces a file
-  bool box_given = false;    // else the box is the spheres' bounding box (each wall touching the outermost sphere)
-  Vec3d lo{}, hi{};          // the walls' box [m] (after scale)
-  Real scale = 1;            // multiplies x, y, z and r: 1e-3 for a file in mm
-  Real density = 2650;       // [kg/m^3], as sample.density
-  Real density_scaling = 1;  // as sample.density_scaling
+  std::string packing;         // text: one sphere a line, `x y z r` (blanks or commas between), `#` comments; or a dump
+  std::string out;             // the sample file to write; never replaces a file
+  bool box_given = false;      // else the box is the spheres' bounding box (each wall touching the outermost sphere)
+  Vec3d lo{}, hi{};            // the walls' box [m] (after scale)
+  Real scale = 1;              // multiplies x, y, z and r: 1e-3 for a file in mm
+  Real density = 2650;         // [kg/m^3], as sample.density
+  bool density_given = false;  // --density: else a data file's atoms' density, where they have one
+  Real density_scaling = 1;    // as sample.density_scaling
 };
 
 // What a packing's spheres do to each other and to the walls: pairs that overlap (touch), the largest overlap over

@@ -45,8 +45,8 @@ int usage(FILE* f) {
                "       grainlab import PACKING.txt [--out SAMPLE.h5] [--box XLO XHI YLO YHI ZLO ZHI | --box FILE]\n"
                "                       [--scale S] [--density RHO] [--density-scaling S]\n"
                "                                                          a packing made elsewhere (x y z r a line, m; or a\n"
-               "                                                          LAMMPS/LIGGGHTS dump) as a sample file for\n"
-               "                                                          sample: {file: SAMPLE.h5}\n"
+               "                                                          LAMMPS/LIGGGHTS dump or data file) as a sample\n"
+               "                                                          file for sample: {file: SAMPLE.h5}\n"
                "       grainlab export SAMPLE.h5 [--out FILE] [--format xyzr|lammps]\n"
                "                                                          a sample, checkpoint or snapshot as text for\n"
                "                                                          another code (x y z r and its box; a LAMMPS data file)\n"
@@ -202,6 +202,7 @@ int import_command(int argc, char** argv) {
       double v = 0;
       if (!real_number(s.c_str(), argv[++a], v)) return 2;
       (s == "--scale" ? io.scale : s == "--density" ? io.density : io.density_scaling) = v;
+      io.density_given |= s == "--density";
     } else {
       return -1;
     }

@@ -194,6 +194,30 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a:
           np.array_equal(atoms[:, 0], np.arange(1, 513)) and (atoms[:, 1] == 1).all() and
           np.array_equal(atoms[:, 2], 2 * a["/state/r"][()]) and (atoms[:, 3] == 2500).all() and
           np.array_equal(atoms[:, 4:7], a["/state/x"][()]), f"the LAMMPS data file: {rc} {err}")
+# the data file read back (read_data's format in, as LAMMPS and LIGGGHTS write it): the sample, its density the atoms'
+rc, out, err = run("import", "s.data", "--density-scaling", "10", "--out", "s_data.h5")
+with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(work, "s_data.h5"), "r") as b:
+    check(rc == 0 and "(a LAMMPS data file, density 2500 kg/m^3)" in out and "(the data file's box)" in out and
+          all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls")) and
+          b.attrs["density"] == 2500 and np.array_equal(b["/import/id"][()], np.arange(1, 513)),
+          f"a LAMMPS data file read back: {rc} {out} {err}")
+head = "title\n\n2 atoms\n1 atom types\n\n0 3 xlo xhi\n0 3 ylo yhi\n0 3 zlo zhi\n\n"
+for k, (text, part) in enumerate([
+        (head + "Atoms # sphere\n\n1 1 0.4 2650 1 1 1\n2 1 0.4 2500 2 2 2\n",
+         "data0.data: the atoms' densities differ (lines 12 and 13): a sample has one density, give it with --density"),
+        (head + "Atoms # atomic\n\n1 1 1 1 1\n2 1 2 2 2\n", "data1.data:10: atom_style atomic: only sphere or granular"),
+        (head + "Atoms\n\n1 1 0.4 2650 1 1\n",
+         "data2.data:12: '1 1 0.4 2650 1 1' is not an atom_style sphere row"),
+        (head + "Atoms\n\n1 1 0.4 2650 1 1 1\n",
+         "data3.data: 1 Atoms rows for the header's 2 atoms (a file cut short?)"),
+        (head.replace("0 3 zlo zhi", "0 3 zlo zhi\n0 0 0 xy xz yz") + "Atoms\n", "data4.data:9: a triclinic box")]):
+    with open(os.path.join(work, f"data{k}.data"), "w") as f:
+        f.write(text)
+    rc, out, err = run("import", f"data{k}.data", "--scale", "1e-3")
+    check(rc == 1 and part in err and not os.path.exists(os.path.join(work, f"data{k}.h5")),
+          f"data case {k}: exit {rc}, stderr {err!r}, want '{part}'")
+rc, out, err = run("import", "data0.data", "--scale", "1e-3", "--density", "2600")
+check(rc == 0 and "density 2600 kg/m^3" in out, f"--density over the atoms' densities: {rc} {err}")
 snap = sorted(glob.glob(os.path.join(work, "r", "snapshots", "*.h5")))[-1]
 rc, out, err = run("export", snap, "--out", "snap.txt")
 with h5py.File(snap, "r") as a:
