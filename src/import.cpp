@@ -280,8 +280,8 @@ bool looks_like_data(std::ifstream& f) {
     std::istringstream is(text.substr(0, text.find('#')));
     std::string n, w, rest;
     if (is >> n >> w && w == "atoms" && !(is >> rest) && n.find_first_not_of("0123456789") == std::string::npos) {
-      data = k > 0;  // the first line is the title, whatever it says
-      if (data) break;
+      data = true;
+      break;
     }
   }
   f.clear();
