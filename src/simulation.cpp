@@ -520,15 +520,19 @@ SampleFile read_sample_file(const std::string& path) {
                   (held.empty() ? std::string(": a run starts from a sample_<stage>.h5 of the run that prepared it")
                                 : held));
   }
-  if (std::ifstream f(path, std::ios::binary); f) {
-    // A packing made elsewhere, named as the sample itself: text (no NUL in its first bytes, no HDF5 signature) is
-    // said to be one, with the command that makes a sample of it, rather than "not an HDF5 file".
+  try {
+    const H5Reader probe(path);
+  } catch (const H5Error&) {
+    // A packing made elsewhere, named as the sample itself: a file HDF5 cannot open that is text (no NUL in its first
+    // bytes) is said to be one, with the command that makes a sample of it, rather than "not an HDF5 file".
+    std::ifstream f(path, std::ios::binary);
     char head[512];
     f.read(head, sizeof head);
-    const std::string b(head, size_t(f.gcount()));
-    if (!b.empty() && b.rfind("\x89HDF", 0) != 0 && b.find('\0') == std::string::npos)
+    const std::string b(head, size_t(std::max<std::streamsize>(f.gcount(), 0)));
+    if (!b.empty() && b.find('\0') == std::string::npos)
       throw H5Error(path + ": text, not an HDF5 file (a sample is one): a packing of x y z r lines or a "
                            "LAMMPS/LIGGGHTS dump becomes a sample with `grainlab import " + path + "`");
+    throw;
   }
   const H5Reader r(path);
   EngineState s = read_state(r);
@@ -967,7 +971,8 @@ void Laboratory::build_engine() {
     // from zero loads would hold sigma_3 at p'_0 = 0 against walls the overlaps press. Every sample an isotropic stage
     // wrote has them (its walls touch), so its runs keep their bits.
     bool recorded = false;
-    for (int k = 0; k < sample->walls.count; ++k) recorded |= sample->loads.touching[k] > 0 || sample->loads.force[k] != 0;
+    for (int k = 0; k < sample->walls.count; ++k)
+      recorded |= sample->loads.touching[k] > 0 || sample->loads.force[k] != 0;
     if (!recorded) eng_->load_walls_now();
   }
 }
