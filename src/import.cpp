@@ -1,4 +1,5 @@
-// `grainlab import`: a text packing as a sample file (import.hpp).
+// `grainlab import` (a text packing, a LAMMPS/LIGGGHTS dump or data file as a sample file) and `grainlab export` (a
+// sample as text for another code): import.hpp.
 #include "import.hpp"
 
 #include <algorithm>
@@ -43,8 +44,8 @@ struct Read {
   long timestep = 0, snapshots = 0;
   Vec3d lo{}, hi{};
   std::vector<long> id;
-  // a LAMMPS data file (read_data's): its box and ids as a dump's, and its atoms' one density (0: they differ, at
-  // lines density_lines)
+  // a LAMMPS data file (read_data's): its box and ids as a dump's, and its first atom's density (at density_lines[0];
+  // density_lines[1] > 0: the first line whose density differs)
   bool data = false;
   Real density = 0;
   long density_lines[2] = {0, 0};
