@@ -529,48 +529,167 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   return lines;
 }
 
-std::vector<std::string> export_sample(const ExportOptions& opt) {
-  if (opt.format != "xyzr" && opt.format != "lammps")
-    throw std::runtime_error("--format " + opt.format + ": xyzr or lammps");
-  std::vector<Vec3d> x;
+namespace {
+// One instant of a run as export writes it: a sample file's, a checkpoint's or a snapshot's spheres, the walls' box
+// where the file has it (a state's walls; a snapshot's /walls/box, written since session 64), the density.
+struct Frame {
+  std::vector<Vec3d> x, v, w;
   std::vector<Real> r;
   bool box = false;
   Vec3d lo{}, hi{};
   Real density = 0, scaling = 1;
+  double step = 0, time = 0;
   std::string what;
-  {
-    const H5Reader h(opt.in);
-    if (h.has("/state")) {  // a sample file or a checkpoint (read_state's checks and messages)
-      const EngineState s = read_state(h);
-      x = s.x;
-      r = s.r;
-      if (s.walls_are_box && s.walls.count == 6) {
-        box = true;
-        for (int a = 0; a < 3; ++a) {  // make_box_walls: wall 2a at x_a = lo (normal +e_a), wall 2a + 1 at hi (-e_a)
-          lo[a] = s.walls.w[2 * a].offset;
-          hi[a] = -s.walls.w[2 * a + 1].offset;
-        }
+};
+Frame read_frame(const std::string& path) {
+  Frame fr;
+  const H5Reader h(path);
+  if (h.has("/state")) {  // a sample file or a checkpoint (read_state's checks and messages)
+    const EngineState s = read_state(h);
+    fr.x = s.x;
+    fr.v = s.v;
+    fr.w = s.w;
+    fr.r = s.r;
+    fr.step = double(s.step);
+    fr.time = s.time;
+    if (s.walls_are_box && s.walls.count == 6) {
+      fr.box = true;
+      for (int a = 0; a < 3; ++a) {  // make_box_walls: wall 2a at x_a = lo (normal +e_a), wall 2a + 1 at hi (-e_a)
+        fr.lo[a] = s.walls.w[2 * a].offset;
+        fr.hi[a] = -s.walls.w[2 * a + 1].offset;
       }
-      if (h.has("density")) {
-        density = h.attr_double("density");
-        scaling = h.attr_double("density_scaling");
-        what = "a sample";
-      } else {
-        what = "a checkpoint";
-        if (h.has("sample_density")) density = h.attr_double("sample_density");
-      }
-    } else if (h.has("/particles")) {  // a snapshot: spheres without the walls' state
-      x = h.vec3("/particles/x");
-      r = h.doubles("/particles/r");
-      what = "a snapshot";
-    } else if (h.has("/series")) {
-      throw std::runtime_error(opt.in +
-                               ": a run's series (run.h5), no spheres: export the run's sample file, one of "
-                               "its checkpoints or a snapshot");
-    } else {
-      throw std::runtime_error(opt.in + ": neither a sample, a checkpoint nor a snapshot of grainlab's");
     }
+    if (h.has("density")) {
+      fr.density = h.attr_double("density");
+      fr.scaling = h.attr_double("density_scaling");
+      fr.what = "a sample";
+    } else {
+      fr.what = "a checkpoint";
+      if (h.has("sample_density")) fr.density = h.attr_double("sample_density");
+    }
+  } else if (h.has("/particles")) {  // a snapshot
+    fr.x = h.vec3("/particles/x");
+    fr.v = h.vec3("/particles/v");
+    fr.w = h.vec3("/particles/w");
+    fr.r = h.doubles("/particles/r");
+    fr.step = h.attr_double("step");
+    fr.time = h.attr_double("time");
+    if (h.has("/walls/box")) {
+      const std::vector<double> b = h.doubles("/walls/box");
+      if (b.size() != 6) throw std::runtime_error(path + ": /walls/box is not six numbers (corrupt file?)");
+      fr.box = true;
+      for (int a = 0; a < 3; ++a) {
+        fr.lo[a] = b[size_t(2 * a)];
+        fr.hi[a] = b[size_t(2 * a + 1)];
+      }
+    }
+    fr.what = "a snapshot";
+  } else if (h.has("/series")) {
+    throw std::runtime_error(path +
+                             ": a run's series (run.h5), no spheres: export the run's sample file, one of "
+                             "its checkpoints or a snapshot (or the run's directory with --format dump)");
+  } else {
+    throw std::runtime_error(path + ": neither a sample, a checkpoint nor a snapshot of grainlab's");
   }
+  if (fr.r.empty() || fr.x.size() != fr.r.size()) throw std::runtime_error(path + ": no spheres in it");
+  return fr;
+}
+std::string g17(Real v) {  // 17 significant digits: read back, the same double
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+}  // namespace
+
+// --format dump: a LAMMPS text dump (OVITO, LAMMPS's tools and `grainlab import` read it), a frame per snapshot of a
+// run directory (snapshots/snap_*.h5, in order) or one frame of one file. Streamed to a temporary file and renamed.
+std::vector<std::string> export_dump(const ExportOptions& opt) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  const bool run_dir = fs::is_directory(opt.in, ec);
+  if (run_dir) {
+    for (auto& f : fs::directory_iterator(opt.in + "/snapshots", ec))
+      if (f.path().filename().string().rfind("snap_", 0) == 0 && f.path().extension() == ".h5")
+        files.push_back(f.path().string());
+    std::sort(files.begin(), files.end());  // snap_NNNNN: by name is by time
+    if (files.empty())
+      throw std::runtime_error(opt.in +
+                               ": no snapshots/snap_*.h5 in it (a run directory, or one sample, checkpoint "
+                               "or snapshot file)");
+  } else {
+    files.push_back(opt.in);
+  }
+  if (fs::exists(opt.out, ec))
+    throw std::runtime_error(opt.out + ": exists; export never replaces a file: remove it or name another --out");
+  const std::string tmp = temp_name(opt.out);
+  long no_box = 0;
+  size_t n = 0;
+  try {
+    std::ofstream o(tmp);
+    if (!o) throw std::runtime_error(opt.out + ": cannot write (directory missing or not writable)");
+    for (const std::string& path : files) {
+      const Frame fr = read_frame(path);
+      n = fr.r.size();
+      Vec3d lo = fr.lo, hi = fr.hi;
+      if (!fr.box) {  // a snapshot from before session 64: the spheres' bounding box stands in for the walls
+        ++no_box;
+        lo = hi = fr.x[0];
+        for (size_t i = 0; i < n; ++i)
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], fr.x[i][a] - fr.r[i]);
+            hi[a] = std::max(hi[a], fr.x[i][a] + fr.r[i]);
+          }
+      }
+      o << "ITEM: TIME\n"
+        << g17(fr.time) << "\nITEM: TIMESTEP\n"
+        << long(fr.step) << "\nITEM: NUMBER OF ATOMS\n"
+        << n << "\nITEM: BOX BOUNDS ff ff ff\n";
+      for (int a = 0; a < 3; ++a) o << g17(lo[a]) << " " << g17(hi[a]) << "\n";
+      o << "ITEM: ATOMS id x y z radius vx vy vz omegax omegay omegaz\n";
+      for (size_t i = 0; i < n; ++i) {
+        o << i + 1;
+        for (const Real c : {fr.x[i][0], fr.x[i][1], fr.x[i][2], fr.r[i], fr.v[i][0], fr.v[i][1], fr.v[i][2],
+                             fr.w[i][0], fr.w[i][1], fr.w[i][2]})
+          o << " " << g17(c);
+        o << "\n";
+      }
+    }
+    o.close();
+    if (!o) throw std::runtime_error(opt.out + ": write error (disk full?)");
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  commit_atomic(tmp, opt.out);
+  const std::string frames = std::to_string(files.size()) + " frame" + (files.size() == 1 ? "" : "s");
+  std::vector<std::string> lines{"exported " + frames + " of " + std::to_string(n) + " spheres to " + opt.out +
+                                 " (a LAMMPS text dump: OVITO opens it; `grainlab import` takes its last frame)"};
+  if (no_box > 0)
+    lines.push_back("note: " + std::to_string(no_box) +
+                    " of them without walls recorded (snapshots before session "
+                    "64): their box is the spheres' bounding box");
+  return lines;
+}
+
+std::vector<std::string> export_sample(const ExportOptions& opt) {
+  if (opt.format != "xyzr" && opt.format != "lammps" && opt.format != "dump")
+    throw std::runtime_error("--format " + opt.format + ": xyzr, lammps or dump");
+  std::error_code ec;
+  if (fs::is_directory(opt.in, ec)) {
+    if (opt.format != "dump")
+      throw std::runtime_error(opt.in +
+                               ": a directory: --format dump writes a run's snapshots as the frames of one "
+                               "dump; xyzr and lammps take one file (a sample, checkpoint or snapshot)");
+    return export_dump(opt);
+  }
+  if (opt.format == "dump") return export_dump(opt);
+  const Frame fr = read_frame(opt.in);
+  const std::vector<Vec3d>& x = fr.x;
+  const std::vector<Real>& r = fr.r;
+  const bool box = fr.box;
+  const Vec3d lo = fr.lo, hi = fr.hi;
+  const Real density = fr.density, scaling = fr.scaling;
+  const std::string& what = fr.what;
   const size_t n = r.size();
   if (n == 0 || x.size() != n) throw std::runtime_error(opt.in + ": no spheres in it");
   if (opt.format == "lammps" && !box)
@@ -578,21 +697,15 @@ std::vector<std::string> export_sample(const ExportOptions& opt) {
                              " without its box walls: a LAMMPS data file needs the box (export a "
                              "sample file or checkpoint of the run)");
   if (opt.format == "lammps" && !(density > 0))
-    throw std::runtime_error(opt.in +
-                             ": no density recorded (a checkpoint of a run that generated its sample): export "
-                             "the run's sample file");
+    throw std::runtime_error(opt.in + ": " + what +
+                             " that records no density (a LAMMPS data file gives each atom's): "
+                             "export the run's sample file");
   const fs::path op(opt.out);
   const std::string box_out = (op.parent_path() / (op.stem().string() + "_box.txt")).string();
   const bool two = box && opt.format == "xyzr";
-  std::error_code ec;
   for (const std::string& f : {opt.out, box_out})
     if ((f == opt.out || two) && fs::exists(f, ec))
       throw std::runtime_error(f + ": exists; export never replaces a file: remove it or name another --out");
-  auto g17 = [](Real v) {  // 17 significant digits: read back, the same double
-    char b[32];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return std::string(b);
-  };
   std::string text;
   text.reserve(n * 100);
   const std::string src = fs::absolute(opt.in, ec).lexically_normal().string();
@@ -610,7 +723,7 @@ std::vector<std::string> export_sample(const ExportOptions& opt) {
     lines.push_back("exported " + std::to_string(n) + " spheres of " + what + " to " + opt.out +
                     (box ? " and its walls to " + box_out + " (grainlab import " + opt.out + " --box " + box_out +
                                " reads them back to the bit)"
-                         : " (a snapshot records no walls)"));
+                         : " (no walls recorded: a snapshot from before session 64)"));
   } else {
     // atom_style sphere (LAMMPS) / granular (LIGGGHTS): id type diameter density x y z. The physical density:
     // grainlab's density_scaling is a time-step device of its own, said in the header.

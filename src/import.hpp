@@ -46,7 +46,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt);
 // over a file. Returns the lines to print.
 struct ExportOptions {
   std::string in, out;
-  std::string format = "xyzr";  // xyzr or lammps
+  std::string format = "xyzr";  // xyzr, lammps or dump (a LAMMPS text dump; `in` may then be a run directory)
 };
 std::vector<std::string> export_sample(const ExportOptions& opt);
 

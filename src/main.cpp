@@ -47,9 +47,10 @@ int usage(FILE* f) {
                "                                                          a packing made elsewhere (x y z r a line, m; or a\n"
                "                                                          LAMMPS/LIGGGHTS dump or data file) as a sample\n"
                "                                                          file for sample: {file: SAMPLE.h5}\n"
-               "       grainlab export SAMPLE.h5 [--out FILE] [--format xyzr|lammps]\n"
+               "       grainlab export SAMPLE.h5|RUN_DIR [--out FILE] [--format xyzr|lammps|dump]\n"
                "                                                          a sample, checkpoint or snapshot as text for\n"
-               "                                                          another code (x y z r and its box; a LAMMPS data file)\n"
+               "                                                          another code (x y z r and its box; a LAMMPS data\n"
+               "                                                          file; a LAMMPS dump of a run's snapshots: OVITO)\n"
                "       grainlab version                                   build: version, source commit, Kokkos, backend\n");
   if (f != stdout) return 2;  // after a bad command line, the usage alone
   std::fprintf(f,
@@ -232,8 +233,8 @@ int export_command(int argc, char** argv) {
       eo.out = argv[++a];
     } else if (s == "--format") {
       eo.format = argv[++a];
-      if (eo.format != "xyzr" && eo.format != "lammps") {
-        std::fprintf(stderr, "grainlab: --format must be xyzr or lammps, got '%s'\n", eo.format.c_str());
+      if (eo.format != "xyzr" && eo.format != "lammps" && eo.format != "dump") {
+        std::fprintf(stderr, "grainlab: --format must be xyzr, lammps or dump, got '%s'\n", eo.format.c_str());
         return 2;
       }
     } else {
@@ -247,8 +248,12 @@ int export_command(int argc, char** argv) {
     return usage(stderr);
   }
   eo.in = in;
-  if (eo.out.empty())  // beside the input, its name with .txt (xyzr) or .data (lammps)
-    eo.out = std::filesystem::path(in).replace_extension(eo.format == "xyzr" ? ".txt" : ".data").string();
+  if (eo.out.empty()) {  // beside the input (a run directory: beside it), its name with .txt, .data or .dump
+    std::filesystem::path p = std::filesystem::path(in).lexically_normal();
+    if (!p.has_filename()) p = p.parent_path();  // "runs/q/" -> "runs/q"
+    const char* ext = eo.format == "xyzr" ? ".txt" : eo.format == "lammps" ? ".data" : ".dump";
+    eo.out = std::filesystem::is_directory(p) ? p.string() + ext : p.replace_extension(ext).string();
+  }
   return print_lines([&] { return grainlab::export_sample(eo); });
 }
 // An option that takes a value, given last without one ("--out" at the end of the line).

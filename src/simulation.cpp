@@ -2053,6 +2053,11 @@ void Laboratory::snapshot(const std::string& tag) {
     std::vector<int> conn;
     for (size_t k = 0; k < ci.size(); ++k) conn.insert(conn.end(), {ci[k], cj[k]});
     w.write("/contacts/connectivity", conn);
+    // the walls' box at this instant (xlo xhi ylo yhi zlo zhi): `grainlab export --format dump` gives it each frame
+    std::vector<double> box(6);
+    for (int k = 0; k < 6; ++k) box[size_t(k)] = e.wall_position(k);
+    w.group("/walls");
+    w.write("/walls/box", box);
   });
   lab_.snapshot_files.push_back(name);
   lab_.snapshot_time.push_back(e.time());

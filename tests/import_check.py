@@ -170,7 +170,7 @@ with h5py.File(os.path.join(work, "scaled.h5"), "r") as b:
 # --- a run starts from it, as from any sample file
 with open(os.path.join(work, "run.yaml"), "w") as f:
     f.write("sample: {file: s.h5}\nstages:\n  - {name: c, type: isotropic, pressure: 50e3, max_steps: 400}\n"
-            "output: {every: 100}\n")
+            "  - {name: c2, type: isotropic, pressure: 60e3, max_steps: 200}\noutput: {every: 100}\n")
 rc, out, err = run("run", "run.yaml", "--out", "r", "--quiet", "--threads", "1")
 check(rc == 0, f"a run from the imported sample failed ({rc}): {err}")
 if rc == 0:
@@ -218,16 +218,41 @@ for k, (text, part) in enumerate([
           f"data case {k}: exit {rc}, stderr {err!r}, want '{part}'")
 rc, out, err = run("import", "data0.data", "--scale", "1e-3", "--density", "2600")
 check(rc == 0 and "density 2600 kg/m^3" in out, f"--density over the atoms' densities: {rc} {err}")
-snap = sorted(glob.glob(os.path.join(work, "r", "snapshots", "*.h5")))[-1]
+snaps = sorted(glob.glob(os.path.join(work, "r", "snapshots", "*.h5")))
+snap = snaps[-1]
 rc, out, err = run("export", snap, "--out", "snap.txt")
 with h5py.File(snap, "r") as a:
     back = np.loadtxt(os.path.join(work, "snap.txt"))
-    check(rc == 0 and "(a snapshot records no walls)" in out and
-          np.array_equal(back, np.column_stack([a["/particles/x"][()], a["/particles/r"][()]])), f"a snapshot: {err}")
+    box = np.loadtxt(os.path.join(work, "snap_box.txt"))
+    check(rc == 0 and np.array_equal(back, np.column_stack([a["/particles/x"][()], a["/particles/r"][()]])) and
+          np.array_equal(box, a["/walls/box"][()]), f"a snapshot: {err}")
+# --format dump: a frame per snapshot of the run (OVITO's input), its box the walls'; import takes the last frame
+rc, out, err = run("export", "r/", "--format", "dump")
+check(rc == 0 and f"exported {len(snaps)} frames of 512 spheres to r.dump" in out and len(snaps) >= 2,
+      f"--format dump of a run: {rc} {out} {err}")
+with open(os.path.join(work, "r.dump")) as f:
+    frames = f.read().count("ITEM: TIMESTEP")
+rc, out, err = run("import", "r.dump", "--out", "r_dump.h5")
+with h5py.File(snap, "r") as a, h5py.File(os.path.join(work, "r_dump.h5"), "r") as b:
+    idx = b["/import/index"][()]
+    walls = b["/state/walls"][()].reshape(8, -1)[:6, 3] * [1, -1, 1, -1, 1, -1]
+    check(rc == 0 and frames == len(snaps) and np.array_equal(b["/state/x"][()], a["/particles/x"][()][idx]) and
+          np.array_equal(b["/import/id"][()], idx + 1) and np.array_equal(walls, a["/walls/box"][()]),
+          f"the dump's last frame is not the last snapshot: {rc} {err}")
+# a snapshot written before the walls were recorded: its frame's box is the spheres' bounding box, said
+with h5py.File(snap, "r") as a, h5py.File(os.path.join(work, "old_snap.h5"), "w") as b:
+    for k in ("/particles/x", "/particles/v", "/particles/w", "/particles/r"):
+        b[k] = a[k][()]
+    for k, v in a.attrs.items():
+        b.attrs[k] = v
+rc, out, err = run("export", "old_snap.h5", "--format", "dump")
+check(rc == 0 and "note: 1 of them without walls recorded (snapshots before session 64)" in out,
+      f"an old snapshot: {rc} {out} {err}")
 before = open(os.path.join(work, "s.txt"), "rb").read()
 for args, code, part in [(["s.h5"], 1, "s.txt: exists; export never replaces a file"),
-                         ([snap, "--format", "lammps", "--out", "x.data"], 1, "a snapshot without its box walls"),
-                         (["s.h5", "--format", "vtk"], 2, "--format must be xyzr or lammps, got 'vtk'"),
+                         ([snap, "--format", "lammps", "--out", "x.data"], 1, "a snapshot that records no density"),
+                         (["s.h5", "--format", "vtk"], 2, "--format must be xyzr, lammps or dump, got 'vtk'"),
+                         (["r", "--out", "x.txt"], 1, "r: a directory: --format dump writes a run's snapshots"),
                          (["r/run.h5", "--out", "x.txt"], 1, "r/run.h5: a run's series (run.h5)")]:
     rc, out, err = run("export", *args)
     check(rc == code and part in err and len(err.strip().splitlines()) == 1, f"export {args}: {rc} {err!r}")
