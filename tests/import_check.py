@@ -205,7 +205,8 @@ head = "title\n\n2 atoms\n1 atom types\n\n0 3 xlo xhi\n0 3 ylo yhi\n0 3 zlo zhi\
 for k, (text, part) in enumerate([
         (head + "Atoms # sphere\n\n1 1 0.4 2650 1 1 1\n2 1 0.4 2500 2 2 2\n",
          "data0.data: the atoms' densities differ (lines 12 and 13): a sample has one density, give it with --density"),
-        (head + "Atoms # atomic\n\n1 1 1 1 1\n2 1 2 2 2\n", "data1.data:10: atom_style atomic: only sphere or granular"),
+        (head + "Atoms # atomic\n\n1 1 1 1 1\n2 1 2 2 2\n",
+         "data1.data:10: atom_style atomic: only sphere or granular"),
         (head + "Atoms\n\n1 1 0.4 2650 1 1\n",
          "data2.data:12: '1 1 0.4 2650 1 1' is not an atom_style sphere row"),
         (head + "Atoms\n\n1 1 0.4 2650 1 1 1\n",
