@@ -663,7 +663,7 @@ std::vector<std::string> export_dump(const ExportOptions& opt) {
   commit_atomic(tmp, opt.out);
   const std::string frames = std::to_string(files.size()) + " frame" + (files.size() == 1 ? "" : "s");
   std::vector<std::string> lines{"exported " + frames + " of " + std::to_string(n) + " spheres to " + opt.out +
-                                 " (a LAMMPS text dump: OVITO opens it; `grainlab import` takes its last frame)"};
+                                 " (a LAMMPS text dump, for OVITO; `grainlab import` takes its last frame)"};
   if (no_box > 0)
     lines.push_back("note: " + std::to_string(no_box) +
                     " of them without walls recorded (snapshots before session "
