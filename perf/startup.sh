@@ -9,8 +9,10 @@
 #     2, 5.6 s at 3, 6.0 s at 4).
 #   start: a run of N spheres to its step-0 checkpoint (default 1e6: 7.0 s, placement half of it; 14.9 s with session
 #     42's placement; session 43);
-# Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX] [REPS]   (build/ first; default:
-#   placement 200000, 3 reps)
+#   import: `grainlab import` of the shared race scene tiled K^3 times (race_bench --write-scene; default K = 3: 864 000
+#     spheres, 66 MiB of text), its time and peak memory (session 64, 2-core VM: median of 3 1.89 s, 403 MB).
+# Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K] [REPS]   (build/
+#   first; default: placement 200000, 3 reps)
 set -eu
 what=${1:-placement}; arg=${2:-}; reps=${3:-3}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -42,7 +44,20 @@ elif [ "$what" = threads ]; then
         done | median)
     echo "smoke run at $t thread(s) (median of $reps): $s s"
   done
+elif [ "$what" = import ]; then
+  k=${arg:-3}
+  peers=${PEERS_DIR:-$root/../shared/bench/peers}
+  "$root/build/perf/race_bench" --scene "$peers/scene_32k.txt" --box "$peers/scene_32k_box.txt" --tile "$k" \
+    --write-scene "$work/scene" > /dev/null
+  for r in $(seq "$reps"); do
+    /usr/bin/time -f "%e %M" -o "$work/time$r" "$bin" import "$work/scene.txt" --box "$work/scene_box.txt" \
+      --out "$work/s$r.h5" > "$work/import.txt"
+    rm -f "$work/s$r.h5"
+  done
+  head -1 "$work/import.txt"
+  echo "import of the race scene tiled ${k}^3 ($(du -m "$work/scene.txt" | cut -f1) MiB of text, median of $reps):" \
+       "$(cat "$work"/time* | cut -d' ' -f1 | median) s, peak $(cat "$work"/time* | cut -d' ' -f2 | median) kB"
 else
-  echo "usage: perf/startup.sh [placement N | start N | threads MAX] [REPS]" >&2
+  echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K] [REPS]" >&2
   exit 2
 fi

@@ -51,6 +51,16 @@ struct Read {
   long density_lines[2] = {0, 0};
 };
 
+// The box the spheres fill: min(x - r) to max(x + r) on each axis (non-empty x).
+void bounding_box(const std::vector<Vec3d>& x, const std::vector<Real>& r, Vec3d& lo, Vec3d& hi) {
+  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = x[0][a];
+  for (size_t i = 0; i < r.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], x[i][a] - r[i]);
+      hi[a] = std::max(hi[a], x[i][a] + r[i]);
+    }
+}
+
 [[noreturn]] void bad(const std::string& path, long ln, const std::string& why) {
   throw std::runtime_error(path + ":" + std::to_string(ln) + ": " + why);
 }
@@ -436,13 +446,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
         throw std::runtime_error(opt.packing + ": the " + (in.dump ? "dump's" : "data file's") + " box bounds on " +
                                  axis[a] + " are not lo < hi (give --box)");
   } else if (!opt.box_given) {  // each wall touches the outermost sphere on its side: no sphere presses a wall yet
-    lo = {in.x[0][0] - in.r[0], in.x[0][1] - in.r[0], in.x[0][2] - in.r[0]};
-    hi = {in.x[0][0] + in.r[0], in.x[0][1] + in.r[0], in.x[0][2] + in.r[0]};
-    for (size_t i = 0; i < n; ++i)
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], in.x[i][a] - in.r[i]);
-        hi[a] = std::max(hi[a], in.x[i][a] + in.r[i]);
-      }
+    bounding_box(in.x, in.r, lo, hi);
   }
   for (size_t i = 0; i < n; ++i)
     for (int a = 0; a < 3; ++a)
@@ -633,12 +637,7 @@ std::vector<std::string> export_dump(const ExportOptions& opt) {
       Vec3d lo = fr.lo, hi = fr.hi;
       if (!fr.box) {  // a snapshot from before session 64: the spheres' bounding box stands in for the walls
         ++no_box;
-        lo = hi = fr.x[0];
-        for (size_t i = 0; i < n; ++i)
-          for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], fr.x[i][a] - fr.r[i]);
-            hi[a] = std::max(hi[a], fr.x[i][a] + fr.r[i]);
-          }
+        bounding_box(fr.x, fr.r, lo, hi);
       }
       o << "ITEM: TIME\n"
         << g17(fr.time) << "\nITEM: TIMESTEP\n"
