@@ -1619,8 +1619,10 @@ def probe_report(out, idx):
     Rendulic plane, the stiffness along it, the second-order work, and figures/response_envelopes.png."""
     def state_key(j):
         sk = tuple(sorted((k, v) for k, v in j.get("stage_keys", {}).items() if k.rsplit(".", 1)[-1] != PROBE_KEY))
-        return (j.get("E", 0), sk, j["mu_r"], j.get("p0", 0), j.get("e0", 0), j.get("seed"), j.get("count"),
-                j.get("grading", ""))
+        # the sizes: a grading axis's curve, or a sample_file axis's file, by name
+        sizes = (f"grading {j['grading']}" if j.get("grading") else
+                 f"sample file {j['specimen']}" if j.get("specimen") else "")
+        return (j.get("E", 0), sk, j["mu_r"], j.get("p0", 0), j.get("e0", 0), j.get("seed"), j.get("count"), sizes)
 
     states, missing = {}, []
     for j in idx["jobs"]:
@@ -1667,11 +1669,11 @@ def probe_report(out, idx):
     colors = plt.cm.viridis(np.linspace(0, 0.9, max(1, len(states))))
     for n, (key, probes) in enumerate(sorted(states.items(), key=lambda kv: str(kv[0]))):
         probes.sort(key=lambda t: t[1]["theta"] if t[1]["theta"] is not None else t[1]["theta_s"])
-        E, sk, mu_r, p0, e0, seed, count, grading = key
+        E, sk, mu_r, p0, e0, seed, count, sizes = key
         first = probes[0][1]
         name = (", ".join([f"stages.{k} = {v:g}" for k, v in sk] + [f"mu_r = {mu_r:g}"]
                           + ([f"E = {E:g} Pa"] if E else []) + ([f"p0 = {p0 / 1e3:g} kPa"] if p0 else [])
-                          + ([f"e0 = {e0:g}"] if e0 else []) + ([f"grading {grading}"] if grading else [])))
+                          + ([f"e0 = {e0:g}"] if e0 else []) + ([sizes] if sizes else [])))
         eta = first["q0"] / first["p0"] if first["p0"] else float("nan")
         rows = []
         for j, c in probes:
@@ -1803,7 +1805,10 @@ def study(out):
 
 def grading_lines(out, idx, figs_rel):
     """The report of the jobs in idx (a study's, or its part at one E), figures under out/figs_rel: one study's report,
-    or over several gradings one such report per curve (study's docstring)."""
+    or over several gradings one such report per curve (study's docstring), or over several sample files (the
+    sample_file axis) one per file."""
+    if any(j.get("specimen") for j in idx["jobs"]):
+        return specimen_lines(out, idx, figs_rel)
     gradings = sorted({j.get("grading", "") for j in idx["jobs"]})
     if len(gradings) < 2:
         lines = study_lines(out, idx, figs_rel)
@@ -1840,6 +1845,47 @@ def grading_lines(out, idx, figs_rel):
                       "|---|---|---|---|---|---|---|", *crr_rows, ""]
         lines += parts
     return lines
+
+
+def specimen_lines(out, idx, figs_rel):
+    """grading_lines over the sample_file axis's files: one study's report per file, each a section with its figures in
+    figs_rel/f_<name>/ (figs_rel/base/ for the base's sample, an extra job's), after the tests' end states side by side
+    (across_gradings_section by file) and the files' sieve curves. A file's spheres may be another material's (a
+    packing from another code, another grading), and the report's fits would pool them as one; the table across them
+    says where dense and loose specimens of one material meet (one critical state)."""
+    files = sorted({j.get("specimen", "") for j in idx["jobs"]})
+    where = {j.get("specimen", ""): (j.get("specimen_file", ""), j.get("count", 0)) for j in idx["jobs"]}
+
+    def what(f):
+        return f"{f} ({os.path.basename(where[f][0])}, {where[f][1]} spheres)" if f else "the base's sample"
+    lines = [f"# Study report: {idx['study']}", "",
+             f"{len(idx['jobs'])} shear tests on {len(files)} sample file(s): " + ", ".join(what(f) for f in files) +
+             ". Each file's tests have a section of their own below, as the report of a study of that file alone (its "
+             f"headings one level down), with their figures in `{figs_rel}/f_<name>/` (`{figs_rel}/base/` for the "
+             "base's sample): the report's fits group tests by mu_r and the loading, and would pool the files, whose "
+             "spheres may be another material's.", ""]
+    os.makedirs(os.path.join(out, figs_rel), exist_ok=True)
+    if gradings_figure(out, idx.get("samples", []), os.path.join(out, figs_rel), "specimen"):
+        lines += [f"Figure: `{figs_rel}/grading.png` (each file's sieve curve: one sample of each).", ""]
+    lines += across_gradings_section(out, idx, os.path.join(out, figs_rel), "specimen")
+    parts, crr_rows = [], []
+    for f in files:
+        sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("specimen", "") == f],
+                       samples=[s for s in idx.get("samples", []) if s.get("specimen", "") == f])
+        fits = []
+        part = study_lines(out, sub_idx, f"{figs_rel}/f_{f}" if f else f"{figs_rel}/base", fits)
+        title = f"## Sample file {f}: {where[f][0]}" if f else "## The base's sample"
+        parts += [title] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
+        crr_rows += [f"| {f or 'the base'} | {f_['mu_r']:g} | {f_['cond'] or '–'} | {f_['what']} | {f_['tests']} | "
+                     f"{f_['crr']} |" for f_ in fits]
+    if crr_rows:
+        lines += ["## Liquefaction resistance across the sample files", "",
+                  "Each file's liquefaction-resistance fits (its section's table: CSR = a N^-b per mu_r, the "
+                  "conditions that vary and criterion) side by side, CRR the CSR that meets the criterion in "
+                  f"{CRR_CYCLES} cycles.", "",
+                  f"| sample file | mu_r | conditions | criterion | tests | CRR (N = {CRR_CYCLES}) |",
+                  "|---|---|---|---|---|---|", *crr_rows, ""]
+    return lines + parts
 
 
 def isotropic_ocr(out, j):
@@ -2109,17 +2155,19 @@ def pooled_state_parameter(out, idx, mono, heads):
     return lines
 
 
-def across_gradings_section(out, idx, figs):
+def across_gradings_section(out, idx, figs, kind="grading"):
     """The monotonic shears of a study over several curves side by side (the sections after it fit each curve apart):
     per test its curve, max q/p' (phi'_max) as its section's peak table gives it, and its end state as its critical-state
     table measures it (the means over the window, whether or not they are steady, and which are), and
     figures/gradings_e_p.png, that end e against ln p' for each curve: how far the curve moves the states. Empty
-    without such a test."""
+    without such a test. kind "specimen": the same over the sample_file axis's files, each test with its sample's e_0
+    (the file's density after the sample job's consolidation) where the curve's Cu was, in figures/files_e_p.png."""
     cs_cfg = idx["critical_state"]
     tol = (cs_cfg["qp_tol"], cs_cfg["p_tol"], cs_cfg["e_tol"])
     peak = peak_settings(idx)
+    files = kind == "specimen"
     rows, pts = [], {}
-    for j in sorted(idx["jobs"], key=lambda j: (j.get("cu", 0), j.get("grading", ""), j.get("p0", 0), j["name"])):
+    for j in sorted(idx["jobs"], key=lambda j: (j.get("cu", 0), j.get(kind, ""), j.get("p0", 0), j["name"])):
         d = os.path.join(out, j["dir"])
         if not (os.path.isfile(os.path.join(d, "series.csv")) and os.path.isfile(os.path.join(out, "jobs", j["name"], "done"))):
             continue
@@ -2128,9 +2176,11 @@ def across_gradings_section(out, idx, figs):
             continue
         ps = peak_state(s, peak)
         c = critical_state(s, cs_cfg["window"], *tol)
-        g = j.get("grading", "")
+        g = j.get(kind, "")
         end = c is not None and "e" in c
-        rows.append(f"| {g or 'the base'} | {j.get('cu', 0):.3g} | {j['name']} | "
+        second = number_text((consolidated(out, j.get("sample", "")) or {}).get("e"), ".4f") if files else \
+            f"{j.get('cu', 0):.3g}"
+        rows.append(f"| {g or 'the base'} | {second} | {j['name']} | "
                     + (f"{ps['M']:.3f} ({ps['phi']:.1f}°)" if "M" in ps else "-") + " | "
                     + (f"{c['p'] / 1e3:.1f} | {c['e']:.4f} | {c['qp']:.3f} | {'yes' if c['ok'] else 'no'} |" if end
                        else "- | - | - | - |"))
@@ -2138,25 +2188,36 @@ def across_gradings_section(out, idx, figs):
             pts.setdefault(g, []).append((c["p"], c["e"], c["ok"]))
     if not rows:
         return []
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    name = "files_e_p" if files else "gradings_e_p"
+    drawn = (f"`{os.path.relpath(figs, out)}/{name}.png` draws that e against p' for each "
+             f"{'file' if files else 'curve'} (filled: critical)"
+             + ("; specimens of one material, dense and loose, end on one critical-state line" if files else "")
+             if pts else "No test is longer than the window yet: no end state, and no figure")
     for k, g in enumerate(sorted(pts)):
+        if k == 0:
+            fig, ax = plt.subplots(figsize=(7, 4.5))
         p_, e_, ok = (np.array(v) for v in zip(*sorted(pts[g])))
         ok = ok.astype(bool)
         ax.plot(p_ / 1e3, e_, "-", color=f"C{k % 10}", lw=0.8)
         ax.plot(p_[ok] / 1e3, e_[ok], "o", color=f"C{k % 10}", label=f"{g or 'the base'} (filled: critical)")
         ax.plot(p_[~ok] / 1e3, e_[~ok], "o", color=f"C{k % 10}", mfc="none")
-    ax.set(xscale="log", xlabel="p' [kPa]", ylabel="e", title="end of each shear (the critical-state window's means)")
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-    ax.grid(True, which="both", alpha=0.3)
-    legend(ax, fontsize=8)
-    save(fig, figs, "gradings_e_p")
-    return ["## Across the gradings", "",
-            f"Each monotonic shear: its curve and Cu, max q/p' (phi'_max) as its section's peak table gives it, and its end "
+    if pts:
+        ax.set(xscale="log", xlabel="p' [kPa]", ylabel="e",
+               title="end of each shear (the critical-state window's means)")
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.grid(True, which="both", alpha=0.3)
+        legend(ax, fontsize=8)
+        save(fig, figs, name)
+    return [f"## Across the {'sample files' if files else 'gradings'}", "",
+            "Each monotonic shear: its " + ("sample file and its sample's e_0 (the file consolidated by the sample job)"
+                                             if files else "curve and Cu")
+            + ", max q/p' (phi'_max) as its section's peak table gives it, and its end "
             f"state: p', e and q/p' averaged over the last {cs_cfg['window']:g} of axial strain, as its critical-state "
             "table measures them, steady there (critical: yes) or still drifting (no; its section says by how much). "
-            f"`{os.path.relpath(figs, out)}/gradings_e_p.png` draws that e against p' for each curve (filled: critical).", "",
-            "| grading | Cu | test | max q/p' (phi'_max) | p' at end [kPa] | e at end | q/p' at end | critical |",
+            f"{drawn}.", "",
+            "| " + ("sample file | e_0" if files else "grading | Cu")
+            + " | test | max q/p' (phi'_max) | p' at end [kPa] | e at end | q/p' at end | critical |",
             "|---|---|---|---|---|---|---|---|", *rows, ""]
 
 
@@ -2903,15 +2964,16 @@ def stiffness_section(mono, figs):
 
 
 def sample_count(run_dir):
-    """The sphere count a run's resolved config.yaml gives (sample: count: N); None where it cannot be read (a sample read
-    from a file)."""
+    """The sphere count a run's resolved config.yaml gives (sample: count: N), or for a sample read from a file its
+    summary.json's (sample: spheres); None where neither can be read."""
     import re
     try:
         text = open(os.path.join(run_dir, "config.yaml")).read()
     except OSError:
         return None
     m = re.search(r"^sample:\n(?: .*\n)*?  count: (\d+)$", text, re.M)
-    return int(m.group(1)) if m else None
+    n = sample_sizes(run_dir).get("spheres") if m is None else None
+    return int(m.group(1)) if m else int(n) if n else None
 
 
 def isotropic_stages(out, name):
@@ -3041,8 +3103,8 @@ def preparation_section(out, samples, figs):
     the difference of their means); and figures/preparation.png, e_0 against each swept axis. `samples`: the finished
     ones. Empty where none has a summary."""
     # A group's key: the PREP_AXES values, the preparation stages' stage axes (study.json's stage_keys, e.g. a
-    # preloading's pressure: nan where a sample has none of that key), then the grading's name (two curves of one Cu are
-    # two samples)
+    # preloading's pressure: nan where a sample has none of that key), then the grading's or sample file's name (two
+    # curves of one Cu are two samples)
     stage_axes = sorted({k for j in samples for k in j.get("stage_keys", {})})
     axes = PREP_AXES + tuple((k, k, False) for k in stage_axes)
     groups = {}
@@ -3051,7 +3113,7 @@ def preparation_section(out, samples, figs):
         if s is not None:
             sk = j.get("stage_keys", {})
             groups.setdefault(tuple(j.get(k, 0) for k, _, _ in PREP_AXES) + tuple(sk.get(k, math.nan) for k in stage_axes)
-                              + (j.get("grading", ""),), []).append((j, s))
+                              + (j.get("grading", "") or j.get("specimen", ""),), []).append((j, s))
     if not groups:
         return [], False
     rows, stats, unconv, earlier = [], {}, [], []
@@ -3070,7 +3132,9 @@ def preparation_section(out, samples, figs):
         unconv += left
         passed = [j["name"] for j, _ in g if unconverged(out, j["name"]) and j["name"] not in left]
         earlier += passed
-        rows.append(f"| {name} | {key[0]} | {len(g)} ({', '.join(str(j['seed']) for j, _ in g)}) | "
+        # a sample file's spheres were not drawn here: no seed to name
+        seeds = "file" if g[0][0].get("specimen") else ", ".join(str(j["seed"]) for j, _ in g)
+        rows.append(f"| {name} | {key[0]} | {len(g)} ({seeds}) | "
                     f"{seed_spread(col['e'], 4)} | {seed_spread(col['e_inner'], 4)} | {seed_spread(col['e_core'], 4)} | "
                     f"{seed_spread(col['diff'], 4)} | {mu_txt} | "
                     f"{int(round(np.mean(col['steps']))) if col['steps'] else '-'}"
@@ -3253,16 +3317,16 @@ def compression_section(out, samples, figs):
     return lines, True
 
 
-def gradings_figure(out, samples, figs):
+def gradings_figure(out, samples, figs, kind="grading"):
     """figures/grading.png of a study over several curves (the grading axis): of each curve its finished sample job of the
     lowest seed, as drawn against as asked (fig_grading, its printed lines kept out of the study's output). False where
-    fewer than two curves have a finished sample."""
+    fewer than two curves have a finished sample. kind "specimen": of each file of the sample_file axis."""
     import contextlib
     import io
 
     first = {}
     for j in sorted(samples, key=lambda j: (j.get("seed", 0), j["name"])):
-        g = j.get("grading", "")
+        g = j.get(kind, "")
         if g and g not in first and os.path.isfile(os.path.join(out, "jobs", j["name"], "done")):
             first[g] = os.path.join(out, j["dir"])
     if len(first) < 2:

@@ -411,7 +411,18 @@ int main(int argc, char** argv) {
       // so a study with one seed gives one draw per test; the report measures the spread where there are several.
       std::set<long> seeds;
       for (const grainlab::StudyJob& j : st.shears.empty() ? st.samples : st.shears) seeds.insert(j.seed);
-      if (!st.base_sample.empty())
+      // The sample_file axis's files, each with its spheres, in the study's order.
+      std::vector<std::string> files;
+      for (const grainlab::StudyJob& j : st.samples) {
+        const std::string f = j.specimen_name + ": " + std::to_string(j.count) + " spheres, " + j.specimen_file;
+        if (!j.specimen_name.empty() && std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+      }
+      if (!files.empty()) {
+        std::string list;
+        for (const std::string& f : files) list += (list.empty() ? "" : "; ") + f;
+        std::printf("  sample files: %zu, each consolidated again by its sample jobs in place of the base's sample (%s)\n",
+                    files.size(), list.c_str());
+      } else if (!st.base_sample.empty())
         std::printf("  sample: the base's sample.file %s, consolidated again by each sample job (one sample: no seed "
                     "to sweep)\n", st.base_sample.c_str());
       else if (seeds.size() == 1)

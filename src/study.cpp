@@ -84,7 +84,8 @@ std::vector<bool> k0_consolidations(const YAML::Node& stages) {
 
 // The base config with the study's values applied (YAML node surgery, then validated by the loader). base_sample: the
 // base's own sample.file, absolute (a base that starts from a saved sample: its sample jobs consolidate that sample
-// again at their p0 and mu_r; it has no seed or count to set).
+// again at their p0 and mu_r; it has no seed or count to set). A job's own file (the sample_file axis's) replaces the
+// base's sample, drawn or saved, as a saved one.
 // Sets a triaxial stage's axial_strain_rate (or max_axial_strain) to v and scales its step cap up with the duration (the
 // old rate over v; v over the old end), never down: the cap the base gave its rate or end covers the same strain at a
 // slower rate or a longer end, so the slow tests of a rate series are not cut short by a cap meant for the fast one.
@@ -105,9 +106,10 @@ YAML::Node job_config(const YAML::Node& base, const StudyJob& j, bool shear_only
   if (shear_only) {
     c["sample"] = YAML::Node(YAML::NodeType::Map);
     c["sample"]["file"] = sample_file;
-  } else if (!base_sample.empty()) {
+  } else if (!j.specimen_file.empty() || !base_sample.empty()) {
     c["sample"] = YAML::Node(YAML::NodeType::Map);
-    c["sample"]["file"] = base_sample;  // absolute: the job's config lives in jobs/NAME/
+    // absolute: the job's config lives in jobs/NAME/
+    c["sample"]["file"] = j.specimen_file.empty() ? base_sample : j.specimen_file;
   } else {
     // Always written: the study's value, or the base's where the axis is not swept (a seed of 0 is a seed).
     c["sample"]["seed"] = j.seed;
@@ -263,7 +265,11 @@ Study load_study_unchecked(const std::string& path) {
       fail(path, "base", e.what());
     }
   }
+  // The sample_file axis gives every sample its spheres as the base's sample.file does (below).
+  const bool file_axis = root["axes"] && root["axes"].IsMap() && root["axes"]["sample_file"];
   const auto need_generated = [&](const std::string& key) {
+    if (file_axis)
+      fail(path, key, "axes.sample_file gives each sample the spheres of its file: no seed, count or grading to set");
     if (!base_sample.empty())
       fail(path, key, "the base starts from sample.file (" + base_sample + "), whose spheres are the file's: no seed or "
                       "count to set");
@@ -413,16 +419,24 @@ Study load_study_unchecked(const std::string& path) {
       const std::string k = it.first.as<std::string>();
       if (k.rfind("stages.", 0) == 0) continue;  // a stage axis (below)
       if (!std::set<std::string>{"mu_r", "e0", "p0", "E", "drainage", "direction", "b", "stress_path",
-                                 "axial_strain_rate", "seed", "count", "grading", "csr", "strain_amplitude"}
+                                 "axial_strain_rate", "seed", "count", "grading", "sample_file", "csr",
+                                 "strain_amplitude"}
                .count(k))
         fail(path, "axes." + k,
              "unknown axis (known: mu_r, e0, p0, E, drainage, direction, b, stress_path, axial_strain_rate, seed, count, "
-             "grading, csr, strain_amplitude, and stages.<stage name>.<key>)");
+             "grading, sample_file, csr, strain_amplitude, and stages.<stage name>.<key>)");
     }
   // The grading axis: named sieve curves (sample.grading's form), one sample each, in place of the base's sizes: how a
   // sample's e_0 depends on its grading (e_max and e_min fall as Cu rises, Youd 1973: the preparation report's figure
   // against each curve's Cu), and its shear tests' (critical-state line, friction, liquefaction resistance: the report
   // gives each curve a section of its own, as its fits group tests by mu_r and the loading and would pool the curves).
+  // A name that ends a sample job's directory name (the grading axis's _g<name>, the sample_file axis's _f<name>)
+  const auto job_suffix_name = [&](const std::string& name, const std::string& k, const char* whose) {
+    if (name.empty() || name.size() > 40 ||
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") != std::string::npos)
+      fail(path, k, std::string(whose) + " name ends its sample job's directory name: 1-40 letters, digits, '-', '_' "
+                    "or '.'");
+  };
   struct NamedGrading {
     std::string name, yaml;
     double cu;
@@ -438,10 +452,7 @@ Study load_study_unchecked(const std::string& path) {
       const std::string name = it.first.as<std::string>();
       std::string k = key;
       k.append(".").append(name);
-      // the name ends the sample job's directory name (_g<name>)
-      if (name.empty() || name.size() > 40 ||
-          name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") != std::string::npos)
-        fail(path, k, "a grading's name ends its sample job's directory name: 1-40 letters, digits, '-', '_' or '.'");
+      job_suffix_name(name, k, "a grading's");  // _g<name>
       StudyJob probe;
       probe.seed = base_cfg.packing.seed;
       probe.count = base_cfg.packing.count;
@@ -466,6 +477,49 @@ Study load_study_unchecked(const std::string& path) {
       if (rc.packing.grading.empty())  // (the loader refuses a curve it cannot read; grading_indices needs one)
         fail(path, k, "must be a sieve curve: {diameter: [...], passing: [...]}");
       gradings.push_back({name, probe.grading_yaml, grading_indices(rc.packing.grading).cu});
+    }
+  }
+  // The sample_file axis: named sample files (sample.file's form: a sample a run saved, or `grainlab import` made of a
+  // packing from elsewhere; relative to this file), each consolidated by a sample job of its own at the job's p0 and
+  // mu_r, in place of the base's sample: one study over specimens prepared apart (a dense and a loose one of one
+  // material sheared at the same pressures; packings from YADE, LIGGGHTS or a CT scan). The report gives each file a
+  // section of its own, as it gives each grading (a file's spheres may be another material's, and its fits would pool
+  // them), and draws their tests' end states together.
+  struct NamedFile {
+    std::string name, file;
+    long count;
+  };
+  std::vector<NamedFile> specimens;
+  if (file_axis) {
+    const std::string key = "axes.sample_file";
+    const YAML::Node g = ax["sample_file"];
+    if (!g.IsMap() || g.size() == 0)
+      fail(path, key, "must name each sample file: {dense: dense.h5, loose: loose.h5} (paths relative to this file), at "
+                      "least one");
+    for (auto it : g) {
+      const std::string name = it.first.as<std::string>();
+      std::string k = key;
+      k.append(".").append(name);
+      job_suffix_name(name, k, "a sample file's");  // _f<name>
+      if (!it.second.IsScalar() || it.second.Scalar().empty())
+        fail(path, k, "must be the path of a sample file (one a run saved with save_sample, or `grainlab import` made), "
+                      "relative to this file");
+      std::string file = expand_path(it.second.Scalar(), path + ": " + k);
+      if (file[0] != '/') file = (fs::path(path).parent_path() / file).string();
+      std::error_code ec;
+      if (const fs::path abs = fs::absolute(file, ec); !ec) file = abs.lexically_normal().string();
+      for (const NamedFile& o : specimens)
+        if (fs::equivalent(o.file, file, ec))  // (two names of one file: one sample twice, the grid doubled)
+          fail(path, k, "is " + o.name + "'s file (" + o.file + ") again: each sample file once");
+      StudyJob probe;
+      probe.specimen_file = file;
+      long count = 0;
+      try {  // the file read as the job will read it (a missing file, a text packing, one of another kind: said here)
+        count = long(plan_run(parse_run_config(job_config(base, probe, false, ""), path + " (" + k + ")")).particles);
+      } catch (const std::exception& e) {
+        fail(path, k, e.what());
+      }
+      specimens.push_back({name, file, count});
     }
   }
   const auto need_q_cyclic = [&](const std::string& key) {
@@ -711,6 +765,7 @@ Study load_study_unchecked(const std::string& path) {
     int grading;           // index in gradings (-1: the base's sizes)
     double E = 0;          // material.E (0: the base's)
     std::vector<StudyJob::StageKey> stage_keys = {};  // the stage axes' values, or an extra job's stage keys
+    int specimen = -1;     // index in specimens (-1: the base's sample)
   };
   std::vector<Point> points;
   if (ax || !root["extra"]) {
@@ -721,6 +776,7 @@ Study load_study_unchecked(const std::string& path) {
             for (double count : axis("count", {double(base_cfg.packing.count)}))
              for (double E : axis("E", {0}))
               for (int gi = gradings.empty() ? -1 : 0; gi < int(gradings.size()); ++gi)
+              for (int fi = specimens.empty() ? -1 : 0; fi < int(specimens.size()); ++fi)
               for (auto& d : drain)
                 for (auto& dir : directions)
                   for (double b : axis("b", {base_b}))
@@ -731,7 +787,7 @@ Study load_study_unchecked(const std::string& path) {
                             for (const std::vector<StudyJob::StageKey>& sv : stage_grid)
                               points.push_back({mur, e0, p0, long(seed), long(count), d, drainage_axis, csr, ea, dir,
                                                 direction_axis, b, b_axis, "axes.b", sp, path_axis, "axes.stress_path",
-                                                rate, 0, mu_r_axis, gi, E, sv});
+                                                rate, 0, mu_r_axis, gi, E, sv, fi});
   }
   if (const YAML::Node ex = root["extra"]) {
     if (!ex.IsSequence()) fail(path, "extra", "must be a list of jobs");
@@ -753,6 +809,19 @@ Study load_study_unchecked(const std::string& path) {
           pt.set_direction = true;
           check_direction(key + ".direction", pt.direction);
           need_one(key + ".direction", "direction");
+          continue;
+        }
+        if (f == "sample_file") {  // one of the axis's files, by its name
+          const std::string name = it.second.IsScalar() ? it.second.Scalar() : "";
+          std::string names;
+          for (size_t i = 0; i < specimens.size(); ++i) {
+            if (specimens[i].name == name) pt.specimen = int(i);
+            names += (i ? ", " : "") + specimens[i].name;
+          }
+          if (pt.specimen < 0)
+            fail(path, key + ".sample_file",
+                 specimens.empty() ? "names a file of axes.sample_file, and the study has no such axis"
+                                   : "'" + name + "' is not a name of axes.sample_file (" + names + ")");
           continue;
         }
         if (f == "stress_path") {
@@ -820,7 +889,7 @@ Study load_study_unchecked(const std::string& path) {
         } else
           fail(path, field,
                "unknown key (known: mu_r, e0, p0, E, drainage, direction, b, stress_path, axial_strain_rate, "
-               "max_axial_strain, seed, count, csr, strain_amplitude, and stages.<stage name>.<key>)");
+               "max_axial_strain, seed, count, csr, strain_amplitude, sample_file, and stages.<stage name>.<key>)");
       }
       points.push_back(pt);
     }
@@ -848,9 +917,12 @@ Study load_study_unchecked(const std::string& path) {
        << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base");
     // A base's saved sample has no seed of its own here (the file's spheres were drawn by the run that made it):
     // "_file", where "_s1" named the config's default seed as if the sample were drawn with it.
-    if (base_sample.empty()) sn << "_s" << pt.seed;
+    // A file of the sample_file axis: its name ("_f<name>"), and its spheres' count.
+    const NamedFile* file = pt.specimen >= 0 ? &specimens[pt.specimen] : nullptr;
+    if (file) sn << "_f" << file->name;
+    else if (base_sample.empty()) sn << "_s" << pt.seed;
     else sn << "_file";
-    sn << "_n" << pt.count;
+    sn << "_n" << (file ? file->count : pt.count);
     if (pt.grading >= 0) sn << "_g" << gradings[pt.grading].name;
     if (pt.E > 0) sn << "_E" << name_number(pt.E);
     // a stage axis's value on a preparation stage makes a sample of its own (named by it); the shear stages' go to
@@ -871,8 +943,12 @@ Study load_study_unchecked(const std::string& path) {
       j.p0 = pt.p0;
       j.E = pt.E;
       j.seed = pt.seed;
-      j.count = pt.count;
+      j.count = file ? file->count : pt.count;
       j.stage_keys = prep_keys;
+      if (file) {
+        j.specimen_name = file->name;
+        j.specimen_file = file->file;
+      }
       if (pt.grading >= 0) {
         j.grading_name = gradings[pt.grading].name;
         j.grading_yaml = gradings[pt.grading].yaml;
@@ -1379,8 +1455,9 @@ int run_study(const Study& s, const StudyOptions& o) {
          << ", \"axial_strain_rate\": " << j.rate << ", \"rate_group\": " << json_string(j.rate_group)
          << ", \"max_axial_strain\": " << j.strain;
       stage_keys_json(js, j);
-      js << ", \"grading\": " << json_string(j.grading_name)
-         << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
+      js << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu
+         << ", \"specimen\": " << json_string(j.specimen_name) << ", \"specimen_file\": " << json_string(j.specimen_file)
+         << ", \"E\": " << j.E << "}"
          << (k + 1 < s.shears.size() ? "," : "") << "\n";
     }
     // Every sample job (a preparation study's only jobs): the report's Samples and Preparation sections. p0 and e0
@@ -1391,7 +1468,9 @@ int run_study(const Study& s, const StudyOptions& o) {
       js << "    {\"name\": \"" << j.name << "\", \"dir\": \"jobs/" << j.name << "/run\", \"mu_r\": " << j.mu_r
          << ", \"e0\": " << j.e0 << ", \"p0\": " << j.p0 << ", \"seed\": " << j.seed << ", \"count\": " << j.count;
       stage_keys_json(js, j);
-      js << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu << ", \"E\": " << j.E << "}"
+      js << ", \"grading\": " << json_string(j.grading_name) << ", \"cu\": " << j.grading_cu
+         << ", \"specimen\": " << json_string(j.specimen_name) << ", \"specimen_file\": " << json_string(j.specimen_file)
+         << ", \"E\": " << j.E << "}"
          << (k + 1 < s.samples.size() ? "," : "") << "\n";
     }
     js << "  ]\n}\n";

@@ -54,6 +54,10 @@ struct StudyJob {
   // base's), its name (the job's "_g" suffix) and the curve's Cu = D60/D10 (the report's preparation figure's x)
   std::string grading_yaml, grading_name;
   double grading_cu = 0;
+  // the sample file from the sample_file axis (absolute; "" for the base's sample) and its name there (the sample
+  // job's "_f" suffix, the report's section): its spheres in place of the base's sample, consolidated by the job's
+  // preparation stages at its p0 and mu_r
+  std::string specimen_name, specimen_file;
   std::string config_yaml;  // the generated run config
   // A stage axis's values (`axes: {stages.<name>.<key>: [...]}`): the key set on that stage of a shear job (a K path's
   // k_ratio, an unloading's stress_ratio, an oedometer's ocr); a sample job's, the keys of its preparation stages

@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# A study over sample files (axes.sample_file: named files, each a sample job of its own that consolidates it at the
+# job's p0 and mu_r, in place of the base's sample): one study compares packings prepared apart (here the smoke run's
+# sample and the same spheres spread apart by 5 % about the box's centre, imported with `grainlab import`). Checks:
+# validate names each file and counts its spheres; the sample jobs are named _f<name>_n<count> and their configs hold
+# sample: {file: <absolute path>} alone (the base's drawn sample replaced); the shears run on their own file's sample;
+# study.json names each job's file; the report has one section per file holding that file's tests only, and a table
+# across the files whose e_0 is each sample job's own (summary.json) and whose end states are the ones each file's
+# section measures; a preparation study over the files keeps them apart (no seeds pooled); an extra job picks a file by
+# name; a file replaced after its jobs ran is refused; and the axis's refusals name the key and the file.
+set -u
+bin=$1; smoke=$2; work=$3; here=$(cd "$(dirname "$0")" && pwd)
+py=${GRAINLAB_PYTHON:-/usr/bin/python3}
+fail() { echo "study_sample_files: $*"; exit 1; }
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+[ -f "$smoke/sample_consolidate.h5" ] || fail "no smoke sample at $smoke"
+mkdir packings && cp "$smoke/sample_consolidate.h5" packings/a.h5 || exit 1
+# b: a's spheres and box spread apart by 5 % about the box's centre (no contact left: a looser start)
+"$bin" export packings/a.h5 --out a.txt > /dev/null || fail "export"
+read -r x0 x1 y0 y1 z0 z1 < a_box.txt
+awk -v x0="$x0" -v x1="$x1" -v y0="$y0" -v y1="$y1" -v z0="$z0" -v z1="$z1" 'BEGIN {
+  cx = (x0 + x1) / 2; cy = (y0 + y1) / 2; cz = (z0 + z1) / 2
+  printf "%.17g %.17g %.17g %.17g %.17g %.17g\n", cx + 1.05 * (x0 - cx), cx + 1.05 * (x1 - cx), cy + 1.05 * (y0 - cy),
+         cy + 1.05 * (y1 - cy), cz + 1.05 * (z0 - cz), cz + 1.05 * (z1 - cz) > "b_box.txt" }
+  /^[^#]/ { printf "%.17g %.17g %.17g %s\n", cx + 1.05 * ($1 - cx), cy + 1.05 * ($2 - cy), cz + 1.05 * ($3 - cz), $4 }' a.txt > b.txt
+"$bin" import b.txt --box b_box.txt --out packings/b.h5 > import.log || fail "import: $(cat import.log)"
+grep -q "imported 300 spheres" import.log || fail "import: $(cat import.log)"
+# the base draws its own sample (200 spheres), which the axis replaces
+cat > base.yaml <<'YAML'
+sample: {count: 200, seed: 3}
+material: {mu: 0.5}
+numerics: {damping: 0.2}
+stages:
+  - {name: again, type: isotropic, pressure: 190e3, max_steps: 40000, ufr_tolerance: 0.02}
+  - {name: shear, type: triaxial, axial_strain_rate: 1.0, max_axial_strain: 0.02}
+output: {every: 200}
+YAML
+cat > study.yaml <<'YAML'
+base: base.yaml
+axes:
+  drainage: [drained, undrained]
+  sample_file: {a: packings/a.h5, b: packings/b.h5}
+critical_state: {window: 0.01}
+YAML
+plan=$("$bin" validate study.yaml 2>&1) || fail "validate failed: $plan"
+printf '%s\n' "$plan" | grep -q "study: 2 samples, 4 shear tests" || fail "validate: $plan"
+printf '%s\n' "$plan" | grep -qF "sample files: 2, each consolidated again by its sample jobs in place of the base's sample (a: 300 spheres, $PWD/packings/a.h5; b: 300 spheres, $PWD/packings/b.h5)" ||
+  fail "validate does not name the files: $plan"
+out=$("$bin" study study.yaml --out st --jobs 2 --threads 1 2>&1) || fail "the study failed: $out"
+for f in a b; do
+  job=st/jobs/sample_mur0_ebase_pbase_f${f}_n300
+  [ -f "$job/done" ] || fail "no finished sample job $job: $(ls st/jobs)"
+  sample=$("$py" -c "import sys, yaml; print(yaml.safe_load(open(sys.argv[1]))['sample'])" "$job/job.yaml")
+  [ "$sample" = "{'file': '$PWD/packings/$f.h5'}" ] || fail "$job's sample block: $sample"
+  for d in drained undrained; do
+    sh=st/jobs/shear_${d}_mur0_ebase_pbase_f${f}_n300
+    [ -f "$sh/done" ] || fail "no finished shear $sh: $(ls st/jobs)"
+    sample=$("$py" -c "import sys, yaml; print(yaml.safe_load(open(sys.argv[1]))['sample'])" "$sh/job.yaml")
+    [ "$sample" = "{'file': '../sample_mur0_ebase_pbase_f${f}_n300/run/sample_again.h5'}" ] || fail "$sh's sample block: $sample"
+  done
+done
+[ "$(ls st/jobs | wc -l)" -eq 6 ] || fail "expected 6 jobs: $(ls st/jobs)"
+"$py" - st <<'PY' || fail "the report"
+import csv, json, os, re, sys
+out = sys.argv[1]
+idx = json.load(open(os.path.join(out, "study.json")))
+for j in idx["jobs"] + idx["samples"]:
+    f = re.search(r"_f([ab])_n300$", j["name"]).group(1)
+    assert j["specimen"] == f and j["specimen_file"] == os.path.abspath(f"packings/{f}.h5"), j
+    assert j["count"] == 300, j
+text = open(os.path.join(out, "report.md")).read()
+assert "4 shear tests on 2 sample file(s): a (a.h5, 300 spheres), b (b.h5, 300 spheres)." in text, text[:600]
+# each file's section: its own tests, none of the other's
+parts = re.split(r"^## ", text, flags=re.M)
+sec = {p[len("Sample file ") ]: p for p in parts if p.startswith("Sample file ")}
+assert sorted(sec) == ["a", "b"], [p[:40] for p in parts]
+for f, p in sec.items():
+    other = "b" if f == "a" else "a"
+    assert p.startswith(f"Sample file {f}: {os.path.abspath('packings/' + f + '.h5')}\n"), p[:100]
+    assert f"_f{f}_n300" in p and f"_f{other}_n300" not in p, f
+    assert os.path.isfile(os.path.join(out, "figures", f"f_{f}", "stress_paths.png")), f
+assert os.path.isfile(os.path.join(out, "figures", "files_e_p.png"))
+assert os.path.isfile(os.path.join(out, "figures", "grading.png"))
+# the table across the files: e_0 is the sample job's consolidated e (its summary.json), the end state the means of
+# the walls' p' and of e over the shear's last 0.01 of axial strain (the study's window), from its series.csv
+across = [p for p in parts if p.startswith("Across the sample files")]
+assert len(across) == 1, "no table across the files"
+rows = [r.split(" | ") for r in across[0].splitlines() if r.startswith("| a |") or r.startswith("| b |")]
+assert len(rows) == 4, across[0]
+for r in rows:
+    f, e0, name, p_end, e_end = r[0][2:], r[1], r[2], r[4], r[5]
+    summ = json.load(open(os.path.join(out, "jobs", f"sample_mur0_ebase_pbase_f{f}_n300", "run", "summary.json")))
+    iso = [s for s in summ["stages"] if s["type"] == "isotropic"][-1]
+    assert e0 == f"{iso['e']:.4f}", (r, iso["e"])
+    with open(os.path.join(out, "jobs", name, "run", "series.csv")) as fh:
+        shear = [x for x in csv.DictReader(fh) if 0 < int(x["stage_type"]) < 3]
+    last = [x for x in shear if float(x["eps_a"]) >= float(shear[-1]["eps_a"]) - 0.01]
+    assert len(last) >= 3 and float(shear[-1]["eps_a"]) > 0.019, name
+    p_mean = sum(float(x["p"]) for x in last) / len(last)
+    e_mean = sum(float(x["e"]) for x in last) / len(last)
+    assert (p_end, e_end) == (f"{p_mean / 1e3:.1f}", f"{e_mean:.4f}"), (r, p_mean, e_mean)
+    assert name in sec[f], (name, f)
+print("report ok")
+PY
+# A preparation study over the files: each file's samples a row of their own, not two seeds of one sample.
+sed '/name: shear/d' base.yaml > prepbase.yaml
+printf 'base: prepbase.yaml\naxes: {sample_file: {a: packings/a.h5, b: packings/b.h5}}\n' > prep.yaml
+out=$("$bin" study prep.yaml --out pr --jobs 2 --threads 1 2>&1) || fail "the preparation study failed: $out"
+for f in a b; do
+  grep -q "^| sample_mur0_ebase_pbase_f${f}_n300 | 300 | 1 (file) | " pr/report.md ||
+    fail "no preparation row of file $f: $(grep -A5 '^## Preparation' pr/report.md)"
+done
+# An extra job on one file by its name (and the base's own drawn sample beside it)
+printf 'base: base.yaml\naxes: {sample_file: {a: packings/a.h5}}\nextra: [{sample_file: a, drainage: drained}, {drainage: drained}]\n' > extra.yaml
+plan=$("$bin" validate extra.yaml 2>&1) || fail "validate of extra jobs failed: $plan"
+printf '%s\n' "$plan" | grep -q "study: 2 samples, 3 shear tests" || fail "extra jobs: $plan"
+# Refusals: each names the study, the key and what is allowed; nothing is written.
+: > bad.yaml
+before=$(ls -R)
+t() {
+  printf 'base: base.yaml\n%s\n' "$1" > bad.yaml
+  "$here"/expect_error.sh "^grainlab: error: bad.yaml: $2" "$bin" validate bad.yaml || fail "refusal of: $1"
+}
+t 'axes: {sample_file: [packings/a.h5]}' 'axes.sample_file: must name each sample file: \{dense: dense.h5, loose: loose.h5\}'
+t 'axes: {sample_file: {}}' 'axes.sample_file: must name each sample file'
+t 'axes: {sample_file: {"a b": packings/a.h5}}' "axes.sample_file.a b: a sample file's name ends its sample job's directory name: 1-40 letters"
+t 'axes: {sample_file: {a: [packings/a.h5]}}' 'axes.sample_file.a: must be the path of a sample file'
+t 'axes: {sample_file: {a: packings/a.h5, c: ./packings/a.h5}}' "axes.sample_file.c: is a's file \($PWD/packings/a.h5\) again: each sample file once"
+t 'axes: {sample_file: {a: packings/none.h5}}' "axes.sample_file.a: $PWD/packings/none.h5: no such file$"
+t 'axes: {sample_file: {a: b.txt}}' "axes.sample_file.a: $PWD/b.txt: text, not an HDF5 file .*grainlab import $PWD/b.txt"
+t 'axes: {sample_file: {a: packings/a.h5}, seed: [1, 2]}' "axes.seed: axes.sample_file gives each sample the spheres of its file: no seed, count or grading to set$"
+t 'axes: {sample_file: {a: packings/a.h5}, count: [100]}' "axes.count: axes.sample_file gives each sample"
+t 'axes: {sample_file: {a: packings/a.h5}, grading: {x: {diameter: [1e-3, 2e-3], passing: [0, 100]}}}' "axes.grading: axes.sample_file gives each sample"
+t 'axes: {sample_file: {a: packings/a.h5}}
+extra: [{sample_file: c}]' "extra\[0\].sample_file: 'c' is not a name of axes.sample_file \(a\)$"
+t 'extra: [{sample_file: a}]' "extra\[0\].sample_file: names a file of axes.sample_file, and the study has no such axis$"
+[ "$(ls -R)" = "$before" ] || fail "a refused study wrote: $(diff <(printf '%s\n' "$before") <(ls -R))"
+# A file replaced after its jobs ran (b's spheres under a's name): the rerun stops before anything is written.
+cp st/report.md report_before.md && cp packings/b.h5 packings/a.h5 || exit 1
+"$here"/expect_error.sh "st/jobs/sample_mur0_ebase_pbase_fa_n300/job.yaml: this job ran on another sample than $PWD/packings/a.h5 holds now" \
+  "$bin" study study.yaml --out st --jobs 2 --threads 1 || fail "a replaced sample file was not noticed"
+cmp -s st/report.md report_before.md || fail "the report was rewritten"
+echo "study_sample_files: ok"
