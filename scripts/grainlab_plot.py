@@ -2185,25 +2185,29 @@ def across_gradings_section(out, idx, figs, kind="grading"):
                     + (f"{c['p'] / 1e3:.1f} | {c['e']:.4f} | {c['qp']:.3f} | {'yes' if c['ok'] else 'no'} |" if end
                        else "- | - | - | - |"))
         if end:
-            pts.setdefault(g, []).append((c["p"], c["e"], c["ok"]))
+            m = s["monotonic"]
+            pts.setdefault(g, []).append((c["p"], c["e"], c["ok"], s["p"][m], s["e"][m]))
     if not rows:
         return []
     name = "files_e_p" if files else "gradings_e_p"
     drawn = (f"`{os.path.relpath(figs, out)}/{name}.png` draws that e against p' for each "
-             f"{'file' if files else 'curve'} (filled: critical)"
+             f"{'file' if files else 'curve'} (filled: critical), each test's path to it a thin line"
              + ("; specimens of one material, dense and loose, end on one critical-state line" if files else "")
              if pts else "No test is longer than the window yet: no end state, and no figure")
     for k, g in enumerate(sorted(pts)):
         if k == 0:
             fig, ax = plt.subplots(figsize=(7, 4.5))
-        p_, e_, ok = (np.array(v) for v in zip(*sorted(pts[g])))
+        ends = sorted(pts[g], key=lambda t: t[:3])
+        for t in ends:  # the shear's path: dense samples dilate to the end state, loose ones contract
+            ax.plot(t[3] / 1e3, t[4], "-", color=f"C{k % 10}", lw=0.5, alpha=0.6)
+        p_, e_, ok = (np.array([t[i] for t in ends]) for i in range(3))
         ok = ok.astype(bool)
         ax.plot(p_ / 1e3, e_, "-", color=f"C{k % 10}", lw=0.8)
         ax.plot(p_[ok] / 1e3, e_[ok], "o", color=f"C{k % 10}", label=f"{g or 'the base'} (filled: critical)")
         ax.plot(p_[~ok] / 1e3, e_[~ok], "o", color=f"C{k % 10}", mfc="none")
     if pts:
         ax.set(xscale="log", xlabel="p' [kPa]", ylabel="e",
-               title="end of each shear (the critical-state window's means)")
+               title="each shear's path and end (the critical-state window's means)")
         ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
         ax.xaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
         ax.grid(True, which="both", alpha=0.3)

@@ -409,15 +409,48 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
     throw std::runtime_error("--density-scaling = " + num(opt.density_scaling) +
                              " is outside sample.density_scaling's range [1, 1e12]");
   const char* axis = "xyz";
-  if (opt.box_given)
+  if (opt.box_given && opt.crop)
+    throw std::runtime_error("--box and --crop: the crop box is the walls; give one of them");
+  const auto check_box = [&](const char* what, const Vec3d& blo, const Vec3d& bhi) {
     for (int a = 0; a < 3; ++a)
-      if (!(opt.lo[a] < opt.hi[a]) || !std::isfinite(opt.lo[a]) || !std::isfinite(opt.hi[a]))
-        throw std::runtime_error(std::string("--box: ") + axis[a] + "lo = " + num(opt.lo[a]) + " must be below " +
-                                 axis[a] + "hi = " + num(opt.hi[a]) + " (six numbers: xlo xhi ylo yhi zlo zhi, m)");
+      if (!(blo[a] < bhi[a]) || !std::isfinite(blo[a]) || !std::isfinite(bhi[a]))
+        throw std::runtime_error(std::string(what) + ": " + axis[a] + "lo = " + num(blo[a]) + " must be below " +
+                                 axis[a] + "hi = " + num(bhi[a]) + " (six numbers: xlo xhi ylo yhi zlo zhi, m)");
+  };
+  if (opt.box_given) check_box("--box", opt.lo, opt.hi);
+  if (opt.crop) check_box("--crop", opt.crop_lo, opt.crop_hi);
   std::error_code ec;
   if (fs::exists(opt.out, ec))
     throw std::runtime_error(opt.out + ": exists; import never replaces a file: remove it or name another --out");
   Read in = read_packing(opt.packing, opt.scale);
+  // row[k]: sphere k's row in the file (0-based over the sphere lines; in.line and in.id are by row). --crop keeps the
+  // spheres wholly inside its box, which no wall then cuts: a sphere across a face would press its wall by up to its
+  // radius, past numerics.max_overlap
+  std::vector<int> row;
+  const size_t n_file = in.r.size();
+  if (opt.crop) {
+    std::vector<Vec3d> x;
+    std::vector<Real> r;
+    for (size_t i = 0; i < n_file; ++i) {
+      bool inside = true;
+      for (int a = 0; a < 3; ++a)
+        inside = inside && in.x[i][a] - in.r[i] >= opt.crop_lo[a] && in.x[i][a] + in.r[i] <= opt.crop_hi[a];
+      if (!inside) continue;
+      x.push_back(in.x[i]);
+      r.push_back(in.r[i]);
+      row.push_back(int(i));
+    }
+    if (r.empty())
+      throw std::runtime_error(opt.packing + ": no sphere of its " + std::to_string(n_file) +
+                               " lies wholly inside --crop [" + num(opt.crop_lo[0], 6) + ", " + num(opt.crop_hi[0], 6) +
+                               "] x [" + num(opt.crop_lo[1], 6) + ", " + num(opt.crop_hi[1], 6) + "] x [" +
+                               num(opt.crop_lo[2], 6) + ", " + num(opt.crop_hi[2], 6) + "] m");
+    in.x.swap(x);
+    in.r.swap(r);
+  } else {
+    row.resize(n_file);
+    for (size_t i = 0; i < n_file; ++i) row[i] = int(i);
+  }
   const size_t n = in.r.size();
   // The density: --density, else a data file's atoms' (one for all: grainlab has one), else sample.density's default.
   Real density = opt.density;
@@ -432,26 +465,28 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
                                " kg/m^3 is outside sample.density's range (0, 1e6] (give --density)");
   }
 
-  Vec3d lo = opt.lo, hi = opt.hi;
-  // the walls: --box, else a dump's or data file's box bounds, else the spheres' bounding box
-  const std::string box_from = opt.box_given ? "--box"
+  Vec3d lo = opt.crop ? opt.crop_lo : opt.lo, hi = opt.crop ? opt.crop_hi : opt.hi;
+  // the walls: --box or --crop, else a dump's or data file's box bounds, else the spheres' bounding box
+  const bool given = opt.box_given || opt.crop;
+  const std::string box_from = opt.crop        ? "--crop"
+                               : opt.box_given ? "--box"
                                : in.dump     ? "the dump's box bounds"
                                : in.data     ? "the data file's box"
                                              : "the spheres' bounding box";
-  if (!opt.box_given && (in.dump || in.data)) {
+  if (!given && (in.dump || in.data)) {
     lo = in.lo;
     hi = in.hi;
     for (int a = 0; a < 3; ++a)
       if (!(lo[a] < hi[a]))
         throw std::runtime_error(opt.packing + ": the " + (in.dump ? "dump's" : "data file's") + " box bounds on " +
                                  axis[a] + " are not lo < hi (give --box)");
-  } else if (!opt.box_given) {  // each wall touches the outermost sphere on its side: no sphere presses a wall yet
+  } else if (!given) {  // each wall touches the outermost sphere on its side: no sphere presses a wall yet
     bounding_box(in.x, in.r, lo, hi);
   }
   for (size_t i = 0; i < n; ++i)
     for (int a = 0; a < 3; ++a)
       if (!(in.x[i][a] > lo[a] && in.x[i][a] < hi[a]))
-        throw std::runtime_error(opt.packing + ":" + std::to_string(in.line[i]) + ": the centre's " + axis[a] + " = " +
+        throw std::runtime_error(opt.packing + ":" + std::to_string(in.line[size_t(row[i])]) + ": the centre's " + axis[a] + " = " +
                                  num(in.x[i][a], 6) + " m is outside the box's [" + num(lo[a], 6) + ", " +
                                  num(hi[a], 6) + "] m (" + box_from + "): every centre must lie between the walls");
 
@@ -470,7 +505,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   for (size_t k = 0; k < n; ++k) {
     s.x[k] = in.x[size_t(order[k])];
     s.r[k] = in.r[size_t(order[k])];
-    index[k] = order[k];
+    index[k] = row[size_t(order[k])];
   }
   s.walls = make_box_walls(lo, hi);
   s.walls_are_box = true;
@@ -511,6 +546,9 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
                              : std::string()) +
                   ": diameters " + mm(2 * *rmin) + " to " + mm(2 * *rmax) + "; by mass d50 " + mm(gi.d50) + ", Cu " +
                   num(gi.cu, 3));
+  if (opt.crop)
+    lines.push_back("cropped: " + std::to_string(n) + " of the file's " + std::to_string(n_file) +
+                    " spheres lie wholly inside --crop, the walls");
   lines.push_back("box " + mm(hi[0] - lo[0]) + " x " + mm(hi[1] - lo[1]) + " x " + mm(hi[2] - lo[2]) + " (" + box_from +
                   "): solid fraction " + num(Vs / V, 4) + ", void ratio e " + num((V - Vs) / Vs, 4));
   std::string c = "contacts: " + std::to_string(pc.touching) + " overlapping pairs (Z " +

@@ -15,6 +15,10 @@ struct ImportOptions {
   std::string out;             // the sample file to write; never replaces a file
   bool box_given = false;      // else the box is the spheres' bounding box (each wall touching the outermost sphere)
   Vec3d lo{}, hi{};            // the walls' box [m] (after scale)
+  // --crop: a box [m] (after scale) cut out of the packing: the spheres wholly inside it, and it as the walls (a
+  // sample of a larger packing: a CT scan's, a big LIGGGHTS run's, the race scene's octant)
+  bool crop = false;
+  Vec3d crop_lo{}, crop_hi{};
   Real scale = 1;              // multiplies x, y, z and r: 1e-3 for a file in mm
   Real density = 2650;         // [kg/m^3], as sample.density
   bool density_given = false;  // --density: else a data file's atoms' density, where they have one

@@ -43,7 +43,8 @@ int usage(FILE* f) {
                "                                                          span a critical state holds steady, 0.05)\n"
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab import PACKING.txt [--out SAMPLE.h5] [--box XLO XHI YLO YHI ZLO ZHI | --box FILE]\n"
-               "                       [--scale S] [--density RHO] [--density-scaling S]\n"
+               "                       [--crop XLO XHI YLO YHI ZLO ZHI | --crop FILE] [--scale S] [--density RHO]\n"
+               "                       [--density-scaling S]\n"
                "                                                          a packing made elsewhere (x y z r a line, m; or a\n"
                "                                                          LAMMPS/LIGGGHTS dump or data file) as a sample\n"
                "                                                          file for sample: {file: SAMPLE.h5}\n"
@@ -170,18 +171,18 @@ int import_command(int argc, char** argv) {
   const int rc = file_and_options(argc, argv, packing, [&](const std::string& s, int& a) {
     if (s == "--out") {
       io.out = argv[++a];
-    } else if (s == "--box") {
+    } else if (s == "--box" || s == "--crop") {
       // six numbers, or a file holding them (the shared race's scene_32k_box.txt)
       double b[6];
       char* end = nullptr;
       std::strtod(argv[a + 1], &end);
       if (end != argv[a + 1] && !*end) {
         if (a + 6 >= argc) {
-          std::fprintf(stderr, "grainlab: --box needs six numbers: xlo xhi ylo yhi zlo zhi (m)\n");
+          std::fprintf(stderr, "grainlab: %s needs six numbers: xlo xhi ylo yhi zlo zhi (m)\n", s.c_str());
           return 2;
         }
         for (double& v : b)
-          if (!real_number("--box", argv[++a], v)) return 2;
+          if (!real_number(s.c_str(), argv[++a], v)) return 2;
       } else {
         const std::string f = argv[++a];
         std::ifstream in(f);
@@ -189,16 +190,17 @@ int import_command(int argc, char** argv) {
         bool ok = bool(in);
         for (double& v : b) ok = ok && bool(in >> v);
         if (!ok || (in >> extra)) {
-          std::fprintf(stderr, "grainlab: --box %s: %s\n", f.c_str(),
+          std::fprintf(stderr, "grainlab: %s %s: %s\n", s.c_str(), f.c_str(),
                        ok       ? "holds more than six numbers (xlo xhi ylo yhi zlo zhi, m)"
                        : !std::filesystem::is_regular_file(f) ? "cannot read it (six numbers, or a file of them)"
                                 : "not six numbers xlo xhi ylo yhi zlo zhi (m)");
           return 2;
         }
       }
-      io.box_given = true;
-      io.lo = {b[0], b[2], b[4]};
-      io.hi = {b[1], b[3], b[5]};
+      const bool crop = s == "--crop";
+      (crop ? io.crop : io.box_given) = true;
+      (crop ? io.crop_lo : io.lo) = {b[0], b[2], b[4]};
+      (crop ? io.crop_hi : io.hi) = {b[1], b[3], b[5]};
     } else if (s == "--scale" || s == "--density" || s == "--density-scaling") {
       double v = 0;
       if (!real_number(s.c_str(), argv[++a], v)) return 2;
@@ -217,11 +219,12 @@ int import_command(int argc, char** argv) {
   io.packing = packing;
   if (io.out.empty())  // beside the packing, its name with .h5
     io.out = std::filesystem::path(packing).replace_extension(".h5").string();
-  if (io.box_given)  // --scale applies to the box as to the spheres: one unit for all
-    for (int k = 0; k < 3; ++k) {
-      io.lo[k] *= io.scale;
-      io.hi[k] *= io.scale;
-    }
+  for (int k = 0; k < 3; ++k) {  // --scale applies to the box and the crop as to the spheres: one unit for all
+    io.lo[k] *= io.scale;
+    io.hi[k] *= io.scale;
+    io.crop_lo[k] *= io.scale;
+    io.crop_hi[k] *= io.scale;
+  }
   return print_lines([&] { return grainlab::import_packing(io); });
 }
 // `grainlab export`: its options, then export_sample (import.hpp).

@@ -131,6 +131,34 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(wor
     check(rc == 0 and all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls",
                                                                       "/import/index")), f"--box FILE: {rc} {err}")
 
+# --- --crop: a box cut out of the packing (in the file's units, as --box): the spheres wholly inside it, to the bit,
+# /import/index their rows of the file; the crop box the walls; the counts printed of the spheres kept (brute force)
+clo, chi = np.array([0.5, 0.3, 0.9]) * 1e-3, np.array([2.7, 2.9, 3.2]) * 1e-3
+keep = np.all((xf - rf[:, None] >= clo) & (xf + rf[:, None] <= chi), axis=1)
+kept = np.flatnonzero(keep)
+rc, out, err = run("import", "packing.txt", "--scale", "1e-3", "--crop", "0.5", "2.7", "0.3", "2.9", "0.9", "3.2",
+                   "--out", "crop.h5")
+check(rc == 0 and f"cropped: {len(kept)} of the file's 512 spheres lie wholly inside --crop, the walls" in out and
+      "(--crop): solid fraction" in out, f"--crop: {rc} {out} {err}")
+check(0 < len(kept) < 512 and not keep.all(), f"the crop keeps {len(kept)} spheres: no test")
+if rc == 0:
+    with h5py.File(os.path.join(work, "crop.h5"), "r") as f:
+        idx = f["/import/index"][()]
+        check(sorted(idx.tolist()) == kept.tolist(), "--crop: /import/index is not the rows of the spheres inside")
+        check(np.array_equal(f["/state/x"][()], xf[idx]) and np.array_equal(f["/state/r"][()], rf[idx]),
+              "--crop: the spheres are not the file's bits")
+        walls = f["/state/walls"][()].reshape(8, -1)
+        check(np.array_equal(walls[:6, 3], [clo[0], -chi[0], clo[1], -chi[1], clo[2], -chi[2]]),
+              f"--crop: the walls are not the crop box: {walls[:6, 3]}")
+    xk, rk = xf[kept], rf[kept]
+    dk = np.sqrt(((xk[:, None, :] - xk[None, :, :]) ** 2).sum(-1))
+    ik = np.triu_indices(len(kept), 1)
+    ovk = (rk[:, None] + rk[None, :] - dk)[ik]
+    Vk = np.prod(chi - clo)
+    Vsk = (4 / 3 * np.pi * rk ** 3).sum()
+    check(f"contacts: {int((ovk > 0).sum())} overlapping pairs" in out and "no sphere presses a wall" in out and
+          f"solid fraction {Vsk / Vk:.4g}," in out, f"--crop: the counts are not the kept spheres': {out}")
+
 # --- a LAMMPS / LIGGGHTS dump: its last snapshot, its box bounds as the walls, its atom ids kept
 def dump_snapshot(step, cols, rows, box=("0 3.2", "0 3.2", "0 3.2"), bounds="ff ff ff"):
     return (f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{len(rows)}\nITEM: BOX BOUNDS {bounds}\n" +
@@ -293,6 +321,12 @@ cases = [  # (file text, extra args, exit code, message part)
     (ok_line + "\n", ["--box", "0", "3.2", "0"], 2, "--box needs six numbers"),
     (ok_line + "\n", ["--box", "box7.txt"], 2, "--box box7.txt: holds more than six numbers"),
     (ok_line + "\n", ["--box", "packing.txt"], 2, "--box packing.txt: not six numbers xlo xhi ylo yhi zlo zhi"),
+    (ok_line + "\n", ["--crop", "0", "3.2", "0", "3.2", "0", "3.2", "--box", "0", "3.2", "0", "3.2", "0", "3.2"], 1,
+     "--box and --crop: the crop box is the walls; give one of them"),
+    (ok_line + "\n", ["--crop", "0", "0.01", "0", "0.01", "0", "0.01"], 1,
+     "bad.txt: no sphere of its 1 lies wholly inside --crop [0, 1e-05] x [0, 1e-05] x [0, 1e-05] m"),
+    (ok_line + "\n", ["--crop", "2", "1", "0", "3.2", "0", "3.2"], 1, "--crop: xlo = 0.002 must be below xhi = 0.001"),
+    (ok_line + "\n", ["--crop", "0", "3.2"], 2, "--crop needs six numbers"),
     (ok_line + "\n", ["--density", "0"], 1, "--density = 0 kg/m^3 is outside sample.density's range (0, 1e6]"),
     (ok_line + "\n", ["--density-scaling", "0.5"], 1, "--density-scaling = 0.5 is outside sample.density_scaling's"),
     (ok_line + "\n", ["--scale", "abc"], 2, "--scale must be a number, got 'abc'"),
