@@ -54,7 +54,7 @@ printf '%s\n' "$row" | awk -F'|' '{ exit !($5 > 0.9 && $5 <= 1) }' || fail "b = 
 rt=st/jobs/shear_drained_mur0_ebase_p100k_s3_n300_rate2
 grep -q "axial_strain_rate: 2" "$rt/job.yaml" || fail "$rt/job.yaml does not say axial_strain_rate: 2"
 grep -q '"axial_strain_rate": 2,' "$rt/run/summary.json" || fail "$rt/run/summary.json does not give the rate"
-grep -q '"axial_strain_rate": 2, "rate_group": "shear_drained_mur0_ebase_p100k_s3_n300", "max_axial_strain": 0, "grading": "", "cu": 0, "E": 0}' st/study.json ||
+grep -q '"axial_strain_rate": 2, "rate_group": "shear_drained_mur0_ebase_p100k_s3_n300", "max_axial_strain": 0, "grading": "", "cu": 0, "specimen": "", "specimen_file": "", "E": 0}' st/study.json ||
   fail "study.json lacks the rate job's group"
 grep -q "## Rate dependence" st/report.md || fail "report.md lacks its rate section"
 grep -qE '^\| shear_drained_mur0_ebase_p100k_s3_n300_rate2 \| 2 \| [0-9.]+e-0[0-9] \|' st/report.md ||
