@@ -2186,7 +2186,7 @@ def across_gradings_section(out, idx, figs, kind="grading"):
                        else "- | - | - | - |"))
         if end:
             m = s["monotonic"]
-            pts.setdefault(g, []).append((c["p"], c["e"], c["ok"], s["p"][m], s["e"][m]))
+            pts.setdefault(g, []).append((c["p"], c["e"], c["ok"], s["p"][m], s["e"][m], c))
     if not rows:
         return []
     name = "files_e_p" if files else "gradings_e_p"
@@ -2222,7 +2222,49 @@ def across_gradings_section(out, idx, figs, kind="grading"):
             f"{drawn}.", "",
             "| " + ("sample file | e_0" if files else "grading | Cu")
             + " | test | max q/p' (phi'_max) | p' at end [kPa] | e at end | q/p' at end | critical |",
-            "|---|---|---|---|---|---|---|---|", *rows, ""]
+            "|---|---|---|---|---|---|---|---|", *rows, "", *(files_line(pts) if files else [])]
+
+
+def files_line(pts):
+    """Whether the sample files' critical states lie on one line (across_gradings_section's pts: per file its tests'
+    (p', e, critical, path p', path e, state)): per group of critical states a critical-state line joins (mu_r,
+    extension, b, rate: csl_groups), with states of two files or more at three pressure levels or more (as a file's own
+    line needs), e_c = a + b p' through all of them and each file's mean offset from it against the line's scatter (its
+    residuals' rms over sqrt of the file's states): specimens of one material, whatever their density, reach one
+    critical-state line (Roscoe et al. 1958; Been & Jefferies 1985), so an offset past two of those is a file whose
+    spheres or contact law differ, or whose tests are not at their critical state. Empty where no group qualifies."""
+    groups = {}
+    for g in sorted(pts):
+        for t in pts[g]:
+            c = t[5]
+            if c["ok"]:
+                groups.setdefault((c["mu_r"], c["ext"], c["b"], c["rate"]), []).append((g, c["p"] / 1e3, c["e"]))
+    rows = []
+    for key in sorted(groups):
+        st = groups[key]
+        p = np.array([x[1] for x in st])
+        e = np.array([x[2] for x in st])
+        if len({x[0] for x in st}) < 2 or len(st) < 3 or pressure_levels(p) < 3:
+            continue
+        b, a, sb, sa = fit(p, e)
+        res = e - (a + b * p)
+        rms = math.sqrt(float(np.sum(res ** 2)) / (len(st) - 2))
+        what = (f"mu_r {key[0]:g}" + (", extension" if key[1] else "") + (f", b {key[2]:g}" if key[2] else "")
+                + rate_text(key[3], ", "))
+        for f in sorted({x[0] for x in st}):
+            r = np.array([res[i] for i, x in enumerate(st) if x[0] == f])
+            se, off = rms / math.sqrt(len(r)), float(np.mean(r))
+            rows.append(f"| {what} | e_c = {a:.4f} ± {sa:.4f} + ({b:.3e} ± {sb:.1e}) p' [kPa] ({len(st)} states, "
+                        f"rms {rms:.4f}) | {f or 'the base'} | {len(r)} | {round(off, 4) + 0.0:+.4f} | {se:.4f} | "
+                        f"{'off the line' if abs(off) > 2 * se else 'on it'} |")
+    if not rows:
+        return []
+    return ["One critical-state line through the files' critical states (e_c = a + b p', as each file's section fits "
+            "its own), per mu_r and loading, with each file's mean offset from it: specimens of one material reach "
+            "one critical-state line whatever their density, so a file more than two standard errors off it (the "
+            "line's rms over the root of its states) has other spheres or contacts, or tests not yet critical.", "",
+            "| group | the line through every file's critical states | file | states | mean offset in e | standard error "
+            "| |", "|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def study_lines(out, idx, figs_rel, fits=None):

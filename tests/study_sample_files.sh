@@ -110,6 +110,48 @@ for f in a b; do
   grep -q "^| sample_mur0_ebase_pbase_f${f}_n300 | 300 | 1 (file) | " pr/report.md ||
     fail "no preparation row of file $f: $(grep -A5 '^## Preparation' pr/report.md)"
 done
+# One critical-state line through both files' critical states (three pressures each; the study's own loose
+# tolerances make each 2 % shear count as critical): the line and each file's mean offset from it as numpy fits them
+# to the window means of the shears' series.
+cat > lines.yaml <<'YAML'
+base: base.yaml
+axes:
+  drainage: [drained]
+  p0: [60e3, 100e3, 170e3]
+  sample_file: {a: packings/a.h5, b: packings/b.h5}
+critical_state: {window: 0.01, qp_tol: 0.5, p_tol: 0.5, e_tol: 0.05}
+YAML
+out=$("$bin" study lines.yaml --out stl --jobs 2 --threads 1 2>&1) || fail "the study over three pressures failed: $out"
+"$py" - stl <<'PY' || fail "the line through the files"
+import csv, json, os, re, sys
+import numpy as np
+out = sys.argv[1]
+text = open(os.path.join(out, "report.md")).read()
+crit = [r.split(" | ") for r in text.splitlines() if re.match(r"\| [ab] \| ", r)]
+assert len(crit) == 6 and all(r[7] == "yes |" for r in crit), crit
+states = []
+for r in crit:
+    with open(os.path.join(out, "jobs", r[2], "run", "series.csv")) as fh:
+        sh = [x for x in csv.DictReader(fh) if 0 < int(x["stage_type"]) < 3]
+    w = [x for x in sh if float(x["eps_a"]) >= float(sh[-1]["eps_a"]) - 0.01]
+    states.append((r[0][2:], np.mean([float(x["p"]) for x in w]) / 1e3, np.mean([float(x["e"]) for x in w])))
+p = np.array([s[1] for s in states])
+e = np.array([s[2] for s in states])
+b, a = np.polyfit(p, e, 1)
+res = e - (a + b * p)
+rms = float(np.sqrt(np.sum(res ** 2) / (len(p) - 2)))
+rows = [r for r in text.splitlines() if r.startswith("| mu_r 0, 1/s | e_c = ")]
+assert len(rows) == 2, rows
+for f, row in zip("ab", rows):
+    c = row.split(" | ")
+    off = float(np.mean([res[i] for i, s in enumerate(states) if s[0] == f]))
+    se = rms / np.sqrt(3)
+    want = (f"e_c = {a:.4f} ± ", f"+ ({b:.3e} ± ", f"(6 states, rms {rms:.4f})")
+    assert all(w in c[1] for w in want), (c[1], want)
+    assert c[2:6] == [f, "3", f"{round(off, 4) + 0.0:+.4f}", f"{se:.4f}"], (c, off, se)
+    assert c[6] == ("off the line |" if abs(off) > 2 * se else "on it |"), c
+print("line ok")
+PY
 # An extra job on one file by its name (and the base's own drawn sample beside it)
 printf 'base: base.yaml\naxes: {sample_file: {a: packings/a.h5}}\nextra: [{sample_file: a, drainage: drained}, {drainage: drained}]\n' > extra.yaml
 plan=$("$bin" validate extra.yaml 2>&1) || fail "validate of extra jobs failed: $plan"
