@@ -1825,26 +1825,37 @@ def grading_lines(out, idx, figs_rel):
         if gradings_figure(out, idx.get("samples", []), os.path.join(out, figs_rel)):
             lines += [f"Figure: `{figs_rel}/grading.png` (each curve, asked and drawn: one sample of each).", ""]
         lines += across_gradings_section(out, idx, os.path.join(out, figs_rel))
-        parts, crr_rows = [], []
-        for g in gradings:
-            sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("grading", "") == g],
-                           samples=[s for s in idx.get("samples", []) if s.get("grading", "") == g])
-            rel = f"{figs_rel}/g_{g}" if g else f"{figs_rel}/base"
-            fits = []
-            part = study_lines(out, sub_idx, rel, fits)
-            title = f"## Grading {g}: Cu = {cu[g]:.3g}" if g else "## The base's sizes"
-            parts += [title] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
-            crr_rows += [f"| {g or 'the base'} | {cu[g]:.3g} | {f['mu_r']:g} | {f['cond'] or '–'} | {f['what']} | "
-                         f"{f['tests']} | {f['crr']} |" for f in fits]
-        if crr_rows:
-            lines += ["## Liquefaction resistance across the gradings", "",
-                      f"Each curve's liquefaction-resistance fits (its section's table: CSR = a N^-b per mu_r, the "
-                      f"conditions that vary and criterion) side by side, CRR the CSR that meets the criterion in "
-                      f"{CRR_CYCLES} cycles.", "",
-                      f"| grading | Cu | mu_r | conditions | criterion | tests | CRR (N = {CRR_CYCLES}) |",
-                      "|---|---|---|---|---|---|---|", *crr_rows, ""]
-        lines += parts
+        crr, parts = group_sections(
+            out, idx, "grading", gradings, lambda g: f"{figs_rel}/g_{g}" if g else f"{figs_rel}/base",
+            lambda g: f"## Grading {g}: Cu = {cu[g]:.3g}" if g else "## The base's sizes",
+            lambda g: f"{g or 'the base'} | {cu[g]:.3g}", ("gradings", "curve", "grading | Cu"))
+        lines += crr + parts
     return lines
+
+
+def group_sections(out, idx, key, groups, rel_of, title_of, cells_of, names):
+    """The sections of a study split by study.json's key (grading, specimen) over its values groups: of each value g
+    the report of its tests alone (study_lines) under title_of(g), its headings one level down and its figures in
+    out/rel_of(g); and the table of the values' liquefaction-resistance fits side by side, each row's first cells
+    cells_of(g). names: (the values, one value, the table's first column heads). Returns (that table's lines or [],
+    the sections' lines)."""
+    parts, rows = [], []
+    for g in groups:
+        sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get(key, "") == g],
+                       samples=[s for s in idx.get("samples", []) if s.get(key, "") == g])
+        fits = []
+        part = study_lines(out, sub_idx, rel_of(g), fits)
+        parts += [title_of(g)] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
+        rows += [f"| {cells_of(g)} | {f['mu_r']:g} | {f['cond'] or '–'} | {f['what']} | {f['tests']} | {f['crr']} |"
+                 for f in fits]
+    if not rows:
+        return [], parts
+    return [f"## Liquefaction resistance across the {names[0]}", "",
+            f"Each {names[1]}'s liquefaction-resistance fits (its section's table: CSR = a N^-b per mu_r, the "
+            "conditions that vary and criterion) side by side, CRR the CSR that meets the criterion in "
+            f"{CRR_CYCLES} cycles.", "",
+            f"| {names[2]} | mu_r | conditions | criterion | tests | CRR (N = {CRR_CYCLES}) |",
+            "|" + "---|" * (names[2].count("|") + 6), *rows, ""], parts
 
 
 def specimen_lines(out, idx, figs_rel):
@@ -1868,24 +1879,11 @@ def specimen_lines(out, idx, figs_rel):
     if gradings_figure(out, idx.get("samples", []), os.path.join(out, figs_rel), "specimen"):
         lines += [f"Figure: `{figs_rel}/grading.png` (each file's sieve curve: one sample of each).", ""]
     lines += across_gradings_section(out, idx, os.path.join(out, figs_rel), "specimen")
-    parts, crr_rows = [], []
-    for f in files:
-        sub_idx = dict(idx, jobs=[j for j in idx["jobs"] if j.get("specimen", "") == f],
-                       samples=[s for s in idx.get("samples", []) if s.get("specimen", "") == f])
-        fits = []
-        part = study_lines(out, sub_idx, f"{figs_rel}/f_{f}" if f else f"{figs_rel}/base", fits)
-        title = f"## Sample file {f}: {where[f][0]}" if f else "## The base's sample"
-        parts += [title] + ["#" + x if x.startswith("#") else x for x in part[1:]] + [""]
-        crr_rows += [f"| {f or 'the base'} | {f_['mu_r']:g} | {f_['cond'] or '–'} | {f_['what']} | {f_['tests']} | "
-                     f"{f_['crr']} |" for f_ in fits]
-    if crr_rows:
-        lines += ["## Liquefaction resistance across the sample files", "",
-                  "Each file's liquefaction-resistance fits (its section's table: CSR = a N^-b per mu_r, the "
-                  "conditions that vary and criterion) side by side, CRR the CSR that meets the criterion in "
-                  f"{CRR_CYCLES} cycles.", "",
-                  f"| sample file | mu_r | conditions | criterion | tests | CRR (N = {CRR_CYCLES}) |",
-                  "|---|---|---|---|---|---|", *crr_rows, ""]
-    return lines + parts
+    crr, parts = group_sections(
+        out, idx, "specimen", files, lambda f: f"{figs_rel}/f_{f}" if f else f"{figs_rel}/base",
+        lambda f: f"## Sample file {f}: {where[f][0]}" if f else "## The base's sample",
+        lambda f: f or "the base", ("sample files", "file", "sample file"))
+    return lines + crr + parts
 
 
 def isotropic_ocr(out, j):
