@@ -42,6 +42,7 @@ struct Read {
   // a LAMMPS or LIGGGHTS dump: its last snapshot's timestep, how many it holds, its box and its atoms' ids
   bool dump = false;
   long timestep = 0, snapshots = 0;
+  std::string periodic;  // the last snapshot's periodic axes ("x, z" for BOX BOUNDS pp ff pp), "" for none
   Vec3d lo{}, hi{};
   std::vector<long> id;
   // a LAMMPS data file (read_data's): its box and ids as a dump's, and its first atom's density (at density_lines[0];
@@ -133,6 +134,12 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
     } else if (text.rfind("ITEM: BOX BOUNDS", 0) == 0) {
       if (text.find("xy") != std::string::npos)
         bad(path, ln, "a triclinic box: the walls are an orthogonal box (give it with --box)");
+      // the boundary flags, one an axis (pp periodic; ff, fs, fm, ss, ... walls or shrink-wrapped)
+      std::istringstream flags(text.substr(16));
+      in.periodic.clear();
+      std::string flag;
+      for (int a = 0; a < 3 && flags >> flag; ++a)
+        if (flag == "pp") in.periodic += std::string(in.periodic.empty() ? "" : ", ") + "xyz"[a];
       for (int a = 0; a < 3; ++a) {
         next("the box bounds");
         if (!numbers(text, v) || v.size() != 2) bad(path, ln, quoted(text) + " is not two bounds lo hi");
@@ -179,6 +186,7 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
       snap.dump = true;
       snap.timestep = in.timestep;
       snap.snapshots = in.snapshots;
+      snap.periodic = in.periodic;
       for (int a = 0; a < 3; ++a) {
         snap.lo[a] = lo[a] * scale;
         snap.hi[a] = hi[a] * scale;
@@ -562,6 +570,13 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
                                   num(pc.max_wall_overlap, 3) + " of the sphere's radius"
                             : "; no sphere presses a wall";
   lines.push_back(c);
+  // A periodic box's spheres cross its faces, which walls cannot: say so, and how to cut a walled sample out of it.
+  if (!given && in.dump && !in.periodic.empty() && pc.wall_touching > 0)
+    lines.push_back("note: the dump's box is periodic in " + in.periodic + " (pp): its spheres across those faces "
+                    "press the walls here; --crop " + num(lo[0] / opt.scale, 10) + " " + num(hi[0] / opt.scale, 10) +
+                    " " + num(lo[1] / opt.scale, 10) + " " + num(hi[1] / opt.scale, 10) + " " +
+                    num(lo[2] / opt.scale, 10) + " " + num(hi[2] / opt.scale, 10) +
+                    " (its box) keeps those wholly inside it");
   // numerics.max_overlap's default: a run stops with a diagnosis where an overlap passes it
   if (std::max(pc.max_overlap, pc.max_wall_overlap) > 0.2)
     lines.push_back("warning: an overlap of " + num(std::max(pc.max_overlap, pc.max_wall_overlap), 3) +

@@ -179,6 +179,23 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(wor
     check(all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls", "/import/index")),
           "the dump's sample is not the text file's")
     check(np.array_equal(b["/import/id"][()], ids[b["/import/index"][()]]), "the dump's atom ids are not kept")
+# A periodic box (BOX BOUNDS pp ff pp, as LAMMPS and LIGGGHTS pack): spheres across its faces press the walls, and
+# the import says so with the --crop that keeps the spheres wholly inside; that crop then leaves none pressing a wall.
+# Not said of a box of walls (ff), nor where no sphere crosses a periodic face.
+per = ["1 1 0.1 1.6 1.6 0.2", "2 1 1.0 1.0 1.0 0.2", "3 1 2.0 2.0 2.0 0.2", "4 1 1.6 1.6 3.1 0.2"]
+for name, bounds, rows, said in (("per", "pp ff pp", per, True), ("walled", "ff ff ff", per, False),
+                                 ("inside", "pp pp pp", per[1:3], False)):
+    with open(os.path.join(work, f"{name}.dump"), "w") as f:
+        f.write(dump_snapshot(7, "id type x y z radius", rows, bounds=bounds))
+    rc, out, err = run("import", f"{name}.dump", "--scale", "1e-3")
+    note = ("note: the dump's box is periodic in x, z (pp): its spheres across those faces press the walls here; "
+            "--crop 0 3.2 0 3.2 0 3.2 (its box) keeps those wholly inside it")
+    check(rc == 0 and (note in out) == said and ("note:" in out) == said, f"periodic {name}: {rc} {out} {err}")
+rc, out, err = run("import", "per.dump", "--scale", "1e-3", "--crop", "0", "3.2", "0", "3.2", "0", "3.2", "--out",
+                   "per_crop.h5")
+check(rc == 0 and "cropped: 2 of the file's 4 spheres" in out and "no sphere presses a wall" in out,
+      f"the periodic dump's crop: {rc} {out} {err}")
+
 # ITEM: UNITS and ITEM: TIME (dump_modify units / time yes) before the timestep: skipped
 with open(os.path.join(work, "timed.dump"), "w") as f:
     f.write("ITEM: UNITS\nsi\nITEM: TIME\n0.0005\n" + last)
