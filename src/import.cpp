@@ -29,6 +29,18 @@ std::string num(Real v, int digits = 4) {
   return os.str();
 }
 std::string mm(Real v) { return num(v * 1e3) + " mm"; }
+// A box as an option takes it, xlo xhi ylo yhi zlo zhi, each number the shortest that reads back as the same double
+std::string box_text(const Vec3d& lo, const Vec3d& hi) {
+  std::string out;
+  for (int a = 0; a < 6; ++a) {
+    const Real v = a % 2 ? hi[a / 2] : lo[a / 2];
+    std::string t;
+    for (int digits = 1; digits <= 17; ++digits)
+      if (t = num(v, digits); std::strtod(t.c_str(), nullptr) == v) break;
+    out += (a ? " " : "") + t;
+  }
+  return out;
+}
 // A line as an error quotes it: its first 80 characters, without the line end.
 std::string quoted(std::string s) {
   while (!s.empty() && (s.back() == '\r' || s.back() == '\n')) s.pop_back();
@@ -43,6 +55,7 @@ struct Read {
   bool dump = false;
   long timestep = 0, snapshots = 0;
   std::string periodic;  // the last snapshot's periodic axes ("x, z" for BOX BOUNDS pp ff pp), "" for none
+  Vec3d file_lo{}, file_hi{};  // its box bounds as the file gives them (before --scale): the note's --crop
   Vec3d lo{}, hi{};
   std::vector<long> id;
   // a LAMMPS data file (read_data's): its box and ids as a dump's, and its first atom's density (at density_lines[0];
@@ -190,6 +203,8 @@ Read read_dump(std::ifstream& f, const std::string& path, Real scale) {
       for (int a = 0; a < 3; ++a) {
         snap.lo[a] = lo[a] * scale;
         snap.hi[a] = hi[a] * scale;
+        snap.file_lo[a] = lo[a];
+        snap.file_hi[a] = hi[a];
       }
       in = std::move(snap);
     } else if (text.rfind("ITEM:", 0) == 0) {
@@ -573,9 +588,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   // A periodic box's spheres cross its faces, which walls cannot: say so, and how to cut a walled sample out of it.
   if (!given && in.dump && !in.periodic.empty() && pc.wall_touching > 0)
     lines.push_back("note: the dump's box is periodic in " + in.periodic + " (pp): its spheres across those faces "
-                    "press the walls here; --crop " + num(lo[0] / opt.scale, 10) + " " + num(hi[0] / opt.scale, 10) +
-                    " " + num(lo[1] / opt.scale, 10) + " " + num(hi[1] / opt.scale, 10) + " " +
-                    num(lo[2] / opt.scale, 10) + " " + num(hi[2] / opt.scale, 10) +
+                    "press the walls here; --crop " + box_text(in.file_lo, in.file_hi) +
                     " (its box) keeps those wholly inside it");
   // numerics.max_overlap's default: a run stops with a diagnosis where an overlap passes it
   if (std::max(pc.max_overlap, pc.max_wall_overlap) > 0.2)

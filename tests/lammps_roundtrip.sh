@@ -4,7 +4,7 @@
 # the sample again, to the bit (spheres, walls; each atom id the sphere's row of the sample, plus 1). Then LAMMPS
 # moves the spheres 300 steps between granular walls at the box faces and dumps them in its default format, with more
 # columns, its units and times, and four snapshots: imported, its last one. Skipped (exit 77) where no `lmp` is on the
-# PATH (`apt-get install lammps`).
+# PATH (`apt-get install lammps`). Last, a periodic box (LAMMPS's own packings): import's note and its --crop.
 set -u
 bin=$1; work=$2
 command -v lmp > /dev/null ||
@@ -69,4 +69,36 @@ lmp -in in.run -log none > lmp_run.txt 2>&1 ||
 out=$("$bin" import run.dump --out run.h5) || { echo "import of LAMMPS's run dump failed"; exit 1; }
 printf '%s\n' "$out" | grep -q "^imported 300 spheres from run.dump (timestep 300, the last of 4 snapshots)" ||
   { echo "not the dump's last snapshot: $out"; exit 1; }
+# A periodic box, as LAMMPS packs: the same sample shifted by half a box in p p p (LAMMPS wraps the atoms, so spheres
+# straddle every face). The import says the box is periodic and gives the --crop of its box; that crop keeps exactly
+# the spheres wholly inside the dump's box (counted here from the dump) and leaves none pressing a wall.
+cat > in.per <<'LMP'
+units           si
+atom_style      sphere
+boundary        p p p
+read_data       s.data
+displace_atoms  all move $(0.5*lx) $(0.5*ly) $(0.5*lz) units box
+dump            d all custom 1 per.dump id x y z radius
+dump_modify     d sort id format float %.17g
+run             0
+LMP
+lmp -in in.per -log none > lmp_per.txt 2>&1 ||
+  { echo "LAMMPS could not shift the sample in a periodic box:"; tail -5 lmp_per.txt; exit 1; }
+out=$("$bin" import per.dump --out per.h5) || { echo "import of LAMMPS's periodic dump failed: $out"; exit 1; }
+crop=$(printf '%s\n' "$out" | sed -n 's/^note: the dump.s box is periodic in x, y, z (pp): its spheres across those faces press the walls here; --crop \(.*\) (its box) keeps those wholly inside it$/\1/p')
+[ -n "$crop" ] || { echo "no periodic note with a --crop: $out"; exit 1; }
+# shellcheck disable=SC2086
+out=$("$bin" import per.dump --crop $crop --out per_crop.h5) || { echo "the note's --crop failed: $out"; exit 1; }
+want=$($py - <<'PY'
+import numpy as np
+lines = open("per.dump").read().splitlines()
+b = np.array([[float(v) for v in lines[k].split()] for k in range(5, 8)])
+a = np.array([[float(v) for v in l.split()] for l in lines[9:]])
+x, r = a[:, 1:4], a[:, 4]
+print(int(np.all((x - r[:, None] >= b[:, 0]) & (x + r[:, None] <= b[:, 1]), axis=1).sum()))
+PY
+)
+printf '%s\n' "$out" | grep -q "^cropped: $want of the file's 300 spheres lie wholly inside --crop, the walls$" &&
+  printf '%s\n' "$out" | grep -q "no sphere presses a wall" && [ "$want" -gt 100 ] && [ "$want" -lt 300 ] ||
+  { echo "the periodic dump's crop (want $want spheres): $out"; exit 1; }
 echo "lammps_roundtrip: ok"
