@@ -63,6 +63,8 @@ struct Read {
   bool data = false;
   Real density = 0;
   long density_lines[2] = {0, 0};
+  // a text packing: what the first line printed adds (the columns read, a header line skipped)
+  std::string how;
 };
 
 // The box the spheres fill: min(x - r) to max(x + r) on each axis (non-empty x).
@@ -323,40 +325,148 @@ bool looks_like_data(std::ifstream& f) {
   return data;
 }
 
-// One sphere a line: four numbers (blanks or commas between them); blank lines and lines starting with # skipped. A
-// file whose first line starts with "ITEM:" is a LAMMPS or LIGGGHTS dump (read_dump), one with `N atoms` in its header
-// a LAMMPS data file (read_data).
-Read read_packing(const std::string& path, Real scale) {
+// A text line's fields: blanks or commas between them; a field in double quotes (a CSV header's "X [mm]") may hold
+// either, and is read without its quotes.
+std::vector<std::string> fields(const std::string& text) {
+  std::vector<std::string> out;
+  std::string cur;
+  bool in_field = false, quoted_field = false;
+  for (const char ch : text + " ") {
+    if (ch == '"') {
+      quoted_field = !quoted_field;
+      in_field = true;
+    } else if (!quoted_field && (ch == ' ' || ch == '\t' || ch == '\r' || ch == ',')) {
+      if (in_field) out.push_back(cur);
+      cur.clear();
+      in_field = false;
+    } else {
+      cur += ch;
+      in_field = true;
+    }
+  }
+  return out;
+}
+bool is_number(const std::string& t, double& v) {
+  char* end = nullptr;
+  v = std::strtod(t.c_str(), &end);
+  return !t.empty() && end == t.c_str() + t.size();
+}
+
+// One sphere a line: four numbers x y z r (blanks or commas between them), or with --columns the four of more fields
+// it names (1-based numbers, or names of the header); blank lines and lines starting with # skipped, and a first line
+// of names alone (a CSV's header: ParaView's "Points:0","Points:1",...) read as the header. A file whose first line
+// starts with "ITEM:" is a LAMMPS or LIGGGHTS dump (read_dump), one with `N atoms` in its header a LAMMPS data file
+// (read_data).
+Read read_packing(const std::string& path, Real scale, const std::vector<std::string>& columns) {
   std::ifstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot read it (" + std::strerror(errno) + ")");
+  const auto no_columns = [&](const char* what) {
+    if (!columns.empty())
+      throw std::runtime_error(path + ": " + what + ", which names its columns itself: --columns is for a text packing");
+  };
   if (f.peek() == 'I') {
     std::string first;
     std::getline(f, first);
     f.seekg(0);
-    if (first.rfind("ITEM:", 0) == 0) return read_dump(f, path, scale);
+    if (first.rfind("ITEM:", 0) == 0) {
+      no_columns("a LAMMPS dump");
+      return read_dump(f, path, scale);
+    }
   }
-  if (looks_like_data(f)) return read_data(f, path, scale);
+  if (looks_like_data(f)) {
+    no_columns("a LAMMPS data file");
+    return read_data(f, path, scale);
+  }
   Read in;
   std::string text;
-  long ln = 0;
-  std::vector<double> v;
+  long ln = 0, header_ln = 0;
+  std::vector<std::string> header;
+  std::vector<size_t> col;  // the four fields read (0-based), once known
+  std::vector<double> nv;
   while (std::getline(f, text)) {
     ++ln;
     const size_t b = text.find_first_not_of(" \t\r");
     if (b == std::string::npos || text[b] == '#') continue;
-    std::string s = text;
-    std::replace(s.begin(), s.end(), ',', ' ');
-    if (!numbers(s, v))
+    if (columns.empty()) {  // the common line, four numbers x y z r, read as before (the race scene's 864 000 in ~2 s)
+      std::string s = text;
+      std::replace(s.begin(), s.end(), ',', ' ');
+      if (numbers(s, nv) && nv.size() == 4) {
+        col = {0, 1, 2, 3};
+        add_sphere(in, path, ln, nv.data(), scale);
+        continue;
+      }
+    }
+    const std::vector<std::string> t = fields(text);
+    double v[4];
+    if (col.empty()) {
+      // the first line of data, or a header before it: a line without one number is names
+      const bool names = in.r.empty() && header.empty() && std::none_of(t.begin(), t.end(), [&](const std::string& x) {
+                           return is_number(x, v[0]);
+                         });
+      if (names) {
+        header = t;
+        header_ln = ln;
+        in.how = "; header line " + std::to_string(ln) + " " + quoted(text) + " skipped";
+        // Without --columns the header must say x y z r in that order (each name's first letter, any case: "X [m]",
+        // "radius"): one in another order, or of other quantities (a diameter), would be read wrong without a word.
+        bool xyzr = t.size() == 4;
+        for (size_t c = 0; xyzr && c < 4; ++c) xyzr = std::tolower(static_cast<unsigned char>(t[c][0])) == "xyzr"[c];
+        if (columns.empty() && !xyzr)
+          bad(path, ln, "the header " + quoted(text) + " does not name x y z r in that order: pick the four with "
+                        "--columns X,Y,Z,R (numbers from 1, or these names; a radius, not a diameter)");
+        continue;
+      }
+      if (columns.empty()) {
+        col = {0, 1, 2, 3};
+      } else {
+        for (const std::string& c : columns) {
+          double k = 0;
+          if (is_number(c, k)) {
+            if (!(k >= 1 && k <= 1000 && k == std::floor(k)))
+              throw std::runtime_error("--columns: '" + c + "' is not a column number in [1, 1000] or a name");
+            col.push_back(size_t(k) - 1);
+            continue;
+          }
+          const auto it = std::find(header.begin(), header.end(), c);
+          if (header.empty())
+            throw std::runtime_error("--columns: '" + c + "' is a name, and " + path +
+                                     " has no header line (a first line of names) to find it in");
+          if (it == header.end()) {
+            std::string known;
+            for (const std::string& h : header) known += (known.empty() ? "" : ", ") + h;
+            throw std::runtime_error("--columns: '" + c + "' is not a name of " + path + "'s header (line " +
+                                     std::to_string(header_ln) + ": " + known + ")");
+          }
+          col.push_back(size_t(it - header.begin()));
+        }
+        in.how = "; columns " + std::to_string(col[0] + 1) + ", " + std::to_string(col[1] + 1) + ", " +
+                 std::to_string(col[2] + 1) + ", " + std::to_string(col[3] + 1) + " as x y z r" + in.how;
+      }
+    }
+    const size_t need = *std::max_element(col.begin(), col.end()) + 1;
+    if (columns.empty() && t.size() != 4) {
+      bool all = true;
+      for (const std::string& x : t) all = all && is_number(x, v[0]);
+      if (!all)
+        bad(path, ln,
+            quoted(text) + " is not four numbers x y z r (metres, blanks or commas between; a header line starts with "
+                           "#, or is the first line, of names alone)");
       bad(path, ln,
-          quoted(text) +
-              " is not four numbers x y z r (metres, blanks or commas between; a header line "
-              "starts with #)");
-    if (v.size() != 4)
-      bad(path, ln,
-          std::to_string(v.size()) + " numbers in " + quoted(text) +
-              ", four expected: x y z r (one sphere a "
-              "line; cut other columns, or start the line with #)");
-    add_sphere(in, path, ln, v.data(), scale);
+          std::to_string(t.size()) + " numbers in " + quoted(text) +
+              ", four expected: x y z r (one sphere a line; pick four of more columns with --columns, or start the "
+              "line with #)");
+    }
+    if (t.size() < need)
+      bad(path, ln, std::to_string(t.size()) + " fields in " + quoted(text) + ", and --columns reads field " +
+                        std::to_string(need));
+    for (int c = 0; c < 4; ++c)
+      if (!is_number(t[col[size_t(c)]], v[c]))
+        bad(path, ln,
+            columns.empty() ? quoted(text) + " is not four numbers x y z r (metres, blanks or commas between; a header "
+                                             "line starts with #, or is the first line, of names alone)"
+                            : "field " + std::to_string(col[size_t(c)] + 1) + " (" + "xyzr"[c] + ") " +
+                                  quoted(t[col[size_t(c)]]) + " is not a number");
+    add_sphere(in, path, ln, v, scale);
   }
   if (f.bad()) throw std::runtime_error(path + ": read error");
   if (in.r.empty()) throw std::runtime_error(path + ": no spheres in it (one a line: x y z r, in metres)");
@@ -445,7 +555,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   std::error_code ec;
   if (fs::exists(opt.out, ec))
     throw std::runtime_error(opt.out + ": exists; import never replaces a file: remove it or name another --out");
-  Read in = read_packing(opt.packing, opt.scale);
+  Read in = read_packing(opt.packing, opt.scale, opt.columns);
   // row[k]: sphere k's row in the file (0-based over the sphere lines; in.line and in.id are by row). --crop keeps the
   // spheres wholly inside its box, which no wall then cuts: a sphere across a face would press its wall by up to its
   // radius, past numerics.max_overlap
@@ -566,6 +676,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
                   (in.dump ? " (timestep " + std::to_string(in.timestep) + ", the last of " +
                                  std::to_string(in.snapshots) + " snapshot" + (in.snapshots > 1 ? "s" : "") + ")"
                    : in.data ? " (a LAMMPS data file, density " + num(density) + " kg/m^3)"
+                   : !in.how.empty() ? " (" + in.how.substr(2) + ")"
                              : std::string()) +
                   ": diameters " + mm(2 * *rmin) + " to " + mm(2 * *rmax) + "; by mass d50 " + mm(gi.d50) + ", Cu " +
                   num(gi.cu, 3));

@@ -20,6 +20,9 @@ struct ImportOptions {
   bool crop = false;
   Vec3d crop_lo{}, crop_hi{};
   Real scale = 1;              // multiplies x, y, z and r: 1e-3 for a file in mm
+  // --columns X,Y,Z,R: the four fields of a text packing's lines that are x y z r (1-based numbers, or names of its
+  // header line), other fields ignored; empty: four fields a line, x y z r
+  std::vector<std::string> columns;
   Real density = 2650;         // [kg/m^3], as sample.density
   bool density_given = false;  // --density: else a data file's atoms' density, where they have one
   Real density_scaling = 1;    // as sample.density_scaling

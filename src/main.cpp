@@ -43,8 +43,8 @@ int usage(FILE* f) {
                "                                                          span a critical state holds steady, 0.05)\n"
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab import PACKING.txt [--out SAMPLE.h5] [--box XLO XHI YLO YHI ZLO ZHI | --box FILE]\n"
-               "                       [--crop XLO XHI YLO YHI ZLO ZHI | --crop FILE] [--scale S] [--density RHO]\n"
-               "                       [--density-scaling S]\n"
+               "                       [--crop XLO XHI YLO YHI ZLO ZHI | --crop FILE] [--columns X,Y,Z,R]\n"
+               "                       [--scale S] [--density RHO] [--density-scaling S]\n"
                "                                                          a packing made elsewhere (x y z r a line, m; or a\n"
                "                                                          LAMMPS/LIGGGHTS dump or data file) as a sample\n"
                "                                                          file for sample: {file: SAMPLE.h5}\n"
@@ -201,6 +201,17 @@ int import_command(int argc, char** argv) {
       (crop ? io.crop : io.box_given) = true;
       (crop ? io.crop_lo : io.lo) = {b[0], b[2], b[4]};
       (crop ? io.crop_hi : io.hi) = {b[1], b[3], b[5]};
+    } else if (s == "--columns") {
+      // X,Y,Z,R: four fields, numbers from 1 or the header's names
+      io.columns.clear();
+      std::string item;
+      for (std::istringstream in(argv[++a]); std::getline(in, item, ',');) io.columns.push_back(item);
+      if (io.columns.size() != 4 ||
+          std::any_of(io.columns.begin(), io.columns.end(), [](const std::string& c) { return c.empty(); })) {
+        std::fprintf(stderr, "grainlab: --columns needs four columns X,Y,Z,R: numbers from 1, or the header's names "
+                             "(--columns 2,3,4,5)\n");
+        return 2;
+      }
     } else if (s == "--scale" || s == "--density" || s == "--density-scaling") {
       double v = 0;
       if (!real_number(s.c_str(), argv[++a], v)) return 2;

@@ -159,6 +159,31 @@ if rc == 0:
     check(f"contacts: {int((ovk > 0).sum())} overlapping pairs" in out and "no sphere presses a wall" in out and
           f"solid fraction {Vsk / Vk:.4g}," in out, f"--crop: the counts are not the kept spheres': {out}")
 
+# --- other columns: a CSV with a header of names and more fields (an id before, a label and a volume after, quoted
+# as ParaView writes them) read by --columns, by numbers from 1 or by the header's names: the same sample as the text
+# file, to the bit (its rows, ids aside, are the text's); and a header x y z r before four fields needs no option
+csv_rows = [f"{k + 1},{a},{b},{c},{d},grain{k},{4 / 3 * 3.14159 * float(d) ** 3!r}" for k, (a, b, c, d) in
+            enumerate(tx.split() for tx in texts)]
+with open(os.path.join(work, "grains.csv"), "w") as f:
+    f.write('"id","X [mm]","Y [mm]","Z [mm]","radius","label","volume"\n' + "\n".join(csv_rows) + "\n")
+with open(os.path.join(work, "named.txt"), "w") as f:
+    f.write("x y z r\n" + "\n".join(texts) + "\n")
+for name, cols in (("grains.csv", "2,3,4,5"), ("grains.csv", "X [mm],Y [mm],Z [mm],radius"), ("named.txt", None)):
+    out_h5 = f"cols{len(glob.glob(os.path.join(work, 'cols*.h5')))}.h5"
+    rc, out, err = run("import", name, "--scale", "1e-3", "--box", "0", "3.2", "0", "3.2", "0", "3.2", "--density",
+                       "2500", "--density-scaling", "10", *(["--columns", cols] if cols else []), "--out", out_h5)
+    said = ("imported 512 spheres from grains.csv (columns 2, 3, 4, 5 as x y z r; header line 1 "
+            "'\"id\",\"X [mm]\",\"Y [mm]\",\"Z [mm]\",\"radius\",\"label\",\"volume\"' skipped)" if cols else
+            "imported 512 spheres from named.txt (header line 1 'x y z r' skipped)")
+    check(rc == 0 and said in out, f"--columns {cols}: {rc} {out} {err}")
+    if rc == 0:
+        with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(work, out_h5), "r") as b:
+            check(all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls",
+                                                                  "/import/index")), f"--columns {cols}: not the sample")
+rc, out, err = run("import", "grains.csv", "--scale", "1e-3", "--out", "g.h5")
+check(rc == 1 and "grains.csv:1: the header" in err and "pick the four with --columns" in err, f"a CSV without "
+      f"--columns: {rc} {err}")
+
 # --- a LAMMPS / LIGGGHTS dump: its last snapshot, its box bounds as the walls, its atom ids kept
 def dump_snapshot(step, cols, rows, box=("0 3.2", "0 3.2", "0 3.2"), bounds="ff ff ff"):
     return (f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{len(rows)}\nITEM: BOX BOUNDS {bounds}\n" +
@@ -179,6 +204,10 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(wor
     check(all(np.array_equal(a[k][()], b[k][()]) for k in ("/state/x", "/state/r", "/state/walls", "/import/index")),
           "the dump's sample is not the text file's")
     check(np.array_equal(b["/import/id"][()], ids[b["/import/index"][()]]), "the dump's atom ids are not kept")
+# a dump names its columns: --columns is refused, nothing written
+rc, out, err = run("import", "packed.dump", "--columns", "3,4,5,6", "--out", "bc.h5")
+check(rc == 1 and "packed.dump: a LAMMPS dump, which names its columns itself: --columns is for a text packing" in err
+      and not os.path.exists(os.path.join(work, "bc.h5")), f"--columns on a dump: {rc} {err}")
 # A periodic box (BOX BOUNDS pp ff pp, as LAMMPS and LIGGGHTS pack): spheres across its faces press the walls, and
 # the import says so with the --crop that keeps the spheres wholly inside; that crop then leaves none pressing a wall.
 # Not said of a box of walls (ff), nor where no sphere crosses a periodic face.
@@ -329,7 +358,17 @@ cases = [  # (file text, extra args, exit code, message part)
     (ok_line + "\n1 2 3\n", [], 1, "bad.txt:2: 3 numbers in '1 2 3', four expected"),
     (ok_line + "\n1 2 3 0\n", [], 1, "bad.txt:2: r = 0 must be > 0"),
     (ok_line + "\n1 nan 3 0.2\n", [], 1, "bad.txt:2: y = nan is not a finite number"),
-    ("x y z r\n" + ok_line + "\n", [], 1, "bad.txt:1: 'x y z r' is not four numbers"),
+    (ok_line + "\nx y z r\n", [], 1, "bad.txt:2: 'x y z r' is not four numbers"),
+    ("r x y z\n" + ok_line + "\n", [], 1, "bad.txt:1: the header 'r x y z' does not name x y z r in that order: pick "
+                                          "the four with --columns"),
+    ("id x y z d\n" + ok_line + " 1\n", [], 1, "bad.txt:1: the header 'id x y z d' does not name x y z r"),
+    (ok_line + "\n", ["--columns", "1,2,3"], 2, "--columns needs four columns X,Y,Z,R"),
+    (ok_line + "\n", ["--columns", "1,2,3,0"], 1, "--columns: '0' is not a column number in [1, 1000] or a name"),
+    (ok_line + "\n", ["--columns", "1,2,3,radius"], 1, "--columns: 'radius' is a name, and bad.txt has no header line"),
+    ("x y z r\n" + ok_line + "\n", ["--columns", "x,y,z,radius"], 1,
+     "--columns: 'radius' is not a name of bad.txt's header (line 1: x, y, z, r)"),
+    (ok_line + "\n", ["--columns", "1,2,3,5"], 1, "bad.txt:1: 4 fields in"),
+    (ok_line + " abc\n", ["--columns", "1,2,3,5"], 1, "bad.txt:1: field 5 (r) 'abc' is not a number"),
     ("# nothing\n\n", [], 1, "bad.txt: no spheres in it"),
     ("1 1 1 2000\n", [], 1, "bad.txt:1: r = 2 m (after --scale 0.001) is above 1 m (sample.r_max's range is (0, 1])"),
     (ok_line + "\n3.3 1 1 0.2\n", ["--box", "0", "3.2", "0", "3.2", "0", "3.2"], 1,
