@@ -385,6 +385,7 @@ Read read_packing(const std::string& path, Real scale, const std::vector<std::st
   std::vector<double> nv;
   while (std::getline(f, text)) {
     ++ln;
+    if (ln == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte order mark (Excel's CSV)
     const size_t b = text.find_first_not_of(" \t\r");
     if (b == std::string::npos || text[b] == '#') continue;
     if (columns.empty()) {  // the common line, four numbers x y z r, read as before (the race scene's 864 000 in ~2 s)

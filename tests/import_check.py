@@ -166,7 +166,7 @@ csv_rows = [f"{k + 1},{a},{b},{c},{d},grain{k},{4 / 3 * 3.14159 * float(d) ** 3!
             enumerate(tx.split() for tx in texts)]
 with open(os.path.join(work, "grains.csv"), "w") as f:
     f.write('"id","X [mm]","Y [mm]","Z [mm]","radius","label","volume"\n' + "\n".join(csv_rows) + "\n")
-with open(os.path.join(work, "named.txt"), "w") as f:
+with open(os.path.join(work, "named.txt"), "w", encoding="utf-8-sig") as f:  # with a byte order mark, as Excel saves
     f.write("x y z r\n" + "\n".join(texts) + "\n")
 for name, cols in (("grains.csv", "2,3,4,5"), ("grains.csv", "X [mm],Y [mm],Z [mm],radius"), ("named.txt", None)):
     out_h5 = f"cols{len(glob.glob(os.path.join(work, 'cols*.h5')))}.h5"
