@@ -357,12 +357,13 @@ bool is_number(const std::string& t, double& v) {
 // of names alone (a CSV's header: ParaView's "Points:0","Points:1",...) read as the header. A file whose first line
 // starts with "ITEM:" is a LAMMPS or LIGGGHTS dump (read_dump), one with `N atoms` in its header a LAMMPS data file
 // (read_data).
-Read read_packing(const std::string& path, Real scale, const std::vector<std::string>& columns) {
+Read read_packing(const std::string& path, Real scale, const std::vector<std::string>& columns, bool diameter) {
   std::ifstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot read it (" + std::strerror(errno) + ")");
   const auto no_columns = [&](const char* what) {
-    if (!columns.empty())
-      throw std::runtime_error(path + ": " + what + ", which names its columns itself: --columns is for a text packing");
+    if (!columns.empty() || diameter)
+      throw std::runtime_error(path + ": " + what + ", which names its columns itself: " +
+                               (columns.empty() ? "--size" : "--columns") + " is for a text packing");
   };
   if (f.peek() == 'I') {
     std::string first;
@@ -393,6 +394,7 @@ Read read_packing(const std::string& path, Real scale, const std::vector<std::st
       std::replace(s.begin(), s.end(), ',', ' ');
       if (numbers(s, nv) && nv.size() == 4) {
         col = {0, 1, 2, 3};
+        if (diameter) nv[3] *= 0.5;
         add_sphere(in, path, ln, nv.data(), scale);
         continue;
       }
@@ -409,12 +411,15 @@ Read read_packing(const std::string& path, Real scale, const std::vector<std::st
         header_ln = ln;
         in.how = "; header line " + std::to_string(ln) + " " + quoted(text) + " skipped";
         // Without --columns the header must say x y z r in that order (each name's first letter, any case: "X [m]",
-        // "radius"): one in another order, or of other quantities (a diameter), would be read wrong without a word.
+        // "radius"; d for a diameter with --size diameter): one in another order, or of other quantities, would be
+        // read wrong without a word.
+        const char* want = diameter ? "xyzd" : "xyzr";
         bool xyzr = t.size() == 4;
-        for (size_t c = 0; xyzr && c < 4; ++c) xyzr = std::tolower(static_cast<unsigned char>(t[c][0])) == "xyzr"[c];
+        for (size_t c = 0; xyzr && c < 4; ++c) xyzr = std::tolower(static_cast<unsigned char>(t[c][0])) == want[c];
         if (columns.empty() && !xyzr)
-          bad(path, ln, "the header " + quoted(text) + " does not name x y z r in that order: pick the four with "
-                        "--columns X,Y,Z,R (numbers from 1, or these names; a radius, not a diameter)");
+          bad(path, ln, "the header " + quoted(text) + " does not name x y z " + (diameter ? "d" : "r") +
+                            " in that order: pick the four with --columns X,Y,Z,R (numbers from 1, or these names)" +
+                            (diameter ? "" : "; a diameter with --size diameter"));
         continue;
       }
       if (columns.empty()) {
@@ -467,6 +472,7 @@ Read read_packing(const std::string& path, Real scale, const std::vector<std::st
                                              "line starts with #, or is the first line, of names alone)"
                             : "field " + std::to_string(col[size_t(c)] + 1) + " (" + "xyzr"[c] + ") " +
                                   quoted(t[col[size_t(c)]]) + " is not a number");
+    if (diameter) v[3] *= 0.5;
     add_sphere(in, path, ln, v, scale);
   }
   if (f.bad()) throw std::runtime_error(path + ": read error");
@@ -556,7 +562,7 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   std::error_code ec;
   if (fs::exists(opt.out, ec))
     throw std::runtime_error(opt.out + ": exists; import never replaces a file: remove it or name another --out");
-  Read in = read_packing(opt.packing, opt.scale, opt.columns);
+  Read in = read_packing(opt.packing, opt.scale, opt.columns, opt.diameter);
   // row[k]: sphere k's row in the file (0-based over the sphere lines; in.line and in.id are by row). --crop keeps the
   // spheres wholly inside its box, which no wall then cuts: a sphere across a face would press its wall by up to its
   // radius, past numerics.max_overlap
@@ -677,7 +683,8 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
                   (in.dump ? " (timestep " + std::to_string(in.timestep) + ", the last of " +
                                  std::to_string(in.snapshots) + " snapshot" + (in.snapshots > 1 ? "s" : "") + ")"
                    : in.data ? " (a LAMMPS data file, density " + num(density) + " kg/m^3)"
-                   : !in.how.empty() ? " (" + in.how.substr(2) + ")"
+                   : !in.how.empty() || opt.diameter
+                       ? " (" + (in.how + (opt.diameter ? "; the fourth a diameter, halved" : "")).substr(2) + ")"
                              : std::string()) +
                   ": diameters " + mm(2 * *rmin) + " to " + mm(2 * *rmax) + "; by mass d50 " + mm(gi.d50) + ", Cu " +
                   num(gi.cu, 3));

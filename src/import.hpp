@@ -23,6 +23,7 @@ struct ImportOptions {
   // --columns X,Y,Z,R: the four fields of a text packing's lines that are x y z r (1-based numbers, or names of its
   // header line), other fields ignored; empty: four fields a line, x y z r
   std::vector<std::string> columns;
+  bool diameter = false;  // --size diameter: a text packing's fourth value (R of --columns) is a diameter
   Real density = 2650;         // [kg/m^3], as sample.density
   bool density_given = false;  // --density: else a data file's atoms' density, where they have one
   Real density_scaling = 1;    // as sample.density_scaling

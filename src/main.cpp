@@ -44,6 +44,7 @@ int usage(FILE* f) {
                "       grainlab study STUDY.yaml [--out DIR] [--jobs N] [--threads N] [--quiet]\n"
                "       grainlab import PACKING.txt [--out SAMPLE.h5] [--box XLO XHI YLO YHI ZLO ZHI | --box FILE]\n"
                "                       [--crop XLO XHI YLO YHI ZLO ZHI | --crop FILE] [--columns X,Y,Z,R]\n"
+               "                       [--size radius|diameter]\n"
                "                       [--scale S] [--density RHO] [--density-scaling S]\n"
                "                                                          a packing made elsewhere (x y z r a line, m; or a\n"
                "                                                          LAMMPS/LIGGGHTS dump or data file) as a sample\n"
@@ -212,6 +213,13 @@ int import_command(int argc, char** argv) {
                              "(--columns 2,3,4,5)\n");
         return 2;
       }
+    } else if (s == "--size") {  // what a text packing's fourth value is
+      const std::string v = argv[++a];
+      if (v != "radius" && v != "diameter") {
+        std::fprintf(stderr, "grainlab: --size must be radius or diameter, got '%s'\n", v.c_str());
+        return 2;
+      }
+      io.diameter = v == "diameter";
     } else if (s == "--scale" || s == "--density" || s == "--density-scaling") {
       double v = 0;
       if (!real_number(s.c_str(), argv[++a], v)) return 2;

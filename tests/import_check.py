@@ -168,13 +168,19 @@ with open(os.path.join(work, "grains.csv"), "w") as f:
     f.write('"id","X [mm]","Y [mm]","Z [mm]","radius","label","volume"\n' + "\n".join(csv_rows) + "\n")
 with open(os.path.join(work, "named.txt"), "w", encoding="utf-8-sig") as f:  # with a byte order mark, as Excel saves
     f.write("x y z r\n" + "\n".join(texts) + "\n")
-for name, cols in (("grains.csv", "2,3,4,5"), ("grains.csv", "X [mm],Y [mm],Z [mm],radius"), ("named.txt", None)):
+# and diameters (doubled radii, exact in binary) with --size diameter, halved back to the same radii
+with open(os.path.join(work, "diam.txt"), "w") as f:
+    f.write("X Y Z D\n" + "\n".join(" ".join(tx.split()[:3] + [repr(2 * float(tx.split()[3]))]) for tx in texts) + "\n")
+for name, cols in (("grains.csv", "2,3,4,5"), ("grains.csv", "X [mm],Y [mm],Z [mm],radius"), ("named.txt", None),
+                   ("diam.txt", None)):
     out_h5 = f"cols{len(glob.glob(os.path.join(work, 'cols*.h5')))}.h5"
     rc, out, err = run("import", name, "--scale", "1e-3", "--box", "0", "3.2", "0", "3.2", "0", "3.2", "--density",
-                       "2500", "--density-scaling", "10", *(["--columns", cols] if cols else []), "--out", out_h5)
+                       "2500", "--density-scaling", "10", *(["--columns", cols] if cols else []),
+                       *(["--size", "diameter"] if name == "diam.txt" else []), "--out", out_h5)
     said = ("imported 512 spheres from grains.csv (columns 2, 3, 4, 5 as x y z r; header line 1 "
             "'\"id\",\"X [mm]\",\"Y [mm]\",\"Z [mm]\",\"radius\",\"label\",\"volume\"' skipped)" if cols else
-            "imported 512 spheres from named.txt (header line 1 'x y z r' skipped)")
+            "imported 512 spheres from named.txt (header line 1 'x y z r' skipped)" if name == "named.txt" else
+            "imported 512 spheres from diam.txt (header line 1 'X Y Z D' skipped; the fourth a diameter, halved)")
     check(rc == 0 and said in out, f"--columns {cols}: {rc} {out} {err}")
     if rc == 0:
         with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(work, out_h5), "r") as b:
@@ -208,6 +214,9 @@ with h5py.File(os.path.join(work, "s.h5"), "r") as a, h5py.File(os.path.join(wor
 rc, out, err = run("import", "packed.dump", "--columns", "3,4,5,6", "--out", "bc.h5")
 check(rc == 1 and "packed.dump: a LAMMPS dump, which names its columns itself: --columns is for a text packing" in err
       and not os.path.exists(os.path.join(work, "bc.h5")), f"--columns on a dump: {rc} {err}")
+rc, out, err = run("import", "packed.dump", "--size", "diameter", "--out", "bc.h5")
+check(rc == 1 and "packed.dump: a LAMMPS dump, which names its columns itself: --size is for a text packing" in err
+      and not os.path.exists(os.path.join(work, "bc.h5")), f"--size on a dump: {rc} {err}")
 # A periodic box (BOX BOUNDS pp ff pp, as LAMMPS and LIGGGHTS pack): spheres across its faces press the walls, and
 # the import says so with the --crop that keeps the spheres wholly inside; that crop then leaves none pressing a wall.
 # Not said of a box of walls (ff), nor where no sphere crosses a periodic face.
@@ -363,6 +372,10 @@ cases = [  # (file text, extra args, exit code, message part)
                                           "the four with --columns"),
     ("id x y z d\n" + ok_line + " 1\n", [], 1, "bad.txt:1: the header 'id x y z d' does not name x y z r"),
     (ok_line + "\n", ["--columns", "1,2,3"], 2, "--columns needs four columns X,Y,Z,R"),
+    (ok_line + "\n", ["--size", "d"], 2, "--size must be radius or diameter, got 'd'"),
+    ("x y z d\n" + ok_line + "\n", [], 1, "the header 'x y z d' does not name x y z r in that order: pick the four "
+                                          "with --columns X,Y,Z,R (numbers from 1, or these names); a diameter with "
+                                          "--size diameter"),
     (ok_line + "\n", ["--columns", "1,2,3,0"], 1, "--columns: '0' is not a column number in [1, 1000] or a name"),
     (ok_line + "\n", ["--columns", "1,2,3,radius"], 1, "--columns: 'radius' is a name, and bad.txt has no header line"),
     ("x y z r\n" + ok_line + "\n", ["--columns", "x,y,z,radius"], 1,
