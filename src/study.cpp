@@ -1,6 +1,7 @@
 #include "study.hpp"
 
 #include <fcntl.h>
+#include <glob.h>
 #include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -493,24 +494,48 @@ Study load_study_unchecked(const std::string& path) {
   if (file_axis) {
     const std::string key = "axes.sample_file";
     const YAML::Node g = ax["sample_file"];
-    if (!g.IsMap() || g.size() == 0)
-      fail(path, key, "must name each sample file: {dense: dense.h5, loose: loose.h5} (paths relative to this file), at "
-                      "least one");
-    for (auto it : g) {
-      const std::string name = it.first.as<std::string>();
-      std::string k = key;
-      k.append(".").append(name);
-      job_suffix_name(name, k, "a sample file's");  // _f<name>
-      if (!it.second.IsScalar() || it.second.Scalar().empty())
-        fail(path, k, "must be the path of a sample file (one a run saved with save_sample, or `grainlab import` made), "
-                      "relative to this file");
-      std::string file = expand_path(it.second.Scalar(), path + ": " + k);
+    // A path relative to this file, absolute
+    const auto absolute = [&](const std::string& p, const std::string& k) {
+      std::string file = expand_path(p, path + ": " + k);
       if (file[0] != '/') file = (fs::path(path).parent_path() / file).string();
       std::error_code ec;
       if (const fs::path abs = fs::absolute(file, ec); !ec) file = abs.lexically_normal().string();
-      for (const NamedFile& o : specimens)
+      return file;
+    };
+    // The files: named in a mapping, or a pattern's matches named by their stems ("packings/*.h5": one job per file,
+    // packings/dense.h5 named dense), in order of name
+    std::vector<std::pair<std::string, std::string>> named;  // (name, absolute path), the key's suffix per name
+    if (g.IsScalar() && g.Scalar().find_first_of("*?[") != std::string::npos) {
+      const std::string pattern = absolute(g.Scalar(), key);
+      glob_t gl{};
+      if (::glob(pattern.c_str(), 0, nullptr, &gl) == 0)
+        for (size_t i = 0; i < gl.gl_pathc; ++i) named.emplace_back(fs::path(gl.gl_pathv[i]).stem().string(), gl.gl_pathv[i]);
+      globfree(&gl);
+      if (named.empty()) fail(path, key, "'" + g.Scalar() + "' matches no file (" + pattern + ")");
+      std::sort(named.begin(), named.end());
+    } else if (g.IsMap() && g.size() > 0) {
+      for (auto it : g) {
+        const std::string name = it.first.as<std::string>();
+        if (!it.second.IsScalar() || it.second.Scalar().empty())
+          fail(path, key + "." + name, "must be the path of a sample file (one a run saved with save_sample, or "
+                                       "`grainlab import` made), relative to this file");
+        named.emplace_back(name, absolute(it.second.Scalar(), key + "." + name));
+      }
+    } else {
+      fail(path, key, "must name each sample file: {dense: dense.h5, loose: loose.h5} (paths relative to this file), at "
+                      "least one; or be a pattern, \"packings/*.h5\", whose files are named by their stems");
+    }
+    for (const auto& [name, file] : named) {
+      std::string k = key;
+      k.append(".").append(name);
+      job_suffix_name(name, k, "a sample file's");  // _f<name>
+      std::error_code ec;
+      for (const NamedFile& o : specimens) {
+        if (o.name == name)  // (a pattern's two files of one stem, a.h5 and a.hdf5)
+          fail(path, k, "names two files, " + o.file + " and " + file + ": a sample file's name is its job's");
         if (fs::equivalent(o.file, file, ec))  // (two names of one file: one sample twice, the grid doubled)
           fail(path, k, "is " + o.name + "'s file (" + o.file + ") again: each sample file once");
+      }
       StudyJob probe;
       probe.specimen_file = file;
       long count = 0;

@@ -152,18 +152,25 @@ for f, row in zip("ab", rows):
     assert c[6] == ("off the line |" if abs(off) > 2 * se else "on it |"), c
 print("line ok")
 PY
+# A pattern in place of the mapping: its files named by their stems, the same jobs as the mapping's
+printf 'base: base.yaml\naxes:\n  drainage: [drained, undrained]\n  sample_file: "packings/*.h5"\n' > glob.yaml
+plan=$("$bin" validate glob.yaml 2>&1) || fail "validate of a pattern failed: $plan"
+printf '%s\n' "$plan" | grep -qF "sample files: 2, each consolidated again by its sample jobs in place of the base's sample (a: 300 spheres, $PWD/packings/a.h5; b: 300 spheres, $PWD/packings/b.h5)" ||
+  fail "the pattern's files: $plan"
 # An extra job on one file by its name (and the base's own drawn sample beside it)
 printf 'base: base.yaml\naxes: {sample_file: {a: packings/a.h5}}\nextra: [{sample_file: a, drainage: drained}, {drainage: drained}]\n' > extra.yaml
 plan=$("$bin" validate extra.yaml 2>&1) || fail "validate of extra jobs failed: $plan"
 printf '%s\n' "$plan" | grep -q "study: 2 samples, 3 shear tests" || fail "extra jobs: $plan"
 # Refusals: each names the study, the key and what is allowed; nothing is written.
+# (a pattern's odd matches: a stem that is no job name, two files of one stem)
+mkdir -p odd && cp packings/a.h5 "odd/a b.h5" && cp packings/a.h5 odd/c.h5 && cp packings/a.h5 odd/c.hdf5 || exit 1
 : > bad.yaml
 before=$(ls -R)
 t() {
   printf 'base: base.yaml\n%s\n' "$1" > bad.yaml
   "$here"/expect_error.sh "^grainlab: error: bad.yaml: $2" "$bin" validate bad.yaml || fail "refusal of: $1"
 }
-t 'axes: {sample_file: [packings/a.h5]}' 'axes.sample_file: must name each sample file: \{dense: dense.h5, loose: loose.h5\}'
+t 'axes: {sample_file: [packings/a.h5]}' 'axes.sample_file: must name each sample file: \{dense: dense.h5, loose: loose.h5\}.*or be a pattern, "packings/\*.h5", whose files are named by their stems$'
 t 'axes: {sample_file: {}}' 'axes.sample_file: must name each sample file'
 t 'axes: {sample_file: {"a b": packings/a.h5}}' "axes.sample_file.a b: a sample file's name ends its sample job's directory name: 1-40 letters"
 t 'axes: {sample_file: {a: [packings/a.h5]}}' 'axes.sample_file.a: must be the path of a sample file'
@@ -176,6 +183,9 @@ t 'axes: {sample_file: {a: packings/a.h5}, grading: {x: {diameter: [1e-3, 2e-3],
 t 'axes: {sample_file: {a: packings/a.h5}}
 extra: [{sample_file: c}]' "extra\[0\].sample_file: 'c' is not a name of axes.sample_file \(a\)$"
 t 'extra: [{sample_file: a}]' "extra\[0\].sample_file: names a file of axes.sample_file, and the study has no such axis$"
+t 'axes: {sample_file: "packings/*.hdf5"}' "axes.sample_file: 'packings/\*.hdf5' matches no file \($PWD/packings/\*.hdf5\)$"
+t 'axes: {sample_file: "odd/*.h5"}' "axes.sample_file.a b: a sample file's name ends its sample job's directory name"
+t 'axes: {sample_file: "odd/c.*"}' "axes.sample_file.c: names two files, $PWD/odd/c.h5 and $PWD/odd/c.hdf5: a sample file's name is its job's$"
 [ "$(ls -R)" = "$before" ] || fail "a refused study wrote: $(diff <(printf '%s\n' "$before") <(ls -R))"
 # A file replaced after its jobs ran (b's spheres under a's name): the rerun stops before anything is written.
 cp st/report.md report_before.md && cp packings/b.h5 packings/a.h5 || exit 1
