@@ -2176,8 +2176,11 @@ def across_gradings_section(out, idx, figs, kind="grading"):
         c = critical_state(s, cs_cfg["window"], *tol)
         g = j.get(kind, "")
         end = c is not None and "e" in c
-        second = number_text((consolidated(out, j.get("sample", "")) or {}).get("e"), ".4f") if files else \
-            f"{j.get('cu', 0):.3g}"
+        # a file's sample: its e_0 and its interior's (a packing cut out of a larger one keeps a looser layer along
+        # its walls, which the box's e counts), where a grading's curve gives its Cu
+        cs0 = consolidated(out, j.get("sample", "")) or {}
+        second = (f"{number_text(cs0.get('e'), '.4f')} | {number_text(cs0.get('e_inner'), '.4f')}" if files else
+                  f"{j.get('cu', 0):.3g}")
         rows.append(f"| {g or 'the base'} | {second} | {j['name']} | "
                     + (f"{ps['M']:.3f} ({ps['phi']:.1f}°)" if "M" in ps else "-") + " | "
                     + (f"{c['p'] / 1e3:.1f} | {c['e']:.4f} | {c['qp']:.3f} | {'yes' if c['ok'] else 'no'} |" if end
@@ -2212,15 +2215,17 @@ def across_gradings_section(out, idx, figs, kind="grading"):
         legend(ax, fontsize=8)
         save(fig, figs, name)
     return [f"## Across the {'sample files' if files else 'gradings'}", "",
-            "Each monotonic shear: its " + ("sample file and its sample's e_0 (the file consolidated by the sample job)"
+            "Each monotonic shear: its " + ("sample file and its sample's e_0 (the file consolidated by the sample job), "
+                                             "of the box and of its interior (inset by two mean diameters: a packing "
+                                             "cut out of a larger one keeps a looser layer along its walls)"
                                              if files else "curve and Cu")
             + ", max q/p' (phi'_max) as its section's peak table gives it, and its end "
             f"state: p', e and q/p' averaged over the last {cs_cfg['window']:g} of axial strain, as its critical-state "
             "table measures them, steady there (critical: yes) or still drifting (no; its section says by how much). "
             f"{drawn}.", "",
-            "| " + ("sample file | e_0" if files else "grading | Cu")
+            "| " + ("sample file | e_0 | e_0 interior" if files else "grading | Cu")
             + " | test | max q/p' (phi'_max) | p' at end [kPa] | e at end | q/p' at end | critical |",
-            "|---|---|---|---|---|---|---|---|", *rows, "", *(files_line(pts) if files else [])]
+            "|---" * (9 if files else 8) + "|", *rows, "", *(files_line(pts) if files else [])]
 
 
 def files_line(pts):

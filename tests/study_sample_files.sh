@@ -88,10 +88,10 @@ assert len(across) == 1, "no table across the files"
 rows = [r.split(" | ") for r in across[0].splitlines() if r.startswith("| a |") or r.startswith("| b |")]
 assert len(rows) == 4, across[0]
 for r in rows:
-    f, e0, name, p_end, e_end = r[0][2:], r[1], r[2], r[4], r[5]
+    f, e0, e0_in, name, p_end, e_end = r[0][2:], r[1], r[2], r[3], r[5], r[6]
     summ = json.load(open(os.path.join(out, "jobs", f"sample_mur0_ebase_pbase_f{f}_n300", "run", "summary.json")))
     iso = [s for s in summ["stages"] if s["type"] == "isotropic"][-1]
-    assert e0 == f"{iso['e']:.4f}", (r, iso["e"])
+    assert e0 == f"{iso['e']:.4f}" and e0_in == f"{iso['e_inner']:.4f}", (r, iso["e"], iso["e_inner"])
     with open(os.path.join(out, "jobs", name, "run", "series.csv")) as fh:
         shear = [x for x in csv.DictReader(fh) if 0 < int(x["stage_type"]) < 3]
     last = [x for x in shear if float(x["eps_a"]) >= float(shear[-1]["eps_a"]) - 0.01]
@@ -128,10 +128,10 @@ import numpy as np
 out = sys.argv[1]
 text = open(os.path.join(out, "report.md")).read()
 crit = [r.split(" | ") for r in text.splitlines() if re.match(r"\| [ab] \| ", r)]
-assert len(crit) == 6 and all(r[7] == "yes |" for r in crit), crit
+assert len(crit) == 6 and all(r[8] == "yes |" for r in crit), crit
 states = []
 for r in crit:
-    with open(os.path.join(out, "jobs", r[2], "run", "series.csv")) as fh:
+    with open(os.path.join(out, "jobs", r[3], "run", "series.csv")) as fh:
         sh = [x for x in csv.DictReader(fh) if 0 < int(x["stage_type"]) < 3]
     w = [x for x in sh if float(x["eps_a"]) >= float(sh[-1]["eps_a"]) - 0.01]
     states.append((r[0][2:], np.mean([float(x["p"]) for x in w]) / 1e3, np.mean([float(x["e"]) for x in w])))
