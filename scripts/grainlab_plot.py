@@ -3079,7 +3079,7 @@ def samples_section(out, jobs, samples=None):
     (GRADED_CORE). The samples are study.json's
     list (`samples`), or, in a study.json of a build before it, those its jobs name. Empty where no sample job has a
     summary."""
-    rows, graded, unconv, earlier = [], [], [], []
+    rows, graded, unconv, earlier, missed = [], [], [], [], []
     names = {j["name"] for j in samples} if samples else {j["sample"] for j in jobs if j.get("sample")}
     for name in sorted(names, key=lambda k: (sample_count(os.path.join(out, "jobs", k, "run")) or 0, k)):  # by size
         s = consolidated(out, name)
@@ -3103,6 +3103,12 @@ def samples_section(out, jobs, samples=None):
         elif left := unconverged(out, name):
             earlier.append(name)
             verdict = f"{', '.join(left)} ran out of steps, later stages converged; {verdict}"
+        # a target_e0 search that missed (summary.json: its stage's target and tolerance against its e)
+        for st in isotropic_stages(out, name):
+            t, tol = st.get("target_e0"), st.get("target_e0_tolerance")
+            if t is not None and tol is not None and st.get("e") is not None and abs(st["e"] - t) > tol:
+                missed.append(name)
+                verdict = f"target_e0 {t:g} NOT reached ({st['name']}: e {st['e']:.4f}); {verdict}"
         sizes = sample_sizes(s["dir"])
         d50 = sizes.get("d50")
         rows.append(f"| {name} | {n if n is not None else '-'} | {number_text(d50 * 1e3 if d50 else None, '.3f')} | "
@@ -3117,6 +3123,11 @@ def samples_section(out, jobs, samples=None):
         note += (" " if note else "") + f"{len(unconv)} of {len(rows)} samples " + UNCONVERGED_NOTE + "."
     if earlier:
         note += (" " if note else "") + f"{len(earlier)} of {len(rows)} samples " + UNCONVERGED_EARLIER_NOTE + "."
+    if missed:
+        note += ((" " if note else "") + f"{len(missed)} of {len(rows)} samples did not reach their target_e0 (the "
+                 "e0 axis's, or the base's): their search's frictions, 0 to the stage's mu_max, do not make that void ratio of this "
+                 "sample at this pressure, and their tests, named by the target, start from the e_0 given here: "
+                 + ", ".join(missed) + ".")
     return ["## Samples", "",
             "Each sample at the end of its consolidation: its spheres' D50 and Cu = D60/D10 by mass, e of the wall box, of its interior (inset by two mean "
             "diameters) and of its core (the central eighth of the box). A sample is graded when its core is looser than "

@@ -2621,6 +2621,10 @@ void Laboratory::write_summary() const {
     if (sc.type == StageType::Cyclic && sc.sigma_v_reversal())
       js << ", \"sigma_v_amplitude\": " << num(sc.sigma_v_amplitude) << ", \"sigma_v_0\": " << num(start_stress(r.p0, r.q0).sz);
     if (sc.type == StageType::Isotropic) js << ", \"e_inner\": " << num(r.e_inner) << ", \"e_core\": " << num(r.e_core);
+    // a target_e0 search's target and tolerance, which e meets or not (the search's nearest trial; a study's job is
+    // quiet, so its study and report read the miss from here)
+    if (sc.type == StageType::Isotropic && sc.target_e0 > 0)
+      js << ", \"target_e0\": " << num(sc.target_e0) << ", \"target_e0_tolerance\": " << num(sc.target_e0_tolerance);
     js << "}";
   }
   js << "\n  ]\n}\n";

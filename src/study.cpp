@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
 #include <map>
 #include <optional>
@@ -1154,6 +1155,9 @@ struct Running {
 struct Unconverged {
   std::vector<std::string> stages;  // those that ran out of steps, in order
   bool last_converged = true;       // the last isotropic stage converged: the sample ends in equilibrium
+  // a target_e0 search that missed its target (summary.json's target_e0 and tolerance against e): "stage: e 0.767
+  // against target_e0 0.8 (tolerance 0.003)"; empty where none missed
+  std::string e0_missed;
 };
 Unconverged unconverged_stages(const fs::path& summary) {
   Unconverged u;
@@ -1162,6 +1166,15 @@ Unconverged unconverged_stages(const fs::path& summary) {
       if (!st["type"] || st["type"].as<std::string>() != "isotropic" || !st["done"]) continue;
       u.last_converged = st["done"].as<bool>();
       if (!u.last_converged) u.stages.push_back(st["name"] ? st["name"].as<std::string>() : "?");
+      if (st["target_e0"] && st["e"] && st["target_e0_tolerance"]) {
+        const double e = st["e"].as<double>(), t = st["target_e0"].as<double>();
+        if (std::abs(e - t) > st["target_e0_tolerance"].as<double>()) {
+          std::ostringstream os;
+          os << std::setprecision(4) << (st["name"] ? st["name"].as<std::string>() : "?") << ": e " << e
+             << " against target_e0 " << t << " (tolerance " << st["target_e0_tolerance"].as<double>() << ")";
+          u.e0_missed = os.str();
+        }
+      }
     }
   } catch (const std::exception&) {  // unreadable: nothing to say (the report reads it again)
   }
@@ -1626,6 +1639,11 @@ int run_study(const Study& s, const StudyOptions& o) {
                            ? "the sample is not in equilibrium at its pressure and its e is not an equilibrium's"
                            : "a later isotropic stage converged, so the sample ends in equilibrium, but its path passed "
                              "that stage's pressure out of equilibrium");
+        // a target_e0 the search's frictions could not reach: the job's name says the target, its sample has another e
+        if (!u.e0_missed.empty())
+          std::fprintf(stderr, "grainlab study: warning: %s: target_e0 NOT reached (%s): its frictions, 0 to the "
+                       "stage's mu_max, do not make that void ratio of this sample here; the report gives the e it "
+                       "has\n", j.name.c_str(), u.e0_missed.c_str());
       } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP) {
         // Stopped at a checkpoint (130), or by the signal before it had started: the rerun resumes it. A job
         // stopped so means the user (or the system) is stopping the study: start nothing new.
