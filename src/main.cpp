@@ -436,7 +436,10 @@ int main(int argc, char** argv) {
       // The sample_file axis's files, each with its spheres, in the study's order.
       std::vector<std::string> files;
       for (const grainlab::StudyJob& j : st.samples) {
-        const std::string f = j.specimen_name + ": " + std::to_string(j.count) + " spheres, " + j.specimen_file;
+        std::ostringstream e;
+        if (j.specimen_e > 0) e << ", e " << std::setprecision(4) << j.specimen_e;
+        const std::string f = j.specimen_name + ": " + std::to_string(j.count) + " spheres" + e.str() + ", " +
+                              j.specimen_file;
         if (!j.specimen_name.empty() && std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
       }
       if (!files.empty()) {

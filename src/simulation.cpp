@@ -2841,6 +2841,12 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
     plan.memory_available = require_memory(long(r.size()), "sample.file " + cfg.sample_file, plan.memory_source);
     density = f.density;
     scaling = f.density_scaling;
+    if (f.state.walls_are_box && f.state.walls.count == 6) {  // make_box_walls: wall 2a at lo (offset lo), 2a + 1 at hi
+      Real V = 1, Vs = 0;
+      for (int a = 0; a < 3; ++a) V *= -f.state.walls.w[2 * a + 1].offset - f.state.walls.w[2 * a].offset;
+      for (Real ri : r) Vs += 4.0 / 3.0 * M_PI * ri * ri * ri;
+      if (V > 0 && Vs > 0) plan.sample_e = V / Vs - 1;
+    }
   } else {
     plan.memory_available = require_memory(cfg.packing.count, "sample.count", plan.memory_source);
     r = packing_radii(cfg.packing);
@@ -2872,6 +2878,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
     if (!cfg.sample_file.empty()) {
       os << " read from sample.file, diameters " << mm(2 * *lo) << " to " << mm(2 * *hi) << "; by mass "
          << indices(plan.grading);
+      if (plan.sample_e > 0) os << "; e " << plan.sample_e << " in its walls";
     } else if (gr.empty()) {
       os << " drawn from p(r) ~ r^-" << cfg.packing.D << " on diameters " << mm(2 * cfg.packing.r_min) << " to "
          << mm(2 * cfg.packing.r_max) << "; by mass " << indices(plan.grading);

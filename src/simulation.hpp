@@ -86,6 +86,7 @@ struct RunPlan {
   std::string sample;                 // the sample's sizes: where from, D50, Cu, Cc by mass (and against its grading)
   std::string fines;                  // numerics.fines_mass_radius's effect (empty: off): spheres, mass, step
   GradingIndices grading;             // the sample's own (its spheres', by mass)
+  double sample_e = 0;                // a sample file's void ratio in its box of walls (0: drawn, or no box)
 };
 // The largest miss, in percentage points passing at a sieve, of a drawn sample against its sample.grading above which
 // plan_run warns (choice: the coarse fractions of a small sample are a few spheres each; a sieve analysis repeats to

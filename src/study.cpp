@@ -490,6 +490,7 @@ Study load_study_unchecked(const std::string& path) {
   struct NamedFile {
     std::string name, file;
     long count;
+    double e;  // in its walls, as the file holds it (0: unknown)
   };
   std::vector<NamedFile> specimens;
   if (file_axis) {
@@ -539,13 +540,13 @@ Study load_study_unchecked(const std::string& path) {
       }
       StudyJob probe;
       probe.specimen_file = file;
-      long count = 0;
+      RunPlan plan;
       try {  // the file read as the job will read it (a missing file, a text packing, one of another kind: said here)
-        count = long(plan_run(parse_run_config(job_config(base, probe, false, ""), path + " (" + k + ")")).particles);
+        plan = plan_run(parse_run_config(job_config(base, probe, false, ""), path + " (" + k + ")"));
       } catch (const std::exception& e) {
         fail(path, k, e.what());
       }
-      specimens.push_back({name, file, count});
+      specimens.push_back({name, file, plan.particles, plan.sample_e});
     }
   }
   const auto need_q_cyclic = [&](const std::string& key) {
@@ -974,6 +975,7 @@ Study load_study_unchecked(const std::string& path) {
       if (file) {
         j.specimen_name = file->name;
         j.specimen_file = file->file;
+        j.specimen_e = file->e;
       }
       if (pt.grading >= 0) {
         j.grading_name = gradings[pt.grading].name;

@@ -58,6 +58,7 @@ struct StudyJob {
   // job's "_f" suffix, the report's section): its spheres in place of the base's sample, consolidated by the job's
   // preparation stages at its p0 and mu_r
   std::string specimen_name, specimen_file;
+  double specimen_e = 0;  // the file's void ratio in its walls, as it holds it (0: unknown): validate's list
   std::string config_yaml;  // the generated run config
   // A stage axis's values (`axes: {stages.<name>.<key>: [...]}`): the key set on that stage of a shear job (a K path's
   // k_ratio, an unloading's stress_ratio, an oedometer's ocr); a sample job's, the keys of its preparation stages

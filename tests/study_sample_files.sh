@@ -44,8 +44,21 @@ critical_state: {window: 0.01}
 YAML
 plan=$("$bin" validate study.yaml 2>&1) || fail "validate failed: $plan"
 printf '%s\n' "$plan" | grep -q "study: 2 samples, 4 shear tests" || fail "validate: $plan"
-printf '%s\n' "$plan" | grep -qF "sample files: 2, each consolidated again by its sample jobs in place of the base's sample (a: 300 spheres, $PWD/packings/a.h5; b: 300 spheres, $PWD/packings/b.h5)" ||
-  fail "validate does not name the files: $plan"
+# each file's e in its walls: b's as its import printed it, a's from the smoke run's sample file (python, h5py)
+e_b=$(sed -n 's/.*void ratio e \([0-9.]*\)$/\1/p' import.log)
+e_a=$("$py" - packings/a.h5 <<'PY'
+import sys
+import h5py
+import numpy as np
+with h5py.File(sys.argv[1], "r") as f:
+    off, r = f["/state/walls"][()].reshape(8, -1)[:6, 3], f["/state/r"][()]  # walls 2a at lo (offset lo), 2a+1 at -hi
+V = np.prod([-off[2 * a + 1] - off[2 * a] for a in range(3)])
+print(f"{V / (4 / 3 * np.pi * (r ** 3).sum()) - 1:.4g}")
+PY
+)
+[ -n "$e_a" ] && [ -n "$e_b" ] || fail "the files' e: a '$e_a', b '$e_b'"
+printf '%s\n' "$plan" | grep -qF "sample files: 2, each consolidated again by its sample jobs in place of the base's sample (a: 300 spheres, e $e_a, $PWD/packings/a.h5; b: 300 spheres, e $e_b, $PWD/packings/b.h5)" ||
+  fail "validate does not name the files with their e (a $e_a, b $e_b): $plan"
 out=$("$bin" study study.yaml --out st --jobs 2 --threads 1 2>&1) || fail "the study failed: $out"
 for f in a b; do
   job=st/jobs/sample_mur0_ebase_pbase_f${f}_n300
@@ -155,7 +168,7 @@ PY
 # A pattern in place of the mapping: its files named by their stems, the same jobs as the mapping's
 printf 'base: base.yaml\naxes:\n  drainage: [drained, undrained]\n  sample_file: "packings/*.h5"\n' > glob.yaml
 plan=$("$bin" validate glob.yaml 2>&1) || fail "validate of a pattern failed: $plan"
-printf '%s\n' "$plan" | grep -qF "sample files: 2, each consolidated again by its sample jobs in place of the base's sample (a: 300 spheres, $PWD/packings/a.h5; b: 300 spheres, $PWD/packings/b.h5)" ||
+printf '%s\n' "$plan" | grep -qF "sample files: 2, each consolidated again by its sample jobs in place of the base's sample (a: 300 spheres, e $e_a, $PWD/packings/a.h5; b: 300 spheres, e $e_b, $PWD/packings/b.h5)" ||
   fail "the pattern's files: $plan"
 # A target e_0 the file cannot reach here (b's spheres consolidate no looser than e 0.77 at 190 kPa, even at mu_max 1):
 # the study warns as the sample job ends, summary.json records the target, the report marks the sample.
