@@ -2215,10 +2215,10 @@ def across_gradings_section(out, idx, figs, kind="grading"):
         legend(ax, fontsize=8)
         save(fig, figs, name)
     return [f"## Across the {'sample files' if files else 'gradings'}", "",
-            "Each monotonic shear: its " + ("sample file and its sample's e_0 (the file consolidated by the sample job), "
-                                             "of the box and of its interior (inset by two mean diameters: a packing "
-                                             "cut out of a larger one keeps a looser layer along its walls)"
-                                             if files else "curve and Cu")
+            "Each monotonic shear: its "
+            + ("sample file and its sample's e_0 (the file consolidated by the sample job), of the box and of its "
+               "interior (inset by two mean diameters: a packing cut out of a larger one keeps a looser layer along its "
+               "walls)" if files else "curve and Cu")
             + ", max q/p' (phi'_max) as its section's peak table gives it, and its end "
             f"state: p', e and q/p' averaged over the last {cs_cfg['window']:g} of axial strain, as its critical-state "
             "table measures them, steady there (critical: yes) or still drifting (no; its section says by how much). "
@@ -2266,8 +2266,8 @@ def files_line(pts):
             "its own), per mu_r and loading, with each file's mean offset from it: specimens of one material reach "
             "one critical-state line whatever their density, so a file more than two standard errors off it (the "
             "line's rms over the root of its states) has other spheres or contacts, or tests not yet critical.", "",
-            "| group | the line through every file's critical states | file | states | mean offset in e | standard error "
-            "| |", "|---|---|---|---|---|---|---|", *rows, ""]
+            "| group | the line through every file's critical states | file | states | mean offset in e | standard "
+            "error | |", "|---|---|---|---|---|---|---|", *rows, ""]
 
 
 def study_lines(out, idx, figs_rel, fits=None):
@@ -3125,9 +3125,9 @@ def samples_section(out, jobs, samples=None):
         note += (" " if note else "") + f"{len(earlier)} of {len(rows)} samples " + UNCONVERGED_EARLIER_NOTE + "."
     if missed:
         note += ((" " if note else "") + f"{len(missed)} of {len(rows)} samples did not reach their target_e0 (the "
-                 "e0 axis's, or the base's): their search's frictions, 0 to the stage's mu_max, do not make that void ratio of this "
-                 "sample at this pressure, and their tests, named by the target, start from the e_0 given here: "
-                 + ", ".join(missed) + ".")
+                 "e0 axis's, or the base's): their search's frictions, 0 to the stage's mu_max, do not make that void "
+                 "ratio of this sample at this pressure, and their tests, named by the target, start from the e_0 "
+                 "given here: " + ", ".join(missed) + ".")
     return ["## Samples", "",
             "Each sample at the end of its consolidation: its spheres' D50 and Cu = D60/D10 by mass, e of the wall box, of its interior (inset by two mean "
             "diameters) and of its core (the central eighth of the box). A sample is graded when its core is looser than "

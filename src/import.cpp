@@ -626,7 +626,8 @@ std::vector<std::string> import_packing(const ImportOptions& opt) {
   for (size_t i = 0; i < n; ++i)
     for (int a = 0; a < 3; ++a)
       if (!(in.x[i][a] > lo[a] && in.x[i][a] < hi[a]))
-        throw std::runtime_error(opt.packing + ":" + std::to_string(in.line[size_t(row[i])]) + ": the centre's " + axis[a] + " = " +
+        throw std::runtime_error(opt.packing + ":" + std::to_string(in.line[size_t(row[i])]) + ": the centre's " +
+                                 axis[a] + " = " +
                                  num(in.x[i][a], 6) + " m is outside the box's [" + num(lo[a], 6) + ", " +
                                  num(hi[a], 6) + "] m (" + box_from + "): every centre must lie between the walls");
 

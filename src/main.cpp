@@ -445,8 +445,8 @@ int main(int argc, char** argv) {
       if (!files.empty()) {
         std::string list;
         for (const std::string& f : files) list += (list.empty() ? "" : "; ") + f;
-        std::printf("  sample files: %zu, each consolidated again by its sample jobs in place of the base's sample (%s)\n",
-                    files.size(), list.c_str());
+        std::printf("  sample files: %zu, each consolidated again by its sample jobs in place of the base's sample "
+                    "(%s)\n", files.size(), list.c_str());
       } else if (!st.base_sample.empty())
         std::printf("  sample: the base's sample.file %s, consolidated again by each sample job (one sample: no seed "
                     "to sweep)\n", st.base_sample.c_str());

@@ -511,7 +511,8 @@ Study load_study_unchecked(const std::string& path) {
       const std::string pattern = absolute(g.Scalar(), key);
       glob_t gl{};
       if (::glob(pattern.c_str(), 0, nullptr, &gl) == 0)
-        for (size_t i = 0; i < gl.gl_pathc; ++i) named.emplace_back(fs::path(gl.gl_pathv[i]).stem().string(), gl.gl_pathv[i]);
+        for (size_t i = 0; i < gl.gl_pathc; ++i)
+          named.emplace_back(fs::path(gl.gl_pathv[i]).stem().string(), gl.gl_pathv[i]);
       globfree(&gl);
       if (named.empty()) fail(path, key, "'" + g.Scalar() + "' matches no file (" + pattern + ")");
       std::sort(named.begin(), named.end());
