@@ -22,6 +22,15 @@ WallSet make_box_walls(const Vec3d& lo, const Vec3d& hi) {
   return ws;
 }
 
+bool box_of_walls(const WallSet& ws, Vec3d& lo, Vec3d& hi) {
+  if (ws.count != 6) return false;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = ws.w[2 * a].offset;
+    hi[a] = -ws.w[2 * a + 1].offset;
+  }
+  return true;
+}
+
 template <class V>
 std::vector<Vec3d> Engine::to_host(const V& v) {
   auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), v);

@@ -150,6 +150,8 @@ struct ParameterError : std::invalid_argument {
 
 // Six axis-aligned walls with inward normals: 0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z.
 WallSet make_box_walls(const Vec3d& lo, const Vec3d& hi);
+// make_box_walls' inverse: the box of six walls it made (false for another set of walls)
+bool box_of_walls(const WallSet& ws, Vec3d& lo, Vec3d& hi);
 
 class Engine {
  public:

@@ -742,13 +742,7 @@ Frame read_frame(const std::string& path) {
     fr.r = s.r;
     fr.step = double(s.step);
     fr.time = s.time;
-    if (s.walls_are_box && s.walls.count == 6) {
-      fr.box = true;
-      for (int a = 0; a < 3; ++a) {  // make_box_walls: wall 2a at x_a = lo (normal +e_a), wall 2a + 1 at hi (-e_a)
-        fr.lo[a] = s.walls.w[2 * a].offset;
-        fr.hi[a] = -s.walls.w[2 * a + 1].offset;
-      }
-    }
+    fr.box = s.walls_are_box && box_of_walls(s.walls, fr.lo, fr.hi);
     if (h.has("density")) {
       fr.density = h.attr_double("density");
       fr.scaling = h.attr_double("density_scaling");

@@ -2841,10 +2841,10 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
     plan.memory_available = require_memory(long(r.size()), "sample.file " + cfg.sample_file, plan.memory_source);
     density = f.density;
     scaling = f.density_scaling;
-    if (f.state.walls_are_box && f.state.walls.count == 6) {  // make_box_walls: wall 2a at lo (offset lo), 2a + 1 at hi
-      Real V = 1, Vs = 0;
-      for (int a = 0; a < 3; ++a) V *= -f.state.walls.w[2 * a + 1].offset - f.state.walls.w[2 * a].offset;
+    if (Vec3d lo, hi; f.state.walls_are_box && box_of_walls(f.state.walls, lo, hi)) {
+      Real Vs = 0;
       for (Real ri : r) Vs += 4.0 / 3.0 * M_PI * ri * ri * ri;
+      const Real V = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
       if (V > 0 && Vs > 0) plan.sample_e = V / Vs - 1;
     }
   } else {
