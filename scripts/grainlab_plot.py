@@ -2139,17 +2139,19 @@ def pooled_state_parameter(out, idx, mono, heads):
                          + ([f"{key[1]} spheres"] if len({k[1] for k in pools}) > 1 else [])
                          + ([f"grading {key[2]}"] if len({k[2] for k in pools}) > 1 else [])
                          + [f"{k} = {v:g}" for k, v in key[3]])
-        lines += state_parameter_section(
-            runs, states, cs_cfg["window"], tol, os.path.join(out, "figures"), peak_settings(idx), heads,
-            "### State parameter across the values" + (f": {what}" if what else ""),
-            "state_parameter" + (f"_{n + 1}" if len(pools) > 1 else ""),
-            "The drained compressions of every value together, on one critical-state line through all their critical "
-            "states (each value's section below fits its own). ")
-        lines += undrained_state_section(
-            runs, states, cs_cfg["window"], tol, os.path.join(out, "figures"), peak_settings(idx), heads,
-            "### Undrained state parameter across the values" + (f": {what}" if what else ""),
-            "state_parameter_undrained" + (f"_{n + 1}" if len(pools) > 1 else ""),
-            "The undrained compressions of every value together, on the line of the section above. ")
+        for ext in (False, True):
+            way, tag = ("extensions", " (extension)") if ext else ("compressions", "")
+            lines += state_parameter_section(
+                runs, states, cs_cfg["window"], tol, os.path.join(out, "figures"), peak_settings(idx), heads,
+                f"### State parameter across the values{tag}" + (f": {what}" if what else ""),
+                "state_parameter" + (f"_{n + 1}" if len(pools) > 1 else ""),
+                f"The drained {way} of every value together, on one critical-state line through all their critical "
+                "states (each value's section below fits its own). ", ext)
+            lines += undrained_state_section(
+                runs, states, cs_cfg["window"], tol, os.path.join(out, "figures"), peak_settings(idx), heads,
+                f"### Undrained state parameter across the values{tag}" + (f": {what}" if what else ""),
+                "state_parameter_undrained" + (f"_{n + 1}" if len(pools) > 1 else ""),
+                f"The undrained {way} of every value together, on the line of the section above. ", ext)
     return lines
 
 
@@ -2433,9 +2435,11 @@ def study_lines(out, idx, figs_rel, fits=None):
              "## Stress-force-fabric shares at critical state", "",
              "| test | mu_r | a_c | a_d | a_n | 3/2 a_t | q/p' | 2/5 sum |", "|---|---|---|---|---|---|---|---|", *share_rows, "",
              *localisation_section([(j["name"], d) for j, d, _ in mono], cs_cfg["window"]),
-             *dilatancy_section(mono, cs_cfg["window"], tol, figs, peak),
-             *state_parameter_section(mono, states, cs_cfg["window"], tol, figs, peak),
-             *undrained_state_section(mono, states, cs_cfg["window"], tol, figs, peak),
+             *(x for ext in (False, True) for x in dilatancy_section(mono, cs_cfg["window"], tol, figs, peak, ext)),
+             *(x for ext in (False, True) for x in state_parameter_section(mono, states, cs_cfg["window"], tol, figs,
+                                                                             peak, ext=ext)),
+             *(x for ext in (False, True) for x in undrained_state_section(mono, states, cs_cfg["window"], tol, figs,
+                                                                             peak, ext=ext)),
              *stiffness_section(mono, figs),
              *contacts_section([(j["name"], d) for j, d, _ in mono]),
              *size_classes.report_section(size_tests(out, mono)),
@@ -2447,57 +2451,79 @@ def study_lines(out, idx, figs_rel, fits=None):
     return [x.replace("`figures/", f"`{figs_rel}/") for x in lines]
 
 
-def dilatancy_section(mono, window, tol, figs, peak=(0.0, None)):
-    """Stress and dilatancy of the drained compression tests (b = 0; scripts/dilatancy.py): each test's largest
-    dilation rate and angle against its peak and critical-state friction angles (Bolton's triaxial relation), and
-    Rowe's K and phi_f beside phi'_cs and the grains' friction; figures/stress_dilatancy.png. Empty without such tests."""
+def dilatancy_section(mono, window, tol, figs, peak=(0.0, None), ext=False):
+    """Stress and dilatancy of the drained compression (ext: extension) tests (b = 0; scripts/dilatancy.py): each
+    test's largest dilation rate and angle against its peak and critical-state friction angles (Bolton's triaxial
+    relation), and Rowe's K and phi_f beside phi'_cs and the grains' friction; figures/stress_dilatancy.png
+    (stress_dilatancy_extension.png). Empty without such tests."""
     rows, fits, figdata = [], [], []
     for j, d, s in mono:
         ps = peak_state(s, peak)
-        if j["drainage"] != "drained" or ps["ext"] or ps["b"] > 0 or "M" not in ps or "eps_v" not in s:
+        if j["drainage"] != "drained" or ps["ext"] != ext or ps["b"] > 0 or "M" not in ps or "eps_v" not in s:
             continue
         m = s["monotonic"]
-        a = dilatancy.analyse(s["eps_a"][m], s["eps_v"][m], s["q_p"][m])
+        a = dilatancy.analyse(s["eps_a"][m], s["eps_v"][m], s["q_p"][m], extension=ext)
         c = critical_state(s, window, *tol)
         cs = c["phi"] if c is not None and c["ok"] else None
         phi_mu = math.degrees(math.atan(float(s["mu"][m][-1]))) if "mu" in s else None
         sig = a["psi_max"] == a["psi_max"]
         bolton = (ps["phi"] - cs) / a["neg_d_max"] if cs is not None and sig and a["neg_d_max"] > 0 else None
         rows.append(f"| {j['name']} | {j['mu_r']:g} | {ps['phi']:.1f} | {number_text(cs, '.1f')} | "
-                    f"{a['neg_d_max']:.3f} ± {a['se']:.3f} ({100 * a['eps_max']:.1f}) | {number_text(a['psi_max'], '.1f')} | "
-                    f"{number_text(bolton, '.1f')} | {a['K']:.3f} | {a['phi_f']:.1f} ({a['rms']:.3f}) | {number_text(phi_mu, '.1f')} |")
+                    f"{a['neg_d_max']:.3f} ± {a['se']:.3f} ({100 * a['eps_max']:.1f}) | "
+                    f"{number_text(a['psi_max'], '.1f')} | {number_text(bolton, '.1f')} | {a['K']:.3f} | "
+                    f"{a['phi_f']:.1f} ({a['rms']:.3f}) | {number_text(phi_mu, '.1f')} |")
         if cs is not None and a["phi_f"] == a["phi_f"]:
             fits.append(a["phi_f"] - cs)
         figdata.append((j, s, m, a))
     if not rows:
         return []
+    # along the loading: eps_l = eps_a in compression, -eps_a in extension (dilatancy.py)
+    sign, eps_l = (-1, "-eps_a") if ext else (1, "eps_a")
+    figname = "stress_dilatancy" + ("_extension" if ext else "")
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.4))
     for j, s, m, a in figdata:
-        line, = ax[0].plot(100 * s["eps_a"][m], -a["d"], label=j["name"])
-        R, D = dilatancy.principal_ratio(s["q_p"][m]), 1 - a["d"]
+        line, = ax[0].plot(100 * sign * s["eps_a"][m], -a["d"], label=j["name"])
+        R, D = dilatancy.principal_ratio(s["q_p"][m], ext), dilatancy.rowe_dilatancy(a["d"], ext)
         k0 = a["turn"]  # Rowe's fit starts there
         ax[1].plot(D[k0:], R[k0:], ".", ms=3, color=line.get_color())
         if np.isfinite(D[k0:]).any():  # a shear too short for a rate has no fit to draw (numpy warned here)
             xs = np.array([np.nanmin(D[k0:]), np.nanmax(D[k0:])])
             ax[1].plot(xs, a["K"] * xs, "-", lw=1, color=line.get_color())
     ax[0].axhline(0, color="0.5", lw=0.8)
-    ax[0].set(xlabel="eps_a [%]", ylabel="-d eps_v / d eps_a (> 0 dilating)", title="dilatancy rate")
-    ax[1].set(xlabel="1 - d eps_v / d eps_a", ylabel="sigma_1 / sigma_3 (contact stress)",
-              title="Rowe: sigma_1/sigma_3 = K (1 - d), from the largest contraction on")
-    finish(fig, ax, ax[0], 6, figs, "stress_dilatancy")
+    d_txt = "d eps_v / d(-eps_a)" if ext else "d eps_v / d eps_a"
+    ax[0].set(xlabel=f"{eps_l} [%]", ylabel=f"-{d_txt} (> 0 dilating)", title="dilatancy rate")
+    ax[1].set(xlabel="1 / (1 + d)" if ext else "1 - d eps_v / d eps_a", ylabel="sigma_1 / sigma_3 (contact stress)",
+              title=f"Rowe: sigma_1/sigma_3 = K {'/ (1 + d)' if ext else '(1 - d)'}, from the largest contraction on")
+    finish(fig, ax, ax[0], 6, figs, figname)
     note = (f"Over the tests that reached critical state, phi_f - phi'_cs is {min(fits):+.1f} to {max(fits):+.1f}°."
             if fits else "")
-    return ["## Stress and dilatancy (drained compression)", "",
-            "The dilatancy rate d = d eps_v / d eps_a (compression positive; < 0 dilating) is the slope of a line through "
-            f"the rows within {dilatancy.WINDOW / 2:g} of axial strain either side (wider where the rows are sparser), with "
-            "its standard error; its largest dilation, (-d)_max, at the strain given, and the dilation angle of triaxial "
-            "strain there, sin psi = -d / (2 - d) ('-' where (-d)_max is within "
-            f"{dilatancy.SIGNIFICANT:g} standard errors of 0: no dilatancy to speak of). Bolton (1986) gives for triaxial "
-            "strain phi'_max - phi'_cs = 10 (-d)_max degrees: the column gives the measured ratio, to read against 10. "
-            "Rowe's stress-dilatancy sigma_1/sigma_3 = K (1 - d), fitted from the largest contraction to the end (the "
-            "principal stress ratio (3 + 2 q/p') / (3 - q/p') of the contact stress), gives phi_f = asin((K - 1)/(K + 1)), "
-            "with the rms of the relative residuals; Rowe read phi_f between the grains' friction phi_mu = atan(mu) and "
-            "phi'_cs. `figures/stress_dilatancy.png` draws d against eps_a and each test's Rowe line. " + note, "",
+    if ext:
+        text = ("The drained extensions (the axial walls move apart at constant sigma_3: eps_a < 0, q < 0). The "
+                f"dilatancy rate d = {d_txt} along the loading (compression positive; < 0 dilating), as in "
+                "compression the slope of a line through the rows within "
+                f"{dilatancy.WINDOW / 2:g} of axial strain either side, with its standard error; its largest dilation, "
+                "(-d)_max, at the axial strain given, and the dilation angle of triaxial extension there, sin psi = "
+                "-d / (2 + d) (the two lateral strain increments the major ones; '-' where (-d)_max is within "
+                f"{dilatancy.SIGNIFICANT:g} standard errors of 0). (phi'_max - phi'_cs) / (-d)_max: Bolton's (1986) "
+                "10 is for triaxial compression; the ratio is given to compare with the compression section. Rowe's "
+                "stress-dilatancy in extension (Rowe, Barden & Lee 1964), sigma_1/sigma_3 = K (-d eps_3 / 2 d eps_1) "
+                "= K / (1 + d), fitted from the largest contraction to the end (the principal stress ratio (3 + q/p') "
+                "/ (3 - 2 q/p') of the contact stress, q/p' = |q|/p'), gives phi_f = asin((K - 1)/(K + 1)) with the "
+                f"rms of the relative residuals. `figures/{figname}.png` draws d against -eps_a and each test's Rowe "
+                "line. ")
+    else:
+        text = ("The dilatancy rate d = d eps_v / d eps_a (compression positive; < 0 dilating) is the slope of a line "
+                f"through the rows within {dilatancy.WINDOW / 2:g} of axial strain either side (wider where the rows "
+                "are sparser), with its standard error; its largest dilation, (-d)_max, at the strain given, and the "
+                "dilation angle of triaxial strain there, sin psi = -d / (2 - d) ('-' where (-d)_max is within "
+                f"{dilatancy.SIGNIFICANT:g} standard errors of 0: no dilatancy to speak of). Bolton (1986) gives for "
+                "triaxial strain phi'_max - phi'_cs = 10 (-d)_max degrees: the column gives the measured ratio, to "
+                "read against 10. Rowe's stress-dilatancy sigma_1/sigma_3 = K (1 - d), fitted from the largest "
+                "contraction to the end (the principal stress ratio (3 + 2 q/p') / (3 - q/p') of the contact "
+                "stress), gives phi_f = asin((K - 1)/(K + 1)), with the rms of the relative residuals; Rowe read "
+                "phi_f between the grains' friction phi_mu = atan(mu) and phi'_cs. `figures/stress_dilatancy.png` "
+                "draws d against eps_a and each test's Rowe line. ")
+    return ["## Stress and dilatancy (drained " + ("extension)" if ext else "compression)"), "", text + note, "",
             "| test | mu_r | phi'_max [°] | phi'_cs [°] | (-d)_max ± se (eps_a %) | psi_max [°] | (phi'_max - phi'_cs) / "
             "(-d)_max [°] | Rowe K | phi_f [°] (rms) | phi_mu [°] |",
             "|---|---|---|---|---|---|---|---|---|---|", *rows, ""]
@@ -2509,16 +2535,17 @@ def line_groups(states):
     return {k: g for k, g in csl_groups(states).items() if pressure_levels([c["p"] for c in g]) >= 3}
 
 
-def line_tests(mono, groups, peak, drainage, usable):
-    """The compression tests (b = 0) of a drainage in mono ((job, run directory, series) each) whose group has a line
-    (line_groups) and which usable(series, peak_state) accepts: (job, series, its peak_state, its monotonic rows, the
-    group's key, the line's p'_c [kPa] and e_c, the shear's p'_0 [kPa] and e_0 at its first row) each."""
+def line_tests(mono, groups, peak, drainage, usable, ext=False):
+    """The compression (ext: extension) tests (b = 0) of a drainage in mono ((job, run directory, series) each) whose
+    group has a line (line_groups: an extension's is the line of the extensions) and which usable(series, peak_state)
+    accepts: (job, series, its peak_state, its monotonic rows, the group's key, the line's p'_c [kPa] and e_c, the
+    shear's p'_0 [kPa] and e_0 at its first row) each."""
     for j, _, s in mono:
         ps = peak_state(s, peak)
-        if j["drainage"] != drainage or ps["ext"] or ps["b"] > 0 or not usable(s, ps):
+        if j["drainage"] != drainage or ps["ext"] != ext or ps["b"] > 0 or not usable(s, ps):
             continue
         m = s["monotonic"]
-        key = (s["mu_r"][m][-1], False, ps["b"], float(s.get("rate", 0.0)))
+        key = (s["mu_r"][m][-1], ext, ps["b"], float(s.get("rate", 0.0)))
         if key not in groups:
             continue
         r0 = int(np.flatnonzero(ps["m"])[0])  # the shear's first row: its e_0 and p'_0
@@ -2552,8 +2579,8 @@ def psi_fit(label, name, fmt, x, y, e0):
                   f"{rms:{fmt}} | {rms_e:{fmt}} |")
 
 
-def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), heads=None,
-                            title="## State parameter (drained compression)", figname="state_parameter", lead=""):
+def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), heads=None, title=None, figname=None,
+                            lead="", ext=False):
     """The state parameter psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985) of the drained compression tests (b = 0):
     the void ratio at the start of the shear less the critical-state line's at the same p' (csl's line e_c = a + b p',
     per mu_r and rate, through the study's own critical states at three pressure levels or more, dense and loose
@@ -2563,16 +2590,20 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
     Jefferies's finding for sands), which e_0 cannot where the pressures differ. psi_end: the end window's e less the
     line's at its p' (about 0 on the line). Empty without such a test in a group with a line. heads: the test's name ->
     its section's heading (a column of its own: the table across a stage axis's values, which pools them); title, the
-    figure's name and a lead sentence for that use."""
+    figure's name and a lead sentence for that use. ext: the drained extensions (b = 0) instead, on the line of the
+    extensions' critical states (csl's groups: M_e is not M_c), their dilatancy along -eps_a (dilatancy.py)."""
+    direction = "extension" if ext else "compression"
+    title = title or f"## State parameter (drained {direction})"
+    figname = (figname or "state_parameter") + ("_extension" if ext else "")
     groups = line_groups(states)
     tests = {}
     for j, s, ps, m, key, pc, ec, p0, e0 in line_tests(mono, groups, peak, "drained",
-                                                       lambda s, ps: "M" in ps and "eps_v" in s):
+                                                       lambda s, ps: "M" in ps and "eps_v" in s, ext):
         e_line, se_line = line_at(pc, ec, p0)
         c = critical_state(s, window, *tol)
         psi_end = (float(c["e"]) - line_at(pc, ec, float(c["p"]) / 1e3)[0], c["ok"]) if c and "e" in c else None
-        a = dilatancy.analyse(s["eps_a"][m], s["eps_v"][m], s["q_p"][m])
-        phi_cs = friction_angle(float(np.mean([x["M"] for x in groups[key]])), False)
+        a = dilatancy.analyse(s["eps_a"][m], s["eps_v"][m], s["q_p"][m], extension=ext)
+        phi_cs = friction_angle(float(np.mean([x["M"] for x in groups[key]])), ext)
         # psi where the test dilates fastest (the row of (-d)_max): Nor-Sand's D_min = chi psi is in the current state
         # (Jefferies 1993), which a sample that contracts first reaches denser than it started
         psi_d, outside_d = float("nan"), False
@@ -2624,6 +2655,10 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
         legend(a_, fontsize=8)
     save(fig, figs, figname)
     return [title, "", lead +
+            ("The drained extensions (b = 0) on the line of the extensions' critical states (the section above "
+             "fits one per direction: extension reaches the critical state at another stress ratio); their dilatancy "
+             "d = d eps_v / d(-eps_a), along the loading, as the extension stress-dilatancy section takes it. "
+             if ext else "") +
             "The state parameter psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985; not the dilation angle psi_max "
             "above): the void ratio at the start of the shear less the critical-state line's (the section above: "
             "e_c = a + b p', through the critical states of the tests of its mu_r and rate, dense and loose alike) at "
@@ -2635,7 +2670,8 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "1993; its D = d eps_v / d eps_q, here d = d eps_v / d eps_a): a sample that contracts first reaches it "
             "denser than it started." +
             (" *: p'_0 outside the pressures of the line's critical states (e_c extrapolated along the line; a drained "
-             "shear at constant sigma_3 ends at a higher p' than it starts)." if outside else "") +
+             f"shear at constant sigma_3 ends at a {'lower' if ext else 'higher'} p' than it starts)." if outside
+             else "") +
             f" `figures/{figname}.png` draws the three lines below (hollow: a psi from the line beyond its critical "
             "states' pressures). The line" +
             ("s: " if len(lines_txt) > 1 else ": ") + "; ".join(lines_txt) + ".",
@@ -2664,8 +2700,9 @@ PT_RISE = 0.5
 PT_REGAIN = 0.1
 
 
-def undrained_response(s, rows):
-    """The shape of an undrained compression over its rows (in time order, single rows: a loose sample's instability
+def undrained_response(s, rows, ext=False):
+    """The shape of an undrained compression (ext: extension, q taken along the loading, -q, and the q returned < 0)
+    over its rows (in time order, single rows: a loose sample's instability
     peaks within the first per cent of strain, which the peak window, 2 % in the studies that set one, would smear): the
     largest fall of q below its running maximum relative to that maximum, which a contractive sample's instability
     makes, up to the least p' (q_pk at eps_pk, the trough q_min at eps_min after it, and the brittleness index I_B =
@@ -2675,7 +2712,8 @@ def undrained_response(s, rows):
     phase transformation (pt: the contacts' q/p' there; None where p' falls to the end or rises from the first row, or
     where the least is liquefied, r_u >= LIQUEFIED_RU: regains, a re-jamming); r_u = u / p'_0 at its largest (ru_max, u
     the series' pore pressure; None without the column)."""
-    q, p, ea = s["q"][rows], s["p"][rows], s["eps_a"][rows]
+    sign = -1.0 if ext else 1.0
+    q, p, ea = sign * s["q"][rows], s["p"][rows], s["eps_a"][rows]
     k_pt = int(np.argmin(p))
     # q falls in an undrained compression only while p' does (a contraction): the fall is sought up to the least p',
     # past which a dilating sample's q rises toward, and then fluctuates about, its critical state (by up to 15 % on
@@ -2694,7 +2732,8 @@ def undrained_response(s, rows):
         pt = None if regains else float(s["q_p"][rows][k_pt])
     p0 = float(p[0])
     ru = float(np.nanmax(s["u"][rows])) / p0 if "u" in s and p0 > 0 else None
-    return dict(q_pk=float(q[k_pk]), eps_pk=float(ea[k_pk]), eta_pk=float(s["q_p"][rows][k_pk]), q_min=float(q[k_min]),
+    return dict(q_pk=sign * float(q[k_pk]), eps_pk=float(ea[k_pk]), eta_pk=float(s["q_p"][rows][k_pk]),
+                q_min=sign * float(q[k_min]),
                 eps_min=float(ea[k_min]), ib=float(fall[k_min]), p_min=float(p[k_pt]), eps_pmin=float(ea[k_pt]), pt=pt,
                 regains=regains,
                 ru_max=ru if ru is not None and math.isfinite(ru) else None)
@@ -2703,9 +2742,8 @@ def undrained_response(s, rows):
 UNDRAINED_STATE_FITS = (("ib", "I_B on psi_0", ".3f"), ("p_min_p0", "p'_min / p'_0 on psi_0", ".3f"))
 
 
-def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), heads=None,
-                            title="## State parameter (undrained compression)", figname="state_parameter_undrained",
-                            lead=""):
+def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), heads=None, title=None, figname=None,
+                            lead="", ext=False):
     """The undrained compression tests (b = 0) against the critical-state line of their mu_r and rate (csl's e_c =
     a + b p', through the critical states of every test of the group, drained and undrained: SPEC §7 fits one line
     through both, the critical state's uniqueness): each test's state parameter psi_0 = e_0 - e_c(p'_0) (Been &
@@ -2714,10 +2752,15 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
     below e_0 at every p' > 0; beside the measured end (critical_state's window), the instability (undrained_response:
     q's first peak, its trough and the brittleness I_B), the phase transformation and r_u at its largest. Over three
     tests or more of a line, I_B and p'_min / p'_0 on a line in psi_0 and, for comparison, in e_0 alone. heads, title,
-    figname and lead as state_parameter_section's. Empty without such a test in a group with a line."""
+    figname and lead as state_parameter_section's; ext: the undrained extensions (b = 0) on the extensions' line, q
+    along the loading (its peak and trough < 0). Empty without such a test in a group with a line."""
+    direction = "extension" if ext else "compression"
+    title = title or f"## State parameter (undrained {direction})"
+    figname = (figname or "state_parameter_undrained") + ("_extension" if ext else "")
     groups = line_groups(states)
     tests = {}
-    for j, s, ps, _, key, pc, ec, p0, e0 in line_tests(mono, groups, peak, "undrained", lambda s, ps: len(ps["rows"])):
+    for j, s, ps, _, key, pc, ec, p0, e0 in line_tests(mono, groups, peak, "undrained", lambda s, ps: len(ps["rows"]),
+                                                       ext):
         b_, a_, _, _ = fit(np.array(pc), np.array(ec))
         e_line, se_line = line_at(pc, ec, p0)
         # the line's p' at e_0, with the line's standard error there carried along it (se_e / |b|)
@@ -2729,7 +2772,7 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
         end = None
         if c and "e" in c:
             end = dict(p=float(c["p"]) / 1e3, ok=c["ok"], psi=float(c["e"]) - line_at(pc, ec, float(c["p"]) / 1e3)[0])
-        r = undrained_response(s, ps["rows"])
+        r = undrained_response(s, ps["rows"], ext)
         tests.setdefault(key, []).append(dict(
             name=j["name"], p0=p0, e0=e0, e_line=e_line, se_line=se_line, psi0=e0 - e_line,
             outside=not min(pc) <= p0 <= max(pc), p_pred=p_pred, se_pred=se_pred,
@@ -2790,7 +2833,7 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
         xs = np.linspace(0, max(max(float(np.max(t["path"][0])) for t in g), 1.0), 2)
         # the paths are the walls' p' and q (series p, q): their line is the walls' M at critical state
         # (STRESS_MEASURES_TEXT), the contacts' M where the states did not measure it
-        ax[0].plot(xs, (g[0]["M_walls"] or g[0]["M"]) * xs, "--", color="0.4", lw=1)
+        ax[0].plot(xs, (-1 if ext else 1) * (g[0]["M_walls"] or g[0]["M"]) * xs, "--", color="0.4", lw=1)
     lim = max([1.0] + [v for a_ in ax[1].lines for v in (*a_.get_xdata(), *a_.get_ydata())])
     ax[1].plot([0, lim], [0, lim], "-", color="0.5", lw=0.8)
     ax[0].set(xlabel="p' / p'_0 (walls)", ylabel="q / p'_0 (walls)", title="stress paths (dashed: the walls' M)")
@@ -2807,7 +2850,11 @@ def undrained_state_section(mono, states, window, tol, figs, peak=(0.0, None), h
         resid_txt = (f" Of the {len(resid)} tests at critical state, the measured p'_end less the line's p'_c: " +
                      ", ".join(f"{int(round(x)):+d}" for x in resid) + " kPa.")
     return [title, "", lead +
-            "The undrained (constant-volume) compressions against the critical-state line of their mu_r and rate "
+            ("The undrained (constant-volume) extensions (b = 0: the axial walls move apart, q < 0; q's peak and "
+             "trough below are taken along the loading, the largest |q| before its largest fall: q_pk and q_min < 0, "
+             "I_B = (q_pk - q_min) / q_pk) against the critical-state line of the extensions of their mu_r and rate "
+             if ext else "The undrained (constant-volume) compressions against the critical-state line of their mu_r "
+             "and rate ") +
             "(the section above: e_c = a + b p' through the critical states of the group's tests, drained and "
             "undrained, as SPEC §7 fits it): psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985), and the p' at which the "
             "line says the test ends: the line's p' at the test's void ratio, which a constant-volume test keeps, "

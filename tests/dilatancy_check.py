@@ -16,6 +16,13 @@
      the rows give it;
    - zig-zag noise on eps_v larger than the dilation: psi_max '-' (not significant).
    An undrained and an extension test are not in the section; without eps_v (an older series) a test is left out.
+4. Triaxial extension (eps_a falls, q < 0; the two lateral strain increments the major ones): sin psi = -d / (2 + d)
+   (asin(1/3) at d = -0.5); sigma_1/sigma_3 = (3 + eta) / (3 - 2 eta) at eta = |q|/p' (the stresses' own ratio);
+   a synthetic drained extension that obeys Rowe's extension law exactly, sigma_1/sigma_3 = K / (1 + d) (Rowe, Barden
+   & Lee 1964) with K = 2, on the same d along -eps_a: (-d)_max, its axial strain (< 0), K and phi_f as in 3, while
+   read as a compression (d along eps_a, Rowe's compression law) its K is off by more than 10 %; in the report the
+   section "Stress and dilatancy (drained extension)" holds it alone, with phi'_cs = asin(1/3) (Mohr-Coulomb in
+   extension at q/p' = 0.6: Rowe at d = 0) and phi'_max by 3 M / (6 - M).
 """
 import csv
 import json
@@ -91,6 +98,27 @@ noisy = D.analyse(eps, -0.001 * eps + 0.002 * (-1) ** np.arange(len(eps)), eta)
 if noisy["psi_max"] == noisy["psi_max"]:
     fails.append(f"zig-zag noise above the dilation read as significant: {noisy}")
 
+# 4. extension: the dilation angle and principal stress ratio from the strain and stress components themselves
+# d = -0.5 along -eps_a: d eps_3 = d eps_a = -1, d eps_v = -0.5, so d eps_1 = d eps_2 = (d eps_v - d eps_3) / 2 = 0.25
+de1, de3 = 0.25, -1.0
+check("extension psi at d = -0.5", float(D.dilation_angle(np.array(-0.5), extension=True)),
+      math.degrees(math.asin(-(2 * de1 + de3) / (2 * de1 - de3))), 1e-12)
+p_, q_ = 1e5, -0.75e5  # sigma_a = p + 2q/3 (minor), sigma_r = p - q/3 (major)
+check("extension sigma_1/sigma_3", float(D.principal_ratio(np.array(abs(q_) / p_), extension=True)),
+      (p_ - q_ / 3) / (p_ + 2 * q_ / 3), 1e-12)
+R_e = K / (1 + dil)  # Rowe in extension on the same d along the loading
+eta_e = 3 * (R_e - 1) / (1 + 2 * R_e)
+eta_e[:int(np.argmax(ev))] *= 0.7
+res_e = D.analyse(-eps, ev, eta_e, extension=True)
+check("extension (-d)_max", res_e["neg_d_max"], true_max, 0.01 * true_max)
+check("extension: its axial strain", res_e["eps_max"], -true_at, 1.5 * 0.0025)
+check("extension K", res_e["K"], K, 0.0025 * K)
+check("extension phi_f", res_e["phi_f"], phi_f, 0.1)
+as_comp = D.analyse(eps, ev, eta_e)  # the compression law on the extension's series: it must not fit
+if abs(as_comp["K"] - K) < 0.1 * K:
+    fails.append(f"the extension read with the compression law still gives K {as_comp['K']:.4f}: the test cannot "
+                 "tell them apart")
+
 # the report's section
 work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/dilatancy_check"
 shutil.rmtree(work, ignore_errors=True)
@@ -98,7 +126,7 @@ cols = SHEAR_COLUMNS
 jobs = []
 
 
-def test(name, drainage="drained", sign=1, with_ev=True, ev_rows=ev):
+def test(name, drainage="drained", sign=1, with_ev=True, ev_rows=ev, eta_rows=eta):
     run = os.path.join(work, "jobs", name, "run")
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
@@ -108,7 +136,7 @@ def test(name, drainage="drained", sign=1, with_ev=True, ev_rows=ev):
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage"] + use)
-        for i, (ea, v, qp) in enumerate(zip(eps, ev_rows, eta)):
+        for i, (ea, v, qp) in enumerate(zip(eps, ev_rows, eta_rows)):
             p = 1e5
             e = 0.65 - 1.65 * v  # e follows the volume: steady once it is
             row = dict(time=i, step=i, eps_a=sign * ea, eps_v=v, p=p, q=sign * qp * p, q_p=qp, e=e, mu=0.5, mu_r=0.1,
@@ -124,7 +152,7 @@ def test(name, drainage="drained", sign=1, with_ev=True, ev_rows=ev):
 test("rowe")
 test("noisy", ev_rows=-0.001 * eps + 0.002 * (-1) ** np.arange(len(eps)))
 test("undrained", drainage="undrained")
-test("extension", sign=-1)
+test("extension", sign=-1, eta_rows=eta_e)
 test("old", with_ev=False)
 text = study_report(work, jobs)
 if "## Stress and dilatancy (drained compression)" not in text:
@@ -157,7 +185,26 @@ diffs = [float(r.split(" | ")[8].split(" (")[0]) - float(r.split(" | ")[3]) for 
          if r.startswith("| rowe |") or r.startswith("| noisy |")]
 if not diffs or abs(lo - min(diffs)) > 0.11 or abs(hi - max(diffs)) > 0.11:
     fails.append(f"phi_f - phi'_cs note: {note!r}, the rows give {diffs}")
+# the extension's own section: the extension alone, its angles by Mohr-Coulomb in extension, Rowe's extension law
+head_e = "## Stress and dilatancy (drained extension)"
+sec_e = text.split(head_e)[1].split("\n## ")[0] if head_e in text else ""
+names_e = [l.split(" | ")[0][2:] for l in sec_e.splitlines() if l.startswith("| ") and not l.startswith("| test")]
+if names_e != ["extension"]:
+    fails.append(f"the extension section's tests: {names_e}, expected the extension alone")
+row = next((l for l in sec_e.splitlines() if l.startswith("| extension |")), "").split(" | ")
+if len(row) == 10:
+    check("extension phi'_cs", float(row[3]), math.degrees(math.asin(3 * 0.6 / 5.4)), 0.05)
+    check("extension phi'_max", float(row[2]), math.degrees(math.asin(3 * eta_e.max() / (6 - eta_e.max()))), 0.05)
+    neg, at = row[4].split(" ± ")[0], row[4].split("(")[1].rstrip(")")
+    check("report extension (-d)_max", float(neg), true_max, 0.01 * true_max)
+    check("report extension eps_a at it [%]", float(at), -100 * true_at, 100 * 1.5 * 0.0025)
+    check("report extension psi_max", float(row[5]), float(D.dilation_angle(np.array(-true_max), True)), 0.3)
+    check("report extension K", float(row[7]), K, 0.0025 * K)
+    check("report extension phi_f", float(row[8].split(" (")[0]), phi_f, 0.1)
+else:
+    fails.append(f"the extension test's row: {row}")
 if fails:
     sys.exit("dilatancy_check: " + "; ".join(fails))
 print(f"dilatancy_check: ok ((-d)_max {res['neg_d_max']:.4f} of {true_max:.4f} at {res['eps_max']:.4f}, K {res['K']:.4f}, "
-      f"phi_f {res['phi_f']:.2f} of {phi_f:.2f}; the report's section)")
+      f"phi_f {res['phi_f']:.2f} of {phi_f:.2f}; extension K {res_e['K']:.4f}, read as a compression "
+      f"{as_comp['K']:.4f}; the report's two sections)")
