@@ -16,6 +16,13 @@ leaves a residual (the pressures differ), and (-d)_max on psi at it by least squ
 (one critical state: no line) and an undrained test are not in the section; without any line, there is no section.
 The same nine over a stage axis: pooled on one line in the table across the values over a preparation stage's key
 (consolidate.mu) or the shear's end (shear.max_axial_strain), a line per value over a key of the shear (shear.mu).
+Nine drained extensions beside them (eps_a < 0, q < 0, p' = 3 p'_0 / (3 + q/p') falling at constant sigma_3), built
+the same way (but dilating to 30 %) on a line of their own, e_c = 0.78 - 4e-4 p', at q/p' = 0.6 (phi'_cs = asin(3 M / (6 - M)) = asin(1/3)),
+their peaks phi'_cs + 0.5 - 40 psi_0 by Mohr-Coulomb in extension, their dilatancy along -eps_a: the extension section
+gives each on the extensions' line (the compressions' would put psi_0 off by 0.02 + 1e-4 p'_0), its 200 kPa tests'
+e_c extrapolated (above the line's highest p'_c, 166.7 kPa), the fits 0.50 and -40.00, 0.030 and -2.000 as in
+compression; the compression section keeps its nine alone; across a preparation stage's values the extensions get a
+heading of their own.
 """
 import math
 import os
@@ -35,41 +42,48 @@ jobs = []
 A_LINE, B_LINE = 0.80, -5e-4  # e_c = A_LINE + B_LINE p' [kPa]
 M_CS = 0.75
 PHI_CS = math.degrees(math.asin(3 * M_CS / (6 + M_CS)))
+A_EXT, B_EXT, M_EXT = 0.78, -4e-4, 0.6  # the extensions' line and stress ratio at critical state
+PHI_EXT = math.degrees(math.asin(3 * M_EXT / (6 - M_EXT)))
 eps = np.round(np.arange(0, 0.4001, 0.0025), 10)  # rows every 0.25 %: the dilatancy windows (2 %) lie in a segment
 
 
-def e_line(p_kpa):
-    return A_LINE + B_LINE * p_kpa
+def e_line(p_kpa, ext=False):
+    return (A_EXT + B_EXT * p_kpa) if ext else (A_LINE + B_LINE * p_kpa)
 
 
-def test(name, p0, psi0, mu_r=0.1, drainage="drained", keys=None, E=None):
-    """A drained compression from p'_0 [kPa] at state psi0, as the docstring builds it; returns its measures. keys:
-    its stage-axis values (study.json's stage_keys, 'stage.key' -> value)."""
-    e0 = e_line(p0) + psi0
-    phi_max = PHI_CS + 0.5 - 40 * psi0
+def test(name, p0, psi0, mu_r=0.1, drainage="drained", keys=None, E=None, ext=False):
+    """A drained compression (ext: extension) from p'_0 [kPa] at state psi0, as the docstring builds it; returns its
+    measures. keys: its stage-axis values (study.json's stage_keys, 'stage.key' -> value)."""
+    e0 = e_line(p0, ext) + psi0
+    phi_max = (PHI_EXT if ext else PHI_CS) + 0.5 - 40 * psi0
     s = math.sin(math.radians(phi_max))
-    M_pk = 6 * s / (3 - s)
+    M_pk = 6 * s / (3 + s) if ext else 6 * s / (3 - s)
+    M_end = M_EXT if ext else M_CS
     dil = 0.03 - 2 * psi0  # (-d)_max, > 0 for every psi0 here
-    p_c = 3 * p0 / (3 - M_CS)
+    p_c = 3 * p0 / (3 + M_end) if ext else 3 * p0 / (3 - M_CS)
     # eps_v at the end takes e from e_0 to the line's e_c(p'_c): e = e_0 - (1 + e_0) eps_v; contraction at rate c to
-    # 5 %, dilation at rate dil to 20 %
-    ev_end = (e0 - e_line(p_c)) / (1 + e0)
-    c = (ev_end + 0.15 * dil) / 0.05
+    # 5 %, dilation at rate dil to 20 % (30 % in extension, where p' falls and the dense end state lies further
+    # from e_0: a dilation to 20 % would need the contraction to dilate faster than it)
+    dil_end, dil_span = (0.30, 0.25) if ext else (0.20, 0.15)
+    ev_end = (e0 - e_line(p_c, ext)) / (1 + e0)
+    c = (ev_end + dil_span * dil) / 0.05
     assert c > -dil, "the contraction must not dilate faster than the dilation segment"
-    ev = np.where(eps <= 0.05, c * eps, np.where(eps <= 0.20, 0.05 * c - dil * (eps - 0.05), ev_end))
-    eta = np.where(eps <= 0.10, M_pk * eps / 0.10, np.where(eps <= 0.20, M_pk + (M_CS - M_pk) * (eps - 0.10) / 0.10,
-                                                            M_CS))
+    ev = np.where(eps <= 0.05, c * eps, np.where(eps <= dil_end, 0.05 * c - dil * (eps - 0.05), ev_end))
+    eta = np.where(eps <= 0.10, M_pk * eps / 0.10, np.where(eps <= 0.20, M_pk + (M_end - M_pk) * (eps - 0.10) / 0.10,
+                                                            M_end))
     if drainage == "undrained":
         eta = 0.5 + 3 * eps  # still rising at its end (q/p' by 0.15 over the window): no critical state
-    p = 3 * p0 * 1e3 / (3 - eta)  # constant sigma_3 = p'_0
+    sign = -1 if ext else 1
+    p = 3 * p0 * 1e3 / (3 - sign * eta)  # constant sigma_3 = p'_0 (the lateral stress in extension)
     e = e0 - (1 + e0) * ev
-    series = [shear_row(i, *r, mu_r, drainage) for i, r in enumerate(zip(eps, ev, p, eta * p, e))]
-    jobs.append(write_compression(work, name, p0, drainage, series, cols, mu_r, keys, E))
+    series = [shear_row(i, *r, mu_r, drainage) for i, r in enumerate(zip(sign * eps, ev, p, sign * eta * p, e))]
+    jobs.append(write_compression(work, name, p0, drainage, series, cols, mu_r, keys, E,
+                                  "extension" if ext else "compression"))
     rows = list(zip(p, e))
     # psi where the test dilates fastest: the row the dilatancy's windows find (the segment's rate is one, so which
     # of its rows depends on round-off), its e less the line's at its p'
-    k_d = int(np.nanargmin(D.analyse(eps, ev, eta)["d"]))
-    psi_d = rows[k_d][1] - e_line(rows[k_d][0] / 1e3)
+    k_d = int(np.nanargmin(D.analyse(sign * eps, ev, eta, extension=ext)["d"]))
+    psi_d = rows[k_d][1] - e_line(rows[k_d][0] / 1e3, ext)
     return dict(name=name, p0=p0, e0=e0, psi0=psi0, phi=phi_max, dil=dil, psi_d=psi_d)
 
 
@@ -78,61 +92,81 @@ want = [test(f"cd_p{p0}_{k}", p0, psi) for p0, psis in ((50, (-0.05, -0.02, 0.01
                                                         (200, (-0.04, -0.01, 0.005))) for k, psi in enumerate(psis)]
 test("other_mu_r", 100, -0.02, mu_r=0.3)
 test("undrained", 100, 0.0, drainage="undrained")
+want_ext = [test(f"te_p{p0}_{k}", p0, psi, ext=True) for p0, psis in ((50, (-0.05, -0.02, 0.01)),
+                                                                     (100, (-0.06, -0.03, 0.0)),
+                                                                     (200, (-0.04, -0.01, 0.005)))
+            for k, psi in enumerate(psis)]
 text = study_report(work, jobs)
 head = "## State parameter (drained compression)"
-if head not in text:
-    sys.exit(f"state_parameter_check: no '{head}' in report.md")
-sec = text.split(head)[1].split("\n## ")[0]
-rows = {r.split(" | ")[0][2:]: r.split(" | ") for r in sec.splitlines() if r.startswith("| cd_") or
-        r.startswith("| other") or r.startswith("| undrained")}
-if sorted(rows) != sorted(t["name"] for t in want):
-    fails.append(f"the section's tests: {sorted(rows)}, expected the nine mu_r 0.1 drained ones")
-for t in want:
-    r = rows.get(t["name"])
-    if r is None or len(r) != 12:
-        fails.append(f"{t['name']}: row {r}")
-        continue
-    outside = t["p0"] < 3 * 50 / (3 - M_CS)  # below the line's lowest p'_c: extrapolated, marked *
-    got_ec = f"{e_line(t['p0']):.4f} ± 0.0000" + (" *" if outside else "")
-    expect = [f"{t['p0']:.1f}", f"{t['e0']:.4f}", got_ec, f"{t['psi0']:+.4f}", "+0.0000", f"{t['phi']:.1f}",
-              f"{PHI_CS:.1f}", f"{t['phi'] - PHI_CS:+.1f}"]
-    got = [r[2], r[3], r[4], r[5].replace("-0.0000", "+0.0000"), r[6].replace("-0.0000", "+0.0000"), r[7], r[8], r[9]]
-    if got != expect:
-        fails.append(f"{t['name']}: {got}, expected {expect}")
-    if abs(float(r[10].split(" ± ")[0]) - t["dil"]) > 5e-4:
-        fails.append(f"{t['name']}: (-d)_max {r[10]}, expected {t['dil']:.3f}")
-    if r[11].rstrip(" |") != f"{t['psi_d']:+.4f}":
-        fails.append(f"{t['name']}: psi at (-d)_max {r[11]}, expected {t['psi_d']:+.4f}")
-line_txt = f"{A_LINE:.4f} ± 0.0000 + ({B_LINE:.3e} ± "
-if f"The line: mu_r 0.1: e_c = {line_txt}" not in sec or "through 9 critical states at p'_c 67–267 kPa, phi'_cs " \
-        f"{PHI_CS:.1f}°." not in sec:
-    fails.append(f"the line's text (e_c = {line_txt}...): {sec.split('The line')[-1][:200]!r}")
-if "*: p'_0 outside the pressures" not in sec:
-    fails.append("no note on the extrapolated e_c (*)")
-fit_rows = [r for r in sec.splitlines() if r.startswith("| 0.1 | 9 |")]
-# the line in e_0 alone misses: its residual, worked out here
-psi = np.array([t["psi0"] for t in want])
-e0 = np.array([t["e0"] for t in want])
-rms_e = []
-for y in (np.array([t["phi"] - PHI_CS for t in want]), np.array([t["dil"] for t in want])):
-    k, c = np.polyfit(e0, y, 1)
-    rms_e.append(float(np.sqrt(np.mean((y - c - k * e0) ** 2))))
-# (-d)_max on psi at it: least squares worked out here (the rows' psi are not on one line with (-d)_max)
-psi_d = np.array([t["psi_d"] for t in want])
-dil = np.array([t["dil"] for t in want])
-k_dd, c_dd = np.polyfit(psi_d, dil, 1)
-rms_dd = float(np.sqrt(np.mean((dil - c_dd - k_dd * psi_d) ** 2)))
-expect_fits = [f"| 0.1 | 9 | phi'_max - phi'_cs [°] on psi_0 | 0.50 ± 0.00 | -40.00 ± 0.00 | 0.00 | "
-               f"{rms_e[0]:.2f} |",
-               f"| 0.1 | 9 | (-d)_max on psi_0 | 0.030 ± 0.000 | -2.000 ± 0.000 | 0.000 | {rms_e[1]:.3f} |",
-               f"| 0.1 | 9 | (-d)_max on psi at it | {c_dd:.3f} ± "]
-# (the peak's row is the table's phi'_max; the fit takes the unrounded one: exact)
-got_fits = [r.replace("-0.00 |", "0.00 |").replace("-0.000 |", "0.000 |") for r in fit_rows]
-if got_fits[:2] != expect_fits[:2] or len(got_fits) != 3 or not got_fits[2].startswith(expect_fits[2]) or \
-        f"| {k_dd:.3f} ± " not in got_fits[2] or not got_fits[2].endswith(f"| {rms_dd:.3f} | {rms_e[1]:.3f} |"):
-    fails.append(f"the fits: {fit_rows}, expected {expect_fits} (the third: slope {k_dd:.3f}, rms {rms_dd:.3f})")
-if min(rms_e) < 0.01 * np.ptp(psi):
-    fails.append(f"the line in e_0 fits as well as psi_0 ({rms_e}): the test cannot tell them apart")
+
+
+def check_section(head, want, ext):
+    """The rows, the line's text and the fits of the section under head against the tests want of a direction;
+    returns the rms about lines in e_0 alone, the psi_0 and psi at (-d)_max, and that fit."""
+    if head not in text:
+        sys.exit(f"state_parameter_check: no '{head}' in report.md")
+    sec = text.split(head)[1].split("\n## ")[0]
+    rows = {r.split(" | ")[0][2:]: r.split(" | ") for r in sec.splitlines() if r.startswith("| cd_") or
+            r.startswith("| te_") or r.startswith("| other") or r.startswith("| undrained")}
+    if sorted(rows) != sorted(t["name"] for t in want):
+        fails.append(f"{head}: the section's tests: {sorted(rows)}, expected the nine mu_r 0.1 drained ones")
+    a, b, phi_cs = (A_EXT, B_EXT, PHI_EXT) if ext else (A_LINE, B_LINE, PHI_CS)
+    # p'_0 beyond the line's critical states' p'_c (3 p'_0 / (3 + M) from 50 to 200 kPa in extension, 3 p'_0 /
+    # (3 - M) in compression): extrapolated, marked *
+    lo, hi = (50 * 3 / (3 + M_EXT), 200 * 3 / (3 + M_EXT)) if ext else (50 * 3 / (3 - M_CS), 200 * 3 / (3 - M_CS))
+    for t in want:
+        r = rows.get(t["name"])
+        if r is None or len(r) != 12:
+            fails.append(f"{t['name']}: row {r}")
+            continue
+        outside = not lo <= t["p0"] <= hi
+        got_ec = f"{e_line(t['p0'], ext):.4f} ± 0.0000" + (" *" if outside else "")
+        expect = [f"{t['p0']:.1f}", f"{t['e0']:.4f}", got_ec, f"{t['psi0']:+.4f}", "+0.0000", f"{t['phi']:.1f}",
+                  f"{phi_cs:.1f}", f"{t['phi'] - phi_cs:+.1f}"]
+        got = [r[2], r[3], r[4], r[5].replace("-0.0000", "+0.0000"), r[6].replace("-0.0000", "+0.0000"), r[7], r[8],
+               r[9]]
+        if got != expect:
+            fails.append(f"{t['name']}: {got}, expected {expect}")
+        if abs(float(r[10].split(" ± ")[0]) - t["dil"]) > 5e-4:
+            fails.append(f"{t['name']}: (-d)_max {r[10]}, expected {t['dil']:.3f}")
+        if r[11].rstrip(" |") != f"{t['psi_d']:+.4f}":
+            fails.append(f"{t['name']}: psi at (-d)_max {r[11]}, expected {t['psi_d']:+.4f}")
+    line_txt = f"{a:.4f} ± 0.0000 + ({b:.3e} ± "
+    if f"The line: mu_r 0.1: e_c = {line_txt}" not in sec or "through 9 critical states at p'_c " \
+            f"{lo:.0f}–{hi:.0f} kPa, phi'_cs {phi_cs:.1f}°." not in sec:
+        fails.append(f"{head}: the line's text (e_c = {line_txt}...): {sec.split('The line')[-1][:200]!r}")
+    if "*: p'_0 outside the pressures" not in sec:
+        fails.append(f"{head}: no note on the extrapolated e_c (*)")
+    fit_rows = [r for r in sec.splitlines() if r.startswith("| 0.1 | 9 |")]
+    # the line in e_0 alone misses: its residual, worked out here
+    psi = np.array([t["psi0"] for t in want])
+    e0 = np.array([t["e0"] for t in want])
+    rms_e = []
+    for y in (np.array([t["phi"] - phi_cs for t in want]), np.array([t["dil"] for t in want])):
+        k, c = np.polyfit(e0, y, 1)
+        rms_e.append(float(np.sqrt(np.mean((y - c - k * e0) ** 2))))
+    # (-d)_max on psi at it: least squares worked out here (the rows' psi are not on one line with (-d)_max)
+    psi_d = np.array([t["psi_d"] for t in want])
+    dil = np.array([t["dil"] for t in want])
+    k_dd, c_dd = np.polyfit(psi_d, dil, 1)
+    rms_dd = float(np.sqrt(np.mean((dil - c_dd - k_dd * psi_d) ** 2)))
+    expect_fits = [f"| 0.1 | 9 | phi'_max - phi'_cs [°] on psi_0 | 0.50 ± 0.00 | -40.00 ± 0.00 | 0.00 | "
+                   f"{rms_e[0]:.2f} |",
+                   f"| 0.1 | 9 | (-d)_max on psi_0 | 0.030 ± 0.000 | -2.000 ± 0.000 | 0.000 | {rms_e[1]:.3f} |",
+                   f"| 0.1 | 9 | (-d)_max on psi at it | {c_dd:.3f} ± "]
+    # (the peak's row is the table's phi'_max; the fit takes the unrounded one: exact)
+    got_fits = [r.replace("-0.00 |", "0.00 |").replace("-0.000 |", "0.000 |") for r in fit_rows]
+    if got_fits[:2] != expect_fits[:2] or len(got_fits) != 3 or not got_fits[2].startswith(expect_fits[2]) or \
+            f"| {k_dd:.3f} ± " not in got_fits[2] or not got_fits[2].endswith(f"| {rms_dd:.3f} | {rms_e[1]:.3f} |"):
+        fails.append(f"{head}: the fits: {fit_rows}, expected {expect_fits} (the third: slope {k_dd:.3f}, "
+                     f"rms {rms_dd:.3f})")
+    if min(rms_e) < 0.01 * np.ptp(psi):
+        fails.append(f"the line in e_0 fits as well as psi_0 ({rms_e}): the test cannot tell them apart")
+    return rms_e, psi_d, c_dd, k_dd
+
+
+rms_e, psi_d, c_dd, k_dd = check_section(head, want, False)
+check_section("## State parameter (drained extension)", want_ext, True)
 # The same nine as a study over a preparation stage's axis (consolidate.mu, a value per state): the table across the
 # values pools them on one line (a section column, the same psi_0 as above); over an axis of the shear stage itself
 # (shear.mu: another material at each value) each value's three get a line of their own, but over its end
@@ -146,14 +180,17 @@ for axis in ("consolidate.mu", "shear.mu", "shear.max_axial_strain", "E"):
             for k, psi in enumerate(psis):
                 test(f"cd_p{p0}_{k}" + (f"_E{E:g}" if E else ""), p0, psi, E=E,
                      keys={"consolidate.mu" if axis == "E" else axis: (0.1, 0.3, 0.5)[k]})
+                if axis == "consolidate.mu":  # and the extensions, pooled on their own line under their own heading
+                    test(f"te_p{p0}_{k}", p0, psi, keys={axis: (0.1, 0.3, 0.5)[k]}, ext=True)
     text = study_report(work, jobs)
     across = text.split("## Across the values")[1].split("\n## ")[0] if "## Across the values" in text else ""
     heads = [x for x in across.splitlines() if x.startswith("### State parameter across the values")]
     if axis == "consolidate.mu":
-        want_heads = ["### State parameter across the values"]
-        for t in want:
+        want_heads = ["### State parameter across the values", "### State parameter across the values (extension)"]
+        for t in want + want_ext:
             k = int(t["name"][-1])
-            sp = across.split("### State parameter across the values")[-1]
+            sp = across.split("### State parameter across the values" + (" (extension)" if t in want_ext else "") +
+                              "\n")[-1].split("\n### ")[0]
             start = f"| {axis} = {(0.1, 0.3, 0.5)[k]:g} | {t['name']} |"
             row = next((x for x in sp.splitlines() if x.startswith(start)), "")
             if f"| {t['psi0']:+.4f} |".replace("-0.0000", "+0.0000") not in row.replace("-0.0000", "+0.0000"):

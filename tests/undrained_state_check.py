@@ -34,6 +34,15 @@ The section must list the eight (not the drained tests nor a test of another mu_
 p'_c at e_0 with '0 (liquefies)' for the first, the residual of each critical end against it, and I_B and p'_min /
 p'_0 on lines in psi_0 by least squares worked out here, beside the rms about a line in e_0. Over a preparation stage
 axis the table across the values pools them; without a line, there is no section.
+Triaxial extensions beside them (eps_a < 0, q < 0; u = p'_0 + q/3 - p' as in compression, the lateral stress held):
+nine drained ones at critical state (q/p' = 0.6, p' = 3 p'_0 / (3 + q/p')) on a line of their own, e_c = 0.78 - 4e-4
+p' (p'_c 41.7-166.7 kPa), and three undrained ones: limited liquefaction at 100 kPa (psi_0 -0.02: |q| peaks at 0.4
+p'_0 at eps_a -1 %, falls to 0.1 p'_0 at -5 % with p' to 0.2 p'_0, I_B 0.75, a phase transformation at q/p' 0.5, then
+on to the extension line's p'_c at e_0, 150 kPa, at q/p' = 0.6), liquefaction (e_0 0.79, above the extensions'
+intercept: '0 (liquefies)'; p' as the compression's LIQ_P, q = -0.6 p' from -5 %) and a dilative one (psi_0 -0.08,
+p'_c 300 kPa *). Their section, "State parameter (undrained extension)", must give each measure as built, q's peak
+and trough < 0 at eps_a < 0, the p'_c of the extensions' line (the compressions' would give 260 kPa for the first),
+and the fits in psi_0 worked out here; the compression section keeps its eight.
 """
 import os
 import shutil
@@ -57,13 +66,15 @@ def e_line(p_kpa):
     return A_LINE + B_LINE * p_kpa
 
 
-def write(name, p, q, e, p0, mu_r=0.1, drainage="drained", keys=None):
-    """A compression test's run (p, q [kPa] and e per row of eps) and its job in study.json."""
+def write(name, p, q, e, p0, mu_r=0.1, drainage="drained", keys=None, ext=False):
+    """A compression (ext: extension, eps_a = -eps) test's run (p, q [kPa] and e per row of eps) and its job in
+    study.json."""
     # SPEC §6: u = p'_0 + q/3 - p' (0 in a drained test)
-    rows = [shear_row(i, ea, (e[0] - ek) / (1 + e[0]), pk * 1e3, qk * 1e3, ek, mu_r, drainage,
+    rows = [shear_row(i, -ea if ext else ea, (e[0] - ek) / (1 + e[0]), pk * 1e3, qk * 1e3, ek, mu_r, drainage,
                       u=(p0 + qk / 3 - pk) * 1e3 if drainage == "undrained" else 0.0)
             for i, (ea, pk, qk, ek) in enumerate(zip(eps, p, q, e))]
-    jobs.append(write_compression(work, name, p0, drainage, rows, cols, mu_r, keys))
+    jobs.append(write_compression(work, name, p0, drainage, rows, cols, mu_r, keys, None,
+                                  "extension" if ext else "compression"))
 
 
 def drained(name, p0, psi0, mu_r=0.1, keys=None):
@@ -75,6 +86,23 @@ def drained(name, p0, psi0, mu_r=0.1, keys=None):
     write(name, p, eta * p, e, p0, mu_r, keys=keys)
 
 
+A_EXT, B_EXT, M_EXT = 0.78, -4e-4, 0.6  # the extensions' line and critical stress ratio
+
+
+def e_line_ext(p_kpa):
+    return A_EXT + B_EXT * p_kpa
+
+
+def drained_ext(name, p0, psi0):
+    """An extension at constant sigma_3 = p'_0 (the lateral stress), q/p' up to M_EXT by 10 %: critical on the
+    extensions' line by 20 %."""
+    eta = np.minimum(M_EXT * eps / 0.10, M_EXT)
+    p = 3 * p0 / (3 + eta)
+    e0 = e_line_ext(p0) + psi0
+    e = e0 + (e_line_ext(3 * p0 / (3 + M_EXT)) - e0) * np.minimum(eps / 0.20, 1)
+    write(name, p, -eta * p, e, p0, ext=True)
+
+
 def lin(points):
     """The piecewise-linear function through (eps, value) points, constant past the last, at every row."""
     x, y = zip(*points)
@@ -84,9 +112,9 @@ def lin(points):
 E0 = {}  # each undrained test's e_0
 
 
-def undrained(name, p0, e0, p_pts, q_pts, mu_r=0.1, keys=None):
+def undrained(name, p0, e0, p_pts, q_pts, mu_r=0.1, keys=None, ext=False):
     E0[name] = e0
-    write(name, lin(p_pts), lin(q_pts), np.full(len(eps), e0), p0, mu_r, "undrained", keys)
+    write(name, lin(p_pts), lin(q_pts), np.full(len(eps), e0), p0, mu_r, "undrained", keys, ext)
 
 
 def p_line(e0):
@@ -107,7 +135,21 @@ LATE_P = [(0, 50), (0.01, 42), (0.05, 10), (0.15, 40), (0.25, 16), (0.3, 16), (0
 LATE_Q = [(0, 0), (0.01, 20), (0.05, 5), (0.15, 30), (0.25, 12), (0.3, 12), (0.4, 9)]
 
 
-def build(keys=None):
+EXT_PC = (e_line_ext(100) - 0.02 - A_EXT) / B_EXT  # 150 kPa: the limited extension's end on its line
+DILE_P = [(0, 100), (0.01, 95), (0.4, 300)]
+
+
+def build(keys=None, ext=False):
+    """The tests above (keys: over a preparation stage's values); ext: the extensions too."""
+    if ext:
+        for p0, psis in ((50, (-0.05, 0.01)), (100, (-0.06, 0.0)), (200, (-0.04, 0.005))):
+            for n, psi in enumerate(psis):
+                drained_ext(f"te_p{p0}_{n}", p0, psi)
+        undrained("ce_limited", 100, e_line_ext(100) - 0.02, [(0, 100), (0.01, 84), (0.05, 20), (0.2, EXT_PC)],
+                  [(0, 0), (0.01, -40), (0.05, -10), (0.2, -M_EXT * EXT_PC)], ext=True)
+        undrained("ce_liquefies", 100, 0.79, LIQ_P, [(0, 0), (0.01, -30)] + [(x, -0.6 * y) for x, y in LIQ_P[2:]],
+                  ext=True)
+        undrained("ce_dilative", 100, e_line_ext(100) - 0.08, DILE_P, [(0, 0), (0.4, -180)], ext=True)
     k = 0
     for p0, psis in ((50, (-0.05, -0.02, 0.01)), (100, (-0.06, -0.03, 0.0)), (200, (-0.04, -0.01, 0.005))):
         for psi in psis:
@@ -170,10 +212,50 @@ WANT = {
                    0.805 - e_line(P_END_REG), "0.200 (0.5)", f"{40 / 180:.3f}", "0.019 (3.0)", (40 - 3.75) / 40,
                    "0.025 (3.0)", "- (regains)", f"{(200 + 1.25 - 5) / 200:.3f} (liquefied)"),
 }
-build()
+build(ext=True)
 text = study_report(work, jobs)
 head = "## State parameter (undrained compression)"
 fails = []
+# the extensions' section: name -> the row from psi_0 on, as built (module docstring)
+P_END_DILE = float(np.mean(np.interp(eps[eps >= eps[-1] - 0.05], *zip(*DILE_P))))
+WANT_EXT = {
+    "ce_limited": ["-0.0200", "150 ± 0", "150.0", "+0.0000", "-0.400 (-1.0)", f"{40 / 84:.3f}", "-0.100 (-5.0)",
+                   "0.750", "0.200 (-5.0)", "0.500", f"{(100 - 10 / 3 - 20) / 100:.3f}"],
+    "ce_liquefies": [f"{0.79 - e_line_ext(100):+.4f}", "0 (liquefies)", f"{P_END_LIQ:.1f} (not critical)",
+                     f"{0.79 - e_line_ext(P_END_LIQ):+.4f}", "-0.300 (-1.0)", f"{30 / 80:.3f}",
+                     f"{-0.6 * 0.08 / 100:.3f} (-30.0)", f"{(30 - 0.048) / 30:.3f}", "0.001 (-30.0)", "-",
+                     f"{(100 - 0.048 / 3 - 0.08) / 100:.3f} (liquefied)"],
+    "ce_dilative": ["-0.0800", "300 ± 0 *", f"{P_END_DILE:.1f} (not critical)",
+                    f"{e_line_ext(100) - 0.08 - e_line_ext(P_END_DILE):+.4f}", "-", "-", "-", "0.000",
+                    "0.950 (-1.0)", f"{180 * 0.01 / 0.4 / 95:.3f}", f"{(100 - 180 * 0.01 / 0.4 / 3 - 95) / 100:.3f}"],
+}
+head_e = "## State parameter (undrained extension)"
+sec_e = text.split(head_e)[1].split("\n## ")[0] if head_e in text else ""
+rows_e = {r.split(" | ")[0][2:]: [x.strip() for x in r.strip("| ").split(" | ")] for r in sec_e.splitlines()
+          if r.startswith("| c") or r.startswith("| te_")}
+if sorted(rows_e) != sorted(WANT_EXT):
+    fails.append(f"the extension section's tests: {sorted(rows_e)}, expected {sorted(WANT_EXT)}")
+for name, w in WANT_EXT.items():
+    got = [x.replace("-0.0000", "+0.0000") for x in rows_e.get(name, [])[4:15]]
+    if got != w:
+        fails.append(f"{name}: {got}, expected {w}")
+names_e = sorted(WANT_EXT)
+psi_e = np.array([float(WANT_EXT[n][0]) for n in names_e])
+e0_e = np.array([E0[n] for n in names_e])
+# (dilative, limited, liquefies: their I_B and p'_min / p'_0 unrounded)
+for col, y in (("I_B on psi_0", np.array([0.0, 0.75, (30 - 0.048) / 30])),
+               ("p'_min / p'_0 on psi_0", np.array([0.95, 0.2, 0.0008]))):
+    k, c = np.polyfit(psi_e, y, 1)
+    rms = float(np.sqrt(np.mean((y - c - k * psi_e) ** 2)))
+    ke, ce = np.polyfit(e0_e, y, 1)
+    rms_e = float(np.sqrt(np.mean((y - ce - ke * e0_e) ** 2)))
+    row = next((x for x in sec_e.splitlines() if x.startswith(f"| 0.1 | 3 | {col} |")), "")
+    if not row.startswith(f"| 0.1 | 3 | {col} | {c:.3f} ± ") or f"| {k:.3f} ± " not in row or \
+            not row.endswith(f"| {rms:.3f} | {rms_e:.3f} |"):
+        fails.append(f"the extensions' fit {col}: {row!r}, expected {c:.3f} + {k:.3f} psi_0, rms {rms:.3f}, on e_0 "
+                     f"{rms_e:.3f}")
+if "The line: mu_r 0.1: e_c = 0.7800 ± 0.0000 + (-4.000e-04 ± " not in sec_e:
+    fails.append(f"the extensions' line: {sec_e.split('The line')[-1][:120]!r}")
 if head not in text:
     sys.exit(f"undrained_state_check: no '{head}' in report.md")
 sec = text.split(head)[1].split("\n## ")[0]
