@@ -205,6 +205,6 @@ else:
     fails.append(f"the extension test's row: {row}")
 if fails:
     sys.exit("dilatancy_check: " + "; ".join(fails))
-print(f"dilatancy_check: ok ((-d)_max {res['neg_d_max']:.4f} of {true_max:.4f} at {res['eps_max']:.4f}, K {res['K']:.4f}, "
-      f"phi_f {res['phi_f']:.2f} of {phi_f:.2f}; extension K {res_e['K']:.4f}, read as a compression "
+print(f"dilatancy_check: ok ((-d)_max {res['neg_d_max']:.4f} of {true_max:.4f} at {res['eps_max']:.4f}, "
+      f"K {res['K']:.4f}, phi_f {res['phi_f']:.2f} of {phi_f:.2f}; extension K {res_e['K']:.4f}, read as a compression "
       f"{as_comp['K']:.4f}; the report's two sections)")

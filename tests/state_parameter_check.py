@@ -16,13 +16,13 @@ leaves a residual (the pressures differ), and (-d)_max on psi at it by least squ
 (one critical state: no line) and an undrained test are not in the section; without any line, there is no section.
 The same nine over a stage axis: pooled on one line in the table across the values over a preparation stage's key
 (consolidate.mu) or the shear's end (shear.max_axial_strain), a line per value over a key of the shear (shear.mu).
-Nine drained extensions beside them (eps_a < 0, q < 0, p' = 3 p'_0 / (3 + q/p') falling at constant sigma_3), built
-the same way (but dilating to 30 %) on a line of their own, e_c = 0.78 - 4e-4 p', at q/p' = 0.6 (phi'_cs = asin(3 M / (6 - M)) = asin(1/3)),
-their peaks phi'_cs + 0.5 - 40 psi_0 by Mohr-Coulomb in extension, their dilatancy along -eps_a: the extension section
-gives each on the extensions' line (the compressions' would put psi_0 off by 0.02 + 1e-4 p'_0), its 200 kPa tests'
-e_c extrapolated (above the line's highest p'_c, 166.7 kPa), the fits 0.50 and -40.00, 0.030 and -2.000 as in
-compression; the compression section keeps its nine alone; across a preparation stage's values the extensions get a
-heading of their own.
+Nine drained extensions beside them (eps_a < 0, q < 0, p' = 3 p'_0 / (3 + q/p') falling at constant sigma_3), built the
+same way (but dilating to 30 %) on a line of their own, e_c = 0.78 - 4e-4 p', at q/p' = 0.6 (phi'_cs = asin(3 M / (6 -
+M)) = asin(1/3)), their peaks phi'_cs + 0.5 - 40 psi_0 by Mohr-Coulomb in extension, their dilatancy along -eps_a: the
+extension section gives each on the extensions' line (the compressions' would put psi_0 off by 0.02 - 1e-4 p'_0), its
+200 kPa tests' e_c extrapolated (above the line's highest p'_c, 166.7 kPa), the fits 0.50 and -40.00, 0.030 and -2.000
+as in compression; the compression section keeps its nine alone; across a preparation stage's values the extensions get
+a heading of their own.
 """
 import math
 import os
