@@ -2655,10 +2655,9 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
         legend(a_, fontsize=8)
     save(fig, figs, figname)
     return [title, "", lead +
-            ("The drained extensions (b = 0) on the line of the extensions' critical states (the section above "
-             "fits one per direction: extension reaches the critical state at another stress ratio); their dilatancy "
-             "d = d eps_v / d(-eps_a), along the loading, as the extension stress-dilatancy section takes it. "
-             if ext else "") +
+            ("Extensions (b = 0) on the line of the extensions' critical states (the lines are fitted per direction: "
+             "extension reaches the critical state at another stress ratio); their dilatancy d = d eps_v / "
+             "d(-eps_a), along the loading. " if ext else "") +
             "The state parameter psi_0 = e_0 - e_c(p'_0) (Been & Jefferies 1985; not the dilation angle psi_max "
             "above): the void ratio at the start of the shear less the critical-state line's (the section above: "
             "e_c = a + b p', through the critical states of the tests of its mu_r and rate, dense and loose alike) at "
@@ -2667,8 +2666,8 @@ def state_parameter_section(mono, states, window, tol, figs, peak=(0.0, None), h
             "'(not critical)': the end window drifted). phi'_cs: the line's (its critical states' mean q/p'); "
             "phi'_max and (-d)_max as in the tables above; psi at (-d)_max: e less the line's e_c at the p' of the "
             "row where the test dilates fastest, the current state that Nor-Sand's D_min = chi psi takes (Jefferies "
-            "1993; its D = d eps_v / d eps_q, here d = d eps_v / d eps_a): a sample that contracts first reaches it "
-            "denser than it started." +
+            f"1993; its D = d eps_v / d eps_q, here d = d eps_v / d {'(-eps_a)' if ext else 'eps_a'}): a sample that "
+            "contracts first reaches it denser than it started." +
             (" *: p'_0 outside the pressures of the line's critical states (e_c extrapolated along the line; a drained "
              f"shear at constant sigma_3 ends at a {'lower' if ext else 'higher'} p' than it starts)." if outside
              else "") +
