@@ -1345,6 +1345,28 @@ def line_at(x, y, x0):
     return icpt + slope * x0, math.sqrt(s2 * (1 / len(x) + (x0 - x.mean()) ** 2 / sxx))
 
 
+def directions_line(groups, several_rates):
+    """Whether the loading directions' critical states lie on one line (csl_groups' groups; one_line_rows): per mu_r
+    (and rate) with two directions or more (compression, extension, a true-triaxial b), e_c = a + b p' through all
+    their critical states and each direction's mean offset from it. Empty where no mu_r qualifies."""
+    by_mu = {}
+    for (mur, ext, bv, rate), g in sorted(groups.items()):
+        label = f"mu_r {mur:g}" + (rate_text(rate, ", ") if several_rates else "")
+        member = ("extension" if ext else "compression") + (f", b = {bv:g}" if bv > 0 else "")
+        by_mu.setdefault((mur, rate), (label, []))[1].extend((member, c["p"] / 1e3, c["e"]) for c in g)
+    rows = one_line_rows({label: st for _, (label, st) in sorted(by_mu.items())})
+    if not rows:
+        return []
+    return ["", "One critical-state line through the critical states of every loading direction of a mu_r (e_c = a + "
+            "b p', as the table above fits each direction's), with each direction's mean offset from it: the stress "
+            "ratio at critical state depends on the direction (M_c, M_e, the Lode angle of a b > 0), the void ratio "
+            "need not (Been, Jefferies & Hachey 1991 found one line in e - p' for the compressions and extensions of "
+            "a sand); a direction more than two standard errors off it (the scatter about the line once each "
+            "direction's mean offset is taken out, over the root of its states) ends at another density.", "",
+            "| group | the line through every direction's critical states | direction | states | mean offset in e | "
+            "standard error | |", "|---|---|---|---|---|---|---|", *rows]
+
+
 def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
     states = []
     for run, s in runs:
@@ -1431,6 +1453,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
                   "compression section). The rms misfit of e_c is each line's residual standard error (both have two "
                   "parameters): the smaller describes these states better over their range of p'_c (dotted in the "
                   "figure: the ln line). The state parameter is measured from the linear line (SPEC §7)."]
+    lines += directions_line(groups, several_rates)
     note = inertial_note([c for _, c in states])
     text = "\n".join(lines + (["", note] if note else []))
     if not quiet:
@@ -2230,12 +2253,42 @@ def across_gradings_section(out, idx, figs, kind="grading"):
             "|---" * (9 if files else 8) + "|", *rows, "", *(files_line(pts) if files else [])]
 
 
+def one_line_rows(groups):
+    """The table rows of one critical-state line through several members' critical states (groups: the group's label
+    -> (member, p'_c [kPa], e_c) each, in the order given; the member "" is named the base): per group with two members or more and three states or
+    more at three pressure levels or more, e_c = a + b p' through all of them (the rms of its residuals, n - 2 degrees
+    of freedom), and per member (sorted) its states' mean residual from that line against the scatter about the line
+    once each member's mean residual is taken out (the pooled within-member rms, n - 2 - (members - 1) degrees of
+    freedom: a member's own offset must not widen the yardstick it is judged by) over the root of the member's
+    states: 'off the line' past two of those standard errors. A group without a degree of freedom left is skipped."""
+    rows = []
+    for what, st in groups.items():
+        p = np.array([x[1] for x in st])
+        e = np.array([x[2] for x in st])
+        members = sorted({x[0] for x in st})
+        dof = len(st) - 2 - (len(members) - 1)
+        if len(members) < 2 or dof < 1 or pressure_levels(p) < 3:
+            continue
+        b, a, sb, sa = fit(p, e)
+        res = e - (a + b * p)
+        rms = math.sqrt(float(np.sum(res ** 2)) / (len(st) - 2))
+        mine = {f: np.array([res[i] for i, x in enumerate(st) if x[0] == f]) for f in members}
+        within = math.sqrt(sum(float(np.sum((r - r.mean()) ** 2)) for r in mine.values()) / dof)
+        for f in members:
+            r = mine[f]
+            se, off = within / math.sqrt(len(r)), float(np.mean(r))
+            rows.append(f"| {what} | e_c = {a:.4f} ± {sa:.4f} + ({b:.3e} ± {sb:.1e}) p' [kPa] ({len(st)} states, "
+                        f"rms {rms:.4f}) | {f or 'the base'} | {len(r)} | {round(off, 4) + 0.0:+.4f} | {se:.4f} | "
+                        f"{'off the line' if abs(off) > max(2 * se, 1e-12) else 'on it'} |")  # 1e-12: round-off
+    return rows
+
+
 def files_line(pts):
     """Whether the sample files' critical states lie on one line (across_gradings_section's pts: per file its tests'
     (p', e, critical, path p', path e, state)): per group of critical states a critical-state line joins (mu_r,
     extension, b, rate: csl_groups), with states of two files or more at three pressure levels or more (as a file's own
-    line needs), e_c = a + b p' through all of them and each file's mean offset from it against the line's scatter (its
-    residuals' rms over sqrt of the file's states): specimens of one material, whatever their density, reach one
+    line needs), e_c = a + b p' through all of them and each file's mean offset from it against the line's scatter
+    (one_line_rows): specimens of one material, whatever their density, reach one
     critical-state line (Roscoe et al. 1958; Been & Jefferies 1985), so an offset past two of those is a file whose
     spheres or contact law differ, or whose tests are not at their critical state. Empty where no group qualifies."""
     groups = {}
@@ -2244,30 +2297,15 @@ def files_line(pts):
             c = t[5]
             if c["ok"]:
                 groups.setdefault((c["mu_r"], c["ext"], c["b"], c["rate"]), []).append((g, c["p"] / 1e3, c["e"]))
-    rows = []
-    for key in sorted(groups):
-        st = groups[key]
-        p = np.array([x[1] for x in st])
-        e = np.array([x[2] for x in st])
-        if len({x[0] for x in st}) < 2 or len(st) < 3 or pressure_levels(p) < 3:
-            continue
-        b, a, sb, sa = fit(p, e)
-        res = e - (a + b * p)
-        rms = math.sqrt(float(np.sum(res ** 2)) / (len(st) - 2))
-        what = (f"mu_r {key[0]:g}" + (", extension" if key[1] else "") + (f", b {key[2]:g}" if key[2] else "")
-                + rate_text(key[3], ", "))
-        for f in sorted({x[0] for x in st}):
-            r = np.array([res[i] for i, x in enumerate(st) if x[0] == f])
-            se, off = rms / math.sqrt(len(r)), float(np.mean(r))
-            rows.append(f"| {what} | e_c = {a:.4f} ± {sa:.4f} + ({b:.3e} ± {sb:.1e}) p' [kPa] ({len(st)} states, "
-                        f"rms {rms:.4f}) | {f or 'the base'} | {len(r)} | {round(off, 4) + 0.0:+.4f} | {se:.4f} | "
-                        f"{'off the line' if abs(off) > 2 * se else 'on it'} |")
+    rows = one_line_rows({(f"mu_r {k[0]:g}" + (", extension" if k[1] else "") + (f", b {k[2]:g}" if k[2] else "")
+                           + rate_text(k[3], ", ")): groups[k] for k in sorted(groups)})
     if not rows:
         return []
     return ["One critical-state line through the files' critical states (e_c = a + b p', as each file's section fits "
             "its own), per mu_r and loading, with each file's mean offset from it: specimens of one material reach "
             "one critical-state line whatever their density, so a file more than two standard errors off it (the "
-            "line's rms over the root of its states) has other spheres or contacts, or tests not yet critical.", "",
+            "scatter about the line once each file's mean offset is taken out, over the root of its states) has "
+            "other spheres or contacts, or tests not yet critical.", "",
             "| group | the line through every file's critical states | file | states | mean offset in e | standard "
             "error | |", "|---|---|---|---|---|---|---|", *rows, ""]
 

@@ -14,7 +14,12 @@ mu_r 0.5 compressions I = (k + 1) 1e-3, one NaN row (a checkpoint of an older bu
 4 critical states above the quasi-static 1e-3 are named below the table. The mu_r 0.5 compressions' series also have
 the walls' q (q/p' = 0.72 against the contacts' 0.6), the damping's drag p_drag, q_drag (the walls' less it: 0.70, one
 NaN row in a window) and the interior's p_inner, q_inner (q/p' = 0.66, one NaN row in a window): the line's last column
-gives M of the three ("-, -, -" for the runs without those columns)."""
+gives M of the three ("-, -, -" for the runs without those columns).
+Extensions of mu_r 0.5 on the compressions' line (e within +-0.001 of it): one line through every direction's critical
+states (mu_r 0.1: compression, b = 0.5 and extension on three lines; mu_r 0.5: compression and extension on one) with
+each direction's mean offset from it and its standard error (the scatter about the line once each direction's offset is
+taken out), all worked out here: mu_r 0.1's extension (0.05-0.09 above the compressions) off the line, mu_r 0.5's
+extension on it."""
 import csv, math, os, shutil, subprocess, sys
 
 grainlab, work = sys.argv[1], sys.argv[2]
@@ -91,6 +96,20 @@ for k, pc in enumerate([100.0, 190.0, 300.0]):
             p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
             w.writerow(["shear", i, i, -ea, p, -0.6, a + b * pc if ea >= 0.3 else 0.7,
                         c + d * __import__("math").log(pc), 0.1, 1])
+    runs.append(run)
+# Extensions of mu_r 0.5 on the compressions' line, within +-0.001 of it
+EXT5_P, EXT5_NOISE = [120.0, 220.0, 380.0], [0.001, -0.001, 0.0005]
+for k, pc in enumerate(EXT5_P):
+    run = os.path.join(work, f"ext5_{k}")
+    os.makedirs(run)
+    a, b = truth[0.5][:2]
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols[:-1])
+        for i in range(41):
+            ea = 0.01 * i
+            p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
+            w.writerow(["shear", i, i, -ea, p, -0.6, a + b * pc + EXT5_NOISE[k] if ea >= 0.3 else 0.7, 0.2, 0.5, 1])
     runs.append(run)
 # True-triaxial runs of mu_r 0.1 (summary.json: b = 0.5): fitted apart again, phi_cs from the wall stresses' principal
 # values, sigma_3 = 100, sigma_2 = 200, sigma_1 = 300 kPa at the end: sin phi = 200/400, 30 degrees (M's relation
@@ -169,7 +188,28 @@ assert f"a = {a:.4f}" in line and f"b = {b:.3e}" in line and f"c = {c:.4f}" in l
 assert "| 0.600 ± 0.000 (19.5°) | - | -, -, - |" in line, line
 line = next(l for l in table.splitlines() if l.startswith("| 0.1 | compression, b = 0.5 |"))
 assert "| 3 |" in line and "(30.0°) | - |" in line, line
-assert "\n4 of 18 critical states were reached at an inertial number above the quasi-static limit I < 0.001 " \
+assert "\n4 of 21 critical states were reached at an inertial number above the quasi-static limit I < 0.001 " \
     "(up to 4.0e-03;" in table, table
+# one line through every direction's critical states, per mu_r: worked out here
+by_mu = {0.1: [("compression", pc, truth[0.1][0] + truth[0.1][1] * pc) for pc in P_C] +
+        [("compression, b = 0.5", pc, 0.75 - 1e-4 * pc) for pc in [100.0, 190.0, 300.0]] +
+        [("extension", pc, ext_truth[0] + ext_truth[1] * pc) for pc in [100.0, 190.0, 300.0]],
+        0.5: [("compression", pc, truth[0.5][0] + truth[0.5][1] * pc) for pc in P_C] +
+        [("extension", pc, truth[0.5][0] + truth[0.5][1] * pc + n) for pc, n in zip(EXT5_P, EXT5_NOISE)]}
+verdicts = {}
+for mur, st in by_mu.items():
+    b, a, rms, sb, sa = line_fit([x[1] for x in st], [x[2] for x in st])
+    res = [x[2] - a - b * x[1] for x in st]
+    members = sorted({x[0] for x in st})
+    mine = {m: [r for r, x in zip(res, st) if x[0] == m] for m in members}
+    within = math.sqrt(sum(sum((r - sum(rs) / len(rs)) ** 2 for r in rs) for rs in mine.values())
+                       / (len(st) - 2 - (len(members) - 1)))
+    for m in members:
+        off, se = sum(mine[m]) / len(mine[m]), within / math.sqrt(len(mine[m]))
+        verdicts[(mur, m)] = "off the line" if abs(off) > 2 * se else "on it"
+        want = (f"| mu_r {mur:g} | e_c = {a:.4f} ± {sa:.4f} + ({b:.3e} ± {sb:.1e}) p' [kPa] ({len(st)} states, rms "
+                f"{rms:.4f}) | {m} | {len(mine[m])} | {round(off, 4) + 0.0:+.4f} | {se:.4f} | {verdicts[(mur, m)]} |")
+        assert want in table.splitlines(), (want, table.split("One critical-state line")[-1])
+assert verdicts[(0.1, "extension")] == "off the line" and verdicts[(0.5, "extension")] == "on it", verdicts
 assert os.path.isfile(os.path.join(work, "fig", "csl.png"))
 print("csl ok")
