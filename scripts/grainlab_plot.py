@@ -1191,15 +1191,17 @@ def peak_text(window, max_ke):
 
 
 def failure_section(mono, window, tol, figs, peak=(0.0, None)):
-    """The true-triaxial series: per sample and drainage, the drained compression tests at several b against the
-    failure criteria calibrated on its b = 0 test, at the largest obliquity and at the critical state. Every angle
-    here is the wall stresses' (principal_angle), the b = 0 test's too, so that the criteria compare like with like;
-    the b of each state is the measured one (principal_b), which the criteria are evaluated at. Empty without such
-    a series."""
+    """The true-triaxial series: per sample and drainage, the drained compression tests at several b, and the drained
+    triaxial extensions (the Lode angle of b = 1, reached by unloading the axis: the lateral stresses the major pair),
+    against the failure criteria calibrated on its b = 0 compression, at the largest obliquity and at the critical
+    state. Every angle here is the wall stresses' (principal_angle), the b = 0 test's too, so that the criteria compare
+    like with like; the b of each state is the measured one (principal_b), which the criteria are evaluated at. Empty
+    without such a series."""
     groups = {}
     for j, d, s in mono:
         m = s["monotonic"]
-        if s["eps_a"][m][-1] < 0 or j["drainage"] != "drained":
+        ext = bool(s["eps_a"][m][-1] < 0)
+        if j["drainage"] != "drained" or not {"sigma_x", "sigma_y", "sigma_z"} <= set(s):
             continue
         ang_all, bm_all = principal_angle(s), principal_b(s)
         rows_k = peak_rows(s, m, peak[1])  # the largest obliquity as the study's peak block takes it
@@ -1208,17 +1210,18 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
             a_w, b_w = running_mean(s, rows_k, ang_all, peak[0]), running_mean(s, rows_k, bm_all, peak[0])
             k = int(np.argmax(a_w))
             top = (float(a_w[k]), float(b_w[k]))
-        row = dict(name=j["name"], mu_r=j["mu_r"], b=float(s.get("b", 0.0)), peak=top, cs=None,
+        # an extension's b is 1 (sigma_2 = sigma_1, the lateral pair): its nominal b for the series, measured below
+        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, peak=top, cs=None,
                    servo=s.get("servo_error"), single=single_row_note(s, m, rows_k, ang_all, peak[1]))
         ang, bm = ang_all[m], bm_all[m]
         c = critical_state(s, window, *tol)  # the study's steadiness test, as its critical-state table
         if c is not None and c["ok"]:
-            ea = s["eps_a"][m]
+            ea = -s["eps_a"][m] if ext else s["eps_a"][m]  # along the loading, as critical_state's window
             w = ea >= ea[-1] - window
             row["cs"] = (float(np.mean(ang[w])), float(np.mean(bm[w])))
         # one calibration per stress path: a constant-p' series (stress_path: constant_p) has its own b = 0 test
         groups.setdefault((j["sample"], j["drainage"], s["stress_path"]), []).append(row)
-    series = {k: sorted(g, key=lambda r: r["b"]) for k, g in groups.items()
+    series = {k: sorted(g, key=lambda r: (r["b"], r["ext"])) for k, g in groups.items()
               if any(r["b"] == 0 for r in g) and any(r["b"] > 0 for r in g)}
     if not series:
         return []
@@ -1256,7 +1259,8 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
                         dev[(state, c)].append(phi - p)
         for r in g:
             servo = "-" if r["servo"] is None else f"{100 * r['servo']:.2f}"
-            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {r['b']:g} | "
+            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}"
+            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_txt} | "
                         + " | ".join(cells.get((r["name"], st), "| | | |") for st in ("peak", "cs")) + f" | {servo} | "
                         + r["single"] + " |")
     for i, title in enumerate(("largest obliquity (phi'_max)", "critical state (phi_cs)")):
@@ -1268,10 +1272,17 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
 
     def rms(v):
         return f"{math.sqrt(np.mean(np.square(v))):.2f}° ({len(v)})" if v else "-"
-    return ["## Failure criteria (true triaxial)", "",
+    members = [r for g in series.values() for r in g if r["b"] > 0]
+    true_tx, exts = any(not r["ext"] for r in members), any(r["ext"] for r in members)
+    title = " and ".join((["true triaxial"] if true_tx else []) + (["extension"] if exts else []))
+    return [f"## Failure criteria ({title})", "",
             "Drained compression tests of one sample at several b = (sigma_2 - sigma_3) / (sigma_1 - sigma_3), against "
             "three criteria calibrated on the sample's b = 0 test: Mohr-Coulomb (phi independent of b), Matsuoka-Nakai "
-            "(I1 I2 / I3 constant) and Lade-Duncan (I1^3 / I3 constant), each evaluated at the measured b. Every angle "
+            "(I1 I2 / I3 constant) and Lade-Duncan (I1^3 / I3 constant), each evaluated at the measured b. " +
+            ("A triaxial extension of the sample ('1 (extension)': the axial walls moved apart at constant lateral "
+             "stress, so the lateral pair are sigma_1 = sigma_2 and the axis sigma_3) is the Lode angle of b = 1 "
+             "reached the other way: Mohr-Coulomb and Matsuoka-Nakai give it the compression's phi, Lade-Duncan more "
+             "(Lade & Duncan 1975). " if exts else "") + "Every angle "
             "is sin phi = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses, the b = 0 test's too (the "
             "peak table takes that one from the contacts' q/p'); the critical state's is the mean over the window. "
             "The last column is the largest distance of a lateral wall stress from its servo target over the shear "

@@ -14,6 +14,11 @@
    overshoots every other is the peak of single rows (no block: an older build's study.json; or the block at its
    defaults); peak.max_ke_ratio leaves it out and the last column names it; peak.window averages each row's angle
    over its neighbours within the window first (checked against a plain loop).
+4. A drained triaxial extension of the same sample (eps_a < 0, the lateral walls at sigma_3 = 100 kPa the major pair,
+   the axis unloaded to sigma_1 / sigma_3 = 2.8 of them: 27.8 deg) joins the series as the Lode angle of b = 1: its row
+   '1 (extension)', measured b 1.00, Mohr-Coulomb and Matsuoka-Nakai 30.0, Lade-Duncan its b = 1 root; the misfits
+   count it (five tests) and the heading says "true triaxial and extension". Its critical state is the window along
+   -eps_a (along eps_a the window would hold the whole shear: 16.1 deg at b 0.98).
 """
 import csv
 import json
@@ -148,6 +153,32 @@ for path, b, N in [("", b, N) for b, N in N_mn.items()] + [("constant_p", b, N) 
                  "csr": 0, "cycles": 0, "strain_amplitude": 0})
 
 
+# 4. the extension: lateral walls held at 1e5 (the major pair), the axis unloaded to 1e5 / N_EXT
+N_EXT = 2.8
+phi_ext = angle(N_EXT)
+EXT_NAME = "shear_drained_mur0.3_ebase_pbase_s1_n300_ext"
+run = os.path.join(work, "jobs", EXT_NAME, "run")
+os.makedirs(run)
+open(os.path.join(work, "jobs", EXT_NAME, "done"), "w").close()
+with open(os.path.join(run, "summary.json"), "w") as f:
+    json.dump({"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": 0,
+                                                               "direction": "extension"}]}, f)
+with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+    w = csv.writer(f)
+    w.writerow(["stage"] + cols)
+    for i in range(41):
+        ea = -0.01 * i
+        ramp = min(1.0, -ea / 0.3)
+        sx, sy, sz = 1e5, 1e5, 1e5 - ramp * (1e5 - 1e5 / N_EXT)
+        p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
+        w.writerow(["shear", i, i, ea, p, q, abs(q) / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25,
+                    0.25, abs(q) / p, 0.5, 0.005])
+jobs.append({"name": EXT_NAME, "dir": f"jobs/{EXT_NAME}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300",
+             "mu_r": 0.3, "e0": 0, "p0": 0, "drainage": "drained", "direction": "extension", "b": 0, "seed": 1,
+             "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0})
+HEAD = "## Failure criteria (true triaxial and extension)"
+
+
 def report_of(peak):
     """The report of the synthetic study with this peak block in its study.json (None: without the block)."""
     return study_report(work, jobs, **({"peak": peak} if peak is not None else {}))
@@ -156,7 +187,7 @@ def report_of(peak):
 def b05_rows(report):
     """The b = 0.5 (constant sigma_3) test's rows of the failure-criteria section and of the peak table."""
     name = "| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |"
-    return (next((l for l in report.split("## Failure criteria (true triaxial)")[1].splitlines() if l.startswith(name)), ""),
+    return (next((l for l in report.split(HEAD)[1].splitlines() if l.startswith(name)), ""),
             next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(name)), ""))
 
 
@@ -180,11 +211,11 @@ if f"| 0.50 | {phi_w:.1f} | 30.0 |" not in fc or not pk.endswith(f"({phi_w:.1f}�
     fails.append(f"peak window {WINDOW}: expected phi'_max {phi_w:.3f} deg (the largest 5-row mean), got '{fc}' and '{pk}'")
 print(f"b = 0.5 with the spike: single rows {phi_spike:.3f} deg, 5-row means {phi_w:.3f} deg, without it {phi[0.5]:.3f}")
 report = report_of({"window": 0, "max_ke_ratio": KE_MAX})
-if "## Failure criteria (true triaxial)" not in report:
-    sys.exit("no failure-criteria section in report.md")
+if HEAD not in report:
+    sys.exit(f"no '{HEAD}' in report.md")
 if not os.path.isfile(os.path.join(work, "figures", "failure_criteria.png")):
     fails.append("figures/failure_criteria.png missing")
-section = report.split("## Failure criteria (true triaxial)")[1]
+section = report.split(HEAD)[1]
 line = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300_b0.5 |")), "")
 # the row: measured b and angles, then the three predictions, at the peak and at the critical state
 want = f"| 0.50 | {phi[0.5]:.1f} | 30.0 | {phi[0.5]:.1f} | {phi_ld[0.5]:.1f}"  # twice: the cells share a "|"
@@ -208,11 +239,19 @@ if "each path is calibrated on its own b = 0 test" not in section:
 line0 = next((l for l in section.splitlines() if l.startswith("| shear_drained_mur0.3_ebase_pbase_s1_n300 |")), "")
 if "| - | " not in line0 or not line0.endswith("(ke_fluct_ratio 0.005) |"):
     fails.append(f"b = 0 row: a summary without servo_error must show '-', got '{line0}'")
-mc = math.sqrt(sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) / 4)
-ld = math.sqrt(sum((ph[b] - pl[b]) ** 2 for ph, pl in ((phi, phi_ld), (phi_cp, phi_ld_cp)) for b in (0.5, 1.0)) / 4)
+ext = next((l for l in section.splitlines() if l.startswith(f"| {EXT_NAME} |")), "")
+want = f"| 1.00 | {phi_ext:.1f} | 30.0 | 30.0 | {phi_ld[1.0]:.1f}"  # MN's b = 1 angle is phi_tc: 30 deg
+if not ext.startswith(f"| {EXT_NAME} | 0.3 | 1 (extension) {want} {want} | - |"):
+    fails.append(f"extension row: expected '1 (extension)' and twice '{want}', got '{ext}'")
+# the misfits over the b > 0 tests: the two paths' b = 0.5 and b = 1, and the extension (on the constant-sigma_3
+# series: its b = 0 test's 30 deg)
+mc = math.sqrt((sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) + (phi_ext - 30) ** 2) / 5)
+mn = abs(phi_ext - 30) / math.sqrt(5)
+ld = math.sqrt((sum((ph[b] - pl[b]) ** 2 for ph, pl in ((phi, phi_ld), (phi_cp, phi_ld_cp)) for b in (0.5, 1.0))
+                + (phi_ext - phi_ld[1.0]) ** 2) / 5)
 for lab in ("largest obliquity", "critical state"):
     row = next((l for l in section.splitlines() if l.startswith(f"| {lab} |")), "")
-    want = f"| {lab} | {mc:.2f}째 (4) | 0.00째 (4) | {ld:.2f}째 (4) |"
+    want = f"| {lab} | {mc:.2f}째 (5) | {mn:.2f}째 (5) | {ld:.2f}째 (5) |"
     if row != want:
         fails.append(f"misfit row: expected '{want}', got '{row}'")
 print(f"MN surface through phi_tc = 30 deg: phi(b=0.5) = {phi[0.5]:.3f}, LD there {phi_ld[0.5]:.3f}; "
