@@ -171,8 +171,8 @@ with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         ramp = min(1.0, -ea / 0.3)
         sx, sy, sz = 1e5, 1e5, 1e5 - ramp * (1e5 - 1e5 / N_EXT)
         p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
-        w.writerow(["shear", i, i, ea, p, q, abs(q) / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25,
-                    0.25, abs(q) / p, 0.5, 0.005])
+        w.writerow(["shear", i, i, ea, p, q, abs(q) / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25,
+                    0.25, 0.25, abs(q) / p, 0.5, 0.005])
 jobs.append({"name": EXT_NAME, "dir": f"jobs/{EXT_NAME}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300",
              "mu_r": 0.3, "e0": 0, "p0": 0, "drainage": "drained", "direction": "extension", "b": 0, "seed": 1,
              "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0})

@@ -46,7 +46,8 @@ tt=st/jobs/shear_drained_mur0_ebase_p100k_s3_n300_b1
 grep -q "b: 1" "$tt/job.yaml" || fail "$tt/job.yaml does not say b: 1"
 grep -q '"b": 1,' "$tt/run/summary.json" || fail "$tt/run/summary.json does not say b = 1"
 grep -q '"servo_error": [0-9]' "$tt/run/summary.json" || fail "$tt/run/summary.json gives no servo_error"
-grep -q "## Failure criteria (true triaxial and extension)" st/report.md || fail "report.md lacks its failure-criteria section"
+grep -q "## Failure criteria (true triaxial and extension)" st/report.md ||
+  fail "report.md lacks its failure-criteria section"
 row=$(sed -n '/## Failure criteria/,$p' st/report.md | grep -E '^\| shear_drained_mur0_ebase_p100k_s3_n300_b1 \|')
 printf '%s\n' "$row" | awk -F'|' '{ exit !($5 > 0.9 && $5 <= 1) }' || fail "b = 1 row without a measured b near 1: $row"
 # the same sample's extension: the Lode angle of b = 1 the other way, its lateral walls held equal (b measured ~1)
