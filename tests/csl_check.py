@@ -82,35 +82,29 @@ for k, pc in enumerate(P_C):
             w.writerow(["shear", i, i, ea, p, 0.6, ln_truth[0] - ln_truth[1] * math.log(pc) if ea >= 0.3 else 0.7,
                         0.1, 0.3, 1, 2e-4])
     runs.append(run)
-# Extensions of mu_r 0.1: eps_a to -40 %, q/p' = -0.6, on their own lines
+def extensions(name, mur, pcs, e_c, a_c):
+    """Extensions of mu_r at the critical pressures pcs [kPa]: eps_a to -40 %, q/p' = -0.6, steady from -30 % at
+    e_c(k, pc) and a_c(pc)."""
+    for k, pc in enumerate(pcs):
+        run = os.path.join(work, f"{name}_{k}")
+        os.makedirs(run)
+        with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["stage"] + cols[:-1])
+            for i in range(41):
+                ea = 0.01 * i
+                p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
+                w.writerow(["shear", i, i, -ea, p, -0.6, e_c(k, pc) if ea >= 0.3 else 0.7, a_c(pc), mur, 1])
+        runs.append(run)
+
+
+# Extensions of mu_r 0.1 on their own lines
 ext_truth = (0.85, -1.0e-4, -0.15, 0.01)
-for k, pc in enumerate([100.0, 190.0, 300.0]):
-    run = os.path.join(work, f"ext_{k}")
-    os.makedirs(run)
-    a, b, c, d = ext_truth
-    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["stage"] + cols[:-1])
-        for i in range(41):
-            ea = 0.01 * i
-            p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
-            w.writerow(["shear", i, i, -ea, p, -0.6, a + b * pc if ea >= 0.3 else 0.7,
-                        c + d * __import__("math").log(pc), 0.1, 1])
-    runs.append(run)
+extensions("ext", 0.1, [100.0, 190.0, 300.0], lambda k, pc: ext_truth[0] + ext_truth[1] * pc,
+           lambda pc: ext_truth[2] + ext_truth[3] * math.log(pc))
 # Extensions of mu_r 0.5 on the compressions' line, within +-0.001 of it
 EXT5_P, EXT5_NOISE = [120.0, 220.0, 380.0], [0.001, -0.001, 0.0005]
-for k, pc in enumerate(EXT5_P):
-    run = os.path.join(work, f"ext5_{k}")
-    os.makedirs(run)
-    a, b = truth[0.5][:2]
-    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["stage"] + cols[:-1])
-        for i in range(41):
-            ea = 0.01 * i
-            p = 1e3 * (190 + (pc - 190) * min(1.0, ea / 0.3))
-            w.writerow(["shear", i, i, -ea, p, -0.6, a + b * pc + EXT5_NOISE[k] if ea >= 0.3 else 0.7, 0.2, 0.5, 1])
-    runs.append(run)
+extensions("ext5", 0.5, EXT5_P, lambda k, pc: truth[0.5][0] + truth[0.5][1] * pc + EXT5_NOISE[k], lambda pc: 0.2)
 # True-triaxial runs of mu_r 0.1 (summary.json: b = 0.5): fitted apart again, phi_cs from the wall stresses' principal
 # values, sigma_3 = 100, sigma_2 = 200, sigma_1 = 300 kPa at the end: sin phi = 200/400, 30 degrees (M's relation
 # would give asin(3 x 0.6/6.6) = 15.8)
