@@ -1359,7 +1359,8 @@ def line_at(x, y, x0):
 def directions_line(groups, several_rates):
     """Whether the loading directions' critical states lie on one line (csl_groups' groups; one_line_rows): per mu_r
     (and rate) with two directions or more (compression, extension, a true-triaxial b), e_c = a + b p' through all
-    their critical states and each direction's mean offset from it. Empty where no mu_r qualifies."""
+    their critical states and each direction's mean offset from it: a blank line, the text and the table. Empty where
+    no mu_r qualifies."""
     by_mu = {}
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         label = f"mu_r {mur:g}" + (rate_text(rate, ", ") if several_rates else "")
@@ -1369,7 +1370,8 @@ def directions_line(groups, several_rates):
     if not rows:
         return []
     return ["", "One critical-state line through the critical states of every loading direction of a mu_r (e_c = a + "
-            "b p', as the table above fits each direction's), with each direction's mean offset from it: the stress "
+            "b p', as the critical-state lines are fitted per direction), with each direction's mean offset from it: "
+            "the stress "
             "ratio at critical state depends on the direction (M_c, M_e, the Lode angle of a b > 0), the void ratio "
             "need not (Been, Jefferies & Hachey 1991 found one line in e - p' for the compressions and extensions of "
             "a sand); a direction more than two standard errors off it (the scatter about the line once each "
@@ -2173,6 +2175,11 @@ def pooled_state_parameter(out, idx, mono, heads):
                          + ([f"{key[1]} spheres"] if len({k[1] for k in pools}) > 1 else [])
                          + ([f"grading {key[2]}"] if len({k[2] for k in pools}) > 1 else [])
                          + [f"{k} = {v:g}" for k, v in key[3]])
+        groups = csl_groups(states)
+        across = directions_line(groups, len({k[3] for k in groups}) > 1)
+        if across:  # the directions' critical states of every value on one line
+            lines += ["### One critical-state line across the values and directions" + (f": {what}" if what else ""),
+                      "", "The critical states of every value together. " + across[1], *across[2:], ""]
         for ext in (False, True):
             way, tag = ("extensions", " (extension)") if ext else ("compressions", "")
             lines += state_parameter_section(

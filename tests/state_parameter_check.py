@@ -187,6 +187,26 @@ for axis in ("consolidate.mu", "shear.mu", "shear.max_axial_strain", "E"):
     heads = [x for x in across.splitlines() if x.startswith("### State parameter across the values")]
     if axis == "consolidate.mu":
         want_heads = ["### State parameter across the values", "### State parameter across the values (extension)"]
+        # one line through both directions' critical states of every value, each direction's offset from it against
+        # the scatter once each direction's mean offset is out (9 - 2 - 1 + 9 degrees of freedom), worked out here
+        p0s = [p0 for p0, _ in STATES for _ in range(3)]
+        st = [("compression", pc, e_line(pc)) for pc in (3 * p0 / (3 - M_CS) for p0 in p0s)] + \
+             [("extension", pc, e_line(pc, True)) for pc in (3 * p0 / (3 + M_EXT) for p0 in p0s)]
+        x, y = np.array([v[1] for v in st]), np.array([v[2] for v in st])
+        k_j, c_j = np.polyfit(x, y, 1)
+        res = y - c_j - k_j * x
+        mine = {m: res[[v[0] == m for v in st]] for m in ("compression", "extension")}
+        within = float(np.sqrt(sum(np.sum((r - r.mean()) ** 2) for r in mine.values()) / (len(st) - 3)))
+        table = across.split("### One critical-state line across the values and directions")[-1].split("\n### ")[0]
+        for m, r in mine.items():
+            off, se = float(r.mean()), within / 3
+            row = next((ln for ln in table.splitlines() if f"| {m} | 9 |" in ln), "")
+            verdict = "off the line" if abs(off) > 2 * se else "on it"
+            want_row = f"| {m} | 9 | {round(off, 4) + 0.0:+.4f} | {se:.4f} | {verdict} |"
+            if not row.startswith(f"| mu_r 0.1 | e_c = {c_j:.4f} ± ") or not row.endswith(want_row) or \
+                    "(18 states, rms " not in row:
+                fails.append(f"the line across the values and directions, {m}: {row!r}, expected e_c = {c_j:.4f} "
+                             f"... {want_row}")
         for t in want + want_ext:
             k = int(t["name"][-1])
             sp = across.split("### State parameter across the values" + (" (extension)" if t in want_ext else "") +
