@@ -2272,13 +2272,14 @@ def across_gradings_section(out, idx, figs, kind="grading"):
 
 
 def one_line_rows(groups):
-    """The table rows of one critical-state line through several members' critical states (groups: the group's label
-    -> (member, p'_c [kPa], e_c) each, in the order given; the member "" is named the base): per group with two
-    members or more and three states or more at three pressure levels or more, e_c = a + b p' through all of them (the rms of its residuals, n - 2 degrees
-    of freedom), and per member (sorted) its states' mean residual from that line against the scatter about the line
-    once each member's mean residual is taken out (the pooled within-member rms, n - 2 - (members - 1) degrees of
-    freedom: a member's own offset must not widen the yardstick it is judged by) over the root of the member's
-    states: 'off the line' past two of those standard errors. A group without a degree of freedom left is skipped."""
+    """The table rows of one critical-state line through several members' critical states (groups: the group's label ->
+    (member, p'_c [kPa], e_c) each, in the order given; the member "" is named the base): per group with two members
+    or more and three states or more at three pressure levels or more, e_c = a + b p' through all of them (the rms
+    of its residuals, n - 2 degrees of freedom), and per member (sorted) its states' mean residual from that line
+    against the scatter about the line once each member's mean residual is taken out (the pooled within-member rms,
+    n - 2 - (members - 1) degrees of freedom: a member's own offset must not widen the yardstick it is judged by)
+    over the root of the member's states: 'off the line' past two of those standard errors. A group without a degree
+    of freedom left is skipped."""
     rows = []
     for what, st in groups.items():
         p = np.array([x[1] for x in st])
