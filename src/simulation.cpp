@@ -143,6 +143,10 @@ const std::vector<std::pair<std::string, std::string>>& series_columns() {
       // less these are what the contacts and the spheres' inertia carry; 0 without damping
       {"p_drag", "Pa"},
       {"q_drag", "Pa"},
+      // each lateral axis's strain (Laboratory::measure; eps_r is their mean as a cell measures it): a true-triaxial
+      // shear's intermediate strain, for its flow direction in the deviatoric plane
+      {"eps_x", "-"},
+      {"eps_y", "-"},
   };
   return cols;
 }
@@ -275,6 +279,9 @@ struct Lab {
   Real eps_turn = 0, n_ru = -1, n_da = -1;
   // A shear's q at its start where it starts from an anisotropic stress (Laboratory::start_stage), else 0
   Real q0 = 0;
+  // The x walls' distance at the stage's start: with H0 and V0 the widths the lateral strains eps_x, eps_y count from
+  // (NaN: a stage resumed from a checkpoint of a build before them, whose rows then did not measure them)
+  Real Wx0 = 0;
   // An undrained stage right after an undrained one (a post-cyclic shear, the next amplitude of a staged cyclic
   // test): the excess pore pressure it starts with, that stage's u at its end (no drainage in between; else 0), and
   // the effective mean stress the undrained loading began from, p'_c, r_u's reference (else p'_0)
@@ -289,14 +296,15 @@ struct Lab {
   std::vector<double> scalars() const {
     return {double(stage), double(stage_step), double(started), H0, V0, p0, aspect, mu, last_eps, last_time,
             double(snapshots), next_snap_eps, double(searching), double(half_cycles), cycle, eps_turn, n_ru, n_da,
-            q0, u0, pc};
+            q0, u0, pc, Wx0};
   }
   void set_scalars(const std::vector<double>& s) {
     // 13: a checkpoint from before cyclic stages (none of its stages is cyclic); 15: from before the liquefaction
     // criteria (a cyclic stage resumed from one records them from the resumed step on); 18: from before q0 (its
     // stages all started as SPEC §6.3's, from q0 = 0); 19: from before u0 and p'_c (its undrained stages each
-    // counted u and r_u from their own start: u0 = 0, p'_c = p'_0)
-    if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19 && s.size() != 21)
+    // counted u and r_u from their own start: u0 = 0, p'_c = p'_0); 21: from before eps_x and eps_y (Wx0 unknown: the
+    // running stage's rows have NaN for them, the next stage's start measures it; nothing else reads it)
+    if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19 && s.size() != 21 && s.size() != 22)
       throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");
     stage = int(s[0]);
     stage_step = long(s[1]);
@@ -319,6 +327,7 @@ struct Lab {
     q0 = s.size() > 18 ? s[18] : 0;
     u0 = s.size() > 20 ? s[19] : 0;
     pc = s.size() > 20 ? s[20] : p0;
+    Wx0 = s.size() > 21 ? s[21] : std::numeric_limits<Real>::quiet_NaN();
   }
 };
 
@@ -566,7 +575,7 @@ class Laboratory {
 
  private:
   struct Measure {
-    Real sx, sy, sz, p, q, V, e, eps_a, eps_v, eps_r, gamma, u;
+    Real sx, sy, sz, p, q, V, e, eps_a, eps_v, eps_r, gamma, u, eps_x, eps_y;
   };
 
   bool holds_run() const;
@@ -996,6 +1005,13 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
   // largest shear (CycleLoop's G_eq). eps_a < max_axial_strain < 0.9 (config), so the root is of a positive number.
   m.eps_r = 1 - std::sqrt((1 - m.eps_v) / (1 - m.eps_a));
   m.gamma = m.eps_a - m.eps_r;
+  // Each lateral axis's strain (compression positive, from the stage's start as eps_a): a true-triaxial shear moves
+  // the x and y walls apart by different amounts, and its flow direction in the deviatoric plane needs both.
+  // Both 0 before the first stage's start (no widths yet), NaN where Lab::Wx0 is (a resumed older checkpoint).
+  const Real Wx0 = lab_.Wx0, Wy0 = lab_.H0 > 0 && Wx0 > 0 ? lab_.V0 / (lab_.H0 * Wx0) : 0;
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  m.eps_x = std::isnan(Wx0) ? nan : Wx0 > 0 ? (Wx0 - (e.wall_position(1) - e.wall_position(0))) / Wx0 : 0;
+  m.eps_y = std::isnan(Wx0) ? nan : Wy0 > 0 ? (Wy0 - (e.wall_position(3) - e.wall_position(2))) / Wy0 : 0;
   m.u = 0;
   if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
     m.u = (lab_.p0 + lab_.u0 + (m.q - lab_.q0) / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + u_0 +
@@ -1084,7 +1100,9 @@ std::vector<double> Laboratory::row(const StageConfig& sc, const Measure& m, con
           p_in,
           q_in,
           (drag[0] + drag[1] + drag[2]) / 3,
-          drag_q(drag)};  // as measure()'s p and q of the walls' mean stresses
+          drag_q(drag),  // as measure()'s p and q of the walls' mean stresses
+          m.eps_x,
+          m.eps_y};
 }
 
 // The local damping's drag as a stress on the walls, per axis: Engine::damping_moment about the box's centre over its
@@ -1418,6 +1436,7 @@ void Laboratory::start_stage(const StageConfig& sc) {
   const Measure m0 = measure(sc);
   lab_.H0 = e.wall_position(5) - e.wall_position(4);
   lab_.V0 = e.box_volume();
+  lab_.Wx0 = e.wall_position(1) - e.wall_position(0);
   // An undrained stage after an undrained one goes on with the pore pressure that stage left, as a triaxial cell
   // whose drainage stays closed does: u0 is that stage's u at this instant (m0.u: measured with its p'_0, u_0, q_0,
   // which are still the lab's), and r_u stays relative to the p'_c its undrained loading began from. A post-cyclic
@@ -2375,12 +2394,12 @@ bool Laboratory::load_newest_checkpoint() {
       auto flat = r.doubles("/lab/series");
       lab.series.stage = r.ints("/lab/series_stage");
       const size_t nc = series_columns().size();
-      // A checkpoint from before the trailing columns `cycle` ... `q_drag` has one to eight columns fewer: its rows
-      // get 0 for `cycle` (no cyclic stage measured it) and NaN for the others (not measured).
+      // A checkpoint from before the trailing columns `cycle` ... `eps_y` has one to ten columns fewer: its rows get
+      // 0 for `cycle` (no cyclic stage measured it) and NaN for the others (not measured).
       const size_t rows = lab.series.stage.size();
       const double nan = std::numeric_limits<double>::quiet_NaN();
-      // cycle, ke_fluct_ratio, e_inner, q_contacts_walls, p_inner, q_inner, p_drag, q_drag
-      const double trailing[] = {0, nan, nan, nan, nan, nan, nan, nan};
+      // cycle, ke_fluct_ratio, e_inner, q_contacts_walls, p_inner, q_inner, p_drag, q_drag, eps_x, eps_y
+      const double trailing[] = {0, nan, nan, nan, nan, nan, nan, nan, nan, nan};
       for (size_t missing = 1; missing <= std::size(trailing); ++missing) {
         const size_t nc_old = nc - missing;
         if (flat.size() != rows * nc_old || rows == 0) continue;

@@ -540,9 +540,9 @@ void rewrite_dataset(const std::string& ckpt, const char* name, hid_t type, cons
 void rewrite_config(const std::string& ckpt, const std::string& text) {
   rewrite_dataset(ckpt, "/lab/config", H5T_NATIVE_CHAR, text.data(), text.size());
 }
-// The series rows of a checkpoint without their last `drop` columns (p_drag and q_drag; q_contacts_walls, p_inner and
-// q_inner before them; e_inner before those; ke_fluct_ratio before it; cycle before that), as builds before each wrote
-// them.
+// The series rows of a checkpoint without their last `drop` columns (eps_x and eps_y; p_drag and q_drag before them;
+// q_contacts_walls, p_inner and q_inner before those; e_inner before them; ke_fluct_ratio before it; cycle before
+// that), as builds before each wrote them.
 void drop_series_columns(const std::string& ckpt, size_t drop) {
   std::vector<double> series;
   size_t rows = 0;
@@ -552,14 +552,16 @@ void drop_series_columns(const std::string& ckpt, size_t drop) {
     rows = r.ints("/lab/series_stage").size();
   }
   const size_t nc = series_columns().size();
-  ASSERT_EQ(series_columns()[nc - 8].first, "cycle");
-  ASSERT_EQ(series_columns()[nc - 7].first, "ke_fluct_ratio");
-  ASSERT_EQ(series_columns()[nc - 6].first, "e_inner");
-  ASSERT_EQ(series_columns()[nc - 5].first, "q_contacts_walls");
-  ASSERT_EQ(series_columns()[nc - 4].first, "p_inner");
-  ASSERT_EQ(series_columns()[nc - 3].first, "q_inner");
-  ASSERT_EQ(series_columns()[nc - 2].first, "p_drag");
-  ASSERT_EQ(series_columns().back().first, "q_drag");
+  ASSERT_EQ(series_columns()[nc - 10].first, "cycle");
+  ASSERT_EQ(series_columns()[nc - 9].first, "ke_fluct_ratio");
+  ASSERT_EQ(series_columns()[nc - 8].first, "e_inner");
+  ASSERT_EQ(series_columns()[nc - 7].first, "q_contacts_walls");
+  ASSERT_EQ(series_columns()[nc - 6].first, "p_inner");
+  ASSERT_EQ(series_columns()[nc - 5].first, "q_inner");
+  ASSERT_EQ(series_columns()[nc - 4].first, "p_drag");
+  ASSERT_EQ(series_columns()[nc - 3].first, "q_drag");
+  ASSERT_EQ(series_columns()[nc - 2].first, "eps_x");
+  ASSERT_EQ(series_columns().back().first, "eps_y");
   ASSERT_EQ(series.size(), rows * nc);
   std::vector<double> older;
   for (size_t k = 0; k < rows; ++k)
@@ -567,8 +569,11 @@ void drop_series_columns(const std::string& ckpt, size_t drop) {
   rewrite_dataset(ckpt, "/lab/series", H5T_NATIVE_DOUBLE, older.data(), older.size());
 }
 // The series.csv of a run resumed from a checkpoint without the trailing columns `unmeasured` (ke_fluct_ratio ...
-// q_drag: the last ones) against the uninterrupted run's: every other column the same to the bit; each of those not
-// a number in the rows the checkpoint restored (never measured) and the same in the rows after.
+// q_drag: the last ones before eps_x and eps_y) against the uninterrupted run's: every other column the same to the
+// bit; each of those not a number in the rows the checkpoint restored (never measured) and the same in the rows after.
+// eps_x and eps_y count from the resumed stage's start widths, which no older checkpoint holds (Lab::Wx0): not a number
+// from the resume on (the resumed stage is the last), and before it NaN where the checkpoint had no such columns
+// (`lateral_dropped`), else the same.
 // A run of a build before q0 (Lab::q0: a shear after a shear starts from the stress it finds) or before u0 (an
 // undrained stage after an undrained one goes on with its pore pressure) resumed in such a stage (`stage`, undrained
 // after an undrained one) keeps its start, q0 = 0 and u0 = 0: its u in the rows after the resume is this build's +
@@ -617,14 +622,14 @@ std::pair<std::string, std::string> without_u_of_an_older_start(const std::strin
 
 void expect_series_but(const std::string& resumed, const std::string& direct,
                        const std::vector<std::string>& unmeasured, const std::string& older_start = "",
-                       bool before_q0 = true) {
+                       bool before_q0 = true, bool lateral_dropped = true) {
   std::string a = slurp(resumed + "/series.csv"), b = slurp(direct + "/series.csv");
   if (!older_start.empty()) std::tie(a, b) = without_u_of_an_older_start(a, b, older_start, before_q0);
   const auto without_last = [&](const std::string& csv) {
     std::istringstream in(csv);
     std::string line, out;
     while (std::getline(in, line)) {
-      for (size_t k = 0; k < unmeasured.size(); ++k) line = line.substr(0, line.rfind(','));
+      for (size_t k = 0; k < unmeasured.size() + 2; ++k) line = line.substr(0, line.rfind(','));
       out += line + "\n";
     }
     return out;
@@ -632,7 +637,7 @@ void expect_series_but(const std::string& resumed, const std::string& direct,
   EXPECT_EQ(without_last(a), without_last(b));
   for (const std::string& col : unmeasured) {
     SCOPED_TRACE(col);
-    ASSERT_EQ(series_columns()[series_columns().size() - unmeasured.size()].first, unmeasured[0]);
+    ASSERT_EQ(series_columns()[series_columns().size() - 2 - unmeasured.size()].first, unmeasured[0]);
     const auto ka = csv_column(a, col), kb = csv_column(b, col);
     ASSERT_EQ(ka.size(), kb.size());
     size_t restored = 0;
@@ -640,6 +645,20 @@ void expect_series_but(const std::string& resumed, const std::string& direct,
     EXPECT_GT(restored, 0u) << "the restored rows say they did not measure it";
     EXPECT_LT(restored, ka.size());
     for (size_t k = restored; k < ka.size(); ++k) EXPECT_EQ(ka[k], kb[k]) << "row " << k;
+  }
+  ASSERT_EQ(series_columns()[series_columns().size() - 2].first, "eps_x");
+  for (const char* col : {"eps_x", "eps_y"}) {
+    SCOPED_TRACE(col);
+    const auto ka = csv_column(a, col), kb = csv_column(b, col);
+    ASSERT_EQ(ka.size(), kb.size());
+    size_t same = 0;  // the restored rows the checkpoint held them in
+    while (!lateral_dropped && same < ka.size() && ka[same] == kb[same]) ++same;
+    EXPECT_EQ(same == 0, lateral_dropped) << "restored rows";
+    EXPECT_LT(same, ka.size()) << "the resumed rows";
+    for (size_t k = same; k < ka.size(); ++k) {
+      EXPECT_TRUE(std::isnan(std::strtod(ka[k].c_str(), nullptr))) << "row " << k << ": " << ka[k];
+      EXPECT_FALSE(std::isnan(std::strtod(kb[k].c_str(), nullptr))) << "row " << k << " uninterrupted";
+    }
   }
 }
 // summary.json of a run resumed in its second stage, `shear` (undrained after an undrained one), from the checkpoint
@@ -697,12 +716,12 @@ void as_before_cyclic_stages(const std::string& ckpt) {
     scalars = r.doubles("/lab/scalars");
     results = r.doubles("/lab/results");
   }
-  ASSERT_EQ(scalars.size(), 21u);
+  ASSERT_EQ(scalars.size(), 22u);
   ASSERT_EQ(results.size(), 18u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
                                     "quarter_transits, e_inner, e_core, p0, q0, u0, pc, u";
   results.resize(6);
   scalars.resize(13);
-  drop_series_columns(ckpt, 8);
+  drop_series_columns(ckpt, 10);
   rewrite_dataset(ckpt, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
   rewrite_dataset(ckpt, "/lab/results", H5T_NATIVE_DOUBLE, results.data(), results.size());
   const hid_t f = H5Fopen(ckpt.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);  // nor the cycle loop and rows
@@ -772,20 +791,30 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   fs::copy(out, last, fs::copy_options::recursive);
   const auto lab_scalars = [](const std::string& path, size_t n) {  // 18: before q0, 19: before u0 and p'_c
     std::vector<double> scalars = H5Reader(path).doubles("/lab/scalars");
-    ASSERT_EQ(scalars.size(), 21u);
+    ASSERT_EQ(scalars.size(), 22u);
     scalars.resize(n);
     rewrite_dataset(path, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
   };
   const auto no_q0 = [&](const std::string& path) { lab_scalars(path, 18); };
+  // The build just before eps_x and eps_y (session 67): its checkpoints as now but for those two series columns and
+  // the last lab scalar (Lab::Wx0). Nothing else differs, nor does the summary.
+  const std::string before_lateral = tmpdir("older_before_lateral");
+  fs::copy(out, before_lateral, fs::copy_options::recursive);
+  lab_scalars(newest_checkpoint(before_lateral), 21);
+  drop_series_columns(newest_checkpoint(before_lateral), 2);
+  ASSERT_FALSE(run(cfg, before_lateral, -1, true).interrupted);
+  expect_series_but(before_lateral, direct, {});
+  EXPECT_EQ(YAML::Dump(YAML::LoadFile(before_lateral + "/summary.json")["stages"]),
+            YAML::Dump(YAML::LoadFile(direct + "/summary.json")["stages"]));
   // The build just before u0 (session 46): its checkpoints as now but for the last two lab scalars.
   const std::string before_u0 = tmpdir("older_before_u0");
   fs::copy(out, before_u0, fs::copy_options::recursive);
   lab_scalars(newest_checkpoint(before_u0), 19);
   values_a_stage(newest_checkpoint(before_u0), 13);
   ASSERT_FALSE(run(cfg, before_u0, -1, true).interrupted);
-  expect_series_but(before_u0, direct, {}, "shear", false);
+  expect_series_but(before_u0, direct, {}, "shear", false, false);
   expect_summary_of_older(before_u0, direct, false);
-  drop_series_columns(newest_checkpoint(last), 2);
+  drop_series_columns(newest_checkpoint(last), 4);
   no_q0(newest_checkpoint(last));
   values_a_stage(newest_checkpoint(last), 13);
   ASSERT_FALSE(run(cfg, last, -1, true).interrupted);
@@ -793,7 +822,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   expect_summary_of_older(last, direct, true);
   const std::string previous = tmpdir("older_previous");
   fs::copy(out, previous, fs::copy_options::recursive);
-  drop_series_columns(newest_checkpoint(previous), 5);
+  drop_series_columns(newest_checkpoint(previous), 7);
   values_a_stage(newest_checkpoint(previous), 11);
   no_q0(newest_checkpoint(previous));
   ASSERT_FALSE(run(cfg, previous, -1, true).interrupted);
@@ -803,7 +832,7 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   // quarter_transits, which came after): resumes to the same series.
   const std::string recent = tmpdir("older_recent");
   fs::copy(out, recent, fs::copy_options::recursive);
-  drop_series_columns(newest_checkpoint(recent), 7);
+  drop_series_columns(newest_checkpoint(recent), 9);
   no_q0(newest_checkpoint(recent));
   values_a_stage(newest_checkpoint(recent), 10);
   ASSERT_FALSE(run(cfg, recent, -1, true).interrupted);
@@ -1340,7 +1369,7 @@ TEST(Lab, TrueTriaxialHoldsTheIntermediateStressRatio) {
   const double kBTol = 0.03;
   std::map<double, std::string> outs;
   std::map<double, long> steps;
-  std::map<double, double> phi;
+  std::map<double, double> phi, eps_x, eps_y;
   for (double b : {0.0, 0.5, 1.0}) {
     SCOPED_TRACE(b);
     std::ostringstream st;
@@ -1371,6 +1400,18 @@ TEST(Lab, TrueTriaxialHoldsTheIntermediateStressRatio) {
                 "sigma_x, sigma_y, sigma_z = %.4g, %.4g, %.4g kPa, Mohr-Coulomb phi %.2f deg\n",
                 b, worst, b_end, sx.back() / 1e3, sy.back() / 1e3, sz.back() / 1e3, phi[b]);
     EXPECT_GT(sz.back() - p0, 0.2 * p0) << "the deviator grew: the check above ran";
+    // Each axis's strain from the stage's start (series eps_x, eps_y): the box's volume is the product of its three
+    // sides, so 1 - eps_v = (1 - eps_a)(1 - eps_x)(1 - eps_y) in every row, to round-off (kStrainTol: a few ulps of
+    // the strains' O(1) factors). It fails on a width taken from the wrong walls or another stage's start.
+    const double kStrainTol = 1e-13;
+    const auto ea = h.doubles("/series/eps_a"), ev = h.doubles("/series/eps_v"), ex = h.doubles("/series/eps_x"),
+               ey = h.doubles("/series/eps_y");
+    for (size_t k = 0; k < ea.size(); ++k)
+      EXPECT_NEAR(1 - ev[k], (1 - ea[k]) * (1 - ex[k]) * (1 - ey[k]), kStrainTol) << "row " << k;
+    eps_x[b] = ex.back();
+    eps_y[b] = ey.back();
+    std::printf("  b = %.1f: at the end eps_a %.4f, eps_x %.5f, eps_y %.5f, eps_v %.5f\n", b, ea.back(), ex.back(),
+                ey.back(), ev.back());
     if (b > 0) {
       EXPECT_NE(slurp(out + "/config.yaml").find("b: " + std::string(b == 1 ? "1" : "0.5")), std::string::npos);
       EXPECT_NE(slurp(out + "/summary.json").find("\"b\": " + std::string(b == 1 ? "1" : "0.5")), std::string::npos);
@@ -1380,6 +1421,12 @@ TEST(Lab, TrueTriaxialHoldsTheIntermediateStressRatio) {
   // (one phi for every b) does not (measured at 2 %: 17.9 deg at b = 0, 21.7 at 0.5 and 1; asserted: 1 deg more).
   EXPECT_GT(phi[0.5], phi[0.0] + 1.0);
   EXPECT_GT(phi[1.0], phi[0.0] + 1.0);
+  // The x walls, held at sigma_2, give way less the larger b: at b = 0 both lateral axes extend alike, at b = 1 x is
+  // compressed with z and y alone extends.
+  EXPECT_LT(eps_x[0.0], eps_x[0.5]);
+  EXPECT_LT(eps_x[0.5], eps_x[1.0]);
+  EXPECT_GT(eps_x[1.0], 0.0);
+  EXPECT_GT(eps_y[0.0], eps_y[1.0]);
   // interrupted halfway and resumed: the uninterrupted b = 0.5 run, byte for byte
   const std::string cfg = on_reference("tt_b5",
                                        "  - {name: shear, type: triaxial, drainage: drained, b: 0.5, axial_strain_rate: 1.0, "
