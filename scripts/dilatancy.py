@@ -80,17 +80,21 @@ def rowe_dilatancy(d, extension=False):
     return 1 / (1 + d) if extension else 1 - d
 
 
+def through_origin(y, x):
+    """K of y = K x through the origin (least squares over the rows where both are numbers), phi_f = asin((K - 1) / (K
+    + 1)) [deg] and the rms of the relative residuals (y - K x) / y; NaNs where fewer than MIN_ROWS rows are."""
+    ok = np.isfinite(x) & np.isfinite(y)
+    if ok.sum() < MIN_ROWS:
+        return float("nan"), float("nan"), float("nan")
+    x, y = x[ok], y[ok]
+    K = float((y * x).sum() / (x * x).sum())
+    return K, math.degrees(math.asin((K - 1) / (K + 1))), float(np.sqrt(np.mean(((y - K * x) / y) ** 2)))
+
+
 def rowe_fit(ratio, d, start, extension=False):
     """K of sigma_1/sigma_3 = K D (rowe_dilatancy) through the origin over rows start.. (least squares), phi_f [deg],
     and the rms of the relative residuals; NaNs where fewer than MIN_ROWS rows have a d."""
-    D = rowe_dilatancy(d[start:], extension)
-    R = ratio[start:]
-    ok = np.isfinite(D) & np.isfinite(R)
-    if ok.sum() < MIN_ROWS:
-        return float("nan"), float("nan"), float("nan")
-    D, R = D[ok], R[ok]
-    K = float((R * D).sum() / (D * D).sum())
-    return K, math.degrees(math.asin((K - 1) / (K + 1))), float(np.sqrt(np.mean(((R - K * D) / R) ** 2)))
+    return through_origin(ratio[start:], rowe_dilatancy(d[start:], extension))
 
 
 def analyse(eps_a, eps_v, eta, window=WINDOW, extension=False):
@@ -108,4 +112,96 @@ def analyse(eps_a, eps_v, eta, window=WINDOW, extension=False):
     k0 = int(np.argmax(eps_v))  # the largest contraction: where the sample turns to dilate
     out["turn"], out["eps_turn"] = k0, float(eps_a[k0])
     out["K"], out["phi_f"], out["rms"] = rowe_fit(principal_ratio(eta, extension), d, k0, extension)
+    return out
+
+
+# Any b (true triaxial): the flow direction in the deviatoric plane and Rowe's energy ratio, from each axis's strain
+# (series eps_x, eps_y, eps_a) and the walls' principal stresses (sigma_x, sigma_y, sigma_z). The axisymmetric
+# relations above hold at b = 0 and 1 only: with sigma_2 between the others the two lateral increments differ.
+#   - Strain increments are natural, d lambda = -d L / L = d(-ln(1 - eps)) of each axis's engineering strain from the
+#     stage's start: they add up over the axes to the volume's at any strain (1 - eps_v = (1 - eps_a)(1 - eps_x)(1 -
+#     eps_y)), which the engineering ones do only to first order (the compression section's d eps_v / d eps_a is
+#     engineering: 20 % axial strain makes the two differ by up to ~20 %). Each is the slope against the loading axis's
+#     (rate(), WINDOW): per unit strain along the loading.
+#   - b_eps = (d lambda_2 - d lambda_3) / (d lambda_1 - d lambda_3), the increments of the axes of sigma_1, sigma_2,
+#     sigma_3 (the stress's b = (sigma_2 - sigma_3) / (sigma_1 - sigma_3)): the strain increment's Lode angle as b is
+#     the stress's. A flow whose deviator is parallel to the stress deviator (a circular plastic potential in the
+#     deviatoric plane, Drucker-Prager's) has b_eps = b; one normal to a failure surface there has the b of that
+#     surface's gradient (normal_b). Total increments: their elastic part vanishes at critical state (stress steady)
+#     and is small near the peak.
+#   - Rowe's stress-dilatancy as an energy ratio (Rowe 1962), written here for three unequal principal stresses: the
+#     work of the stresses whose axes shorten over the work done against those whose axes lengthen, E = sum(sigma_i d
+#     lambda_i, d lambda_i > 0) / -sum(sigma_i d lambda_i, d lambda_i < 0) = K = tan^2(45 + phi_f / 2). In triaxial
+#     compression (d lambda_2 = d lambda_3 < 0) it is Rowe's sigma_1 d lambda_1 / (-2 sigma_3 d lambda_3) = K, i.e.
+#     sigma_1 / sigma_3 = K (1 - d); in extension (the lateral pair shortening) Rowe, Barden & Lee's 2 sigma_1 d
+#     lambda_1 / (-sigma_3 d lambda_3) = K; in plane strain (d lambda_2 = 0) Rowe's sigma_1 d lambda_1 / (-sigma_3 d
+#     lambda_3) = K: the relations above, with natural increments. K is fitted through the origin of W_in = K W_out,
+#     both over sigma_3, from the largest contraction on, as rowe_fit. Rowe's K is the material's whatever the stress
+#     path: one K (phi_f) across a b series is what his theory claims there, and what the report measures.
+
+
+def natural(eps):
+    """The natural strain -ln(1 - eps) of an engineering strain from the stage's start (compression positive)."""
+    return -np.log1p(-np.asarray(eps, dtype=float))
+
+
+def energy_ratio(sig, inc):
+    """W_in / sigma_3 and W_out / sigma_3 of Rowe's energy ratio at every row: sig and inc (3, n) the principal
+    stresses and their axes' strain increments (compression positive), ordered sigma_1, sigma_2, sigma_3. NaN where an
+    increment is."""
+    work = sig * inc
+    bad = ~np.isfinite(inc).all(axis=0)
+    w_in = np.where(inc > 0, work, 0.0).sum(axis=0) / sig[2]
+    w_out = -np.where(inc < 0, work, 0.0).sum(axis=0) / sig[2]
+    return np.where(bad, np.nan, w_in), np.where(bad, np.nan, w_out)
+
+
+def b_of(v):
+    """(v_2 - v_3) / (v_1 - v_3) of (3, n) components ordered 1, 2, 3 (b of stresses, b_eps of strain increments):
+    NaN where v_1 = v_3 (an isotropic row: no Lode angle)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (v[1] - v[2]) / (v[0] - v[2])
+
+
+def normal_b(sig, criterion):
+    """b_eps of a strain increment normal, in the deviatoric plane, to the surface of a failure criterion through the
+    stresses sig (3, n; ordered 1, 2, 3): b of its gradient, which a hydrostatic part (a constant added to the three
+    components) leaves alone. "MN", Matsuoka-Nakai, ln(I1 I2 / I3): 1/I1 + (I1 - sigma_i) / I2 - 1/sigma_i, i.e.
+    -sigma_i / I2 - 1/sigma_i and a constant; "LD", Lade-Duncan, ln(I1^3 / I3): 3/I1 - 1/sigma_i. Both give 0 at b = 0
+    and 1 at b = 1 (the gradient shares the stresses' symmetry there), as radial flow does."""
+    if criterion == "MN":
+        i2 = sig[0] * sig[1] + sig[1] * sig[2] + sig[2] * sig[0]
+        return b_of(-sig / i2 - 1 / sig)
+    if criterion == "LD":
+        return b_of(-1 / sig)
+    raise ValueError(criterion)
+
+
+def deviatoric_flow(sig_xyz, eps_xyz, eps_v, extension=False, window=WINDOW):
+    """One drained shear at any b: sig_xyz, eps_xyz (3, n) the walls' stresses and engineering strains of the x, y, z
+    axes (compression positive), eps_v the volume's; extension: the axial walls move apart (the loading along -z).
+    Returns the axes' order (indices of sigma_1, sigma_2, sigma_3 by their mean over the rows: fixed over the shear,
+    so that a b = 0 test's nearly equal lateral pair does not swap from row to row), per row the ordered stresses
+    `sig` and natural increments `inc` per unit loading strain, b, b_eps, the Lode angles' normal-flow b_eps of
+    Matsuoka-Nakai and Lade-Duncan (`b_mn`, `b_ld`), w_in and w_out; the dilatancy rate d = d lambda_v / d lambda_l
+    (`d`) and its largest dilation (-d)_max with its standard error and axial strain; the turn (largest contraction)
+    and Rowe's K, phi_f and rms over the rows from it (module notes above)."""
+    lam = natural(eps_xyz)
+    load = -lam[2] if extension else lam[2]
+    inc = np.empty_like(lam)
+    for a in range(2):
+        inc[a] = rate(load, lam[a], window)[0]
+    inc[2] = np.where(np.isfinite(inc[0]), -1.0 if extension else 1.0, np.nan)
+    d, se = rate(load, natural(eps_v), window)
+    order = np.argsort(-np.nanmean(sig_xyz, axis=1), kind="stable")
+    sig, inc = sig_xyz[order], inc[order]
+    out = dict(order=order, sig=sig, inc=inc, b=b_of(sig), b_eps=b_of(inc), b_mn=normal_b(sig, "MN"),
+               b_ld=normal_b(sig, "LD"), d=d, neg_d_max=float("nan"), se=float("nan"), eps_max=float("nan"))
+    out["w_in"], out["w_out"] = energy_ratio(sig, inc)
+    if np.isfinite(d).any():
+        k = int(np.nanargmin(d))
+        out.update(neg_d_max=float(-d[k]), se=float(se[k]), eps_max=float(eps_xyz[2][k]))
+    k0 = int(np.argmax(eps_v))
+    out["turn"] = k0
+    out["K"], out["phi_f"], out["rms"] = through_origin(out["w_in"][k0:], out["w_out"][k0:])
     return out

@@ -1301,6 +1301,148 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
               for st, lab in (("peak", "largest obliquity"), ("cs", "critical state"))), ""]
 
 
+def criterion_stresses(phi0, bs, c):
+    """Principal stresses (3, len(bs)) on failure criterion c (0: Matsuoka-Nakai, 1: Lade-Duncan) calibrated on the
+    compression angle phi0 [deg], sigma_3 = 1, at each b of bs: where flow_section draws each surface's normal flow."""
+    phis = np.radians([failure_criteria(phi0, b)[c] for b in bs])
+    N = (1 + np.sin(phis)) / (1 - np.sin(phis))
+    return np.vstack([N, 1 + np.asarray(bs) * (N - 1), np.ones_like(N)])
+
+
+def flow_section(mono, window, tol, figs, peak=(0.0, None)):
+    """The flow in the deviatoric plane and Rowe's energy ratio of a true-triaxial series (scripts/dilatancy.py's
+    deviatoric_flow): per sample and stress path with a drained test at 0 < b, every drained test of the series whose
+    series has each axis's strain (eps_x, eps_y: builds since session 67), at its largest obliquity (failure_section's
+    row) and at critical state: b, b_eps and the normal flows of Matsuoka-Nakai and Lade-Duncan; the largest dilation
+    and Rowe's K across b. figures/deviatoric_flow.png. Empty without such a series."""
+    groups = {}
+    for j, _, s in mono:
+        if j["drainage"] != "drained" or not {"sigma_x", "sigma_y", "sigma_z", "eps_x", "eps_y"} <= set(s):
+            continue
+        m = s["monotonic"]
+        if not np.isfinite(s["eps_x"][m]).all():  # resumed from a checkpoint of a build before them (NaN rows)
+            continue
+        ext = bool(s["eps_a"][m][-1] < 0)
+        sig = np.vstack([s["sigma_x"][m], s["sigma_y"][m], s["sigma_z"][m]])
+        f = dilatancy.deviatoric_flow(sig, np.vstack([s["eps_x"][m], s["eps_y"][m], s["eps_a"][m]]), s["eps_v"][m],
+                                      ext)
+        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, f=f, peak=None,
+                   cs=None)
+        rows_k = peak_rows(s, m, peak[1])  # the largest obliquity as failure_section takes it
+        if len(rows_k):
+            k = int(np.argmax(running_mean(s, rows_k, principal_angle(s), peak[0])))
+            st = np.array([[running_mean(s, rows_k, s[c], peak[0])[k]] for c in ("sigma_x", "sigma_y", "sigma_z")])
+            st = st[f["order"]]
+            pos = int(np.searchsorted(np.flatnonzero(m), rows_k[k]))  # the row among the shear's
+            row["peak"] = (float(dilatancy.b_of(st)[0]), float(f["b_eps"][pos]),
+                           float(dilatancy.normal_b(st, "MN")[0]), float(dilatancy.normal_b(st, "LD")[0]))
+        c = critical_state(s, window, *tol)
+        if c is not None and c["ok"]:
+            ea = -s["eps_a"][m] if ext else s["eps_a"][m]  # along the loading, as critical_state's window
+            w = (ea >= ea[-1] - window) & np.isfinite(f["b_eps"])  # the rates stop WINDOW / 2 short of the end
+            if w.any():
+                row["cs"] = tuple(float(np.mean(f[key][w])) for key in ("b", "b_eps", "b_mn", "b_ld"))
+        groups.setdefault((j["sample"], s["stress_path"]), []).append(row)
+    series = {k: sorted(g, key=lambda r: (r["b"], r["ext"])) for k, g in groups.items()
+              if any(0 < r["b"] < 1 and not r["ext"] for r in g)}
+    if not series:
+        return []
+    rows, dev, spreads = [], {(st, c): [] for st in ("peak", "cs") for c in range(3)}, []
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    bs = np.linspace(0, 1, 51)
+    ax[0].plot(bs, bs, "--", color="0.5", lw=0.8, label="radial (b_eps = b)")
+    drawn = False
+    for (sample, path), g in sorted(series.items()):
+        at = " at constant p'" if path == "constant_p" else ""
+        color = None  # one colour a series: its peaks open, its critical states filled
+        for i, state in enumerate(("peak", "cs")):
+            pts = [r[state] for r in g if r[state] is not None]
+            line = ax[0].plot([p[0] for p in pts], [p[1] for p in pts], "o" if i else "^", mfc="none" if i == 0 else None,
+                              color=color, label=f"mu_r = {g[0]['mu_r']:g} ({sample}){at}, "
+                              + ("critical state" if i else "peak"))
+            color = line[0].get_color()
+            ref = next((r for r in g if r["b"] == 0 and not r["ext"] and r[state] is not None), None)
+            if i == 1 and ref is not None and not drawn:  # each surface's normal flow, calibrated on a b = 0 test
+                phi0 = None
+                for j, _, s in mono:
+                    if j["name"] == ref["name"]:
+                        c = critical_state(s, window, *tol)
+                        phi0 = c["phi"] if c is not None and c["ok"] else None
+                if phi0 is not None:
+                    for cc, (crit, ls) in enumerate((("MN", "-"), ("LD", ":"))):
+                        ax[0].plot(bs, dilatancy.normal_b(criterion_stresses(phi0, bs, cc), crit), ls,
+                                   color=line[0].get_color(), lw=1,
+                                   label=f"{'Matsuoka-Nakai' if crit == 'MN' else 'Lade-Duncan'} normal "
+                                         f"(phi_cs {phi0:.1f}°)")
+                    drawn = True
+        Ks = []
+        for r in g:
+            f = r["f"]
+            k0 = f["turn"]
+            pl = ax[1].plot(f["w_out"][k0:], f["w_in"][k0:], ".", ms=2)
+            if math.isfinite(f["K"]):
+                xs = np.array([np.nanmin(f["w_out"][k0:]), np.nanmax(f["w_out"][k0:])])
+                ax[1].plot(xs, f["K"] * xs, "-", lw=1, color=pl[0].get_color(),
+                           label=f"{r['name']}: K {f['K']:.2f}")
+                Ks.append(f["phi_f"])
+            cells = []
+            for state in ("peak", "cs"):
+                v = r[state]
+                cells.append("- | - | - | -" if v is None else
+                             f"{v[0]:.2f} | {number_text(v[1], '.2f')} | {v[2]:.2f} | {v[3]:.2f}")
+                if v is not None and 0 < r["b"] < 1 and not r["ext"] and math.isfinite(v[1]):
+                    for cc, pred in enumerate((v[0], v[2], v[3])):
+                        dev[(state, cc)].append(v[1] - pred)
+            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}"
+            dil = (f"{f['neg_d_max']:.3f} ± {f['se']:.3f} ({100 * abs(f['eps_max']):.1f})"
+                   if math.isfinite(f["neg_d_max"]) else "-")
+            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_txt} | {dil} | {cells[0]} | {cells[1]} | "
+                        f"{number_text(f['K'], '.3f')} | {number_text(f['phi_f'], '.1f')} "
+                        f"({number_text(f['rms'], '.3f')}) |")
+        if len(Ks) > 1:
+            spreads.append(f"mu_r = {g[0]['mu_r']:g} ({sample}){at}: phi_f {min(Ks):.1f} to {max(Ks):.1f}° over "
+                           f"{len(Ks)} tests")
+    ax[0].set(xlabel="b (wall stresses)", ylabel="b_eps of the strain increments",
+              title="flow in the deviatoric plane: ^ largest obliquity, o critical state")
+    ax[1].set(xlabel="W_out / sigma_3 (axes lengthening)", ylabel="W_in / sigma_3 (axes shortening)",
+              title="Rowe's energy ratio W_in = K W_out, from the largest contraction on")
+    legend(ax[0], fontsize=6)
+    legend(ax[1], fontsize=6)
+    for a in ax:
+        a.grid(alpha=0.3)
+    save(fig, figs, "deviatoric_flow")
+
+    def rms(v):
+        return f"{math.sqrt(np.mean(np.square(v))):.3f} ({len(v)})" if v else "-"
+    return ["## Flow in the deviatoric plane (true triaxial)", "",
+            "The drained tests of each true-triaxial series, from each axis's strain (series eps_x, eps_y, eps_a) and "
+            "the walls' principal stresses. Strain increments are natural (d lambda = -dL/L per axis, adding up to the "
+            "volume's at any strain), per unit strain along the loading, each the slope of a line through the rows "
+            f"within {dilatancy.WINDOW / 2:g} of it either side. b_eps = (d lambda_2 - d lambda_3) / (d lambda_1 - d "
+            "lambda_3), the increments of the axes of sigma_1, sigma_2 and sigma_3 (the order of each test's mean "
+            "stresses), is to the strain increment what b is to the stress: b_eps = b is radial flow (the strain "
+            "increment's deviator along the stress's: a circular plastic potential in the deviatoric plane, "
+            "Drucker-Prager's); MN and LD give the b_eps of flow normal to Matsuoka-Nakai's and Lade-Duncan's surfaces "
+            "through the measured stresses (associated in the deviatoric plane). At the largest obliquity (the row of "
+            "the failure criteria section; its b and the normals from the stresses averaged as its angle is) and over "
+            "the critical-state window (where the stress is steady, so the total increments are the plastic ones). "
+            "(-d)_max is the largest dilation rate -d lambda_v / d lambda_l (natural strains; the compression "
+            "section's is engineering) with its standard error and strain. Rowe's stress-dilatancy as an energy "
+            "ratio: the work of the stresses whose axes shorten over that done against those whose axes lengthen, "
+            "W_in / W_out = K = tan^2(45 + phi_f / 2), fitted through the origin from the largest contraction on (Rowe "
+            "1962; at b = 0 his triaxial relation, in extension Rowe, Barden & Lee's, in plane strain his plane-strain "
+            "one), with the rms of the relative residuals: Rowe's theory claims one K, whatever b. "
+            "Figure: `figures/deviatoric_flow.png`.", "",
+            "| test | mu_r | b | (-d)_max ± se (eps_a %) | b at phi'_max | b_eps | MN | LD | b at c.s. | b_eps | MN | LD "
+            "| Rowe K | phi_f [°] (rms) |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
+            "Root-mean-square of the measured b_eps minus each flow's over the tests at 0 < b < 1 (count):", "",
+            "| state | radial | Matsuoka-Nakai normal | Lade-Duncan normal |", "|---|---|---|---|",
+            *(f"| {lab} | " + " | ".join(rms(dev[(st, c)]) for c in range(3)) + " |"
+              for st, lab in (("peak", "largest obliquity"), ("cs", "critical state"))), "",
+            *([("Rowe's phi_f across b: " + "; ".join(spreads) + "."), ""] if spreads else [])]
+
+
 def friction_angle(M, ext):
     """The Mohr-Coulomb friction angle [deg] of a triaxial state at M = |q/p'|: sin(phi) = 3 M / (6 + M) in
     compression, 3 M / (6 - M) in extension (where the axial stress is the minor principal one)."""
@@ -2405,6 +2547,7 @@ def study_lines(out, idx, figs_rel, fits=None):
     csl_text, states = csl([(d, s) for _, d, s in mono], figs, cs_cfg["window"], tol, quiet=True)
     cyc_lines = cyclic_section(cyc, figs, colors, fits) if cyc else []
     fail_lines = failure_section(mono, cs_cfg["window"], tol, figs, peak)
+    fail_lines += flow_section(mono, cs_cfg["window"], tol, figs, peak)
     rate_lines = rate_section(mono, cs_cfg["window"], tol, figs, peak)
     seed_lines = seed_section(mono, cs_cfg["window"], tol, figs, peak)
     more_figs = ["`figures/liquefaction.png`"] if cyc else []
