@@ -1327,7 +1327,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
         f = dilatancy.deviatoric_flow(sig, np.vstack([s["eps_x"][m], s["eps_y"][m], s["eps_a"][m]]), s["eps_v"][m],
                                       ext)
         row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, f=f, peak=None,
-                   cs=None)
+                   cs=None, phi_cs=None)
         rows_k = peak_rows(s, m, peak[1])  # the largest obliquity as failure_section takes it
         if len(rows_k):
             k = int(np.argmax(running_mean(s, rows_k, principal_angle(s), peak[0])))
@@ -1342,6 +1342,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
             w = (ea >= ea[-1] - window) & np.isfinite(f["b_eps"])  # the rates stop WINDOW / 2 short of the end
             if w.any():
                 row["cs"] = tuple(float(np.mean(f[key][w])) for key in ("b", "b_eps", "b_mn", "b_ld"))
+                row["phi_cs"] = float(np.mean(principal_angle(s)[m][w]))  # the walls' angle, as the table's stresses
         groups.setdefault((j["sample"], s["stress_path"]), []).append(row)
     series = {k: sorted(g, key=lambda r: (r["b"], r["ext"])) for k, g in groups.items()
               if any(0 < r["b"] < 1 and not r["ext"] for r in g)}
@@ -1363,11 +1364,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
             color = line[0].get_color()
             ref = next((r for r in g if r["b"] == 0 and not r["ext"] and r[state] is not None), None)
             if i == 1 and ref is not None and not drawn:  # each surface's normal flow, calibrated on a b = 0 test
-                phi0 = None
-                for j, _, s in mono:
-                    if j["name"] == ref["name"]:
-                        c = critical_state(s, window, *tol)
-                        phi0 = c["phi"] if c is not None and c["ok"] else None
+                phi0 = ref["phi_cs"]
                 if phi0 is not None:
                     for cc, (crit, ls) in enumerate((("MN", "-"), ("LD", ":"))):
                         ax[0].plot(bs, dilatancy.normal_b(criterion_stresses(phi0, bs, cc), crit), ls,
