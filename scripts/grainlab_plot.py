@@ -1358,8 +1358,8 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
         color = None  # one colour a series: its peaks open, its critical states filled
         for i, state in enumerate(("peak", "cs")):
             pts = [r[state] for r in g if r[state] is not None]
-            line = ax[0].plot([p[0] for p in pts], [p[1] for p in pts], "o" if i else "^", mfc="none" if i == 0 else None,
-                              color=color, label=f"mu_r = {g[0]['mu_r']:g} ({sample}){at}, "
+            line = ax[0].plot([p[0] for p in pts], [p[1] for p in pts], "o" if i else "^",
+                              mfc="none" if i == 0 else None, color=color, label=f"mu_r = {g[0]['mu_r']:g} ({sample}){at}, "
                               + ("critical state" if i else "peak"))
             color = line[0].get_color()
             ref = next((r for r in g if r["b"] == 0 and not r["ext"] and r[state] is not None), None)
@@ -1430,8 +1430,8 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
             "1962; at b = 0 his triaxial relation, in extension Rowe, Barden & Lee's, in plane strain his plane-strain "
             "one), with the rms of the relative residuals: Rowe's theory claims one K, whatever b. "
             "Figure: `figures/deviatoric_flow.png`.", "",
-            "| test | mu_r | b | (-d)_max ± se (eps_a %) | b at phi'_max | b_eps | MN | LD | b at c.s. | b_eps | MN | LD "
-            "| Rowe K | phi_f [°] (rms) |",
+            "| test | mu_r | b | (-d)_max ± se (eps_a %) | b at phi'_max | b_eps | MN | LD | b at c.s. | b_eps | MN "
+            "| LD | Rowe K | phi_f [°] (rms) |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *rows, "",
             "Root-mean-square of the measured b_eps minus each flow's over the tests at 0 < b < 1 (count):", "",
             "| state | radial | Matsuoka-Nakai normal | Lade-Duncan normal |", "|---|---|---|---|",

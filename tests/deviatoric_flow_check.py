@@ -130,7 +130,8 @@ def final_ratio(b, beta):
 
 
 def stresses(t, b, r_cs):
-    """sigma_z, sigma_x, sigma_y [Pa] at natural axial strain t: up to OVERSHOOT r_cs at T_PEAK, down to r_cs at T_CS."""
+    """sigma_z, sigma_x, sigma_y [Pa] at natural axial strain t: up to OVERSHOOT r_cs at T_PEAK, down to r_cs at
+    T_CS."""
     r_pk = OVERSHOOT * r_cs
     r = 1 + (r_pk - 1) * t / T_PEAK if t <= T_PEAK else (r_pk + (r_cs - r_pk) * (t - T_PEAK) / (T_CS - T_PEAK)
                                                          if t <= T_CS else r_cs)
@@ -240,7 +241,8 @@ for b, (name, run, r_cs, critical) in tests.items():
         fails.append(f"b = {b}: no row of 14 cells: '{line}'")
         continue
     want = [name, "0.3", f"{b:g}", None, *(cell(v) for v in x["peak"]),
-            *((cell(v) for v in x["cs"]) if critical else ["-"] * 4), f"{x['K']:.3f}", f"{x['phi']:.1f} ({x['rms']:.3f})"]
+            *((cell(v) for v in x["cs"]) if critical else ["-"] * 4), f"{x['K']:.3f}",
+            f"{x['phi']:.1f} ({x['rms']:.3f})"]
     for i, (g, wv) in enumerate(zip(cells, want)):
         if wv is not None and g != wv:
             fails.append(f"b = {b}, column {i + 1}: '{g}', expected '{wv}'")
