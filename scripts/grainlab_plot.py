@@ -144,10 +144,21 @@ def load(run, prog="grainlab plot"):
                            or [0.0])
         if any(st.get("stress_path") == "constant_p" for st in stages if st.get("type") == "triaxial"):
             cols["stress_path"] = "constant_p"
+        if any(st.get("stress_path") == "plane_strain" for st in stages if st.get("type") == "triaxial"):
+            cols["stress_path"] = "plane_strain"
         errs = [float(st["servo_error"]) for st in stages if st.get("servo_error") is not None]
         cols["servo_error"] = max(errs) if errs else None
     except (OSError, ValueError, TypeError):
         pass
+    # Plane strain (stress_path: plane_strain, the x walls held): b is the test's result, not its setting. Its b is the
+    # mean measured over the second half of the shear, to 0.01 (its critical states one group), so that its angles come
+    # from the principal stresses as a true-triaxial test's do and the axisymmetric sections (dilatancy, state
+    # parameter) leave it out; the failure-criteria and flow sections place it in its sample's b series there.
+    cols["plane_strain"] = cols["stress_path"] == "plane_strain"
+    if cols["plane_strain"] and {"sigma_x", "sigma_y", "sigma_z"} <= set(cols):
+        rows = np.flatnonzero(cols["monotonic"])
+        if len(rows):
+            cols["b"] = round(float(np.nanmean(principal_b(cols)[rows[len(rows) // 2:]])), 2)
     return cols
 
 
@@ -1212,15 +1223,17 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
             top = (float(a_w[k]), float(b_w[k]))
         # an extension's b is 1 (sigma_2 = sigma_1, the lateral pair): its nominal b for the series, measured below
         row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, peak=top, cs=None,
-                   servo=s.get("servo_error"), single=single_row_note(s, m, rows_k, ang_all, peak[1]))
+                   servo=s.get("servo_error"), single=single_row_note(s, m, rows_k, ang_all, peak[1]),
+                   ps=bool(s.get("plane_strain")))
         ang, bm = ang_all[m], bm_all[m]
         c = critical_state(s, window, *tol)  # the study's steadiness test, as its critical-state table
         if c is not None and c["ok"]:
             ea = -s["eps_a"][m] if ext else s["eps_a"][m]  # along the loading, as critical_state's window
             w = ea >= ea[-1] - window
             row["cs"] = (float(np.mean(ang[w])), float(np.mean(bm[w])))
-        # one calibration per stress path: a constant-p' series (stress_path: constant_p) has its own b = 0 test
-        groups.setdefault((j["sample"], j["drainage"], s["stress_path"]), []).append(row)
+        # one calibration per stress path: a constant-p' series (stress_path: constant_p) has its own b = 0 test; a
+        # plane-strain test holds sigma_3 constant as the standard series does, and joins it at the b it develops
+        groups.setdefault((j["sample"], j["drainage"], series_path(s)), []).append(row)
     series = {k: sorted(g, key=lambda r: (r["b"], r["ext"])) for k, g in groups.items()
               if any(r["b"] == 0 for r in g) and any(r["b"] > 0 for r in g)}
     if not series:
@@ -1259,7 +1272,7 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
                         dev[(state, c)].append(phi - p)
         for r in g:
             servo = "-" if r["servo"] is None else f"{100 * r['servo']:.2f}"
-            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}"
+            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}" + (" (plane strain)" if r["ps"] else "")
             rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_txt} | "
                         + " | ".join(cells.get((r["name"], st), "| | | |") for st in ("peak", "cs")) + f" | {servo} | "
                         + r["single"] + " |")
@@ -1273,8 +1286,10 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
     def rms(v):
         return f"{math.sqrt(np.mean(np.square(v))):.2f}° ({len(v)})" if v else "-"
     members = [r for g in series.values() for r in g if r["b"] > 0]
-    true_tx, exts = any(not r["ext"] for r in members), any(r["ext"] for r in members)
-    title = " and ".join((["true triaxial"] if true_tx else []) + (["extension"] if exts else []))
+    true_tx, exts = any(not r["ext"] and not r["ps"] for r in members), any(r["ext"] for r in members)
+    kinds = (["true triaxial"] if true_tx else []) + (["plane strain"] if any(r["ps"] for r in members) else []) + (
+        ["extension"] if exts else [])
+    title = ", ".join(kinds[:-1]) + " and " + kinds[-1] if len(kinds) > 1 else kinds[0]
     return [f"## Failure criteria ({title})", "",
             "Drained compression tests of one sample at several b = (sigma_2 - sigma_3) / (sigma_1 - sigma_3), against "
             "three criteria calibrated on the sample's b = 0 test: Mohr-Coulomb (phi independent of b), Matsuoka-Nakai "
@@ -1282,7 +1297,10 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
             ("A triaxial extension of the sample ('1 (extension)': the axial walls moved apart at constant lateral "
              "stress, so the lateral pair are sigma_1 = sigma_2 and the axis sigma_3) is the Lode angle of b = 1 "
              "reached the other way: Mohr-Coulomb and Matsuoka-Nakai give it the compression's phi, Lade-Duncan more "
-             "(Lade & Duncan 1975). " if exts else "") + "Every angle "
+             "(Lade & Duncan 1975). " if exts else "") +
+            ("A plane-strain test of the sample ('(plane strain)': stress_path: plane_strain, the x walls held at zero "
+             "strain and sigma_3 at p'_0) joins the series at the b it develops, its b column the mean measured over "
+             "the second half of the shear. " if any(r["ps"] for r in members) else "") + "Every angle "
             "is sin phi = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses, the b = 0 test's too (the "
             "peak table takes that one from the contacts' q/p'); the critical state's is the mean over the window. "
             "The last column is the largest distance of a lateral wall stress from its servo target over the shear "
@@ -1299,6 +1317,12 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
             "| state | Mohr-Coulomb | Matsuoka-Nakai | Lade-Duncan |", "|---|---|---|---|",
             *(f"| {lab} | " + " | ".join(rms(dev[(st, c)]) for c in range(3)) + " |"
               for st, lab in (("peak", "largest obliquity"), ("cs", "critical state"))), ""]
+
+
+def series_path(s):
+    """The b series a test belongs to by its lateral control: constant sigma_3 (a plane-strain test's too: its y walls
+    hold sigma_3 and its x walls' stress is the b it develops) or constant p'."""
+    return "constant_sigma3" if s["stress_path"] == "plane_strain" else s["stress_path"]
 
 
 def criterion_stresses(phi0, bs, c):
@@ -1327,7 +1351,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
         f = dilatancy.deviatoric_flow(sig, np.vstack([s["eps_x"][m], s["eps_y"][m], s["eps_a"][m]]), s["eps_v"][m],
                                       ext)
         row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, f=f, peak=None,
-                   cs=None, phi_cs=None)
+                   cs=None, phi_cs=None, ps=bool(s.get("plane_strain")))
         rows_k = peak_rows(s, m, peak[1])  # the largest obliquity as failure_section takes it
         if len(rows_k):
             k = int(np.argmax(running_mean(s, rows_k, principal_angle(s), peak[0])))
@@ -1343,7 +1367,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
             if w.any():
                 row["cs"] = tuple(float(np.mean(f[key][w])) for key in ("b", "b_eps", "b_mn", "b_ld"))
                 row["phi_cs"] = float(np.mean(principal_angle(s)[m][w]))  # the walls' angle, as the table's stresses
-        groups.setdefault((j["sample"], s["stress_path"]), []).append(row)
+        groups.setdefault((j["sample"], series_path(s)), []).append(row)
     series = {k: sorted(g, key=lambda r: (r["b"], r["ext"])) for k, g in groups.items()
               if any(0 < r["b"] < 1 and not r["ext"] for r in g)}
     if not series:
@@ -1390,7 +1414,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
                 if v is not None and 0 < r["b"] < 1 and not r["ext"] and math.isfinite(v[1]):
                     for cc, pred in enumerate((v[0], v[2], v[3])):
                         dev[(state, cc)].append(v[1] - pred)
-            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}"
+            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}" + (" (plane strain)" if r["ps"] else "")
             dil = (f"{f['neg_d_max']:.3f} ± {f['se']:.3f} ({100 * abs(f['eps_max']):.1f})"
                    if math.isfinite(f["neg_d_max"]) else "-")
             rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_txt} | {dil} | {cells[0]} | {cells[1]} | "
@@ -2510,7 +2534,8 @@ def study_lines(out, idx, figs_rel, fits=None):
     peak_lines, cs_rows, share_rows, peak_I, cs_ok = [], [], [], [], []
     for j, d, s in mono:
         ps = peak_state(s, peak)
-        direction = ("extension" if ps["ext"] else "compression") + (f", b = {ps['b']:g}" if ps["b"] > 0 else "")
+        direction = ("extension" if ps["ext"] else "compression") + (
+            f", plane strain (b {ps['b']:g})" if s.get("plane_strain") else f", b = {ps['b']:g}" if ps["b"] > 0 else "")
         note = single_row_note(s, ps["m"], ps["rows"], ps["ang"], peak[1])
         if "M" not in ps:
             peak_lines.append(f"| {j['name']} | {j['mu_r']:g} | {j['drainage']} | {direction} | - | - | - | - | - | - | "

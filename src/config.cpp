@@ -491,7 +491,22 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
           g.fail(g.key_path("b"), "= " + fmt(sc.b) + " needs a drained compression stage (here " +
                                       (sc.drainage != Drainage::Drained ? drainage_name(sc.drainage) : "direction: extension") +
                                       "); leave b out or give 0");
-        sc.constant_p = g.choice("stress_path", "constant_sigma3", {"constant_sigma3", "constant_p"}) == "constant_p";
+        const std::string stress_path =
+            g.choice("stress_path", "constant_sigma3", {"constant_sigma3", "constant_p", "plane_strain"});
+        sc.constant_p = stress_path == "constant_p";
+        sc.plane_strain = stress_path == "plane_strain";
+        // plane strain holds the x walls and servos the y walls at sigma_3: a drained compression (undrained, the walls
+        // keep the volume, whose pore pressure SPEC §6.3 defines for equal lateral stresses; in extension sigma_3 is the
+        // axial stress), and sigma_x is its result, which b would set
+        if (sc.plane_strain && (sc.drainage != Drainage::Drained || sc.extension))
+          g.fail(g.key_path("stress_path"), "= plane_strain needs a drained compression stage (here " +
+                                            (sc.drainage != Drainage::Drained ? drainage_name(sc.drainage)
+                                                                              : std::string("direction: extension")) +
+                                            "): the x walls held, the y walls at sigma_3 by the servo");
+        if (sc.plane_strain && sc.b > 0)
+          g.fail(g.key_path("stress_path"), "= plane_strain holds the x walls, and b = " + fmt(sc.b) +
+                                            " would servo them to sigma_3 + b (sigma_z - sigma_3): give one of them "
+                                            "(plane strain's b is the test's result)");
         if (sc.constant_p && sc.drainage != Drainage::Drained)
           g.fail(g.key_path("stress_path"), "= constant_p needs a drained stage (here " + std::string(drainage_name(sc.drainage)) +
                                             ": the walls keep the volume or their place, and p' is the test's result); "
@@ -502,8 +517,9 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
           g.fail(g.key_path("k_ratio"), "= " + fmt(sc.k_ratio) + " needs a drained stage (here " +
                                             drainage_name(sc.drainage) + ": the walls keep the volume or their place); "
                                             "leave k_ratio out or give drainage: drained");
-        if (g.has("k_ratio") && (sc.b > 0 || sc.constant_p))
-          g.fail(g.key_path("k_ratio"), "= " + fmt(sc.k_ratio) + " and " + (sc.b > 0 ? "b = " + fmt(sc.b) : "stress_path: constant_p") +
+        if (g.has("k_ratio") && (sc.b > 0 || sc.constant_p || sc.plane_strain))
+          g.fail(g.key_path("k_ratio"), "= " + fmt(sc.k_ratio) + " and " +
+                                            (sc.b > 0 ? "b = " + fmt(sc.b) : "stress_path: " + stress_path) +
                                             " both set the lateral stresses: give one of them");
         // A linear stress path (StageConfig::lateral_slope): drained; b sets sigma_2 on it, as on the standard path.
         // [-5, 5]: every direction but those within 11 degrees of pure lateral loading or unloading in the (sigma_a,
@@ -545,9 +561,9 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
             msg.append(path_key).append(" out or give drainage: drained");
             g.fail(g.key_path(path_key), msg);
           }
-          if (sc.constant_p || sc.k_ratio > 0)
+          if (sc.constant_p || sc.plane_strain || sc.k_ratio > 0)
             g.fail(g.key_path(path_key), "= " + v + " and " +
-                                             (sc.constant_p ? "stress_path: constant_p" : "k_ratio = " + fmt(sc.k_ratio)) +
+                                             (sc.k_ratio > 0 ? "k_ratio = " + fmt(sc.k_ratio) : "stress_path: " + stress_path) +
                                              " both set the lateral stresses: give one of them (constant p' is "
                                              "lateral_slope: -0.5)");
         }
@@ -771,6 +787,7 @@ std::string resolved_config_yaml(const RunConfig& c) {
         e << YAML::Key << "direction" << YAML::Value << (sc.extension ? "extension" : "compression") << YAML::Key << "b"
           << YAML::Value << sc.b;
       if (sc.constant_p) e << YAML::Key << "stress_path" << YAML::Value << "constant_p";
+      if (sc.plane_strain) e << YAML::Key << "stress_path" << YAML::Value << "plane_strain";
       if (sc.k_ratio > 0) e << YAML::Key << "k_ratio" << YAML::Value << sc.k_ratio;
       if (sc.stress_direction) e << YAML::Key << "stress_direction" << YAML::Value << *sc.stress_direction;
       else if (sc.lateral_slope) e << YAML::Key << "lateral_slope" << YAML::Value << *sc.lateral_slope;

@@ -1487,11 +1487,12 @@ void Laboratory::start_stage(const StageConfig& sc) {
     } else if (k >= 4) {
       c.mode = WallMode::Velocity;  // axial walls approach each other at the strain rate (recede, in extension)
       c.velocity = (sc.extension ? -0.5 : 0.5) * sc.axial_strain_rate * lab_.H0;
-    } else if (sc.drainage == Drainage::Drained) {
+    } else if (sc.drainage == Drainage::Drained && !(sc.plane_strain && k < 2)) {
       c.mode = WallMode::Servo;
       // sigma_3 = p'_0 (SPEC §6.3), or the lateral stress of an anisotropic start
       c.target_stress = lab_.p0 - lab_.q0 / 3;
     } else {
+      // plane strain's x walls: held where the stage finds them (StageConfig::plane_strain)
       c.mode = WallMode::Fixed;  // undrained: placed analytically every step; oedometric: held where they are
     }
   }
@@ -2189,6 +2190,7 @@ Real Laboratory::servo_error(const StageConfig& sc, const Measure& m) const {
   if (!lateral_servo(sc)) return 0;
   const LateralTargets t = lateral_targets(sc, lab_.p0, lab_.q0, m.sz);
   const Real tx = std::max<Real>(t.sx, 1e-30), ty = std::max<Real>(t.sy, 1e-30);
+  if (sc.plane_strain) return std::abs(m.sy - ty) / ty;  // the x walls are held, not servoed
   return std::max(std::abs(m.sy - ty) / ty, std::abs(m.sx - tx) / tx);
 }
 
@@ -2276,11 +2278,13 @@ void Laboratory::check_servo(const StageConfig& sc, const Measure& m) {
          : sc.lateral_slope ? "sigma_3 on the linear path = "
          : lab_.q0 != 0   ? "sigma_3 at the shear's start = "
                           : "p'_0 = ")
-     << t.sy / 1e3
-     << " kPa, sigma_x = " << m.sx / 1e3 << " kPa against "
-     << (named_s3 ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")
-                  : (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = "))
-     << t.sx / 1e3 << " kPa: the worst "
+     << t.sy / 1e3 << " kPa";
+  if (!sc.plane_strain)  // plane strain's x walls are held: sigma_x has no target
+    os << ", sigma_x = " << m.sx / 1e3 << " kPa against "
+       << (named_s3 ? (sc.b > 0 ? "sigma_3 + b (sigma_z - sigma_3) = " : "sigma_3 = ")
+                    : (sc.b > 0 ? "p'_0 + b (sigma_z - p'_0) = " : "p'_0 = "))
+       << t.sx / 1e3 << " kPa";
+  os << ": the worst "
      << 100 * se << " % off (max_servo_error " << sc.max_servo_error
      << "). A servo lags its target by a share that grows with the speed its walls must keep (true triaxial at "
         "large b and strain drives the y walls out fastest): "
@@ -2601,7 +2605,12 @@ void Laboratory::write_summary() const {
       js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
     if (lateral_servo(sc) && sc.type == StageType::Triaxial)
       js << ", \"stress_path\": \""
-         << (sc.constant_p ? "constant_p" : sc.k_ratio > 0 ? "constant_k" : sc.lateral_slope ? "linear" : "constant_sigma3") << "\"";
+         << (sc.constant_p     ? "constant_p"
+             : sc.plane_strain ? "plane_strain"
+             : sc.k_ratio > 0  ? "constant_k"
+             : sc.lateral_slope ? "linear"
+                                : "constant_sigma3")
+         << "\"";
     if (sc.k_ratio > 0) js << ", \"k_ratio\": " << num(sc.k_ratio);
     // a linear path's slope, and its dq/dp' (null at -1/2: constant p')
     if (sc.lateral_slope)
@@ -3056,6 +3065,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         os << "triaxial " << drainage;
         if (sc.b > 0) os << " (true triaxial, b = " << sc.b << ")";
         if (sc.constant_p) os << " at constant p'";
+        if (sc.plane_strain) os << " in plane strain (the x walls held)";
         if (sc.k_ratio > 0) os << " on the K path sigma_3 = " << sc.k_ratio << " sigma_z";
         if (const auto ls = sc.lateral_slope) {
           os << " on the linear path dsigma_3/dsigma_z = " << *ls;

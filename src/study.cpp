@@ -345,7 +345,9 @@ Study load_study_unchecked(const std::string& path) {
     if (st.type == StageType::Triaxial) {
       stage_values["direction"].emplace_back(st.name, st.extension ? "extension" : "compression");
       stage_values["b"].emplace_back(st.name, fmt(st.b));
-      stage_values["stress_path"].emplace_back(st.name, st.constant_p ? "constant_p" : "constant_sigma3");
+      stage_values["stress_path"].emplace_back(st.name, st.constant_p     ? "constant_p"
+                                                        : st.plane_strain ? "plane_strain"
+                                                                          : "constant_sigma3");
       stage_values["axial_strain_rate"].emplace_back(st.name, fmt(st.axial_strain_rate) + "/s");
       stage_values["max_axial_strain"].emplace_back(st.name, fmt(st.max_axial_strain));
     }
@@ -354,7 +356,7 @@ Study load_study_unchecked(const std::string& path) {
     if (st.type == StageType::Triaxial && base_direction.empty()) {
       base_direction = st.extension ? "extension" : "compression";
       base_b = st.b;
-      base_path = st.constant_p ? "constant_p" : "constant_sigma3";
+      base_path = st.constant_p ? "constant_p" : st.plane_strain ? "plane_strain" : "constant_sigma3";
     }
   }
   // A base without a shear stage is a preparation study: its jobs are the samples alone (how e_0 and the grading of a
@@ -655,11 +657,13 @@ Study load_study_unchecked(const std::string& path) {
   if (ax && ax["axial_strain_rate"]) need_rate_triaxial("axes.axial_strain_rate");
   // The stress_path axis sets every triaxial stage of the base as well: the same b series at constant sigma_3 and at
   // constant p' (Thornton 2000's path) in one study; the report calibrates the failure criteria per path. constant_p
-  // needs a drained shear (the stage's own rule, named at the study's key below).
+  // needs a drained shear, plane_strain a drained compression at b = 0 (the stage's own rules, named at the study's key
+  // below): a plane-strain test beside the b series, as an extra job, falls on the series' failure criteria at its b.
   const auto check_path = [&](const std::string& key, const std::string& v) {
     if (base_direction.empty())
       fail(path, key, "sets the stress path of the base's triaxial stages, and the base (" + s.base + ") has none");
-    if (v != "constant_sigma3" && v != "constant_p") fail(path, key, "'" + v + "' is not constant_sigma3 or constant_p");
+    if (v != "constant_sigma3" && v != "constant_p" && v != "plane_strain")
+      fail(path, key, "'" + v + "' is not constant_sigma3, constant_p or plane_strain");
   };
   std::vector<std::string> paths = words("stress_path", check_path);
   const bool path_axis = !paths.empty();
@@ -940,6 +944,12 @@ Study load_study_unchecked(const std::string& path) {
       fail(path, pt.path_key, "constant_p needs a drained shear, and this job's is " + pt.drainage + " (undrained, the "
                               "walls keep the volume and p' is the test's result; list the pairs as extra jobs to cross "
                               "stress_path with drainage)");
+    if (pt.set_stress_path && pt.stress_path == "plane_strain" &&
+        (pt.drainage != "drained" || pt.direction != "compression" || pt.b > 0))
+      fail(path, pt.path_key, "plane_strain needs a drained compression shear at b = 0, and this job's is " + pt.drainage +
+                              " " + pt.direction + (pt.b > 0 ? ", b = " + fmt(pt.b) : "") +
+                              " (the x walls held, the y walls at sigma_3: b is the test's result; list it as an extra "
+                              "job beside a b series)");
     std::ostringstream sn;
     sn << "sample_mur" << fmt(pt.mu_r) << "_e" << (pt.e0 > 0 ? fmt(pt.e0) : "base") << "_p"
        << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base");
@@ -1011,6 +1021,7 @@ Study load_study_unchecked(const std::string& path) {
     sh.stress_path = pt.stress_path;
     sh.set_stress_path = pt.set_stress_path;
     if (pt.set_stress_path && pt.stress_path == "constant_p") sh.name += "_cp";  // constant sigma_3 likewise
+    if (pt.set_stress_path && pt.stress_path == "plane_strain") sh.name += "_ps";
     sh.cycles = base_cycles;
     if (pt.csr > 0) {
       sh.csr = pt.csr;

@@ -15,7 +15,9 @@ deviatoric_flow; true triaxial).
    CSV (numpy.polyfit slopes over the same window, the largest obliquity's row, the critical-state window's means,
    the fit through the origin): and at critical state the known answers b 0.50, b_eps 0.30, K 3 to the window's
    transition. A third test (b = 0.25, BETA 0.3) stopped at 20 %, while it softens: no critical state, '-' in those
-   four cells, the others as worked out.
+   four cells, the others as worked out. A fourth in plane strain (summary.json stress_path: plane_strain; eps_x 0,
+   sigma_x at b = 0.3 of the others), on Rowe's K alone (d lambda_y = -sigma_z / (K sigma_y)): it joins the
+   constant-sigma_3 series as '0.3 (plane strain)', its b_eps at critical state (d lambda_y = -1) 0.5.
 """
 import csv
 import json
@@ -142,23 +144,34 @@ work = sys.argv[1] if len(sys.argv) > 1 else "/tmp/deviatoric_flow_check"
 shutil.rmtree(work, ignore_errors=True)
 cols = SHEAR_COLUMNS + ["eps_x", "eps_y"]
 jobs, tests = [], {}
-for b, beta, n_rows in ((0.0, 0.0, N_ROWS), (0.5, 0.3, N_ROWS), (0.25, 0.3, 41)):
-    r_cs = final_ratio(b, beta)
+PS = 0.3  # the plane-strain test's b, keyed by it below
+
+
+def increments_ps(s1, s3, k):
+    """Plane strain's (d lambda_x, d lambda_y): x held, Rowe's W_in / W_out = sigma_1 / (-sigma_3 d lambda_y) = k."""
+    return 0.0, -s1 / (k * s3)
+
+
+for b, beta, n_rows in ((0.0, 0.0, N_ROWS), (0.5, 0.3, N_ROWS), (0.25, 0.3, 41), (PS, None, N_ROWS)):
+    r_cs = K if beta is None else final_ratio(b, beta)  # plane strain keeps its volume at sigma_1 / sigma_3 = K
     lam = np.zeros((3, n_rows))  # x, y, z natural strains: the increments integrated by the midpoint rule
     for i in range(1, n_rows):
         lam[:, i] = lam[:, i - 1]
         for k in range(SUB):
             t = DT * (i - 1 + (k + 0.5) / SUB)
-            ax, ay = increments(*stresses(t, b, r_cs), beta, K_EARLY if t < T_EARLY else K)
+            sz_, sx_, sy_ = stresses(t, b, r_cs)
+            k_ = K_EARLY if t < T_EARLY else K
+            ax, ay = increments(sz_, sx_, sy_, beta, k_) if beta is not None else increments_ps(sz_, sy_, k_)
             lam[:, i] += DT / SUB * np.array([ax, ay, 1.0])
     eng = -np.expm1(-lam)  # engineering strains, compression positive
     ev = -np.expm1(-lam.sum(axis=0))
-    name = "shear_drained_mur0.3_ebase_pbase_s1_n300" + (f"_b{b:g}" if b > 0 else "")
+    name = "shear_drained_mur0.3_ebase_pbase_s1_n300" + ("_ps" if beta is None else f"_b{b:g}" if b > 0 else "")
     run = os.path.join(work, "jobs", name, "run")
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
     with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": b, "drainage": "drained"}]}, f)
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0 if beta is None else b, "drainage": "drained",
+                               **({"stress_path": "plane_strain"} if beta is None else {})}]}, f)
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage"] + cols)
@@ -173,7 +186,7 @@ for b, beta, n_rows in ((0.0, 0.0, N_ROWS), (0.5, 0.3, N_ROWS), (0.25, 0.3, 41))
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300", "mu_r": 0.3,
                  "e0": 0, "p0": S3, "drainage": "drained", "direction": "compression", "b": b, "seed": 1, "count": 300,
                  "csr": 0, "cycles": 0, "strain_amplitude": 0})
-    tests[b] = (name, run, r_cs, n_rows == N_ROWS)
+    tests[b] = (name, run, r_cs, n_rows == N_ROWS, beta)
 
 report = study_report(work, jobs, peak={"window": 0, "max_ke_ratio": 0})
 HEAD = "## Flow in the deviatoric plane (true triaxial)"
@@ -231,7 +244,7 @@ def expected(run, b):
 
 dev = {"peak": [], "cs": []}  # b_eps minus radial, MN and LD flow over the tests at 0 < b < 1
 phis = []
-for b, (name, run, r_cs, critical) in tests.items():
+for b, (name, run, r_cs, critical, beta) in tests.items():
     x = expected(run, b)
     if not critical:
         x["cs"] = None
@@ -240,7 +253,7 @@ for b, (name, run, r_cs, critical) in tests.items():
     if len(cells) != 14:
         fails.append(f"b = {b}: no row of 14 cells: '{line}'")
         continue
-    want = [name, "0.3", f"{b:g}", None, *(cell(v) for v in x["peak"]),
+    want = [name, "0.3", f"{b:g}" + (" (plane strain)" if beta is None else ""), None, *(cell(v) for v in x["peak"]),
             *((cell(v) for v in x["cs"]) if critical else ["-"] * 4), f"{x['K']:.3f}",
             f"{x['phi']:.1f} ({x['rms']:.3f})"]
     for i, (g, wv) in enumerate(zip(cells, want)):
@@ -250,11 +263,12 @@ for b, (name, run, r_cs, critical) in tests.items():
         fails.append(f"b = {b}: (-d)_max '{cells[3]}', expected {x['d'][0]:.3f} at {x['d'][1]:.1f} %")
     # the known answers: the flow's BETA everywhere past the window's reach of the early rows, K to the transition rows
     # the fit holds; at critical state the stresses' b too
-    check(f"b = {b}: b_eps at the peak", x["peak"][1], 0.3 if b else 0.0, 1e-9)
+    if beta is not None:
+        check(f"b = {b}: b_eps at the peak", x["peak"][1], beta, 1e-9)
     check(f"b = {b}: Rowe K", x["K"], K, 0.05)
     if critical:
         check(f"b = {b}: b at c.s.", x["cs"][0], b, 1e-12)
-        check(f"b = {b}: b_eps at c.s.", x["cs"][1], 0.3 if b else 0.0, 1e-9)
+        check(f"b = {b}: b_eps at c.s.", x["cs"][1], 0.5 if beta is None else beta, 1e-9)
     for st in ("peak", "cs"):
         if 0 < b < 1 and x[st] is not None:
             dev[st].append([x[st][1] - x[st][c] for c in (0, 2, 3)])
@@ -267,7 +281,7 @@ for lab, st in (("largest obliquity", "peak"), ("critical state", "cs")):
     if want not in section:
         fails.append(f"misfit row: expected '{want}'")
 want = (f"Rowe's phi_f across b: mu_r = 0.3 (sample_mur0.3_ebase_pbase_s1_n300): phi_f {min(phis):.1f} to "
-        f"{max(phis):.1f}° over 3 tests.")
+        f"{max(phis):.1f}° over 4 tests.")
 if want not in section:
     fails.append(f"expected the line '{want}'")
 

@@ -19,6 +19,10 @@
    '1 (extension)', measured b 1.00, Mohr-Coulomb and Matsuoka-Nakai 30.0, Lade-Duncan its b = 1 root; the misfits
    count it (five tests) and the heading says "true triaxial and extension". Its critical state is the window along
    -eps_a (along eps_a the window would hold the whole shear: 16.1 deg at b 0.98).
+5. A plane-strain test of the same sample (summary.json stress_path: plane_strain; its stage's b 0) whose x walls'
+   stress develops b = 0.3 on Matsuoka-Nakai's surface joins the constant-sigma_3 series (not a path of its own, which
+   would have no b = 0 test): its row '0.3 (plane strain)', measured b 0.30, MN exact, the misfits over six tests, the
+   heading "true triaxial, plane strain and extension", the peak table's direction "compression, plane strain (b 0.3)".
 """
 import csv
 import json
@@ -93,7 +97,9 @@ def angle(N):
 
 N_mn = {b: (3.0 if b == 0 else root(b, 0)) for b in (0.0, 0.5, 1.0)}
 phi = {b: angle(N) for b, N in N_mn.items()}
-phi_ld = {b: angle(root(b, 1)) for b in (0.5, 1.0)}
+phi_ld = {b: angle(root(b, 1)) for b in (0.5, 1.0, 0.3)}
+B_PS = 0.3
+phi_ps = angle(root(B_PS, 0))
 check("MN at b = 1 (by roots)", phi[1.0], 30.0, 1e-9)
 # A second series of the same sample on the constant-p' path (summary.json stress_path: constant_p), on MN's surface
 # through sigma_1 / sigma_3 = 3.5 at b = 0 (33.7 deg): calibrated on its own b = 0 test, MN fits it exactly too; a
@@ -176,7 +182,30 @@ with open(os.path.join(run, "series.csv"), "w", newline="") as f:
 jobs.append({"name": EXT_NAME, "dir": f"jobs/{EXT_NAME}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300",
              "mu_r": 0.3, "e0": 0, "p0": 0, "drainage": "drained", "direction": "extension", "b": 0, "seed": 1,
              "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0})
-HEAD = "## Failure criteria (true triaxial and extension)"
+# 5. the plane-strain test: sigma_3 = 1e5 on the y walls, sigma_x as b = 0.3 on MN's surface puts it
+PS_NAME = "shear_drained_mur0.3_ebase_pbase_s1_n300_ps"
+run = os.path.join(work, "jobs", PS_NAME, "run")
+os.makedirs(run)
+open(os.path.join(work, "jobs", PS_NAME, "done"), "w").close()
+with open(os.path.join(run, "summary.json"), "w") as f:
+    json.dump({"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": 0,
+                                                               "stress_path": "plane_strain"}]}, f)
+N_ps = root(B_PS, 0)
+with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+    w = csv.writer(f)
+    w.writerow(["stage"] + cols)
+    for i in range(41):
+        ea = 0.01 * i
+        ramp = min(1.0, ea / 0.3)
+        sz = 1e5 + ramp * (1e5 * N_ps - 1e5)
+        sx, sy = 1e5 + B_PS * (sz - 1e5), 1e5
+        p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
+        w.writerow(["shear", i, i, ea, p, q, q / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25,
+                    0.25, q / p, 0.5, 0.005])
+jobs.append({"name": PS_NAME, "dir": f"jobs/{PS_NAME}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300",
+             "mu_r": 0.3, "e0": 0, "p0": 0, "drainage": "drained", "direction": "compression", "b": 0,
+             "stress_path": "plane_strain", "seed": 1, "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0})
+HEAD = "## Failure criteria (true triaxial, plane strain and extension)"
 
 
 def report_of(peak):
@@ -243,15 +272,25 @@ ext = next((l for l in section.splitlines() if l.startswith(f"| {EXT_NAME} |")),
 want = f"| 1.00 | {phi_ext:.1f} | 30.0 | 30.0 | {phi_ld[1.0]:.1f}"  # MN's b = 1 angle is phi_tc: 30 deg
 if not ext.startswith(f"| {EXT_NAME} | 0.3 | 1 (extension) {want} {want} | - |"):
     fails.append(f"extension row: expected '1 (extension)' and twice '{want}', got '{ext}'")
-# the misfits over the b > 0 tests: the two paths' b = 0.5 and b = 1, and the extension (on the constant-sigma_3
-# series: its b = 0 test's 30 deg)
-mc = math.sqrt((sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) + (phi_ext - 30) ** 2) / 5)
-mn = abs(phi_ext - 30) / math.sqrt(5)
+ps = next((l for l in section.splitlines() if l.startswith(f"| {PS_NAME} |")), "")
+want = f"| 0.30 | {phi_ps:.1f} | 30.0 | {phi_ps:.1f} | {phi_ld[B_PS]:.1f}"
+if not ps.startswith(f"| {PS_NAME} | 0.3 | 0.3 (plane strain) {want} {want} |"):
+    fails.append(f"plane-strain row: expected '0.3 (plane strain)' and twice '{want}', got '{ps}'")
+if "A plane-strain test of the sample" not in section:
+    fails.append("the section does not say how a plane-strain test joins the series")
+pk = next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(f"| {PS_NAME} |")), "")
+if "| compression, plane strain (b 0.3) |" not in pk:
+    fails.append(f"peak table: the plane-strain test's direction, got '{pk}'")
+# the misfits over the b > 0 tests: the two paths' b = 0.5 and b = 1, the extension (on the constant-sigma_3
+# series: its b = 0 test's 30 deg) and the plane-strain test
+mc = math.sqrt((sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) + (phi_ext - 30) ** 2
+                + (phi_ps - 30) ** 2) / 6)
+mn = abs(phi_ext - 30) / math.sqrt(6)
 ld = math.sqrt((sum((ph[b] - pl[b]) ** 2 for ph, pl in ((phi, phi_ld), (phi_cp, phi_ld_cp)) for b in (0.5, 1.0))
-                + (phi_ext - phi_ld[1.0]) ** 2) / 5)
+                + (phi_ext - phi_ld[1.0]) ** 2 + (phi_ps - phi_ld[B_PS]) ** 2) / 6)
 for lab in ("largest obliquity", "critical state"):
     row = next((l for l in section.splitlines() if l.startswith(f"| {lab} |")), "")
-    want = f"| {lab} | {mc:.2f}° (5) | {mn:.2f}° (5) | {ld:.2f}° (5) |"
+    want = f"| {lab} | {mc:.2f}° (6) | {mn:.2f}° (6) | {ld:.2f}° (6) |"
     if row != want:
         fails.append(f"misfit row: expected '{want}', got '{row}'")
 print(f"MN surface through phi_tc = 30 deg: phi(b=0.5) = {phi[0.5]:.3f}, LD there {phi_ld[0.5]:.3f}; "

@@ -358,6 +358,21 @@ TEST(Config, RejectsBadInputClearly) {
       {"path_bad", "stages:\n  - {type: triaxial, drainage: drained, stress_path: constant_q}\n", "stages[0].stress_path"},
       {"path_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, stress_path: constant_p}\n",
        "stages[0].stress_path: unknown key"},
+      // plane strain: a drained compression, its x walls held (b and a K path would set them)
+      {"ps_und", "stages:\n  - {type: triaxial, stress_path: plane_strain}\n",
+       "stages[0].stress_path = plane_strain needs a drained compression stage (here undrained): the x walls held, the y "
+       "walls at sigma_3 by the servo"},
+      {"ps_ext", "stages:\n  - {type: triaxial, drainage: drained, direction: extension, stress_path: plane_strain}\n",
+       "stages[0].stress_path = plane_strain needs a drained compression stage (here direction: extension)"},
+      {"ps_oed", "stages:\n  - {type: triaxial, drainage: oedometric, stress_path: plane_strain}\n",
+       "stages[0].stress_path = plane_strain needs a drained compression stage (here oedometric)"},
+      {"ps_b", "stages:\n  - {type: triaxial, drainage: drained, b: 0.5, stress_path: plane_strain}\n",
+       "stages[0].stress_path = plane_strain holds the x walls, and b = 0.5 would servo them to sigma_3 + b (sigma_z - "
+       "sigma_3): give one of them (plane strain's b is the test's result)"},
+      {"ps_k", "stages:\n  - {type: triaxial, drainage: drained, stress_path: plane_strain, k_ratio: 0.5}\n",
+       "stages[0].k_ratio = 0.5 and stress_path: plane_strain both set the lateral stresses: give one of them"},
+      {"ps_slope", "stages:\n  - {type: triaxial, drainage: drained, stress_path: plane_strain, lateral_slope: 1}\n",
+       "stages[0].lateral_slope = 1 and stress_path: plane_strain both set the lateral stresses"},
       // the oedometric (K0) test: lateral walls held; b and constant_p set lateral stresses. The cyclic oedometer
       // reverses at sigma_v,0 +- sigma_v_amplitude (or a strain), a triaxial cycle at q: each refuses the other's
       {"oed_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, drainage: oedometric}\n",
@@ -984,17 +999,38 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
   const std::string cyc = write_tmp("study_sp_cyc", head + "  - {name: shake, type: cyclic, q_amplitude: 3e4, cycles: 2}\n");
   expect_study_errors({
       {"study_sp_bad", "base: " + base + "\naxes: {stress_path: [constant_q]}\n",
-       "axes.stress_path: 'constant_q' is not constant_sigma3 or constant_p"},
+       "axes.stress_path: 'constant_q' is not constant_sigma3, constant_p or plane_strain"},
       {"study_sp_empty", "base: " + base + "\naxes: {stress_path: []}\n", "axes.stress_path: an empty list"},
       {"study_sp_extra", "base: " + base + "\nextra: [{stress_path: p}]\n",
-       "extra[0].stress_path: 'p' is not constant_sigma3 or constant_p"},
+       "extra[0].stress_path: 'p' is not constant_sigma3, constant_p or plane_strain"},
       {"study_sp_cyclic", "base: " + cyc + "\naxes: {stress_path: [constant_p]}\n",
        "axes.stress_path: sets the stress path of the base's triaxial stages, and the base (" + cyc + ") has none"},
       {"study_sp_undrained", "base: " + base + "\naxes: {stress_path: [constant_p], drainage: [drained, undrained]}\n",
        "axes.stress_path: constant_p needs a drained shear, and this job's is undrained"},
       {"study_sp_extra_undrained", "base: " + base + "\nextra: [{stress_path: constant_p, drainage: undrained}]\n",
        "extra[0].stress_path: constant_p needs a drained shear, and this job's is undrained"},
+      // plane strain: a drained compression at b = 0 (its b is the test's result), as an extra job beside a b series
+      {"study_ps_b", "base: " + base + "\naxes: {stress_path: [plane_strain], b: [0, 0.5]}\n",
+       "axes.stress_path: plane_strain needs a drained compression shear at b = 0, and this job's is drained "
+       "compression, b = 0.5"},
+      {"study_ps_und", "base: " + base + "\nextra: [{stress_path: plane_strain, drainage: undrained}]\n",
+       "extra[0].stress_path: plane_strain needs a drained compression shear at b = 0, and this job's is undrained"},
+      {"study_ps_ext", "base: " + base + "\nextra: [{stress_path: plane_strain, direction: extension}]\n",
+       "extra[0].stress_path: plane_strain needs a drained compression shear at b = 0, and this job's is drained "
+       "extension"},
   });
+  // A plane-strain extra job beside a b series: one sample, named _ps, the stage's plane_strain set and b = 0.
+  const Study ps = load_study(write_tmp("study_ps", "base: " + base + "\naxes: {b: [0, 0.5]}\n"
+                                                     "extra: [{stress_path: plane_strain}]\n"));
+  ASSERT_EQ(ps.samples.size(), 1u);
+  ASSERT_EQ(ps.shears.size(), 3u);
+  EXPECT_EQ(ps.shears[2].name, "shear_drained_mur0_ebase_pbase_s1_n300_ps");
+  EXPECT_EQ(ps.shears[2].stress_path, "plane_strain");
+  const RunConfig pc = job_run_config(ps, ps.shears[2]);
+  EXPECT_TRUE(pc.stages.at(0).plane_strain);
+  EXPECT_FALSE(pc.stages.at(0).constant_p);
+  EXPECT_EQ(pc.stages.at(0).b, 0.0);
+  EXPECT_FALSE(job_run_config(ps, ps.shears[1]).stages.at(0).plane_strain);
 }
 
 // The true-triaxial series: the b axis sets b on every triaxial stage of the base, shares the sample between its

@@ -1437,6 +1437,58 @@ TEST(Lab, TrueTriaxialHoldsTheIntermediateStressRatio) {
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(outs[0.5] + "/series.csv"));
 }
 
+// Plane strain (stress_path: plane_strain): a drained compression on the reference sample with the x walls held where
+// the stage found them and the y walls at sigma_3 = p'_0. eps_x is 0 on every row, exactly (the walls do not move:
+// their positions are the stage start's bits), sigma_y within 1 % of p'_0 (the servo's accuracy in compression, as
+// above), and sigma_x the intermediate stress: above sigma_3 and below sigma_1 once the deviator has grown, b in (0, 1)
+// (measured, printed); a friction angle at 2 % above the triaxial b = 0 test's (the true-triaxial test's 17.9 deg,
+// measured here again). summary.json names the path, and servo_error counts sigma_y alone; interrupted halfway and
+// resumed = uninterrupted, byte for byte.
+TEST(Lab, PlaneStrainHoldsTheXWalls) {
+  const Reference& ref = reference();
+  const double p0 = H5Reader(ref.out + "/sample_consolidate.h5").attr_double("p");
+  const auto phi_at_end = [](const std::string& out) {
+    H5Reader h(out + "/run.h5");
+    const double s1 = h.doubles("/series/sigma_z").back(), s3 = h.doubles("/series/sigma_y").back();
+    return std::asin((s1 - s3) / (s1 + s3)) * 180 / M_PI;
+  };
+  const std::string stage = "  - {name: shear, type: triaxial, drainage: drained, stress_path: plane_strain, "
+                            "axial_strain_rate: 1.0, max_axial_strain: 0.02, damping: 0.2}\n";
+  const std::string cfg = on_reference("ps", stage, 20), out = tmpdir("ps");
+  const RunResult r = run(cfg, out);
+  ASSERT_TRUE(r.stages.at(0).converged);
+  H5Reader h(out + "/run.h5");
+  const auto sx = h.doubles("/series/sigma_x"), sy = h.doubles("/series/sigma_y"), sz = h.doubles("/series/sigma_z"),
+             ex = h.doubles("/series/eps_x"), ey = h.doubles("/series/eps_y");
+  ASSERT_GT(sz.size(), 5u);
+  for (size_t k = 1; k < sz.size(); ++k) {
+    EXPECT_EQ(ex[k], 0.0) << "row " << k;
+    EXPECT_NEAR(sy[k], p0, 0.01 * p0) << "row " << k;
+    if (sz[k] - p0 < 0.2 * p0) continue;  // b is a ratio of the deviator: judged once it is 20 % of p'_0
+    EXPECT_GT(sx[k], sy[k]) << "row " << k;
+    EXPECT_LT(sx[k], sz[k]) << "row " << k;
+  }
+  EXPECT_GT(sz.back() - p0, 0.2 * p0) << "the deviator grew: the check above ran";
+  EXPECT_LT(ey.back(), 0.0) << "the y walls give way";
+  const double b_end = (sx.back() - sy.back()) / (sz.back() - sy.back());
+  const std::string tx_cfg = on_reference("ps_tx", "  - {name: shear, type: triaxial, drainage: drained, "
+                                          "axial_strain_rate: 1.0, max_axial_strain: 0.02, damping: 0.2}\n", 20);
+  const std::string tx = tmpdir("ps_tx");
+  ASSERT_TRUE(run(tx_cfg, tx).stages.at(0).converged);
+  std::printf("  plane strain at 2 %%: b %.3f, phi %.2f deg (triaxial %.2f), eps_y %.5f, eps_v %.5f\n", b_end,
+              phi_at_end(out), phi_at_end(tx), ey.back(), h.doubles("/series/eps_v").back());
+  EXPECT_GT(b_end, 0.0);
+  EXPECT_LT(b_end, 1.0);
+  EXPECT_GT(phi_at_end(out), phi_at_end(tx));
+  EXPECT_NE(slurp(out + "/config.yaml").find("stress_path: plane_strain"), std::string::npos);
+  EXPECT_NE(slurp(out + "/summary.json").find("\"stress_path\": \"plane_strain\""), std::string::npos);
+  EXPECT_NE(plan_run(load_run_config(cfg)).stages.at(0).find("in plane strain (the x walls held)"), std::string::npos);
+  const std::string stopped = tmpdir("ps_stopped");
+  ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps / 2).interrupted);
+  ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
+}
+
 // The oedometric (K0) test (drainage: oedometric): the lateral walls stay where the stage found them, so every row's
 // volumetric strain is its axial strain (V = Lx Ly H with Lx, Ly held: equal to rounding, kStrainTol); the series marks
 // the rows stage_type 5; summary.json gives each stage's K0 = (sigma_x + sigma_y) / 2 sigma_z of its last row. On the
