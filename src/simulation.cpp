@@ -282,6 +282,9 @@ struct Lab {
   // The x walls' distance at the stage's start: with H0 and V0 the widths the lateral strains eps_x, eps_y count from
   // (NaN: a stage resumed from a checkpoint of a build before them, whose rows then did not measure them)
   Real Wx0 = 0;
+  // sigma'_y at the stage's start: an undrained plane-strain stage's cell pressure acts on the y faces alone, so its u
+  // is u_0 + sy0 - sigma'_y (Laboratory::measure; 0 at the start, as SPEC's is)
+  Real sy0 = 0;
   // An undrained stage right after an undrained one (a post-cyclic shear, the next amplitude of a staged cyclic
   // test): the excess pore pressure it starts with, that stage's u at its end (no drainage in between; else 0), and
   // the effective mean stress the undrained loading began from, p'_c, r_u's reference (else p'_0)
@@ -296,15 +299,17 @@ struct Lab {
   std::vector<double> scalars() const {
     return {double(stage), double(stage_step), double(started), H0, V0, p0, aspect, mu, last_eps, last_time,
             double(snapshots), next_snap_eps, double(searching), double(half_cycles), cycle, eps_turn, n_ru, n_da,
-            q0, u0, pc, Wx0};
+            q0, u0, pc, Wx0, sy0};
   }
   void set_scalars(const std::vector<double>& s) {
     // 13: a checkpoint from before cyclic stages (none of its stages is cyclic); 15: from before the liquefaction
     // criteria (a cyclic stage resumed from one records them from the resumed step on); 18: from before q0 (its
     // stages all started as SPEC §6.3's, from q0 = 0); 19: from before u0 and p'_c (its undrained stages each
     // counted u and r_u from their own start: u0 = 0, p'_c = p'_0); 21: from before eps_x and eps_y (Wx0 unknown: the
-    // running stage's rows have NaN for them, the next stage's start measures it; nothing else reads it)
-    if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19 && s.size() != 21 && s.size() != 22)
+    // running stage's rows have NaN for them, the next stage's start measures it; nothing else reads it); 22: from
+    // before sy0 (no build before it had undrained plane strain, its only reader: p'_0 - q_0/3, the mean lateral stress)
+    if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19 && s.size() != 21 && s.size() != 22 &&
+        s.size() != 23)
       throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");
     stage = int(s[0]);
     stage_step = long(s[1]);
@@ -328,6 +333,7 @@ struct Lab {
     u0 = s.size() > 20 ? s[19] : 0;
     pc = s.size() > 20 ? s[20] : p0;
     Wx0 = s.size() > 21 ? s[21] : std::numeric_limits<Real>::quiet_NaN();
+    sy0 = s.size() > 22 ? s[22] : p0 - q0 / 3;
   }
 };
 
@@ -681,7 +687,7 @@ class Laboratory {
   Real void_ratio_inset(const Real (&inset)[3]) const;
   Real inset_box(const Real (&inset)[3], Vec3d& lo, Vec3d& hi) const;
   void warn_graded(const StageConfig& sc, const StageResult& r) const;
-  void place_lateral_walls();
+  void place_lateral_walls(const StageConfig& sc);
   void ramp_pressure(const StageConfig& sc, long stage_step);
   // Runs the stage from lab_.stage_step; returns false when interrupted.
   bool run_stage(const StageConfig& sc);
@@ -1013,7 +1019,12 @@ Laboratory::Measure Laboratory::measure(const StageConfig& sc) const {
   m.eps_x = std::isnan(Wx0) ? nan : Wx0 > 0 ? (Wx0 - (e.wall_position(1) - e.wall_position(0))) / Wx0 : 0;
   m.eps_y = std::isnan(Wx0) ? nan : Wy0 > 0 ? (Wy0 - (e.wall_position(3) - e.wall_position(2))) / Wy0 : 0;
   m.u = 0;
-  if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
+  if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained && sc.plane_strain)
+    // Plane strain: the cell pressure acts on the y faces alone (the x walls are rigid and held), so their total
+    // stress stays the start's, sigma'_y,0 + u_0 (Lab::sy0): u = u_0 + sigma'_y,0 - sigma'_y. The triaxial formula
+    // below is the same with sigma'_y the mean lateral stress (p'_0 - q_0/3 its start's, algebraically).
+    m.u = lab_.u0 + lab_.sy0 - m.sy;
+  else if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained)
     m.u = (lab_.p0 + lab_.u0 + (m.q - lab_.q0) / 3) - m.p;  // SPEC §6.3: u = p_total - p', p_total = p'_0 + u_0 +
                                                             // (q - q_0)/3
   return m;
@@ -1437,6 +1448,7 @@ void Laboratory::start_stage(const StageConfig& sc) {
   lab_.H0 = e.wall_position(5) - e.wall_position(4);
   lab_.V0 = e.box_volume();
   lab_.Wx0 = e.wall_position(1) - e.wall_position(0);
+  lab_.sy0 = m0.sy;
   // An undrained stage after an undrained one goes on with the pore pressure that stage left, as a triaxial cell
   // whose drainage stays closed does: u0 is that stage's u at this instant (m0.u: measured with its p'_0, u_0, q_0,
   // which are still the lab's), and r_u stays relative to the p'_c its undrained loading began from. A post-cyclic
@@ -1509,13 +1521,21 @@ void Laboratory::start_stage(const StageConfig& sc) {
   }
 }
 
-void Laboratory::place_lateral_walls() {
+void Laboratory::place_lateral_walls(const StageConfig& sc) {
   // Exact constant volume (SPEC §6.3 undrained): the lateral walls are placed every step so that
   // Lx Ly H = V0 at the stage's initial aspect ratio, about the current centre.
   Engine& e = *eng_;
   const Real H = e.wall_position(5) - e.wall_position(4);
   const Real cx = 0.5 * (e.wall_position(0) + e.wall_position(1));
   const Real cy = 0.5 * (e.wall_position(2) + e.wall_position(3));
+  if (sc.plane_strain) {
+    // plane strain: the x walls stay where the stage found them, the y walls alone keep the volume
+    const Real Lx = e.wall_position(1) - e.wall_position(0);
+    const Real Ly = lab_.V0 / (H * Lx);
+    e.set_wall_position(2, cy - 0.5 * Ly);
+    e.set_wall_position(3, cy + 0.5 * Ly);
+    return;
+  }
   const Real Ly = std::sqrt(lab_.V0 / (H * lab_.aspect));
   const Real Lx = lab_.V0 / (H * Ly);
   e.set_wall_position(0, cx - 0.5 * Lx);
@@ -1842,7 +1862,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     }
     if (cyclic) watch_cycle(sc, m0, turn, cycle_n, drag);
     ++total_steps_;
-    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained) place_lateral_walls();
+    if (sc.type != StageType::Isotropic && sc.drainage == Drainage::Undrained) place_lateral_walls(sc);
     if (done) break;
     const bool ckpt_steps = cfg_.checkpoint_every > 0 && e.step_count() % cfg_.checkpoint_every == 0;
     const bool ckpt_time =
@@ -2603,7 +2623,7 @@ void Laboratory::write_summary() const {
          << "\", \"axial_strain_rate\": " << num(sc.axial_strain_rate);
     if (sc.type == StageType::Triaxial)
       js << ", \"direction\": \"" << (sc.extension ? "extension" : "compression") << "\", \"b\": " << sc.b;
-    if (lateral_servo(sc) && sc.type == StageType::Triaxial)
+    if ((lateral_servo(sc) || sc.plane_strain) && sc.type == StageType::Triaxial)  // an undrained stage: plane strain's
       js << ", \"stress_path\": \""
          << (sc.constant_p     ? "constant_p"
              : sc.plane_strain ? "plane_strain"

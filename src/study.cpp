@@ -945,11 +945,11 @@ Study load_study_unchecked(const std::string& path) {
                               "walls keep the volume and p' is the test's result; list the pairs as extra jobs to cross "
                               "stress_path with drainage)");
     if (pt.set_stress_path && pt.stress_path == "plane_strain" &&
-        (pt.drainage != "drained" || pt.direction != "compression" || pt.b > 0))
-      fail(path, pt.path_key, "plane_strain needs a drained compression shear at b = 0, and this job's is " + pt.drainage +
-                              " " + pt.direction + (pt.b > 0 ? ", b = " + fmt(pt.b) : "") +
-                              " (the x walls held, the y walls at sigma_3: b is the test's result; list it as an extra "
-                              "job beside a b series)");
+        (pt.drainage == "oedometric" || pt.direction != "compression" || pt.b > 0))
+      fail(path, pt.path_key, "plane_strain needs a drained or undrained compression shear at b = 0, and this job's is " +
+                              pt.drainage + " " + pt.direction + (pt.b > 0 ? ", b = " + fmt(pt.b) : "") +
+                              " (the x walls held, the y walls at sigma_3 or at constant volume: b is the test's "
+                              "result; list it as an extra job beside a b series)");
     std::ostringstream sn;
     sn << "sample_mur" << fmt(pt.mu_r) << "_e" << (pt.e0 > 0 ? fmt(pt.e0) : "base") << "_p"
        << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base");

@@ -358,14 +358,12 @@ TEST(Config, RejectsBadInputClearly) {
       {"path_bad", "stages:\n  - {type: triaxial, drainage: drained, stress_path: constant_q}\n", "stages[0].stress_path"},
       {"path_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, stress_path: constant_p}\n",
        "stages[0].stress_path: unknown key"},
-      // plane strain: a drained compression, its x walls held (b and a K path would set them)
-      {"ps_und", "stages:\n  - {type: triaxial, stress_path: plane_strain}\n",
-       "stages[0].stress_path = plane_strain needs a drained compression stage (here undrained): the x walls held, the y "
-       "walls at sigma_3 by the servo"},
+      // plane strain: a drained or undrained compression, its x walls held (b and a K path would set them)
       {"ps_ext", "stages:\n  - {type: triaxial, drainage: drained, direction: extension, stress_path: plane_strain}\n",
-       "stages[0].stress_path = plane_strain needs a drained compression stage (here direction: extension)"},
+       "stages[0].stress_path = plane_strain needs a drained or undrained compression stage (here direction: extension): "
+       "the x walls held, the y walls at sigma_3 (drained) or at constant volume (undrained)"},
       {"ps_oed", "stages:\n  - {type: triaxial, drainage: oedometric, stress_path: plane_strain}\n",
-       "stages[0].stress_path = plane_strain needs a drained compression stage (here oedometric)"},
+       "stages[0].stress_path = plane_strain needs a drained or undrained compression stage (here oedometric)"},
       {"ps_b", "stages:\n  - {type: triaxial, drainage: drained, b: 0.5, stress_path: plane_strain}\n",
        "stages[0].stress_path = plane_strain holds the x walls, and b = 0.5 would servo them to sigma_3 + b (sigma_z - "
        "sigma_3): give one of them (plane strain's b is the test's result)"},
@@ -1011,13 +1009,14 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
        "extra[0].stress_path: constant_p needs a drained shear, and this job's is undrained"},
       // plane strain: a drained compression at b = 0 (its b is the test's result), as an extra job beside a b series
       {"study_ps_b", "base: " + base + "\naxes: {stress_path: [plane_strain], b: [0, 0.5]}\n",
-       "axes.stress_path: plane_strain needs a drained compression shear at b = 0, and this job's is drained "
-       "compression, b = 0.5"},
-      {"study_ps_und", "base: " + base + "\nextra: [{stress_path: plane_strain, drainage: undrained}]\n",
-       "extra[0].stress_path: plane_strain needs a drained compression shear at b = 0, and this job's is undrained"},
+       "axes.stress_path: plane_strain needs a drained or undrained compression shear at b = 0, and this job's is "
+       "drained compression, b = 0.5"},
+      {"study_ps_oed", "base: " + base + "\nextra: [{stress_path: plane_strain, drainage: oedometric}]\n",
+       "extra[0].stress_path: plane_strain needs a drained or undrained compression shear at b = 0, and this job's is "
+       "oedometric"},
       {"study_ps_ext", "base: " + base + "\nextra: [{stress_path: plane_strain, direction: extension}]\n",
-       "extra[0].stress_path: plane_strain needs a drained compression shear at b = 0, and this job's is drained "
-       "extension"},
+       "extra[0].stress_path: plane_strain needs a drained or undrained compression shear at b = 0, and this job's is "
+       "drained extension"},
   });
   // A plane-strain extra job beside a b series: one sample, named _ps, the stage's plane_strain set and b = 0.
   const Study ps = load_study(write_tmp("study_ps", "base: " + base + "\naxes: {b: [0, 0.5]}\n"
@@ -1031,6 +1030,13 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
   EXPECT_FALSE(pc.stages.at(0).constant_p);
   EXPECT_EQ(pc.stages.at(0).b, 0.0);
   EXPECT_FALSE(job_run_config(ps, ps.shears[1]).stages.at(0).plane_strain);
+  // undrained too: the y walls at constant volume
+  const Study psu = load_study(write_tmp("study_psu", "base: " + base + "\n"
+                                                       "extra: [{stress_path: plane_strain, drainage: undrained}]\n"));
+  ASSERT_EQ(psu.shears.size(), 1u);  // extra jobs alone, without axes
+  EXPECT_EQ(psu.shears[0].name, "shear_undrained_mur0_ebase_pbase_s1_n300_ps");
+  EXPECT_TRUE(job_run_config(psu, psu.shears[0]).stages.at(0).plane_strain);
+  EXPECT_EQ(job_run_config(psu, psu.shears[0]).stages.at(0).drainage, Drainage::Undrained);
 }
 
 // The true-triaxial series: the b axis sets b on every triaxial stage of the base, shares the sample between its

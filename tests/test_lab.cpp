@@ -716,7 +716,7 @@ void as_before_cyclic_stages(const std::string& ckpt) {
     scalars = r.doubles("/lab/scalars");
     results = r.doubles("/lab/results");
   }
-  ASSERT_EQ(scalars.size(), 22u);
+  ASSERT_EQ(scalars.size(), 23u);
   ASSERT_EQ(results.size(), 18u) << "one finished stage: converged, steps, p, q, e, mu, cycle, n_ru, n_da, servo_error, "
                                     "quarter_transits, e_inner, e_core, p0, q0, u0, pc, u";
   results.resize(6);
@@ -791,13 +791,14 @@ TEST(Lab, ACheckpointOfAnOlderBuildResumes) {
   fs::copy(out, last, fs::copy_options::recursive);
   const auto lab_scalars = [](const std::string& path, size_t n) {  // 18: before q0, 19: before u0 and p'_c
     std::vector<double> scalars = H5Reader(path).doubles("/lab/scalars");
-    ASSERT_EQ(scalars.size(), 22u);
+    ASSERT_EQ(scalars.size(), 23u);
     scalars.resize(n);
     rewrite_dataset(path, "/lab/scalars", H5T_NATIVE_DOUBLE, scalars.data(), scalars.size());
   };
   const auto no_q0 = [&](const std::string& path) { lab_scalars(path, 18); };
   // The build just before eps_x and eps_y (session 67): its checkpoints as now but for those two series columns and
-  // the last lab scalar (Lab::Wx0). Nothing else differs, nor does the summary.
+  // the last two lab scalars (Lab::Wx0, and Lab::sy0 that came with undrained plane strain). Nothing else differs,
+  // nor does the summary.
   const std::string before_lateral = tmpdir("older_before_lateral");
   fs::copy(out, before_lateral, fs::copy_options::recursive);
   lab_scalars(newest_checkpoint(before_lateral), 21);
@@ -1487,6 +1488,56 @@ TEST(Lab, PlaneStrainHoldsTheXWalls) {
   ASSERT_TRUE(run(cfg, stopped, r.stages[0].steps / 2).interrupted);
   ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
+  // Undrained, after a drained true-triaxial loading (b = 0.5 to 0.5 %, so sigma_x and sigma_y differ where it starts):
+  // the y walls alone keep the volume (eps_v 0 to round-off from the stage's start, kVolTol; eps_x exactly 0) and the
+  // cell pressure acts on the y faces, u = sigma'_y,0 - sigma'_y: u + sigma_y is the start's sigma'_y on every row
+  // (kUTol: round-off of Pa sums of 1e5), u 0 at the start as SPEC's (kU0Tol: the first row is 20 steps in, where the
+  // walls' switch from servo to constant volume has moved sigma_y by 0.003 p'_0, measured; the mean lateral stress's
+  // start, p'_0 - q_0/3, in place of sigma'_y,0 gives half the start's sigma_x - sigma_y, 0.1 p'_0, there);
+  // sigma_x develops between sigma_3 and sigma_1 as drained. Interrupted and resumed: the same bytes (the checkpoint
+  // holds sigma'_y,0).
+  const double kVolTol = 1e-12, kUTol = 1e-9 * p0, kU0Tol = 0.01 * p0;
+  const std::string ucfg = on_reference("psu", "  - {name: pre, type: triaxial, drainage: drained, b: 0.5, "
+                                        "axial_strain_rate: 1.0, max_axial_strain: 0.005, damping: 0.2}\n"
+                                        "  - {name: shear, type: triaxial, drainage: undrained, stress_path: "
+                                        "plane_strain, axial_strain_rate: 1.0, max_axial_strain: 0.02, damping: 0.2}\n",
+                                        20);
+  const std::string uout = tmpdir("psu");
+  const RunResult ur = run(ucfg, uout);
+  ASSERT_EQ(ur.stages.size(), 2u);
+  ASSERT_TRUE(ur.stages.at(1).converged);
+  const std::string useries = slurp(uout + "/series.csv");
+  const auto col = [&](const char* c) {
+    std::vector<double> v;
+    const auto st = csv_column(useries, "stage"), x = csv_column(useries, c);
+    for (size_t k = 0; k < x.size(); ++k)
+      if (st[k] == "shear") v.push_back(std::stod(x[k]));
+    return v;
+  };
+  const auto uu = col("u"), usx = col("sigma_x"), usy = col("sigma_y"), usz = col("sigma_z"), uex = col("eps_x"),
+             uev = col("eps_v");
+  ASSERT_GT(uu.size(), 5u);
+  const double sy_start = uu[0] + usy[0];
+  EXPECT_NEAR(uu[0], 0.0, kU0Tol) << "the first row, a step into the stage";
+  for (size_t k = 0; k < uu.size(); ++k) {
+    EXPECT_EQ(uex[k], 0.0) << "row " << k;
+    EXPECT_NEAR(uev[k], 0.0, kVolTol) << "row " << k;
+    EXPECT_NEAR(uu[k] + usy[k], sy_start, kUTol) << "row " << k;
+  }
+  const double ub = (usx.back() - usy.back()) / (usz.back() - usy.back());
+  std::printf("  undrained plane strain at 2 %% after b = 0.5: start sigma_x - sigma_y %.3g p'_0, u at the first row "
+              "%.2e p'_0; at the end b %.3f, u/p'_0 %.3f\n", (usx[0] - usy[0]) / p0, uu[0] / p0, ub, uu.back() / p0);
+  EXPECT_GT(usx[0] - usy[0], 4 * kU0Tol) << "the start's lateral stresses differ: the u check tells them apart";
+  EXPECT_NE(slurp(uout + "/summary.json").find("\"drainage\": \"undrained\", \"axial_strain_rate\": 1, \"direction\": "
+                                               "\"compression\", \"b\": 0, \"stress_path\": \"plane_strain\""),
+            std::string::npos)
+      << "the report reads the path from summary.json";
+  EXPECT_GT(ub, 0.0);
+  EXPECT_LT(ub, 1.0);
+  const std::string ustopped = tmpdir("psu_stopped");
+  ASSERT_TRUE(run(ucfg, ustopped, ur.stages[0].steps + ur.stages[1].steps / 2).interrupted);
+  ASSERT_FALSE(run(ucfg, ustopped, -1, true).interrupted);
+  EXPECT_EQ(slurp(ustopped + "/series.csv"), slurp(uout + "/series.csv"));
 }
 
 // The oedometric (K0) test (drainage: oedometric): the lateral walls stay where the stage found them, so every row's
