@@ -1382,9 +1382,9 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
         color = None  # one colour a series: its peaks open, its critical states filled
         for i, state in enumerate(("peak", "cs")):
             pts = [r[state] for r in g if r[state] is not None]
+            lab = f"mu_r = {g[0]['mu_r']:g} ({sample}){at}, " + ("critical state" if i else "peak")
             line = ax[0].plot([p[0] for p in pts], [p[1] for p in pts], "o" if i else "^",
-                              mfc="none" if i == 0 else None, color=color, label=f"mu_r = {g[0]['mu_r']:g} ({sample}){at}, "
-                              + ("critical state" if i else "peak"))
+                              mfc="none" if i == 0 else None, color=color, label=lab)
             color = line[0].get_color()
             ref = next((r for r in g if r["b"] == 0 and not r["ext"] and r[state] is not None), None)
             if i == 1 and ref is not None and not drawn:  # each surface's normal flow, calibrated on a b = 0 test

@@ -498,12 +498,12 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
         // plane strain holds the x walls and servos the y walls at sigma_3 (undrained: places them at constant volume):
         // a drained or undrained compression (an oedometer holds both lateral axes; in extension the report's b series
         // would take it for b = 1), and sigma_x is its result, which b would set
-        if (sc.plane_strain && (sc.drainage == Drainage::Oedometric || sc.extension))
+        if (sc.plane_strain && (sc.drainage == Drainage::Oedometric || sc.extension)) {
+          const std::string here = sc.extension ? "direction: extension" : drainage_name(sc.drainage);
           g.fail(g.key_path("stress_path"), "= plane_strain needs a drained or undrained compression stage (here " +
-                                            (sc.drainage == Drainage::Oedometric ? drainage_name(sc.drainage)
-                                                                                 : std::string("direction: extension")) +
-                                            "): the x walls held, the y walls at sigma_3 (drained) or at constant "
-                                            "volume (undrained)");
+                                                here + "): the x walls held, the y walls at sigma_3 (drained) or at "
+                                                "constant volume (undrained)");
+        }
         if (sc.plane_strain && sc.b > 0)
           g.fail(g.key_path("stress_path"), "= plane_strain holds the x walls, and b = " + fmt(sc.b) +
                                             " would servo them to sigma_3 + b (sigma_z - sigma_3): give one of them "
@@ -564,7 +564,8 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
           }
           if (sc.constant_p || sc.plane_strain || sc.k_ratio > 0)
             g.fail(g.key_path(path_key), "= " + v + " and " +
-                                             (sc.k_ratio > 0 ? "k_ratio = " + fmt(sc.k_ratio) : "stress_path: " + stress_path) +
+                                             (sc.k_ratio > 0 ? "k_ratio = " + fmt(sc.k_ratio)
+                                                             : "stress_path: " + stress_path) +
                                              " both set the lateral stresses: give one of them (constant p' is "
                                              "lateral_slope: -0.5)");
         }

@@ -307,7 +307,8 @@ struct Lab {
     // stages all started as SPEC §6.3's, from q0 = 0); 19: from before u0 and p'_c (its undrained stages each
     // counted u and r_u from their own start: u0 = 0, p'_c = p'_0); 21: from before eps_x and eps_y (Wx0 unknown: the
     // running stage's rows have NaN for them, the next stage's start measures it; nothing else reads it); 22: from
-    // before sy0 (no build before it had undrained plane strain, its only reader: p'_0 - q_0/3, the mean lateral stress)
+    // before sy0 (no build before it had undrained plane strain, its only reader: p'_0 - q_0/3, the mean lateral
+    // stress)
     if (s.size() != 13 && s.size() != 15 && s.size() != 18 && s.size() != 19 && s.size() != 21 && s.size() != 22 &&
         s.size() != 23)
       throw H5Error("checkpoint lab scalars have the wrong length (corrupt?)");

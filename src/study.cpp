@@ -946,8 +946,8 @@ Study load_study_unchecked(const std::string& path) {
                               "stress_path with drainage)");
     if (pt.set_stress_path && pt.stress_path == "plane_strain" &&
         (pt.drainage == "oedometric" || pt.direction != "compression" || pt.b > 0))
-      fail(path, pt.path_key, "plane_strain needs a drained or undrained compression shear at b = 0, and this job's is " +
-                              pt.drainage + " " + pt.direction + (pt.b > 0 ? ", b = " + fmt(pt.b) : "") +
+      fail(path, pt.path_key, "plane_strain needs a drained or undrained compression shear at b = 0, and this job's "
+                              "is " + pt.drainage + " " + pt.direction + (pt.b > 0 ? ", b = " + fmt(pt.b) : "") +
                               " (the x walls held, the y walls at sigma_3 or at constant volume: b is the test's "
                               "result; list it as an extra job beside a b series)");
     std::ostringstream sn;

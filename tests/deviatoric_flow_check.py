@@ -170,8 +170,8 @@ for b, beta, n_rows in ((0.0, 0.0, N_ROWS), (0.5, 0.3, N_ROWS), (0.25, 0.3, 41),
     os.makedirs(run)
     open(os.path.join(work, "jobs", name, "done"), "w").close()
     with open(os.path.join(run, "summary.json"), "w") as f:
-        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0 if beta is None else b, "drainage": "drained",
-                               **({"stress_path": "plane_strain"} if beta is None else {})}]}, f)
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0 if beta is None else b,
+                               "drainage": "drained", **({"stress_path": "plane_strain"} if beta is None else {})}]}, f)
     with open(os.path.join(run, "series.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["stage"] + cols)

@@ -360,8 +360,8 @@ TEST(Config, RejectsBadInputClearly) {
        "stages[0].stress_path: unknown key"},
       // plane strain: a drained or undrained compression, its x walls held (b and a K path would set them)
       {"ps_ext", "stages:\n  - {type: triaxial, drainage: drained, direction: extension, stress_path: plane_strain}\n",
-       "stages[0].stress_path = plane_strain needs a drained or undrained compression stage (here direction: extension): "
-       "the x walls held, the y walls at sigma_3 (drained) or at constant volume (undrained)"},
+       "stages[0].stress_path = plane_strain needs a drained or undrained compression stage (here direction: "
+       "extension): the x walls held, the y walls at sigma_3 (drained) or at constant volume (undrained)"},
       {"ps_oed", "stages:\n  - {type: triaxial, drainage: oedometric, stress_path: plane_strain}\n",
        "stages[0].stress_path = plane_strain needs a drained or undrained compression stage (here oedometric)"},
       {"ps_b", "stages:\n  - {type: triaxial, drainage: drained, b: 0.5, stress_path: plane_strain}\n",
