@@ -159,52 +159,44 @@ for path, b, N in [("", b, N) for b, N in N_mn.items()] + [("constant_p", b, N) 
                  "csr": 0, "cycles": 0, "strain_amplitude": 0})
 
 
+def write_test(name, shear, rows, direction="compression"):
+    """Writes jobs/<name> of the sample (done; summary.json: an isotropic stage, then a triaxial one with the keys
+    `shear`; series.csv: per row (eps_a, sigma_x, sigma_y, sigma_z), q/p' = |q|/p') and appends its job."""
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": 0,
+                                                                   **shear}]}, f)
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i, (ea, sx, sy, sz) in enumerate(rows):
+            p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
+            w.writerow(["shear", i, i, ea, p, q, abs(q) / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25,
+                        0.25, 0.25, abs(q) / p, 0.5, 0.005])
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300",
+                 "mu_r": 0.3, "e0": 0, "p0": 0, "drainage": "drained", "direction": direction, "b": 0, "seed": 1,
+                 "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0,
+                 **({"stress_path": shear["stress_path"]} if "stress_path" in shear else {})})
+
+
+def ramp(i):
+    return min(1.0, 0.01 * i / 0.3)
+
+
 # 4. the extension: lateral walls held at 1e5 (the major pair), the axis unloaded to 1e5 / N_EXT
 N_EXT = 2.8
 phi_ext = angle(N_EXT)
 EXT_NAME = "shear_drained_mur0.3_ebase_pbase_s1_n300_ext"
-run = os.path.join(work, "jobs", EXT_NAME, "run")
-os.makedirs(run)
-open(os.path.join(work, "jobs", EXT_NAME, "done"), "w").close()
-with open(os.path.join(run, "summary.json"), "w") as f:
-    json.dump({"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": 0,
-                                                               "direction": "extension"}]}, f)
-with open(os.path.join(run, "series.csv"), "w", newline="") as f:
-    w = csv.writer(f)
-    w.writerow(["stage"] + cols)
-    for i in range(41):
-        ea = -0.01 * i
-        ramp = min(1.0, -ea / 0.3)
-        sx, sy, sz = 1e5, 1e5, 1e5 - ramp * (1e5 - 1e5 / N_EXT)
-        p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
-        w.writerow(["shear", i, i, ea, p, q, abs(q) / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25,
-                    0.25, 0.25, abs(q) / p, 0.5, 0.005])
-jobs.append({"name": EXT_NAME, "dir": f"jobs/{EXT_NAME}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300",
-             "mu_r": 0.3, "e0": 0, "p0": 0, "drainage": "drained", "direction": "extension", "b": 0, "seed": 1,
-             "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0})
+write_test(EXT_NAME, {"direction": "extension"},
+           [(-0.01 * i, 1e5, 1e5, 1e5 - ramp(i) * (1e5 - 1e5 / N_EXT)) for i in range(41)], "extension")
 # 5. the plane-strain test: sigma_3 = 1e5 on the y walls, sigma_x as b = 0.3 on MN's surface puts it
 PS_NAME = "shear_drained_mur0.3_ebase_pbase_s1_n300_ps"
-run = os.path.join(work, "jobs", PS_NAME, "run")
-os.makedirs(run)
-open(os.path.join(work, "jobs", PS_NAME, "done"), "w").close()
-with open(os.path.join(run, "summary.json"), "w") as f:
-    json.dump({"stages": [{"name": "c", "type": "isotropic"}, {"name": "shear", "type": "triaxial", "b": 0,
-                                                               "stress_path": "plane_strain"}]}, f)
 N_ps = root(B_PS, 0)
-with open(os.path.join(run, "series.csv"), "w", newline="") as f:
-    w = csv.writer(f)
-    w.writerow(["stage"] + cols)
-    for i in range(41):
-        ea = 0.01 * i
-        ramp = min(1.0, ea / 0.3)
-        sz = 1e5 + ramp * (1e5 * N_ps - 1e5)
-        sx, sy = 1e5 + B_PS * (sz - 1e5), 1e5
-        p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
-        w.writerow(["shear", i, i, ea, p, q, q / p, 0.7, 0.3, 2, sx, sy, sz, 0.1, 0.05, 0.1, 0.02, 0.25, 0.25, 0.25,
-                    0.25, q / p, 0.5, 0.005])
-jobs.append({"name": PS_NAME, "dir": f"jobs/{PS_NAME}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300",
-             "mu_r": 0.3, "e0": 0, "p0": 0, "drainage": "drained", "direction": "compression", "b": 0,
-             "stress_path": "plane_strain", "seed": 1, "count": 300, "csr": 0, "cycles": 0, "strain_amplitude": 0})
+write_test(PS_NAME, {"stress_path": "plane_strain"},
+           [(0.01 * i, 1e5 + B_PS * ramp(i) * (1e5 * N_ps - 1e5), 1e5, 1e5 + ramp(i) * (1e5 * N_ps - 1e5))
+            for i in range(41)])
 HEAD = "## Failure criteria (true triaxial, plane strain and extension)"
 
 
