@@ -177,6 +177,15 @@ def normal_b(sig, criterion):
     raise ValueError(criterion)
 
 
+def plane_strain_dilation(d, inc_1, inc_3):
+    """psi [deg] of plane strain (d lambda_2 = 0) from the volume's increment d and the major and minor ones: the
+    Mohr circle of strain increments, sin psi = -(d lambda_1 + d lambda_3) / (d lambda_1 - d lambda_3) = -d / (d
+    lambda_1 - d lambda_3), 0 at constant volume (Bolton 1986, Geotechnique 36: phi'_max - phi'_cs = 0.8
+    psi_max in plane strain). Per unit strain of the loading axis (d lambda_1 = 1, d lambda_3 = d - 1) it is -d / (2 -
+    d), dilation_angle's triaxial expression in d: the same function of d in both tests, from different increments."""
+    return np.degrees(np.arcsin(np.clip(-d / (inc_1 - inc_3), -1, 1)))
+
+
 def deviatoric_flow(sig_xyz, eps_xyz, eps_v, extension=False, window=WINDOW):
     """One drained shear at any b: sig_xyz, eps_xyz (3, n) the walls' stresses and engineering strains of the x, y, z
     axes (compression positive), eps_v the volume's; extension: the axial walls move apart (the loading along -z).
@@ -196,11 +205,14 @@ def deviatoric_flow(sig_xyz, eps_xyz, eps_v, extension=False, window=WINDOW):
     order = np.argsort(-np.nanmean(sig_xyz, axis=1), kind="stable")
     sig, inc = sig_xyz[order], inc[order]
     out = dict(order=order, sig=sig, inc=inc, b=b_of(sig), b_eps=b_of(inc), b_mn=normal_b(sig, "MN"),
-               b_ld=normal_b(sig, "LD"), d=d, neg_d_max=float("nan"), se=float("nan"), eps_max=float("nan"))
+               b_ld=normal_b(sig, "LD"), d=d, neg_d_max=float("nan"), se=float("nan"), eps_max=float("nan"),
+               psi_ps=float("nan"))
     out["w_in"], out["w_out"] = energy_ratio(sig, inc)
     if np.isfinite(d).any():
         k = int(np.nanargmin(d))
-        out.update(neg_d_max=float(-d[k]), se=float(se[k]), eps_max=float(eps_xyz[2][k]))
+        out.update(neg_d_max=float(-d[k]), se=float(se[k]), eps_max=float(eps_xyz[2][k]),
+                   psi_ps=float(plane_strain_dilation(d[k], inc[0][k], inc[2][k])) if -d[k] > SIGNIFICANT * se[k]
+                   else float("nan"))
     k0 = int(np.argmax(eps_v))
     out["turn"] = k0
     out["K"], out["phi_f"], out["rms"] = through_origin(out["w_in"][k0:], out["w_out"][k0:])

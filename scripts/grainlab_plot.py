@@ -1351,10 +1351,12 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
         f = dilatancy.deviatoric_flow(sig, np.vstack([s["eps_x"][m], s["eps_y"][m], s["eps_a"][m]]), s["eps_v"][m],
                                       ext)
         row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, f=f, peak=None,
-                   cs=None, phi_cs=None, ps=bool(s.get("plane_strain")))
+                   cs=None, phi_cs=None, phi_max=None, ps=bool(s.get("plane_strain")))
         rows_k = peak_rows(s, m, peak[1])  # the largest obliquity as failure_section takes it
         if len(rows_k):
-            k = int(np.argmax(running_mean(s, rows_k, principal_angle(s), peak[0])))
+            angles = running_mean(s, rows_k, principal_angle(s), peak[0])
+            k = int(np.argmax(angles))
+            row["phi_max"] = float(angles[k])
             st = np.array([[running_mean(s, rows_k, s[c], peak[0])[k]] for c in ("sigma_x", "sigma_y", "sigma_z")])
             st = st[f["order"]]
             pos = int(np.searchsorted(np.flatnonzero(m), rows_k[k]))  # the row among the shear's
@@ -1372,7 +1374,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
               if any(0 < r["b"] < 1 and not r["ext"] for r in g)}
     if not series:
         return []
-    rows, dev, spreads = [], {(st, c): [] for st in ("peak", "cs") for c in range(3)}, []
+    rows, dev, spreads, ps_lines = [], {(st, c): [] for st in ("peak", "cs") for c in range(3)}, [], []
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     bs = np.linspace(0, 1, 51)
     ax[0].plot(bs, bs, "--", color="0.5", lw=0.8, label="radial (b_eps = b)")
@@ -1420,6 +1422,13 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
             rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_txt} | {dil} | {cells[0]} | {cells[1]} | "
                         f"{number_text(f['K'], '.3f')} | {number_text(f['phi_f'], '.1f')} "
                         f"({number_text(f['rms'], '.3f')}) |")
+        for r in g:  # plane strain: its dilation angle, and Bolton's relation where it reached critical state
+            if r["ps"]:
+                psi, bolton = r["f"]["psi_ps"], None
+                if math.isfinite(psi) and psi > 0 and r["phi_cs"] is not None and r.get("phi_max") is not None:
+                    bolton = (r["phi_max"] - r["phi_cs"]) / psi
+                ps_lines.append(f"{r['name']}{at}: psi_max {number_text(psi, '.1f')}°, (phi'_max - phi'_cs) / psi_max "
+                                f"{number_text(bolton, '.2f')}")
         if len(Ks) > 1:
             spreads.append(f"mu_r = {g[0]['mu_r']:g} ({sample}){at}: phi_f {min(Ks):.1f} to {max(Ks):.1f}° over "
                            f"{len(Ks)} tests")
@@ -1461,7 +1470,12 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
             "| state | radial | Matsuoka-Nakai normal | Lade-Duncan normal |", "|---|---|---|---|",
             *(f"| {lab} | " + " | ".join(rms(dev[(st, c)]) for c in range(3)) + " |"
               for st, lab in (("peak", "largest obliquity"), ("cs", "critical state"))), "",
-            *([("Rowe's phi_f across b: " + "; ".join(spreads) + "."), ""] if spreads else [])]
+            *([("Rowe's phi_f across b: " + "; ".join(spreads) + "."), ""] if spreads else []),
+            *([("Plane strain (d lambda_2 = 0), the dilation angle of its Mohr circle of strain increments at the "
+                "largest dilation, sin psi = -(d lambda_1 + d lambda_3) / (d lambda_1 - d lambda_3) ('-' within "
+                f"{dilatancy.SIGNIFICANT:g} standard errors of 0), and Bolton's (1986) plane-strain relation "
+                "phi'_max - phi'_cs = 0.8 psi_max, measured as the ratio ('-' without the test's own critical state): "
+                + "; ".join(ps_lines) + "."), ""] if ps_lines else [])]
 
 
 def friction_angle(M, ext):

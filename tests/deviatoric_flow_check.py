@@ -237,7 +237,12 @@ def expected(run, b):
     ok = np.isfinite(w_in) & (np.arange(n) >= k0)
     Kf = float(np.sum(w_in[ok] * w_out[ok]) / np.sum(w_out[ok] ** 2))
     rms = float(np.sqrt(np.mean(((w_in[ok] - Kf * w_out[ok]) / w_in[ok]) ** 2)))
-    return dict(d=(-inc["v"][kd], 100 * col["eps_a"][kd]), peak=(bb[kp], b_eps[kp], mn[kp], ld[kp]),
+    # plane strain's dilation angle at the largest dilation (d lambda_1 = 1, d lambda_3 = y's) and Bolton's ratio with
+    # the angles of the peak row and of the critical-state window (wall stresses)
+    psi = math.degrees(math.asin(-inc["v"][kd] / (1 - inc["y"][kd])))
+    bolton = (ang[kp] - np.mean(ang[w])) / psi
+    return dict(d=(-inc["v"][kd], 100 * col["eps_a"][kd]), peak=(bb[kp], b_eps[kp], mn[kp], ld[kp]), psi=psi,
+                bolton=bolton,
                 cs=(np.mean(bb[w]), np.mean(b_eps[w]), np.mean(np.array(mn)[w]), np.mean(np.array(ld)[w])),
                 K=Kf, phi=math.degrees(math.asin((Kf - 1) / (Kf + 1))), rms=rms)
 
@@ -280,6 +285,11 @@ for lab, st in (("largest obliquity", "peak"), ("critical state", "cs")):
     want = f"| {lab} | " + " | ".join(f"{math.sqrt(np.mean(v[:, c] ** 2)):.3f} ({len(v)})" for c in range(3)) + " |"
     if want not in section:
         fails.append(f"misfit row: expected '{want}'")
+x = expected(tests[PS][1], PS)
+want = f"{tests[PS][0]}: psi_max {x['psi']:.1f}°, (phi'_max - phi'_cs) / psi_max {x['bolton']:.2f}."
+if want not in section:
+    fails.append(f"expected the plane-strain line '{want}'")
+print(f"plane strain: psi_max {x['psi']:.3f} deg, Bolton's ratio {x['bolton']:.3f}")
 want = (f"Rowe's phi_f across b: mu_r = 0.3 (sample_mur0.3_ebase_pbase_s1_n300): phi_f {min(phis):.1f} to "
         f"{max(phis):.1f}° over 4 tests.")
 if want not in section:
