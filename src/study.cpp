@@ -521,10 +521,12 @@ Study load_study_unchecked(const std::string& path) {
     } else if (g.IsMap() && g.size() > 0) {
       for (auto it : g) {
         const std::string name = it.first.as<std::string>();
+        std::string field = key;
+        field.append(".").append(name);
         if (!it.second.IsScalar() || it.second.Scalar().empty())
-          fail(path, key + "." + name, "must be the path of a sample file (one a run saved with save_sample, or "
-                                       "`grainlab import` made), relative to this file");
-        named.emplace_back(name, absolute(it.second.Scalar(), key + "." + name));
+          fail(path, field, "must be the path of a sample file (one a run saved with save_sample, or "
+                            "`grainlab import` made), relative to this file");
+        named.emplace_back(name, absolute(it.second.Scalar(), field));
       }
     } else {
       fail(path, key, "must name each sample file: {dense: dense.h5, loose: loose.h5} (paths relative to this file), at "
@@ -545,7 +547,9 @@ Study load_study_unchecked(const std::string& path) {
       probe.specimen_file = file;
       RunPlan plan;
       try {  // the file read as the job will read it (a missing file, a text packing, one of another kind: said here)
-        plan = plan_run(parse_run_config(job_config(base, probe, false, ""), path + " (" + k + ")"));
+        std::string where = path;
+        where.append(" (").append(k).append(")");
+        plan = plan_run(parse_run_config(job_config(base, probe, false, ""), where));
       } catch (const std::exception& e) {
         fail(path, k, e.what());
       }
@@ -850,10 +854,14 @@ Study load_study_unchecked(const std::string& path) {
             if (specimens[i].name == name) pt.specimen = int(i);
             names += (i ? ", " : "") + specimens[i].name;
           }
-          if (pt.specimen < 0)
-            fail(path, key + ".sample_file",
-                 specimens.empty() ? "names a file of axes.sample_file, and the study has no such axis"
-                                   : "'" + name + "' is not a name of axes.sample_file (" + names + ")");
+          if (pt.specimen < 0) {
+            std::string why = "names a file of axes.sample_file, and the study has no such axis";
+            if (!specimens.empty()) {
+              why = "'";
+              why.append(name).append("' is not a name of axes.sample_file (").append(names).append(")");
+            }
+            fail(path, key + ".sample_file", why);
+          }
           continue;
         }
         if (f == "stress_path") {
