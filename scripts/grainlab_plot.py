@@ -939,7 +939,7 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     I, ke = (window_mean(s, col, m, w) if col else None for col in ("inertial_number", kc))
     # and the interior's void ratio (series e_inner: the whole box's e counts the looser layer along the walls)
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
-                M=M, b=b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)),
+                M=M, b=PLANE_STRAIN if s.get("plane_strain") else b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)),
                 e_inner=window_mean(s, "e_inner", m, w), M_walls=window_ratio(s, "q", "p", m, w),
                 M_inner=window_ratio(s, "q_inner", "p_inner", m, w),
                 M_less_drag=window_ratio(s, "q_less_drag", "p_less_drag", m, w), **last)
@@ -1478,6 +1478,19 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
                 + "; ".join(ps_lines) + "."), ""] if ps_lines else [])]
 
 
+# critical_state's b of a plane-strain test: the critical-state lines group the plane-strain tests of a mu_r as one
+# loading direction, whatever b each develops (their b ~0.3 differs in the second decimal from test to test)
+PLANE_STRAIN = -1.0
+
+
+def direction_text(ext, bv, sep=", "):
+    """A critical-state group's loading direction (csl_groups' ext and b): compression or extension, the true-triaxial
+    b, or plane strain."""
+    if bv == PLANE_STRAIN:
+        return f"compression{sep}plane strain"
+    return ("extension" if ext else "compression") + (f"{sep}b = {bv:g}" if bv > 0 else "")
+
+
 def friction_angle(M, ext):
     """The Mohr-Coulomb friction angle [deg] of a triaxial state at M = |q/p'|: sin(phi) = 3 M / (6 + M) in
     compression, 3 M / (6 - M) in extension (where the axial stress is the minor principal one)."""
@@ -1541,7 +1554,7 @@ def directions_line(groups, several_rates):
     by_mu = {}
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         label = f"mu_r {mur:g}" + (rate_text(rate, ", ") if several_rates else "")
-        member = ("extension" if ext else "compression") + (f", b = {bv:g}" if bv > 0 else "")
+        member = direction_text(ext, bv)
         by_mu.setdefault((mur, rate), (label, []))[1].extend((member, c["p"] / 1e3, c["e"]) for c in g)
     rows = one_line_rows({label: st for _, (label, st) in sorted(by_mu.items())})
     if not rows:
@@ -1583,9 +1596,9 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         e = np.array([c["e"] for c in g])
         ac = np.array([c["a_c"] for c in g])
         M = np.array([c["M"] for c in g])
-        direction = (("extension" if ext else "compression") + (f", b = {bv:g}" if bv > 0 else "")
-                     + (rate_text(rate, ", ") if several_rates else ""))
-        phi = float(np.mean([c["phi"] for c in g])) if bv > 0 else friction_angle(M.mean(), ext)
+        direction = direction_text(ext, bv) + (rate_text(rate, ", ") if several_rates else "")
+        # the principal stresses' angle where M's axisymmetric relations do not hold (b > 0, plane strain)
+        phi = float(np.mean([c["phi"] for c in g])) if bv != 0 else friction_angle(M.mean(), ext)
         m_txt = f"{M.mean():.3f}" + (f" ± {M.std(ddof=1):.3f}" if len(M) > 1 else "") + f" ({phi:.1f}°)"
         Is = [c["I"] for c in g if c.get("I") is not None]
         m_txt += " | " + (f"{max(Is):.1e}" if len(Is) == len(g) else "-")  # a group with an unmeasured I: unknown
@@ -1594,7 +1607,8 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
         m_txt += " | " + ", ".join(
             f"{np.mean([c[k] for c in g]):.3f}" if all(c.get(k) is not None for c in g) else "-"
             for k in ("M_walls", "M_less_drag", "M_inner"))
-        tag = (f"mu_r = {mur:g}" + (" extension" if ext else "") + (f" b = {bv:g}" if bv > 0 else "")
+        tag = (f"mu_r = {mur:g}" + (" extension" if ext else "")
+               + (" plane strain" if bv == PLANE_STRAIN else f" b = {bv:g}" if bv > 0 else "")
                + (rate_text(rate, " ") if several_rates else ""))
         (ln,) = ax[0].plot(p, e, "s" if ext else "o", label=tag)
         ax[1].plot(np.log(p), ac, "s" if ext else "o", color=ln.get_color(), label=tag)
@@ -2493,7 +2507,8 @@ def files_line(pts):
             c = t[5]
             if c["ok"]:
                 groups.setdefault((c["mu_r"], c["ext"], c["b"], c["rate"]), []).append((g, c["p"] / 1e3, c["e"]))
-    rows = one_line_rows({(f"mu_r {k[0]:g}" + (", extension" if k[1] else "") + (f", b {k[2]:g}" if k[2] else "")
+    rows = one_line_rows({(f"mu_r {k[0]:g}" + (", extension" if k[1] else "")
+                           + (", plane strain" if k[2] == PLANE_STRAIN else f", b {k[2]:g}" if k[2] else "")
                            + rate_text(k[3], ", ")): groups[k] for k in sorted(groups)})
     if not rows:
         return []
@@ -2614,7 +2629,8 @@ def study_lines(out, idx, figs_rel, fits=None):
         for key, lab in zip("cdnt", ["a_c", "a_d", "a_n", "3/2 a_t"]):
             vals = [np.mean([c["sff_share_" + key] for _, c in states if (c["mu_r"], c["ext"], c["b"], c["rate"]) == k])
                     for k in keys]
-            ax.bar([f"{mu:g}" + (" ext." if ext else "") + (f" b={bv:g}" if bv > 0 else "")
+            ax.bar([f"{mu:g}" + (" ext." if ext else "")
+                    + (" p.s." if bv == PLANE_STRAIN else f" b={bv:g}" if bv > 0 else "")
                     + (rate_text(rate, " ") if several_rates else "") for mu, ext, bv, rate in keys], vals,
                    bottom=bottom, label=lab)
             bottom += np.array(vals)

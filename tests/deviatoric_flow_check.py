@@ -18,6 +18,7 @@ deviatoric_flow; true triaxial).
    four cells, the others as worked out. A fourth in plane strain (summary.json stress_path: plane_strain; eps_x 0,
    sigma_x at b = 0.3 of the others), on Rowe's K alone (d lambda_y = -sigma_z / (K sigma_y)): it joins the
    constant-sigma_3 series as '0.3 (plane strain)', its b_eps at critical state (d lambda_y = -1) 0.5.
+   In the critical-state lines it is a direction of its own, "compression, plane strain", at 30.0 deg.
 """
 import csv
 import json
@@ -285,6 +286,11 @@ for lab, st in (("largest obliquity", "peak"), ("critical state", "cs")):
     want = f"| {lab} | " + " | ".join(f"{math.sqrt(np.mean(v[:, c] ** 2)):.3f} ({len(v)})" for c in range(3)) + " |"
     if want not in section:
         fails.append(f"misfit row: expected '{want}'")
+# the critical-state lines: the plane-strain test a direction of its own (not a b of its own, nor a compression), its
+# angle from the principal stresses (sigma_1 / sigma_3 = K = 3 at critical state: 30.0 deg)
+if "| 0.3 | compression, plane strain | 1 | fewer than 3 critical states" not in report or "(30.0°)" not in next(
+        (l for l in report.splitlines() if l.startswith("| 0.3 | compression, plane strain |")), ""):
+    fails.append("the critical-state lines: no group 'compression, plane strain' at 30.0 deg")
 x = expected(tests[PS][1], PS)
 want = f"{tests[PS][0]}: psi_max {x['psi']:.1f}°, (phi'_max - phi'_cs) / psi_max {x['bolton']:.2f}."
 if want not in section:
