@@ -2634,7 +2634,8 @@ def study_lines(out, idx, figs_rel, fits=None):
                     + (rate_text(rate, " ") if several_rates else "") for mu, ext, bv, rate in keys], vals,
                    bottom=bottom, label=lab)
             bottom += np.array(vals)
-        ax.set(xlabel="mu_r (ext.: triaxial extension)" + (", axial strain rate" if several_rates else ""),
+        ax.set(xlabel="mu_r (ext.: triaxial extension" + ("; p.s.: plane strain" if any(k[2] == PLANE_STRAIN for k in keys)
+                                                          else "") + ")" + (", axial strain rate" if several_rates else ""),
                ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)",
                title="stress-force-fabric shares at critical state")
         legend(ax, fontsize=8)
