@@ -1444,7 +1444,10 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
 
     def rms(v):
         return f"{math.sqrt(np.mean(np.square(v))):.3f} ({len(v)})" if v else "-"
-    return ["## Flow in the deviatoric plane (true triaxial)", "",
+    members = [r for g in series.values() for r in g if 0 < r["b"] < 1 and not r["ext"]]
+    kinds = (["true triaxial"] if any(not r["ps"] for r in members) else []) + (
+        ["plane strain"] if any(r["ps"] for r in members) else [])
+    return [f"## Flow in the deviatoric plane ({' and '.join(kinds)})", "",
             "The drained tests of each true-triaxial series, from each axis's strain (series eps_x, eps_y, eps_a) and "
             "the walls' principal stresses. Strain increments are natural (d lambda = -dL/L per axis, adding up to the "
             "volume's at any strain), per unit strain along the loading, each the slope of a line through the rows "

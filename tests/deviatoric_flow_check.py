@@ -190,7 +190,7 @@ for b, beta, n_rows in ((0.0, 0.0, N_ROWS), (0.5, 0.3, N_ROWS), (0.25, 0.3, 41),
     tests[b] = (name, run, r_cs, n_rows == N_ROWS, beta)
 
 report = study_report(work, jobs, peak={"window": 0, "max_ke_ratio": 0})
-HEAD = "## Flow in the deviatoric plane (true triaxial)"
+HEAD = "## Flow in the deviatoric plane (true triaxial and plane strain)"
 if HEAD not in report:
     sys.exit(f"no '{HEAD}' in report.md")
 if not os.path.isfile(os.path.join(work, "figures", "deviatoric_flow.png")):
