@@ -939,7 +939,8 @@ def critical_state(s, window, qp_tol=0.05, p_tol=0.05, e_tol=0.005):
     I, ke = (window_mean(s, col, m, w) if col else None for col in ("inertial_number", kc))
     # and the interior's void ratio (series e_inner: the whole box's e counts the looser layer along the walls)
     return dict(ok=ok, why=why, p=np.mean(p), e=np.mean(e), mu_r=s["mu_r"][m][-1], qp=np.mean(qp), ext=ext,
-                M=M, b=PLANE_STRAIN if s.get("plane_strain") else b, phi=phi, I=I, ke=ke, rate=float(s.get("rate", 0.0)),
+                M=M, b=PLANE_STRAIN if s.get("plane_strain") else b, phi=phi, I=I, ke=ke,
+                rate=float(s.get("rate", 0.0)),
                 e_inner=window_mean(s, "e_inner", m, w), M_walls=window_ratio(s, "q", "p", m, w),
                 M_inner=window_ratio(s, "q_inner", "p_inner", m, w),
                 M_less_drag=window_ratio(s, "q_less_drag", "p_less_drag", m, w), **last)
@@ -2637,8 +2638,8 @@ def study_lines(out, idx, figs_rel, fits=None):
                     + (rate_text(rate, " ") if several_rates else "") for mu, ext, bv, rate in keys], vals,
                    bottom=bottom, label=lab)
             bottom += np.array(vals)
-        ax.set(xlabel="mu_r (ext.: triaxial extension" + ("; p.s.: plane strain" if any(k[2] == PLANE_STRAIN for k in keys)
-                                                          else "") + ")" + (", axial strain rate" if several_rates else ""),
+        ps_txt = "; p.s.: plane strain" if any(k[2] == PLANE_STRAIN for k in keys) else ""
+        ax.set(xlabel=f"mu_r (ext.: triaxial extension{ps_txt})" + (", axial strain rate" if several_rates else ""),
                ylabel="share of 2/5 (a_c + a_d + a_n + 3/2 a_t)",
                title="stress-force-fabric shares at critical state")
         legend(ax, fontsize=8)
