@@ -1449,18 +1449,20 @@ void Laboratory::start_stage(const StageConfig& sc) {
   lab_.H0 = e.wall_position(5) - e.wall_position(4);
   lab_.V0 = e.box_volume();
   lab_.Wx0 = e.wall_position(1) - e.wall_position(0);
-  lab_.sy0 = m0.sy;
   // An undrained stage after an undrained one goes on with the pore pressure that stage left, as a triaxial cell
-  // whose drainage stays closed does: u0 is that stage's u at this instant (m0.u: measured with its p'_0, u_0, q_0,
-  // which are still the lab's), and r_u stays relative to the p'_c its undrained loading began from. A post-cyclic
-  // shear then starts at the r_u the cycles built up, not at 0, and a staged cyclic test's liquefaction criterion
-  // counts every stage's cycles towards one r_u. After any other stage (drained, oedometric, isotropic) u starts
-  // at 0 from the stress there, SPEC §6.3's.
+  // whose drainage stays closed does: u0 is that stage's u at this instant (measured with its p'_0, u_0, q_0 and
+  // sigma'_y,0, which are still the lab's, by its own formula), and r_u stays relative to the p'_c its undrained
+  // loading began from. A post-cyclic shear then starts at the r_u the cycles built up, not at 0, and a staged cyclic
+  // test's liquefaction criterion counts every stage's cycles towards one r_u. After any other stage (drained,
+  // oedometric, isotropic) u starts at 0 from the stress there, SPEC §6.3's.
   const auto undrained = [](const StageConfig& s) {
     return s.type != StageType::Isotropic && s.drainage == Drainage::Undrained;
   };
   const bool closed = undrained(sc) && lab_.stage > 0 && undrained(cfg_.stages[size_t(lab_.stage - 1)]);
-  lab_.u0 = closed ? m0.u : 0;
+  // that stage's u by that stage's own formula (plane strain's or SPEC's: the two differ where sigma_x != sigma_y, as
+  // after a plane-strain stage), not this one's
+  lab_.u0 = closed ? measure(cfg_.stages[size_t(lab_.stage - 1)]).u : 0;
+  lab_.sy0 = m0.sy;
   lab_.p0 = sc.type == StageType::Isotropic ? sc.pressure : std::max<Real>(m0.p, 1e-30);
   if (!closed) lab_.pc = lab_.p0;
   // A shear after a shear stage (a K0 consolidation by an oedometric stage, a drained loading, a cycle) starts from

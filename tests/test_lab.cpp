@@ -1534,6 +1534,28 @@ TEST(Lab, PlaneStrainHoldsTheXWalls) {
       << "the report reads the path from summary.json";
   EXPECT_GT(ub, 0.0);
   EXPECT_LT(ub, 1.0);
+  // An undrained triaxial shear right after the undrained plane-strain one keeps the drainage closed: it starts from
+  // the pore pressure the plane-strain stage left by that stage's formula (kJumpTol: its first row is 20 steps in, as
+  // above), where this stage's (SPEC's, of the mean lateral stress) would jump by (sigma_x - sigma_y) / 2 there.
+  const double kJumpTol = 0.01 * p0;
+  const std::string ccfg = on_reference("psu_tx", "  - {name: ps, type: triaxial, drainage: undrained, stress_path: "
+                                        "plane_strain, axial_strain_rate: 1.0, max_axial_strain: 0.01, damping: 0.2}\n"
+                                        "  - {name: tx, type: triaxial, drainage: undrained, axial_strain_rate: 1.0, "
+                                        "max_axial_strain: 0.005, damping: 0.2}\n", 20);
+  const std::string cout_ = tmpdir("psu_tx");
+  ASSERT_EQ(run(ccfg, cout_).stages.size(), 2u);
+  const std::string cseries = slurp(cout_ + "/series.csv");
+  const auto cst = csv_column(cseries, "stage"), cu = csv_column(cseries, "u"), csx = csv_column(cseries, "sigma_x"),
+             csy = csv_column(cseries, "sigma_y");
+  const size_t first_tx = size_t(std::find(cst.begin(), cst.end(), "tx") - cst.begin());
+  ASSERT_GT(first_tx, 0u);
+  ASSERT_LT(first_tx, cst.size());
+  const double u_end = std::stod(cu[first_tx - 1]), u_next = std::stod(cu[first_tx]),
+               half_gap = 0.5 * (std::stod(csx[first_tx - 1]) - std::stod(csy[first_tx - 1]));
+  std::printf("  undrained plane strain then triaxial: u %.4g -> %.4g p'_0 across the stages ((sigma_x - sigma_y)/2 "
+              "%.4g p'_0)\n", u_end / p0, u_next / p0, half_gap / p0);
+  EXPECT_NEAR(u_next, u_end, kJumpTol);
+  EXPECT_GT(half_gap, 4 * kJumpTol) << "the two formulas differ there: the check tells them apart";
   const std::string ustopped = tmpdir("psu_stopped");
   ASSERT_TRUE(run(ucfg, ustopped, ur.stages[0].steps + ur.stages[1].steps / 2).interrupted);
   ASSERT_FALSE(run(ucfg, ustopped, -1, true).interrupted);
