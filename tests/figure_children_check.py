@@ -132,14 +132,17 @@ if rc != 0 or lines.count("before the figures") != 1 or len(lines) != 3:
 
 # 5. The command killed (SIGKILL: no cleanup of its own) while a child writes its figure's temporary file (slowly):
 # the child ends within seconds (a SIGTERM at its parent's death), removes the temporary file, writes no figure and
-# runs none of the command's code (nothing on stderr: it once went on with the parent's program).
+# runs none of the command's code (nothing on stderr: it once went on with the parent's program). The stand-in writer
+# sleeps 30 s in 0.1 s slices, as a figure's writer returns to the interpreter continually (CPython runs a Python
+# signal handler between bytecodes).
 slow = os.path.join(work, "slow")
 shutil.rmtree(slow, ignore_errors=True)  # an earlier failed run's leftovers would pass for this child's file
 os.makedirs(slow)
 code = ("import sys, os, time; sys.path.insert(0, %r); import grainlab_plot as g; g.FIGURE_JOBS = 2\n"
         "def slow(tmp):\n"
         "    open(tmp, 'w').write('half a figure')\n"
-        "    time.sleep(30)\n"
+        "    for _ in range(300):\n"
+        "        time.sleep(0.1)\n"
         "g._write_figure = lambda fig, out, name: g.write_atomically(os.path.join(out, name + '.png'), slow)\n"
         "g.save(g.plt.figure(), %r, 'slow')\n"
         "print(g._FIGURE_CHILDREN[0][0], flush=True); time.sleep(60)\n") % (os.path.dirname(g.__file__), slow)
