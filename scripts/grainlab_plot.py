@@ -1241,10 +1241,12 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
             a_w, b_w = running_mean(s, rows_k, ang_all, peak[0]), running_mean(s, rows_k, bm_all, peak[0])
             k = int(np.argmax(a_w))
             top = (float(a_w[k]), float(b_w[k]))
-        # an extension's b is 1 (sigma_2 = sigma_1, the lateral pair): its nominal b for the series, measured below
-        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, peak=top, cs=None,
-                   servo=s.get("servo_error"), single=single_row_note(s, m, rows_k, ang_all, peak[1]),
-                   ps=bool(s.get("plane_strain")))
+        # a triaxial extension's b is 1 (sigma_2 = sigma_1, the lateral pair): its nominal b for the series, measured
+        # below; a plane-strain extension's is the b it develops, as a plane-strain compression's (load())
+        ps = bool(s.get("plane_strain"))
+        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext and not ps else float(s.get("b", 0.0)), ext=ext,
+                   peak=top, cs=None, servo=s.get("servo_error"), single=single_row_note(s, m, rows_k, ang_all, peak[1]),
+                   ps=ps)
         ang, bm = ang_all[m], bm_all[m]
         c = critical_state(s, window, *tol)  # the study's steadiness test, as its critical-state table
         if c is not None and c["ok"]:
@@ -1292,8 +1294,7 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
                         dev[(state, c)].append(phi - p)
         for r in g:
             servo = "-" if r["servo"] is None else f"{100 * r['servo']:.2f}"
-            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}" + (" (plane strain)" if r["ps"] else "")
-            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_txt} | "
+            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_text(r)} | "
                         + " | ".join(cells.get((r["name"], st), "| | | |") for st in ("peak", "cs")) + f" | {servo} | "
                         + r["single"] + " |")
     for i, title in enumerate(("largest obliquity (phi'_max)", "critical state (phi_cs)")):
@@ -1306,7 +1307,7 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
     def rms(v):
         return f"{math.sqrt(np.mean(np.square(v))):.2f}° ({len(v)})" if v else "-"
     members = [r for g in series.values() for r in g if r["b"] > 0]
-    true_tx, exts = any(not r["ext"] and not r["ps"] for r in members), any(r["ext"] for r in members)
+    true_tx, exts = any(not r["ext"] and not r["ps"] for r in members), any(r["ext"] and not r["ps"] for r in members)
     kinds = (["true triaxial"] if true_tx else []) + (["plane strain"] if any(r["ps"] for r in members) else []) + (
         ["extension"] if exts else [])
     title = ", ".join(kinds[:-1]) + " and " + kinds[-1] if len(kinds) > 1 else kinds[0]
@@ -1320,7 +1321,11 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
              "(Lade & Duncan 1975). " if exts else "") +
             ("A plane-strain test of the sample ('(plane strain)': stress_path: plane_strain, the x walls held at zero "
              "strain and sigma_3 at p'_0) joins the series at the b it develops, its b column the mean measured over "
-             "the second half of the shear. " if any(r["ps"] for r in members) else "") + "Every angle "
+             "the second half of the shear. " if any(r["ps"] for r in members) else "") +
+            ("A plane-strain extension ('(plane strain extension)': the axial walls moved apart, the x walls held and "
+             "the y walls at their start's stress, then sigma_1; the axis sigma_3) joins it the same way: a Lode angle "
+             "reached by unloading the axis, where the compressions load it. "
+             if any(r["ps"] and r["ext"] for r in members) else "") + "Every angle "
             "is sin phi = (sigma_1 - sigma_3) / (sigma_1 + sigma_3) of the wall stresses, the b = 0 test's too (the "
             "peak table takes that one from the contacts' q/p'); the critical state's is the mean over the window. "
             "The last column is the largest distance of a lateral wall stress from its servo target over the shear "
@@ -1337,6 +1342,19 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
             "| state | Mohr-Coulomb | Matsuoka-Nakai | Lade-Duncan |", "|---|---|---|---|",
             *(f"| {lab} | " + " | ".join(rms(dev[(st, c)]) for c in range(3)) + " |"
               for st, lab in (("peak", "largest obliquity"), ("cs", "critical state"))), ""]
+
+
+def triaxial_extension(r):
+    """A b series' row (failure_section, flow_section) of a triaxial extension: b = 1 by its symmetry, not measured
+    (a plane-strain extension's b is the one it develops)."""
+    return r["ext"] and not r["ps"]
+
+
+def b_text(r):
+    """A b series' row's b column: 1 for a triaxial extension, the setting or (plane strain) the measured b."""
+    if triaxial_extension(r):
+        return "1 (extension)"
+    return f"{r['b']:g}" + ((" (plane strain extension)" if r["ext"] else " (plane strain)") if r["ps"] else "")
 
 
 def series_path(s):
@@ -1370,8 +1388,9 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
         sig = np.vstack([s["sigma_x"][m], s["sigma_y"][m], s["sigma_z"][m]])
         f = dilatancy.deviatoric_flow(sig, np.vstack([s["eps_x"][m], s["eps_y"][m], s["eps_a"][m]]), s["eps_v"][m],
                                       ext)
-        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext else float(s.get("b", 0.0)), ext=ext, f=f, peak=None,
-                   cs=None, phi_cs=None, phi_max=None, ps=bool(s.get("plane_strain")))
+        ps = bool(s.get("plane_strain"))  # its b the one it develops, in extension too (failure_section)
+        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext and not ps else float(s.get("b", 0.0)), ext=ext, f=f,
+                   peak=None, cs=None, phi_cs=None, phi_max=None, ps=ps)
         rows_k = peak_rows(s, m, peak[1])  # the largest obliquity as failure_section takes it
         if len(rows_k):
             angles = running_mean(s, rows_k, principal_angle(s), peak[0])
@@ -1391,7 +1410,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
                 row["phi_cs"] = float(np.mean(principal_angle(s)[m][w]))  # the walls' angle, as the table's stresses
         groups.setdefault((j["sample"], series_path(s)), []).append(row)
     series = {k: sorted(g, key=lambda r: (r["b"], r["ext"])) for k, g in groups.items()
-              if any(0 < r["b"] < 1 and not r["ext"] for r in g)}
+              if any(0 < r["b"] < 1 and not r["ext"] and not r["ps"] for r in g)}
     if not series:
         return []
     rows, dev, spreads, ps_lines = [], {(st, c): [] for st in ("peak", "cs") for c in range(3)}, [], []
@@ -1433,13 +1452,12 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
                 v = r[state]
                 cells.append("- | - | - | -" if v is None else
                              f"{v[0]:.2f} | {number_text(v[1], '.2f')} | {v[2]:.2f} | {v[3]:.2f}")
-                if v is not None and 0 < r["b"] < 1 and not r["ext"] and math.isfinite(v[1]):
+                if v is not None and 0 < r["b"] < 1 and not triaxial_extension(r) and math.isfinite(v[1]):
                     for cc, pred in enumerate((v[0], v[2], v[3])):
                         dev[(state, cc)].append(v[1] - pred)
-            b_txt = "1 (extension)" if r["ext"] else f"{r['b']:g}" + (" (plane strain)" if r["ps"] else "")
             dil = (f"{f['neg_d_max']:.3f} ± {f['se']:.3f} ({100 * abs(f['eps_max']):.1f})"
                    if math.isfinite(f["neg_d_max"]) else "-")
-            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_txt} | {dil} | {cells[0]} | {cells[1]} | "
+            rows.append(f"| {r['name']}{at} | {r['mu_r']:g} | {b_text(r)} | {dil} | {cells[0]} | {cells[1]} | "
                         f"{number_text(f['K'], '.3f')} | {number_text(f['phi_f'], '.1f')} "
                         f"({number_text(f['rms'], '.3f')}) |")
         for r in g:  # plane strain: its dilation angle, and Bolton's relation where it reached critical state
@@ -1464,7 +1482,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
 
     def rms(v):
         return f"{math.sqrt(np.mean(np.square(v))):.3f} ({len(v)})" if v else "-"
-    members = [r for g in series.values() for r in g if 0 < r["b"] < 1 and not r["ext"]]
+    members = [r for g in series.values() for r in g if 0 < r["b"] < 1 and not triaxial_extension(r)]
     kinds = (["true triaxial"] if any(not r["ps"] for r in members) else []) + (
         ["plane strain"] if any(r["ps"] for r in members) else [])
     return [f"## Flow in the deviatoric plane ({' and '.join(kinds)})", "",
@@ -1510,7 +1528,7 @@ def direction_text(ext, bv, sep=", "):
     """A critical-state group's loading direction (csl_groups' ext and b): compression or extension, the true-triaxial
     b, or plane strain."""
     if bv == PLANE_STRAIN:
-        return f"compression{sep}plane strain"
+        return ("extension" if ext else "compression") + f"{sep}plane strain"
     return ("extension" if ext else "compression") + (f"{sep}b = {bv:g}" if bv > 0 else "")
 
 

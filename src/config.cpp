@@ -495,15 +495,13 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
             g.choice("stress_path", "constant_sigma3", {"constant_sigma3", "constant_p", "plane_strain"});
         sc.constant_p = stress_path == "constant_p";
         sc.plane_strain = stress_path == "plane_strain";
-        // plane strain holds the x walls and servos the y walls at sigma_3 (undrained: places them at constant volume):
-        // a drained or undrained compression (an oedometer holds both lateral axes; in extension the report's b series
-        // would take it for b = 1), and sigma_x is its result, which b would set
-        if (sc.plane_strain && (sc.drainage == Drainage::Oedometric || sc.extension)) {
-          const std::string here = sc.extension ? "direction: extension" : drainage_name(sc.drainage);
-          g.fail(g.key_path("stress_path"), "= plane_strain needs a drained or undrained compression stage (here " +
-                                                here + "): the x walls held, the y walls at sigma_3 (drained) or at "
-                                                "constant volume (undrained)");
-        }
+        // plane strain holds the x walls and servos the y walls at their start's stress (undrained: places them at
+        // constant volume): a drained or undrained compression or extension (an oedometer holds both lateral axes), and
+        // sigma_x is its result, which b would set
+        if (sc.plane_strain && sc.drainage == Drainage::Oedometric)
+          g.fail(g.key_path("stress_path"), "= plane_strain needs a drained or undrained stage (here oedometric, which "
+                                            "holds both lateral axes): the x walls held, the y walls at their start's "
+                                            "stress (drained) or at constant volume (undrained)");
         if (sc.plane_strain && sc.b > 0)
           g.fail(g.key_path("stress_path"), "= plane_strain holds the x walls, and b = " + fmt(sc.b) +
                                             " would servo them to sigma_3 + b (sigma_z - sigma_3): give one of them "

@@ -76,13 +76,14 @@ struct StageConfig {
   // the step finds it: the constant-mean-stress tests of the b-effect literature (Thornton 2000, Geotechnique 50(1);
   // Ng 2004, J. Eng. Mech. 130(3)), whose results at several b are then at one p' and one void-ratio state.
   bool constant_p = false;
-  // triaxial compression: stress_path: plane_strain (choice, beyond SPEC §6.3: the plane-strain or biaxial test). The
-  // x walls are held where the stage finds them (zero strain along x, as an oedometer holds both), the y walls
-  // servo-held at sigma_3 (drained) or placed to keep the volume (undrained), the axial walls as SPEC's: sigma_x is the
-  // intermediate stress the sample develops, and b = (sigma_x - sigma_y) / (sigma_z - sigma_y) the test's result, not
-  // its setting (Cornforth 1964; Bolton 1986 gives plane strain's own phi'_max - phi'_cs = 5 I_R and 0.8 psi_max).
-  // Undrained, the cell pressure acts on the y faces alone: u = u_0 + sigma'_y,0 - sigma'_y (Laboratory::measure), 0
-  // at the start.
+  // triaxial, drained or undrained: stress_path: plane_strain (choice, beyond SPEC §6.3: the plane-strain or biaxial
+  // test). The x walls are held where the stage finds them (zero strain along x, as an oedometer holds both), the y
+  // walls servo-held at their start's stress (drained) or placed to keep the volume (undrained), the axial walls as
+  // SPEC's: sigma_x is the intermediate stress the sample develops, and b the test's result, not its setting
+  // (Cornforth 1964; Bolton 1986 gives plane strain's own phi'_max - phi'_cs = 5 I_R and 0.8 psi_max). In compression
+  // the y walls' stress is sigma_3, b = (sigma_x - sigma_y) / (sigma_z - sigma_y); in extension (the passive case) it
+  // becomes sigma_1 as sigma_z falls, b = (sigma_x - sigma_z) / (sigma_y - sigma_z). Undrained, the cell pressure
+  // acts on the y faces alone: u = u_0 + sigma'_y,0 - sigma'_y (Laboratory::measure), 0 at the start.
   bool plane_strain = false;
   // triaxial, drained: a K path (choice, beyond SPEC §6.3), the anisotropic consolidation of a CAU / CAD test: the
   // lateral servo holds sigma_x = sigma_y = k_ratio sigma_z, sigma_z as the step finds it, once the path meets that

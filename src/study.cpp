@@ -661,8 +661,9 @@ Study load_study_unchecked(const std::string& path) {
   if (ax && ax["axial_strain_rate"]) need_rate_triaxial("axes.axial_strain_rate");
   // The stress_path axis sets every triaxial stage of the base as well: the same b series at constant sigma_3 and at
   // constant p' (Thornton 2000's path) in one study; the report calibrates the failure criteria per path. constant_p
-  // needs a drained shear, plane_strain a drained compression at b = 0 (the stage's own rules, named at the study's key
-  // below): a plane-strain test beside the b series, as an extra job, falls on the series' failure criteria at its b.
+  // needs a drained shear, plane_strain a drained or undrained shear at b = 0 (the stage's own rules, named at the
+  // study's key below): a plane-strain test beside the b series, as an extra job, falls on the series' failure
+  // criteria at its b.
   const auto check_path = [&](const std::string& key, const std::string& v) {
     if (base_direction.empty())
       fail(path, key, "sets the stress path of the base's triaxial stages, and the base (" + s.base + ") has none");
@@ -952,12 +953,11 @@ Study load_study_unchecked(const std::string& path) {
       fail(path, pt.path_key, "constant_p needs a drained shear, and this job's is " + pt.drainage + " (undrained, the "
                               "walls keep the volume and p' is the test's result; list the pairs as extra jobs to cross "
                               "stress_path with drainage)");
-    if (pt.set_stress_path && pt.stress_path == "plane_strain" &&
-        (pt.drainage == "oedometric" || pt.direction != "compression" || pt.b > 0))
-      fail(path, pt.path_key, "plane_strain needs a drained or undrained compression shear at b = 0, and this job's "
-                              "is " + pt.drainage + " " + pt.direction + (pt.b > 0 ? ", b = " + fmt(pt.b) : "") +
-                              " (the x walls held, the y walls at sigma_3 or at constant volume: b is the test's "
-                              "result; list it as an extra job beside a b series)");
+    if (pt.set_stress_path && pt.stress_path == "plane_strain" && (pt.drainage == "oedometric" || pt.b > 0))
+      fail(path, pt.path_key, "plane_strain needs a drained or undrained shear at b = 0, and this job's is " +
+                              pt.drainage + " " + pt.direction + (pt.b > 0 ? ", b = " + fmt(pt.b) : "") +
+                              " (the x walls held, the y walls at their start's stress or at constant volume: b is the "
+                              "test's result; list it as an extra job beside a b series)");
     std::ostringstream sn;
     sn << "sample_mur" << fmt(pt.mu_r) << "_e" << (pt.e0 > 0 ? fmt(pt.e0) : "base") << "_p"
        << (pt.p0 > 0 ? fmt(pt.p0 / 1e3) + "k" : "base");

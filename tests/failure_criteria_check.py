@@ -23,6 +23,10 @@
    stress develops b = 0.3 on Matsuoka-Nakai's surface joins the constant-sigma_3 series (not a path of its own, which
    would have no b = 0 test): its row '0.3 (plane strain)', measured b 0.30, MN exact, the misfits over six tests, the
    heading "true triaxial, plane strain and extension", the peak table's direction "compression, plane strain (b 0.3)".
+6. A plane-strain extension of the same sample (stress_path: plane_strain, eps_a < 0: the y walls at 100 kPa become
+   sigma_1 as the axis unloads, sigma_x develops b = 0.6 on Matsuoka-Nakai's surface) joins the series at its measured
+   b, not as a triaxial extension's b = 1: its row '0.6 (plane strain extension)', measured b 0.60, MN exact, Lade-
+   Duncan its b = 0.6 root, the misfits over seven tests, the peak table's direction "extension, plane strain (b 0.6)".
 """
 import csv
 import json
@@ -97,9 +101,9 @@ def angle(N):
 
 N_mn = {b: (3.0 if b == 0 else root(b, 0)) for b in (0.0, 0.5, 1.0)}
 phi = {b: angle(N) for b, N in N_mn.items()}
-phi_ld = {b: angle(root(b, 1)) for b in (0.5, 1.0, 0.3)}
-B_PS = 0.3
-phi_ps = angle(root(B_PS, 0))
+phi_ld = {b: angle(root(b, 1)) for b in (0.5, 1.0, 0.3, 0.6)}
+B_PS, B_PSE = 0.3, 0.6
+phi_ps, phi_pse = angle(root(B_PS, 0)), angle(root(B_PSE, 0))
 check("MN at b = 1 (by roots)", phi[1.0], 30.0, 1e-9)
 # A second series of the same sample on the constant-p' path (summary.json stress_path: constant_p), on MN's surface
 # through sigma_1 / sigma_3 = 3.5 at b = 0 (33.7 deg): calibrated on its own b = 0 test, MN fits it exactly too; a
@@ -197,6 +201,13 @@ N_ps = root(B_PS, 0)
 write_test(PS_NAME, {"stress_path": "plane_strain"},
            [(0.01 * i, 1e5 + B_PS * ramp(i) * (1e5 * N_ps - 1e5), 1e5, 1e5 + ramp(i) * (1e5 * N_ps - 1e5))
             for i in range(41)])
+# 6. the plane-strain extension: sigma_1 = 1e5 on the y walls, the axis unloaded to sigma_3 = 1e5 / N on MN's surface
+# at b = 0.6, sigma_x at that b between them on every row
+PSE_NAME = "shear_drained_mur0.3_ebase_pbase_s1_n300_ps_ext"
+N_pse = root(B_PSE, 0)
+write_test(PSE_NAME, {"stress_path": "plane_strain", "direction": "extension"},
+           [(-0.01 * i, sz + B_PSE * (1e5 - sz), 1e5, sz)
+            for i, sz in ((i, 1e5 - ramp(i) * (1e5 - 1e5 / N_pse)) for i in range(41))], "extension")
 HEAD = "## Failure criteria (true triaxial, plane strain and extension)"
 
 
@@ -273,16 +284,25 @@ if "A plane-strain test of the sample" not in section:
 pk = next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(f"| {PS_NAME} |")), "")
 if "| compression, plane strain (b 0.3) |" not in pk:
     fails.append(f"peak table: the plane-strain test's direction, got '{pk}'")
+pse = next((l for l in section.splitlines() if l.startswith(f"| {PSE_NAME} |")), "")
+want = f"| 0.60 | {phi_pse:.1f} | 30.0 | {phi_pse:.1f} | {phi_ld[B_PSE]:.1f}"
+if not pse.startswith(f"| {PSE_NAME} | 0.3 | 0.6 (plane strain extension) {want} {want} |"):
+    fails.append(f"plane-strain extension row: expected '0.6 (plane strain extension)' and twice '{want}', got '{pse}'")
+if "A plane-strain extension ('(plane strain extension)'" not in section:
+    fails.append("the section does not say how a plane-strain extension joins the series")
+pk = next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(f"| {PSE_NAME} |")), "")
+if "| extension, plane strain (b 0.6) |" not in pk:
+    fails.append(f"peak table: the plane-strain extension's direction, got '{pk}'")
 # the misfits over the b > 0 tests: the two paths' b = 0.5 and b = 1, the extension (on the constant-sigma_3
-# series: its b = 0 test's 30 deg) and the plane-strain test
+# series: its b = 0 test's 30 deg), the plane-strain test and the plane-strain extension
 mc = math.sqrt((sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) + (phi_ext - 30) ** 2
-                + (phi_ps - 30) ** 2) / 6)
-mn = abs(phi_ext - 30) / math.sqrt(6)
+                + (phi_ps - 30) ** 2 + (phi_pse - 30) ** 2) / 7)
+mn = abs(phi_ext - 30) / math.sqrt(7)
 ld = math.sqrt((sum((ph[b] - pl[b]) ** 2 for ph, pl in ((phi, phi_ld), (phi_cp, phi_ld_cp)) for b in (0.5, 1.0))
-                + (phi_ext - phi_ld[1.0]) ** 2 + (phi_ps - phi_ld[B_PS]) ** 2) / 6)
+                + (phi_ext - phi_ld[1.0]) ** 2 + (phi_ps - phi_ld[B_PS]) ** 2 + (phi_pse - phi_ld[B_PSE]) ** 2) / 7)
 for lab in ("largest obliquity", "critical state"):
     row = next((l for l in section.splitlines() if l.startswith(f"| {lab} |")), "")
-    want = f"| {lab} | {mc:.2f}° (6) | {mn:.2f}° (6) | {ld:.2f}° (6) |"
+    want = f"| {lab} | {mc:.2f}° (7) | {mn:.2f}° (7) | {ld:.2f}° (7) |"
     if row != want:
         fails.append(f"misfit row: expected '{want}', got '{row}'")
 print(f"MN surface through phi_tc = 30 deg: phi(b=0.5) = {phi[0.5]:.3f}, LD there {phi_ld[0.5]:.3f}; "

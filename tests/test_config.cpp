@@ -358,12 +358,11 @@ TEST(Config, RejectsBadInputClearly) {
       {"path_bad", "stages:\n  - {type: triaxial, drainage: drained, stress_path: constant_q}\n", "stages[0].stress_path"},
       {"path_cyc", "stages:\n  - {type: cyclic, q_amplitude: 3e4, stress_path: constant_p}\n",
        "stages[0].stress_path: unknown key"},
-      // plane strain: a drained or undrained compression, its x walls held (b and a K path would set them)
-      {"ps_ext", "stages:\n  - {type: triaxial, drainage: drained, direction: extension, stress_path: plane_strain}\n",
-       "stages[0].stress_path = plane_strain needs a drained or undrained compression stage (here direction: "
-       "extension): the x walls held, the y walls at sigma_3 (drained) or at constant volume (undrained)"},
+      // plane strain: a drained or undrained stage, its x walls held (b and a K path would set them)
       {"ps_oed", "stages:\n  - {type: triaxial, drainage: oedometric, stress_path: plane_strain}\n",
-       "stages[0].stress_path = plane_strain needs a drained or undrained compression stage (here oedometric)"},
+       "stages[0].stress_path = plane_strain needs a drained or undrained stage (here oedometric, which holds both "
+       "lateral axes): the x walls held, the y walls at their start's stress (drained) or at constant volume "
+       "(undrained)"},
       {"ps_b", "stages:\n  - {type: triaxial, drainage: drained, b: 0.5, stress_path: plane_strain}\n",
        "stages[0].stress_path = plane_strain holds the x walls, and b = 0.5 would servo them to sigma_3 + b (sigma_z - "
        "sigma_3): give one of them (plane strain's b is the test's result)"},
@@ -1007,16 +1006,13 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
        "axes.stress_path: constant_p needs a drained shear, and this job's is undrained"},
       {"study_sp_extra_undrained", "base: " + base + "\nextra: [{stress_path: constant_p, drainage: undrained}]\n",
        "extra[0].stress_path: constant_p needs a drained shear, and this job's is undrained"},
-      // plane strain: a drained compression at b = 0 (its b is the test's result), as an extra job beside a b series
+      // plane strain: a drained or undrained shear at b = 0 (its b is the test's result), as an extra job beside a b
+      // series; extension as compression
       {"study_ps_b", "base: " + base + "\naxes: {stress_path: [plane_strain], b: [0, 0.5]}\n",
-       "axes.stress_path: plane_strain needs a drained or undrained compression shear at b = 0, and this job's is "
-       "drained compression, b = 0.5"},
+       "axes.stress_path: plane_strain needs a drained or undrained shear at b = 0, and this job's is drained "
+       "compression, b = 0.5"},
       {"study_ps_oed", "base: " + base + "\nextra: [{stress_path: plane_strain, drainage: oedometric}]\n",
-       "extra[0].stress_path: plane_strain needs a drained or undrained compression shear at b = 0, and this job's is "
-       "oedometric"},
-      {"study_ps_ext", "base: " + base + "\nextra: [{stress_path: plane_strain, direction: extension}]\n",
-       "extra[0].stress_path: plane_strain needs a drained or undrained compression shear at b = 0, and this job's is "
-       "drained extension"},
+       "extra[0].stress_path: plane_strain needs a drained or undrained shear at b = 0, and this job's is oedometric"},
   });
   // A plane-strain extra job beside a b series: one sample, named _ps, the stage's plane_strain set and b = 0.
   const Study ps = load_study(write_tmp("study_ps", "base: " + base + "\naxes: {b: [0, 0.5]}\n"
@@ -1037,6 +1033,13 @@ TEST(Config, StudyStressPathAxisSetsTheTriaxialStages) {
   EXPECT_EQ(psu.shears[0].name, "shear_undrained_mur0_ebase_pbase_s1_n300_ps");
   EXPECT_TRUE(job_run_config(psu, psu.shears[0]).stages.at(0).plane_strain);
   EXPECT_EQ(job_run_config(psu, psu.shears[0]).stages.at(0).drainage, Drainage::Undrained);
+  // and in extension: the axial walls apart, the y walls at their start's stress (then the major one)
+  const Study pse = load_study(write_tmp("study_pse", "base: " + base + "\n"
+                                                       "extra: [{stress_path: plane_strain, direction: extension}]\n"));
+  ASSERT_EQ(pse.shears.size(), 1u);
+  const RunConfig pec = job_run_config(pse, pse.shears[0]);
+  EXPECT_TRUE(pec.stages.at(0).plane_strain);
+  EXPECT_TRUE(pec.stages.at(0).extension);
 }
 
 // The true-triaxial series: the b axis sets b on every triaxial stage of the base, shares the sample between its

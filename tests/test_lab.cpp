@@ -1562,6 +1562,69 @@ TEST(Lab, PlaneStrainHoldsTheXWalls) {
   EXPECT_EQ(slurp(ustopped + "/series.csv"), slurp(uout + "/series.csv"));
 }
 
+// Plane-strain extension (stress_path: plane_strain, direction: extension): the axial walls move apart, the x walls
+// held (eps_x exactly 0 on every row) and the y walls at their start's stress, p'_0 (within 1 %, the servo's accuracy
+// as in compression), which becomes sigma_1 as sigma_z falls; sigma_x the intermediate stress once the deviator is
+// 20 % of p'_0, b = (sigma_x - sigma_z) / (sigma_y - sigma_z) in (0, 1) (measured, printed). The y walls close in
+// (eps_y > 0). Undrained, the y walls keep the volume (kVolTol, as the compression's) and the cell pressure on the y
+// faces is constant: u + sigma'_y the start's on every row (kUTol), u 0 at the first row 20 steps in (kU0Tol).
+// summary.json names the direction and the path, which the report reads.
+TEST(Lab, PlaneStrainExtensionHoldsTheXWalls) {
+  const Reference& ref = reference();
+  const double p0 = H5Reader(ref.out + "/sample_consolidate.h5").attr_double("p");
+  const double kVolTol = 1e-12, kUTol = 1e-9 * p0, kU0Tol = 0.01 * p0;
+  const std::string cfg = on_reference("pse", "  - {name: shear, type: triaxial, drainage: drained, direction: extension, "
+                                       "stress_path: plane_strain, axial_strain_rate: 1.0, max_axial_strain: 0.02, "
+                                       "damping: 0.2}\n", 20);
+  const std::string out = tmpdir("pse");
+  ASSERT_TRUE(run(cfg, out).stages.at(0).converged);
+  H5Reader h(out + "/run.h5");
+  const auto sx = h.doubles("/series/sigma_x"), sy = h.doubles("/series/sigma_y"), sz = h.doubles("/series/sigma_z"),
+             ex = h.doubles("/series/eps_x"), ey = h.doubles("/series/eps_y"), ea = h.doubles("/series/eps_a");
+  ASSERT_GT(sz.size(), 5u);
+  bool judged = false;
+  for (size_t k = 1; k < sz.size(); ++k) {
+    EXPECT_EQ(ex[k], 0.0) << "row " << k;
+    EXPECT_NEAR(sy[k], p0, 0.01 * p0) << "row " << k;
+    if (p0 - sz[k] < 0.2 * p0) continue;  // b is a ratio of the deviator: judged once it is 20 % of p'_0
+    judged = true;
+    EXPECT_GT(sx[k], sz[k]) << "row " << k;
+    EXPECT_LT(sx[k], sy[k]) << "row " << k;
+  }
+  EXPECT_TRUE(judged) << "the deviator grew to 20 % of p'_0: the check above ran";
+  EXPECT_LE(ea.back(), -0.02);
+  EXPECT_GT(ey.back(), 0.0) << "the y walls close in";
+  const double b_end = (sx.back() - sz.back()) / (sy.back() - sz.back());
+  std::printf("  plane-strain extension at -2 %%: b %.3f, phi %.2f deg, eps_y %.5f, eps_v %.5f\n", b_end,
+              std::asin((sy.back() - sz.back()) / (sy.back() + sz.back())) * 180 / M_PI, ey.back(),
+              h.doubles("/series/eps_v").back());
+  EXPECT_GT(b_end, 0.0);
+  EXPECT_LT(b_end, 1.0);
+  EXPECT_NE(slurp(out + "/summary.json").find("\"direction\": \"extension\", \"b\": 0, \"stress_path\": "
+                                              "\"plane_strain\""), std::string::npos);
+  EXPECT_NE(plan_run(load_run_config(cfg)).stages.at(0).find("in plane strain (the x walls held) extension to eps_a = "
+                                                              "-0.02"), std::string::npos);
+  const std::string ucfg = on_reference("pseu", "  - {name: shear, type: triaxial, drainage: undrained, direction: "
+                                        "extension, stress_path: plane_strain, axial_strain_rate: 1.0, "
+                                        "max_axial_strain: 0.01, damping: 0.2}\n", 20);
+  const std::string uout = tmpdir("pseu");
+  ASSERT_TRUE(run(ucfg, uout).stages.at(0).converged);
+  H5Reader uh(uout + "/run.h5");
+  const auto uu = uh.doubles("/series/u"), usx = uh.doubles("/series/sigma_x"), usy = uh.doubles("/series/sigma_y"),
+             usz = uh.doubles("/series/sigma_z"), uex = uh.doubles("/series/eps_x"), uev = uh.doubles("/series/eps_v");
+  ASSERT_GT(uu.size(), 5u);
+  const double sy_start = uu[0] + usy[0];
+  EXPECT_NEAR(uu[0], 0.0, kU0Tol) << "the first row, a step into the stage";
+  for (size_t k = 0; k < uu.size(); ++k) {
+    EXPECT_EQ(uex[k], 0.0) << "row " << k;
+    EXPECT_NEAR(uev[k], 0.0, kVolTol) << "row " << k;
+    EXPECT_NEAR(uu[k] + usy[k], sy_start, kUTol) << "row " << k;
+  }
+  std::printf("  undrained plane-strain extension at -1 %%: sigma_x %.3f, sigma_y %.3f, sigma_z %.3f p'_0, u %.3f "
+              "p'_0\n", usx.back() / p0, usy.back() / p0, usz.back() / p0, uu.back() / p0);
+  EXPECT_LT(usz.back(), usy.back()) << "the axis unloaded below the y walls' stress";
+}
+
 // The oedometric (K0) test (drainage: oedometric): the lateral walls stay where the stage found them, so every row's
 // volumetric strain is its axial strain (V = Lx Ly H with Lx, Ly held: equal to rounding, kStrainTol); the series marks
 // the rows stage_type 5; summary.json gives each stage's K0 = (sigma_x + sigma_y) / 2 sigma_z of its last row. On the
