@@ -19,6 +19,11 @@ deviatoric_flow; true triaxial).
    sigma_x at b = 0.3 of the others), on Rowe's K alone (d lambda_y = -sigma_z / (K sigma_y)): it joins the
    constant-sigma_3 series as '0.3 (plane strain)', its b_eps at critical state (d lambda_y = -1) 0.5.
    In the critical-state lines it is a direction of its own, "compression, plane strain", at 30.0 deg.
+4. A plane-strain extension (direction extension; eps_x 0, the y walls held at 100 kPa, the axis unloaded: sigma_y the
+   major stress, sigma_x at b = 0.4 between it and sigma_z) on Rowe's K alone (per unit -d lambda_z, d lambda_y =
+   K sigma_z / sigma_y): it joins the series as '0.4 (plane strain extension)' at its measured b, not a triaxial
+   extension's b = 1, its cells worked out from the CSV with the loading along -eps_a and the order y, x, z; its b_eps
+   at critical state 0.5 (d lambda_y = 1), K 3; its own critical-state direction "extension, plane strain", 30.0 deg.
 """
 import csv
 import json
@@ -153,6 +158,46 @@ def increments_ps(s1, s3, k):
     return 0.0, -s1 / (k * s3)
 
 
+PSE = 0.4  # the plane-strain extension's b
+
+
+def write_pse():
+    """Section 4's test: sigma_y = S3 held, sigma_z = S3 / r unloaded along r's path to K (stresses()), sigma_x at
+    PSE of the two; natural strains per unit -d lambda_z: (0, K_ sigma_z / sigma_y, -1), integrated as above."""
+    lam = np.zeros((3, N_ROWS))
+    for i in range(1, N_ROWS):
+        lam[:, i] = lam[:, i - 1]
+        for k in range(SUB):
+            t = DT * (i - 1 + (k + 0.5) / SUB)
+            r = stresses(t, 0.0, K)[0] / S3
+            lam[:, i] += DT / SUB * np.array([0.0, (K_EARLY if t < T_EARLY else K) / r, -1.0])
+    eng, ev = -np.expm1(-lam), -np.expm1(-lam.sum(axis=0))
+    name = "shear_drained_mur0.3_ebase_pbase_s1_n300_ext_ps"
+    run = os.path.join(work, "jobs", name, "run")
+    os.makedirs(run)
+    open(os.path.join(work, "jobs", name, "done"), "w").close()
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"stages": [{"name": "shear", "type": "triaxial", "b": 0, "drainage": "drained",
+                               "direction": "extension", "stress_path": "plane_strain"}]}, f)
+    with open(os.path.join(run, "series.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["stage"] + cols)
+        for i in range(N_ROWS):
+            sy = S3
+            sz = S3 * S3 / stresses(DT * i, 0.0, K)[0]
+            sx = sz + PSE * (sy - sz)
+            p, q = (sx + sy + sz) / 3, sz - (sx + sy) / 2
+            row = dict(time=i, step=i, eps_a=eng[2, i], eps_v=ev[i], p=p, q=q, q_p=abs(q) / p,
+                       e=(1 + E0) * (1 - ev[i]) - 1, mu=0.5, mu_r=0.3, stage_type=2, a_c=0.1, a_d=0.05, a_n=0.1,
+                       a_t=0.02, sff_share_c=0.25, sff_share_d=0.25, sff_share_n=0.25, sff_share_t=0.25, sff=abs(q) / p,
+                       inertial_number=5e-4, sigma_x=sx, sigma_y=sy, sigma_z=sz, eps_x=eng[0, i], eps_y=eng[1, i])
+            w.writerow(["shear"] + [repr(float(row[k])) for k in cols])
+    jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300", "mu_r": 0.3,
+                 "e0": 0, "p0": S3, "drainage": "drained", "direction": "extension", "b": 0, "seed": 1, "count": 300,
+                 "csr": 0, "cycles": 0, "strain_amplitude": 0})
+    tests[PSE] = (name, run, K, True, None, True)
+
+
 for b, beta, n_rows in ((0.0, 0.0, N_ROWS), (0.5, 0.3, N_ROWS), (0.25, 0.3, 41), (PS, None, N_ROWS)):
     r_cs = K if beta is None else final_ratio(b, beta)  # plane strain keeps its volume at sigma_1 / sigma_3 = K
     lam = np.zeros((3, n_rows))  # x, y, z natural strains: the increments integrated by the midpoint rule
@@ -187,7 +232,8 @@ for b, beta, n_rows in ((0.0, 0.0, N_ROWS), (0.5, 0.3, N_ROWS), (0.25, 0.3, 41),
     jobs.append({"name": name, "dir": f"jobs/{name}/run", "sample": "sample_mur0.3_ebase_pbase_s1_n300", "mu_r": 0.3,
                  "e0": 0, "p0": S3, "drainage": "drained", "direction": "compression", "b": b, "seed": 1, "count": 300,
                  "csr": 0, "cycles": 0, "strain_amplitude": 0})
-    tests[b] = (name, run, r_cs, n_rows == N_ROWS, beta)
+    tests[b] = (name, run, r_cs, n_rows == N_ROWS, beta, False)
+write_pse()
 
 report = study_report(work, jobs, peak={"window": 0, "max_ke_ratio": 0})
 HEAD = "## Flow in the deviatoric plane (true triaxial and plane strain)"
@@ -208,25 +254,32 @@ def slope(x, y, k, window=dilatancy.WINDOW):
     return float(np.polyfit(x[m], y[m], 1)[0]) if m.sum() >= dilatancy.MIN_ROWS else float("nan")
 
 
-def expected(run, b):
+def expected(run, b, ext=False):
     """The row's cells worked out from the CSV: (-d)_max and its strain, b, b_eps, MN, LD at the largest obliquity and
-    over the critical-state window, and Rowe's K, phi_f and rms."""
+    over the critical-state window, and Rowe's K, phi_f and rms. ext: a plane-strain extension, loaded along -eps_a,
+    its stresses in the order y, x, z."""
     with open(os.path.join(run, "series.csv")) as f:
         rows = list(csv.DictReader(f))
     col = {k: np.array([float(r[k]) for r in rows]) for k in cols}
     lam = {a: -np.log(1 - col[c]) for a, c in (("x", "eps_x"), ("y", "eps_y"), ("z", "eps_a"), ("v", "eps_v"))}
     n = len(rows)
-    inc = {a: np.array([slope(lam["z"], lam[a], k) for k in range(n)]) for a in ("x", "y", "v")}
-    # the order by the mean stresses: z, x, y (sigma_x >= sigma_y here, equal at b = 0: x first, as a stable sort)
+    load = -lam["z"] if ext else lam["z"]
+    inc = {a: np.array([slope(load, lam[a], k) for k in range(n)]) for a in ("x", "y", "v")}
+    # the order by the mean stresses: z, x, y (sigma_x >= sigma_y here, equal at b = 0: x first, as a stable sort);
+    # in the plane-strain extension y, x, z
     s1, s2, s3 = col["sigma_z"], col["sigma_x"], col["sigma_y"]
     e1, e2, e3 = np.where(np.isfinite(inc["x"]), 1.0, np.nan), inc["x"], inc["y"]
+    if ext:
+        s1, s3 = s3, s1
+        e1, e3 = inc["y"], np.where(np.isfinite(inc["x"]), -1.0, np.nan)
     b_eps = (e2 - e3) / (e1 - e3)
     bb = b3((s1, s2, s3))
     mn = [gradient_b((s1[k], s2[k], s3[k]), ln_mn) for k in range(n)]
     ld = [gradient_b((s1[k], s2[k], s3[k]), ln_ld) for k in range(n)]
     ang = np.degrees(np.arcsin((s1 - s3) / (s1 + s3)))
     kp = int(np.argmax(ang))
-    w = (col["eps_a"] >= col["eps_a"][-1] - 0.05) & np.isfinite(b_eps)
+    along = -col["eps_a"] if ext else col["eps_a"]
+    w = (along >= along[-1] - 0.05) & np.isfinite(b_eps)
     kd = int(np.nanargmin(inc["v"]))
     w_in, w_out = np.full(n, np.nan), np.full(n, np.nan)
     for k in range(n):
@@ -240,9 +293,9 @@ def expected(run, b):
     rms = float(np.sqrt(np.mean(((w_in[ok] - Kf * w_out[ok]) / w_in[ok]) ** 2)))
     # plane strain's dilation angle at the largest dilation (d lambda_1 = 1, d lambda_3 = y's) and Bolton's ratio with
     # the angles of the peak row and of the critical-state window (wall stresses)
-    psi = math.degrees(math.asin(-inc["v"][kd] / (1 - inc["y"][kd])))
+    psi = math.degrees(math.asin(-inc["v"][kd] / (e1[kd] - e3[kd])))
     bolton = (ang[kp] - np.mean(ang[w])) / psi
-    return dict(d=(-inc["v"][kd], 100 * col["eps_a"][kd]), peak=(bb[kp], b_eps[kp], mn[kp], ld[kp]), psi=psi,
+    return dict(d=(-inc["v"][kd], 100 * abs(col["eps_a"][kd])), peak=(bb[kp], b_eps[kp], mn[kp], ld[kp]), psi=psi,
                 bolton=bolton,
                 cs=(np.mean(bb[w]), np.mean(b_eps[w]), np.mean(np.array(mn)[w]), np.mean(np.array(ld)[w])),
                 K=Kf, phi=math.degrees(math.asin((Kf - 1) / (Kf + 1))), rms=rms)
@@ -250,8 +303,8 @@ def expected(run, b):
 
 dev = {"peak": [], "cs": []}  # b_eps minus radial, MN and LD flow over the tests at 0 < b < 1
 phis = []
-for b, (name, run, r_cs, critical, beta) in tests.items():
-    x = expected(run, b)
+for b, (name, run, r_cs, critical, beta, ext) in tests.items():
+    x = expected(run, b, ext)
     if not critical:
         x["cs"] = None
     line = next((l for l in section.splitlines() if l.startswith(f"| {name} |")), "")
@@ -259,7 +312,8 @@ for b, (name, run, r_cs, critical, beta) in tests.items():
     if len(cells) != 14:
         fails.append(f"b = {b}: no row of 14 cells: '{line}'")
         continue
-    want = [name, "0.3", f"{b:g}" + (" (plane strain)" if beta is None else ""), None, *(cell(v) for v in x["peak"]),
+    want = [name, "0.3", f"{b:g}" + ((" (plane strain extension)" if ext else " (plane strain)") if beta is None else ""),
+            None, *(cell(v) for v in x["peak"]),
             *((cell(v) for v in x["cs"]) if critical else ["-"] * 4), f"{x['K']:.3f}",
             f"{x['phi']:.1f} ({x['rms']:.3f})"]
     for i, (g, wv) in enumerate(zip(cells, want)):
@@ -288,16 +342,19 @@ for lab, st in (("largest obliquity", "peak"), ("critical state", "cs")):
         fails.append(f"misfit row: expected '{want}'")
 # the critical-state lines: the plane-strain test a direction of its own (not a b of its own, nor a compression), its
 # angle from the principal stresses (sigma_1 / sigma_3 = K = 3 at critical state: 30.0 deg)
-if "| 0.3 | compression, plane strain | 1 | fewer than 3 critical states" not in report or "(30.0°)" not in next(
-        (l for l in report.splitlines() if l.startswith("| 0.3 | compression, plane strain |")), ""):
-    fails.append("the critical-state lines: no group 'compression, plane strain' at 30.0 deg")
-x = expected(tests[PS][1], PS)
-want = f"{tests[PS][0]}: psi_max {x['psi']:.1f}°, (phi'_max - phi'_cs) / psi_max {x['bolton']:.2f}."
-if want not in section:
-    fails.append(f"expected the plane-strain line '{want}'")
-print(f"plane strain: psi_max {x['psi']:.3f} deg, Bolton's ratio {x['bolton']:.3f}")
+for way in ("compression", "extension"):
+    if f"| 0.3 | {way}, plane strain | 1 | fewer than 3 critical states" not in report or "(30.0°)" not in next(
+            (l for l in report.splitlines() if l.startswith(f"| 0.3 | {way}, plane strain |")), ""):
+        fails.append(f"the critical-state lines: no group '{way}, plane strain' at 30.0 deg")
+for b in (PS, PSE):
+    x = expected(tests[b][1], b, tests[b][5])
+    want = f"{tests[b][0]}: psi_max {x['psi']:.1f}°, (phi'_max - phi'_cs) / psi_max {x['bolton']:.2f}"
+    if want not in section:
+        fails.append(f"expected the plane-strain line '{want}'")
+    print(f"plane strain{' extension' if tests[b][5] else ''}: psi_max {x['psi']:.3f} deg, Bolton's ratio "
+          f"{x['bolton']:.3f}")
 want = (f"Rowe's phi_f across b: mu_r = 0.3 (sample_mur0.3_ebase_pbase_s1_n300): phi_f {min(phis):.1f} to "
-        f"{max(phis):.1f}° over 4 tests.")
+        f"{max(phis):.1f}° over 5 tests.")
 if want not in section:
     fails.append(f"expected the line '{want}'")
 
