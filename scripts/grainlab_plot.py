@@ -1410,7 +1410,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
                 row["phi_cs"] = float(np.mean(principal_angle(s)[m][w]))  # the walls' angle, as the table's stresses
         groups.setdefault((j["sample"], series_path(s)), []).append(row)
     series = {k: sorted(g, key=lambda r: (r["b"], r["ext"])) for k, g in groups.items()
-              if any(0 < r["b"] < 1 and not r["ext"] and not r["ps"] for r in g)}
+              if any(0 < r["b"] < 1 and not triaxial_extension(r) for r in g)}
     if not series:
         return []
     rows, dev, spreads, ps_lines = [], {(st, c): [] for st in ("peak", "cs") for c in range(3)}, [], []

@@ -24,6 +24,7 @@ deviatoric_flow; true triaxial).
    K sigma_z / sigma_y): it joins the series as '0.4 (plane strain extension)' at its measured b, not a triaxial
    extension's b = 1, its cells worked out from the CSV with the loading along -eps_a and the order y, x, z; its b_eps
    at critical state 0.5 (d lambda_y = 1), K 3; its own critical-state direction "extension, plane strain", 30.0 deg.
+5. The b = 0 test with the two plane-strain tests alone (no b > 0 set): the section is written, titled plane strain.
 """
 import csv
 import json
@@ -357,6 +358,16 @@ want = (f"Rowe's phi_f across b: mu_r = 0.3 (sample_mur0.3_ebase_pbase_s1_n300):
         f"{max(phis):.1f}° over 5 tests.")
 if want not in section:
     fails.append(f"expected the line '{want}'")
+
+# 5. A series of a triaxial compression and plane-strain tests alone (no b set > 0): the plane-strain tests are its
+# b > 0 members, in compression or extension, so the section is written, its rows as above.
+report = study_report(work, [j for j in jobs if j["name"] in (tests[0.0][0], tests[PS][0], tests[PSE][0])],
+                      peak={"window": 0, "max_ke_ratio": 0})
+HEAD_PS = "## Flow in the deviatoric plane (plane strain)"
+for b in (PS, PSE):
+    row = next((l for l in report.split(HEAD_PS)[-1].splitlines() if l.startswith(f"| {tests[b][0]} |")), "")
+    if HEAD_PS not in report or not row:
+        fails.append(f"a series of plane-strain tests alone: no '{HEAD_PS}' section with the row of b = {b}")
 
 if fails:
     sys.exit("deviatoric_flow_check:\n  " + "\n  ".join(fails))
