@@ -1276,9 +1276,15 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
                         cells[(r["name"], state)] = f"{r[state][1]:.2f} | {r[state][0]:.1f} | - | - | -"
                 continue
             phi0 = ref[state][0]
-            line = ax[i].plot([r[state][1] for r in g if r[state]], [r[state][0] for r in g if r[state]], "o",
+            line = ax[i].plot([r[state][1] for r in g if r[state] and not r["ext"]],
+                              [r[state][0] for r in g if r[state] and not r["ext"]], "o",
                               label=f"mu_r = {ref['mu_r']:g} ({sample}){at}")
             col = line[0].get_color()
+            # extensions (triaxial at b = 1, plane strain at its b) as squares of the series' colour, as csl draws them
+            ext_pts = [r[state] for r in g if r[state] and r["ext"]]
+            if ext_pts:
+                ax[i].plot([v[1] for v in ext_pts], [v[0] for v in ext_pts], "s", mfc="none", color=col,
+                           label=f"mu_r = {ref['mu_r']:g} ({sample}){at}, extension")
             pred = np.array([failure_criteria(phi0, b) for b in bs])
             ax[i].plot(bs, pred[:, 0], "-", color=col, lw=1)
             ax[i].plot(bs, pred[:, 1], ":", color=col, lw=1)
@@ -1299,7 +1305,7 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
                         + r["single"] + " |")
     for i, title in enumerate(("largest obliquity (phi'_max)", "critical state (phi_cs)")):
         ax[i].set(xlabel="b measured", ylabel="phi [deg] (wall stresses)",
-                  title=title + ": -- Mohr-Coulomb, - Matsuoka-Nakai, : Lade-Duncan")
+                  title=title + "\n-- Mohr-Coulomb, - Matsuoka-Nakai, : Lade-Duncan")
         ax[i].grid(alpha=0.3)
     legend(ax[0], fontsize=7)
     save(fig, figs, "failure_criteria")
