@@ -1037,7 +1037,8 @@ std::string on_reference(const std::string& name, const std::string& stages, int
 // finds, as a triaxial cell's test of a K0-consolidated sample (CK0U, CK0D) does: undrained, u = p'_0 + (q - q0)/3 -
 // p' is 0 at the start (it was q0/3, ~27 kPa on the smoke sample, before the shear had begun); drained, the lateral
 // servo holds the cell pressure the K0 stage left, sigma_3 = (sigma_x + sigma_y)/2 there (it drove the walls towards
-// p'_0, q0/3 above it); a stress reversal cycles about q0 (it turned at +A about 0). Each against the K0 stage's last
+// p'_0, q0/3 above it), and so does a plane-strain test's y-wall servo, compression or extension (its undrained u 0
+// at the start too); a stress reversal cycles about q0 (it turned at +A about 0). Each against the K0 stage's last
 // row, the instant the shear starts from.
 TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
   const std::string k0 = "  - {name: k0, type: triaxial, drainage: oedometric, axial_strain_rate: 1.0, "
@@ -1088,6 +1089,39 @@ TEST(Lab, AShearAfterAK0ConsolidationStartsFromItsStress) {
       EXPECT_NEAR(std::stod(sx[k]), s.s3, 0.01 * s.s3) << "row " << k << "; p'_0 = " << s.p0;
     }
     EXPECT_GT(rows, 10);
+  }
+  // Plane strain after K0, drained, loading and unloading the axis (the passive case of a K0 soil): the y walls held
+  // at the start's lateral stress as above, the x walls where the K0 stage left them (eps_x exactly 0); undrained, u
+  // on the first step as small as the triaxial test's (u = sigma'_y,0 - sigma'_y from the stage's own start).
+  for (const char* dir : {"compression", "extension"}) {
+    const std::string csv =
+        slurp(after_k0(std::string("k0_ps_") + dir, std::string("{name: shear, type: triaxial, drainage: drained, "
+                                                                "stress_path: plane_strain, direction: ") +
+                                                        dir + ", axial_strain_rate: 1.0, max_axial_strain: 0.002, "
+                                                              "damping: 0.2}", 10) + "/series.csv");
+    const Start s = start_of(csv);
+    const auto st = csv_column(csv, "stage"), sy = csv_column(csv, "sigma_y"), ex = csv_column(csv, "eps_x"),
+               ea = csv_column(csv, "eps_a");
+    int rows = 0;
+    for (size_t k = 0; k < st.size(); ++k) {
+      if (st[k] != "shear") continue;
+      EXPECT_EQ(std::stod(ex[k]), 0.0) << dir << ", row " << k;
+      if (std::abs(std::stod(ea[k])) < 0.0002) continue;
+      ++rows;
+      EXPECT_NEAR(std::stod(sy[k]), s.s3, 0.01 * s.s3) << dir << ", row " << k << "; p'_0 = " << s.p0;
+    }
+    EXPECT_GT(rows, 10) << dir;
+  }
+  {
+    const std::string csv = slurp(after_k0("k0_ps_undrained", "{name: shear, type: triaxial, drainage: undrained, "
+                                           "stress_path: plane_strain, axial_strain_rate: 1.0, max_axial_strain: "
+                                           "0.001, damping: 0.2}", 1) + "/series.csv");
+    const Start s = start_of(csv);
+    const auto st = csv_column(csv, "stage"), u = csv_column(csv, "u");
+    const size_t first = size_t(std::find(st.begin(), st.end(), "shear") - st.begin());
+    ASSERT_LT(first, st.size());
+    std::printf("  undrained plane strain after K0: u %.3g q0/3 on the first step\n", std::stod(u[first]) / (s.q0 / 3));
+    EXPECT_LT(std::abs(std::stod(u[first])), 5e-3 * s.q0 / 3) << "q0 = " << s.q0;
   }
   // Stress reversal about q0: the cycle's q extremes at q0 + A and q0 - A (within the overshoot of a turn).
   {
