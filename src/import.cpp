@@ -434,14 +434,18 @@ Read read_packing(const std::string& path, Real scale, const std::vector<std::st
             continue;
           }
           const auto it = std::find(header.begin(), header.end(), c);
+          // messages built by append: operator+ chains in a loop make a temporary a step (clang-tidy's
+          // performance-inefficient-string-concatenation under make check)
+          std::string msg = "--columns: '";
+          msg.append(c);
           if (header.empty())
-            throw std::runtime_error("--columns: '" + c + "' is a name, and " + path +
-                                     " has no header line (a first line of names) to find it in");
+            throw std::runtime_error(msg.append("' is a name, and ").append(path).append(
+                " has no header line (a first line of names) to find it in"));
           if (it == header.end()) {
             std::string known;
-            for (const std::string& h : header) known += (known.empty() ? "" : ", ") + h;
-            throw std::runtime_error("--columns: '" + c + "' is not a name of " + path + "'s header (line " +
-                                     std::to_string(header_ln) + ": " + known + ")");
+            for (const std::string& h : header) known.append(known.empty() ? "" : ", ").append(h);
+            throw std::runtime_error(msg.append("' is not a name of ").append(path).append("'s header (line ")
+                                         .append(std::to_string(header_ln)).append(": ").append(known).append(")"));
           }
           col.push_back(size_t(it - header.begin()));
         }
@@ -763,8 +767,8 @@ Frame read_frame(const std::string& path) {
       if (b.size() != 6) throw std::runtime_error(path + ": /walls/box is not six numbers (corrupt file?)");
       fr.box = true;
       for (int a = 0; a < 3; ++a) {
-        fr.lo[a] = b[size_t(2 * a)];
-        fr.hi[a] = b[size_t(2 * a + 1)];
+        fr.lo[a] = b[2 * size_t(a)];
+        fr.hi[a] = b[2 * size_t(a) + 1];
       }
     }
     fr.what = "a snapshot";
