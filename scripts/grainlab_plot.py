@@ -1245,8 +1245,8 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
         # below; a plane-strain extension's is the b it develops, as a plane-strain compression's (load())
         ps = bool(s.get("plane_strain"))
         row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext and not ps else float(s.get("b", 0.0)), ext=ext,
-                   peak=top, cs=None, servo=s.get("servo_error"), single=single_row_note(s, m, rows_k, ang_all, peak[1]),
-                   ps=ps)
+                   peak=top, cs=None, servo=s.get("servo_error"),
+                   single=single_row_note(s, m, rows_k, ang_all, peak[1]), ps=ps)
         ang, bm = ang_all[m], bm_all[m]
         c = critical_state(s, window, *tol)  # the study's steadiness test, as its critical-state table
         if c is not None and c["ok"]:

@@ -313,8 +313,8 @@ for b, (name, run, r_cs, critical, beta, ext) in tests.items():
     if len(cells) != 14:
         fails.append(f"b = {b}: no row of 14 cells: '{line}'")
         continue
-    want = [name, "0.3", f"{b:g}" + ((" (plane strain extension)" if ext else " (plane strain)") if beta is None else ""),
-            None, *(cell(v) for v in x["peak"]),
+    kind = (" (plane strain extension)" if ext else " (plane strain)") if beta is None else ""
+    want = [name, "0.3", f"{b:g}" + kind, None, *(cell(v) for v in x["peak"]),
             *((cell(v) for v in x["cs"]) if critical else ["-"] * 4), f"{x['K']:.3f}",
             f"{x['phi']:.1f} ({x['rms']:.3f})"]
     for i, (g, wv) in enumerate(zip(cells, want)):

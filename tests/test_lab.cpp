@@ -1607,9 +1607,9 @@ TEST(Lab, PlaneStrainExtensionHoldsTheXWalls) {
   const Reference& ref = reference();
   const double p0 = H5Reader(ref.out + "/sample_consolidate.h5").attr_double("p");
   const double kVolTol = 1e-12, kUTol = 1e-9 * p0, kU0Tol = 0.01 * p0;
-  const std::string cfg = on_reference("pse", "  - {name: shear, type: triaxial, drainage: drained, direction: extension, "
-                                       "stress_path: plane_strain, axial_strain_rate: 1.0, max_axial_strain: 0.02, "
-                                       "damping: 0.2}\n", 20);
+  const std::string cfg = on_reference("pse", "  - {name: shear, type: triaxial, drainage: drained, direction: "
+                                       "extension, stress_path: plane_strain, axial_strain_rate: 1.0, "
+                                       "max_axial_strain: 0.02, damping: 0.2}\n", 20);
   const std::string out = tmpdir("pse");
   ASSERT_TRUE(run(cfg, out).stages.at(0).converged);
   H5Reader h(out + "/run.h5");
