@@ -1241,12 +1241,8 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
             a_w, b_w = running_mean(s, rows_k, ang_all, peak[0]), running_mean(s, rows_k, bm_all, peak[0])
             k = int(np.argmax(a_w))
             top = (float(a_w[k]), float(b_w[k]))
-        # a triaxial extension's b is 1 (sigma_2 = sigma_1, the lateral pair): its nominal b for the series, measured
-        # below; a plane-strain extension's is the b it develops, as a plane-strain compression's (load())
-        ps = bool(s.get("plane_strain"))
-        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext and not ps else float(s.get("b", 0.0)), ext=ext,
-                   peak=top, cs=None, servo=s.get("servo_error"),
-                   single=single_row_note(s, m, rows_k, ang_all, peak[1]), ps=ps)
+        row = series_row(j, s, ext, peak=top, cs=None, servo=s.get("servo_error"),
+                         single=single_row_note(s, m, rows_k, ang_all, peak[1]))
         ang, bm = ang_all[m], bm_all[m]
         c = critical_state(s, window, *tol)  # the study's steadiness test, as its critical-state table
         if c is not None and c["ok"]:
@@ -1350,6 +1346,15 @@ def failure_section(mono, window, tol, figs, peak=(0.0, None)):
               for st, lab in (("peak", "largest obliquity"), ("cs", "critical state"))), ""]
 
 
+def series_row(j, s, ext, **fields):
+    """A b series' row (failure_section, flow_section) of job j with series s, and the section's own fields. A
+    triaxial extension's b is 1 (sigma_2 = sigma_1, the lateral pair): its nominal b for the series, measured by the
+    sections; a plane-strain test's, in extension too, is the b it develops (load())."""
+    ps = bool(s.get("plane_strain"))
+    return dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext and not ps else float(s.get("b", 0.0)), ext=ext, ps=ps,
+                **fields)
+
+
 def triaxial_extension(r):
     """A b series' row (failure_section, flow_section) of a triaxial extension: b = 1 by its symmetry, not measured
     (a plane-strain extension's b is the one it develops)."""
@@ -1394,9 +1399,7 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
         sig = np.vstack([s["sigma_x"][m], s["sigma_y"][m], s["sigma_z"][m]])
         f = dilatancy.deviatoric_flow(sig, np.vstack([s["eps_x"][m], s["eps_y"][m], s["eps_a"][m]]), s["eps_v"][m],
                                       ext)
-        ps = bool(s.get("plane_strain"))  # its b the one it develops, in extension too (failure_section)
-        row = dict(name=j["name"], mu_r=j["mu_r"], b=1.0 if ext and not ps else float(s.get("b", 0.0)), ext=ext, f=f,
-                   peak=None, cs=None, phi_cs=None, phi_max=None, ps=ps)
+        row = series_row(j, s, ext, f=f, peak=None, cs=None, phi_cs=None, phi_max=None)
         rows_k = peak_rows(s, m, peak[1])  # the largest obliquity as failure_section takes it
         if len(rows_k):
             angles = running_mean(s, rows_k, principal_angle(s), peak[0])
@@ -1449,7 +1452,9 @@ def flow_section(mono, window, tol, figs, peak=(0.0, None)):
             k0 = f["turn"]
             pl = ax[1].plot(f["w_out"][k0:], f["w_in"][k0:], ".", ms=2)
             if math.isfinite(f["K"]):
-                xs = np.array([np.nanmin(f["w_out"][k0:]), np.nanmax(f["w_out"][k0:])])
+                # From the origin, as fitted: an extension's W_out / sigma_3 is 1 on every row (only the axis of
+                # sigma_3 lengthens, by the unit loading strain), so a line over the rows' own range was a point.
+                xs = np.array([0.0, np.nanmax(f["w_out"][k0:])])
                 ax[1].plot(xs, f["K"] * xs, "-", lw=1, color=pl[0].get_color(),
                            label=f"{r['name']}: K {f['K']:.2f}")
                 Ks.append(f["phi_f"])
