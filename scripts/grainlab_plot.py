@@ -1598,17 +1598,17 @@ def line_at(x, y, x0):
     return icpt + slope * x0, math.sqrt(s2 * (1 / len(x) + (x0 - x.mean()) ** 2 / sxx))
 
 
-def directions_line(groups, several_rates):
+def directions_line(groups, several_rates, draw=None):
     """Whether the loading directions' critical states lie on one line (csl_groups' groups; one_line_rows): per mu_r
     (and rate) with two directions or more (compression, extension, a true-triaxial b), e_c = a + b p' through all
     their critical states and each direction's mean offset from it: a blank line, the text and the table. Empty where
-    no mu_r qualifies."""
+    no mu_r qualifies. draw: as one_line_rows'."""
     by_mu = {}
     for (mur, ext, bv, rate), g in sorted(groups.items()):
         label = f"mu_r {mur:g}" + (rate_text(rate, ", ") if several_rates else "")
         member = direction_text(ext, bv)
         by_mu.setdefault((mur, rate), (label, []))[1].extend((member, c["p"] / 1e3, c["e"]) for c in g)
-    rows = one_line_rows({label: st for _, (label, st) in sorted(by_mu.items())})
+    rows = one_line_rows({label: st for _, (label, st) in sorted(by_mu.items())}, draw)
     if not rows:
         return []
     return ["", "One critical-state line through the critical states of every loading direction of a mu_r (e_c = a + "
@@ -1693,6 +1693,10 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states {100 * CSL_LEVEL_GAP:g} % "
                          "apart in p'_c: no fit | | | | | "
                          f"{m_txt} |")
+    def draw_across(label, a, b, p):  # the line through every direction's states (directions_line), grey
+        xs = np.linspace(p.min(), p.max(), 20)
+        ax[0].plot(xs, a + b * xs, "-.", color="0.4", lw=1, label=f"{label}, every direction")
+    across = directions_line(groups, several_rates, draw_across)
     ax[0].set(xlabel="p'_c [kPa]", ylabel="e_c",
               title="critical-state line e_c - p' (dotted: in ln p'; hollow, dashed: interior)")
     ax[1].set(xlabel="ln p'_c [kPa]", ylabel="a_c at critical state", title="a_c - ln p'")
@@ -1709,7 +1713,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
                   "compression section). The rms misfit of e_c is each line's residual standard error (both have two "
                   "parameters): the smaller describes these states better over their range of p'_c (dotted in the "
                   "figure: the ln line). The state parameter is measured from the linear line (SPEC §7)."]
-    lines += directions_line(groups, several_rates)
+    lines += across
     note = inertial_note([c for _, c in states])
     text = "\n".join(lines + (["", note] if note else []))
     if not quiet:
@@ -2514,7 +2518,7 @@ def across_gradings_section(out, idx, figs, kind="grading"):
             "|---" * (9 if files else 8) + "|", *rows, "", *(files_line(pts) if files else [])]
 
 
-def one_line_rows(groups):
+def one_line_rows(groups, draw=None):
     """The table rows of one critical-state line through several members' critical states (groups: the group's label ->
     (member, p'_c [kPa], e_c) each, in the order given; the member "" is named the base): per group with two members
     or more and three states or more at three pressure levels or more, e_c = a + b p' through all of them (the rms
@@ -2522,7 +2526,8 @@ def one_line_rows(groups):
     against the scatter about the line once each member's mean residual is taken out (the pooled within-member rms,
     n - 2 - (members - 1) degrees of freedom: a member's own offset must not widen the yardstick it is judged by)
     over the root of the member's states: 'off the line' past two of those standard errors. A group without a degree
-    of freedom left is skipped."""
+    of freedom left is skipped. draw(label, a, b, p), where given, is called with each line fitted (p: its states'
+    p'_c [kPa]), to draw it."""
     rows = []
     for what, st in groups.items():
         p = np.array([x[1] for x in st])
@@ -2532,6 +2537,8 @@ def one_line_rows(groups):
         if len(members) < 2 or dof < 1 or pressure_levels(p) < 3:
             continue
         b, a, sb, sa = fit(p, e)
+        if draw is not None:
+            draw(what, a, b, p)
         res = e - (a + b * p)
         rms = math.sqrt(float(np.sum(res ** 2)) / (len(st) - 2))
         mine = {f: np.array([res[i] for i, x in enumerate(st) if x[0] == f]) for f in members}

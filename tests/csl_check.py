@@ -19,7 +19,7 @@ Extensions of mu_r 0.5 on the compressions' line (e within +-0.001 of it): one l
 states (mu_r 0.1: compression, b = 0.5 and extension on three lines; mu_r 0.5: compression and extension on one) with
 each direction's mean offset from it and its standard error (the scatter about the line once each direction's offset is
 taken out), all worked out here: mu_r 0.1's extension (0.05-0.09 above the compressions) off the line, mu_r 0.5's
-extension on it."""
+extension on it; csl.png draws each such line over its states' p'_c (read back from the figure)."""
 import csv, math, os, shutil, subprocess, sys
 
 grainlab, work = sys.argv[1], sys.argv[2]
@@ -206,4 +206,20 @@ for mur, st in by_mu.items():
         assert want in table.splitlines(), (want, table.split("One critical-state line")[-1])
 assert verdicts[(0.1, "extension")] == "off the line" and verdicts[(0.5, "extension")] == "on it", verdicts
 assert os.path.isfile(os.path.join(work, "fig", "csl.png"))
+# csl.png draws each of those lines (dash-dot, "mu_r M, every direction") over its states' p'_c: the same runs through
+# csl() in this process, the figure taken at its save and its lines read back.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+import grainlab_plot as g  # noqa: E402
+figs = {}
+g.save = lambda fig, _out, name: figs.setdefault(name, fig)
+os.makedirs(os.path.join(work, "fig_in_process"))
+g.csl([(r, g.load(r)) for r in runs], os.path.join(work, "fig_in_process"), 0.1, quiet=True)
+drawn = {ln.get_label(): ln for ln in figs["csl"].axes[0].get_lines()}
+for mur, st in by_mu.items():
+    b, a = line_fit([x[1] for x in st], [x[2] for x in st])[:2]
+    ln = drawn.get(f"mu_r {mur:g}, every direction")
+    assert ln is not None and ln.get_linestyle() == "-.", (mur, sorted(drawn))
+    xs, ys = ln.get_xdata(), ln.get_ydata()
+    assert math.isclose(min(xs), min(x[1] for x in st)) and math.isclose(max(xs), max(x[1] for x in st)), (mur, xs)
+    assert all(abs(y - (a + b * x)) < 1e-12 for x, y in zip(xs, ys)), (mur, a, b)
 print("csl ok")
