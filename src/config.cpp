@@ -395,7 +395,6 @@ RunConfig parse_run_config(const YAML::Node& root, const std::string& path) {
     c.packing.r_max = gr.diameter.back() / 2;
   } else {
     c.packing.D = s.real("D", 3.63, 0, 10);
-    if (std::abs(c.packing.D - 1) < 1e-12) s.fail("sample.D", "= 1 is not supported (use D != 1)");
     c.packing.r_min = s.real("r_min", 0.2e-3, 0, 1, true);
     c.packing.r_max = s.real("r_max", 0.6e-3, 0, 1, true);
     if (c.packing.r_max < c.packing.r_min)

@@ -65,7 +65,7 @@ class Rng {
   std::uint64_t s_[4];
 };
 
-// Inverse CDF of p(r) ~ r^-D on [a, b] (D != 1).
+// Inverse CDF of p(r) ~ r^-D on [a, b]: u in [0, 1) -> a radius (D = 1: uniform in ln r).
 Real power_law_radius(Real u, Real D, Real a, Real b);
 // Inverse CDF of a grading's radius distribution: u in [0, 1) -> a radius (one draw a sphere, as power_law_radius).
 class GradingSampler {

@@ -92,6 +92,16 @@ TEST(Config, NumbersAreWrittenShortAndReadBackBitwise) {
   EXPECT_GE(n, 3);
 }
 
+// sample.D = 1 (p(r) ~ 1/r, uniform in ln r: Packing.PowerLawRadiiFollowTheirDistribution) is a law like any other
+// (it was refused: the inverse CDF's general form divides by 1 - D); it reads back from the resolved config.
+TEST(Config, DOfOneIsTheLogUniformLaw) {
+  const RunConfig c = parse_run_config(YAML::Load("sample: {count: 50, D: 1}\nstages: [{type: isotropic}]\n"), "d1.yaml");
+  EXPECT_EQ(c.packing.D, 1.0);
+  const std::string text = resolved_config_yaml(c);
+  EXPECT_EQ(resolved_config_yaml(parse_run_config(YAML::Load(text), "d1.yaml")), text);
+  EXPECT_EQ(parse_run_config(YAML::Load(text), "d1.yaml").packing.D, 1.0);
+}
+
 // A grading's config reads back from the run's resolved config.yaml to the same curve and the same radii (a resumed
 // run compares the resolved text; the radii are the sample), with r_min and r_max its end sieves' halves.
 TEST(Config, AGradingReadsBackFromTheResolvedConfig) {

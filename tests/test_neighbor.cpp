@@ -375,6 +375,49 @@ TEST(Packing, PlacedSpheresAreApartInsideTheBoxAndInCellOrder) {
   }
 }
 
+// sample.D (p(r) ~ r^-D on [r_min, r_max], SPEC §1) against its CDF F(r) = (r^(1-D) - a^(1-D)) / (b^(1-D) - a^(1-D)), at
+// D = 1 its limit ln(r/a) / ln(b/a), written out here: 200 000 radii drawn as a run draws them (packing_radii), the
+// share below each of 9 radii within 5 binomial standard errors sqrt(F (1 - F) / N) of F (a false alarm ~1e-6 a
+// check; the D = 3.63 law read as D = 1 misses by 210-360 of them). At D = 1 and 1 +- 1e-9 the inverse CDF is the
+// log-uniform one to 1e-8 at every u: the general form, used there before D = 1 was refused, was ~1e-7 off at
+// 1 + 1e-9 (kNearOne in power_law_radius). Its ends are a and b to 1e-12 for every D (the general form just past
+// kNearOne is 1e-13 off; at 1 + 2e-6 it was 5e-11).
+TEST(Packing, PowerLawRadiiFollowTheirDistribution) {
+  const double a = 0.2e-3, b = 0.6e-3, kSigmas = 5, kNearOneTol = 1e-8;
+  const auto cdf = [&](double D, double r) {
+    const double e = 1 - D;
+    return e == 0 ? std::log(r / a) / std::log(b / a)
+                  : (std::pow(r, e) - std::pow(a, e)) / (std::pow(b, e) - std::pow(a, e));
+  };
+  for (const double D : {3.63, 1.0, 0.0, 2.0, 6.0}) {
+    PackingSpec spec;
+    spec.count = 200000;
+    spec.seed = 7;
+    spec.D = D;
+    spec.r_min = a;
+    spec.r_max = b;
+    const std::vector<Real> r = packing_radii(spec);
+    ASSERT_EQ(long(r.size()), spec.count);
+    EXPECT_GE(*std::min_element(r.begin(), r.end()), a) << "D " << D;
+    EXPECT_LE(*std::max_element(r.begin(), r.end()), b) << "D " << D;
+    for (int k = 1; k <= 9; ++k) {
+      const double at = a + (b - a) * k / 10, want = cdf(D, at);
+      const double got = double(std::count_if(r.begin(), r.end(), [&](Real x) { return x < at; })) / double(r.size());
+      const double se = std::sqrt(want * (1 - want) / double(r.size()));
+      EXPECT_LE(std::abs(got - want), kSigmas * se) << "D " << D << " at r = " << at << ": " << got << " drawn";
+    }
+  }
+  for (const double u : {0.0, 0.1, 0.37, 0.5, 0.9, 0.999999}) {
+    const double log_uniform = a * std::exp(u * std::log(b / a));
+    for (const double D : {1.0, 1 - 1e-9, 1 + 1e-9})
+      EXPECT_NEAR(power_law_radius(u, D, a, b), log_uniform, kNearOneTol * log_uniform) << "D " << D << ", u " << u;
+  }
+  for (const double D : {3.63, 1.0, 1 + 1e-9, 1 - 2e-3, 1 + 2e-3, 0.0}) {  // 1 +- 2e-3: the general form's
+    EXPECT_NEAR(power_law_radius(0, D, a, b), a, 1e-12 * a) << "D " << D;
+    EXPECT_NEAR(power_law_radius(std::nextafter(1.0, 0.0), D, a, b), b, 1e-12 * b) << "D " << D;
+  }
+}
+
 // sample.grading (a sieve curve: percent passing by mass, linear in ln d between sieves) against its own definition,
 // on 400 000 radii drawn as a run draws them (packing_radii). At each sieve, and at each interval's geometric middle
 // (where the curve passes the mean of its ends), the drawn mass share finer must be within 5 standard errors of the
