@@ -188,25 +188,24 @@ def _write_figure(fig, out, name):
 
 # Figures being written by forked children: (pid, read end of the pipe that brings back the child's error, path).
 # Laying a figure out and rendering it (PNG and PDF) is most of a report's time and needs nothing of what follows,
-# so each figure is written by a child of its own while the parent goes on (perf/NOTES.md, session 63). The figures
-# are the same files. FIGURE_JOBS children at most: the command's figure_jobs (GRAINLAB_FIGURE_JOBS, else the cores it
-# may run on; the study's jobs have finished when its report runs). Its figures come in bursts (a section's several at
-# its end), during which the parent mostly waits, so it is not counted: on 2 cores one child at a time gained nothing
-# on the quick study's report (6.0-6.8 s against 5.7-6.5 s in turn), two at a time 1.2-1.5 s. 1: each figure written
-# in turn by the command itself, as for a module that imports this one.
+# so each figure can be written by a child of its own while the parent goes on (perf/NOTES.md, sessions 63 and 69).
+# The figures are the same files. FIGURE_JOBS children at most: the command's figure_jobs (GRAINLAB_FIGURE_JOBS, else
+# 1). Its figures come in bursts (a section's several at its end), during which the parent mostly waits, so it is not
+# counted. 1, the default: each figure written in turn by the command itself, as for a module that imports this one.
+# Why in turn: a child writes its figure into memory it has not touched yet (the renderer's buffers; the parent's
+# heap, copied on its first write), a page fault a page, where the parent writing in turn reuses what it has. On the
+# 2-core VM of session 63 two children took the quick study's report from 5.7-6.5 s to 4.5-5.3 s; on the one of
+# session 69, where a page fault costs 15 us, they took it from 4.4 to 6.0 s (three times the faults).
 _FIGURE_CHILDREN = []
 FIGURE_JOBS = 1
 
 
 def figure_jobs(cmd):
     """The figures the command writes at once: GRAINLAB_FIGURE_JOBS (a whole number >= 1; exits naming it otherwise),
-    else the cores the process may run on."""
+    else 1 (in turn)."""
     env = os.environ.get("GRAINLAB_FIGURE_JOBS")
     if env is None or env == "":
-        try:
-            return len(os.sched_getaffinity(0))
-        except AttributeError:  # not Linux: no fork either, as far as these figures go
-            return 1
+        return 1
     try:
         n = int(env)
     except ValueError:
@@ -214,7 +213,7 @@ def figure_jobs(cmd):
     if n < 1:
         sys.exit(f"grainlab {cmd}: error: GRAINLAB_FIGURE_JOBS = '{env}': the figures written at once, a whole "
                  "number >= 1 (1: each in turn)")
-    return n
+    return n if hasattr(os, "fork") else 1  # not POSIX: no forked writers
 
 
 def _reap_figure():
