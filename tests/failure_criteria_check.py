@@ -275,24 +275,20 @@ ext = next((l for l in section.splitlines() if l.startswith(f"| {EXT_NAME} |")),
 want = f"| 1.00 | {phi_ext:.1f} | 30.0 | 30.0 | {phi_ld[1.0]:.1f}"  # MN's b = 1 angle is phi_tc: 30 deg
 if not ext.startswith(f"| {EXT_NAME} | 0.3 | 1 (extension) {want} {want} | - |"):
     fails.append(f"extension row: expected '1 (extension)' and twice '{want}', got '{ext}'")
-ps = next((l for l in section.splitlines() if l.startswith(f"| {PS_NAME} |")), "")
-want = f"| 0.30 | {phi_ps:.1f} | 30.0 | {phi_ps:.1f} | {phi_ld[B_PS]:.1f}"
-if not ps.startswith(f"| {PS_NAME} | 0.3 | 0.3 (plane strain) {want} {want} |"):
-    fails.append(f"plane-strain row: expected '0.3 (plane strain)' and twice '{want}', got '{ps}'")
-if "A plane-strain test of the sample" not in section:
-    fails.append("the section does not say how a plane-strain test joins the series")
-pk = next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(f"| {PS_NAME} |")), "")
-if "| compression, plane strain (b 0.3) |" not in pk:
-    fails.append(f"peak table: the plane-strain test's direction, got '{pk}'")
-pse = next((l for l in section.splitlines() if l.startswith(f"| {PSE_NAME} |")), "")
-want = f"| 0.60 | {phi_pse:.1f} | 30.0 | {phi_pse:.1f} | {phi_ld[B_PSE]:.1f}"
-if not pse.startswith(f"| {PSE_NAME} | 0.3 | 0.6 (plane strain extension) {want} {want} |"):
-    fails.append(f"plane-strain extension row: expected '0.6 (plane strain extension)' and twice '{want}', got '{pse}'")
-if "A plane-strain extension ('(plane strain extension)'" not in section:
-    fails.append("the section does not say how a plane-strain extension joins the series")
-pk = next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(f"| {PSE_NAME} |")), "")
-if "| extension, plane strain (b 0.6) |" not in pk:
-    fails.append(f"peak table: the plane-strain extension's direction, got '{pk}'")
+# the plane-strain compression and extension: each at its measured b in the series, its direction in the peak table
+for name, bv, phi_b, kind, how, direction in (
+        (PS_NAME, B_PS, phi_ps, "plane strain", "A plane-strain test of the sample", "compression"),
+        (PSE_NAME, B_PSE, phi_pse, "plane strain extension", "A plane-strain extension ('(plane strain extension)'",
+         "extension")):
+    row = next((l for l in section.splitlines() if l.startswith(f"| {name} |")), "")
+    want = f"| {bv:.2f} | {phi_b:.1f} | 30.0 | {phi_b:.1f} | {phi_ld[bv]:.1f}"
+    if not row.startswith(f"| {name} | 0.3 | {bv:g} ({kind}) {want} {want} |"):
+        fails.append(f"{kind} row: expected '{bv:g} ({kind})' and twice '{want}', got '{row}'")
+    if how not in section:
+        fails.append(f"the section does not say how a {kind} test joins the series")
+    pk = next((l for l in report.split("## Peak states")[1].splitlines() if l.startswith(f"| {name} |")), "")
+    if f"| {direction}, plane strain (b {bv:g}) |" not in pk:
+        fails.append(f"peak table: the {kind} test's direction, got '{pk}'")
 # the misfits over the b > 0 tests: the two paths' b = 0.5 and b = 1, the extension (on the constant-sigma_3
 # series: its b = 0 test's 30 deg), the plane-strain test and the plane-strain extension
 mc = math.sqrt((sum((ph[b] - ph[0.0]) ** 2 for ph in (phi, phi_cp) for b in (0.5, 1.0)) + (phi_ext - 30) ** 2

@@ -1607,9 +1607,12 @@ TEST(Lab, PlaneStrainExtensionHoldsTheXWalls) {
   const Reference& ref = reference();
   const double p0 = H5Reader(ref.out + "/sample_consolidate.h5").attr_double("p");
   const double kVolTol = 1e-12, kUTol = 1e-9 * p0, kU0Tol = 0.01 * p0;
-  const std::string cfg = on_reference("pse", "  - {name: shear, type: triaxial, drainage: drained, direction: "
-                                       "extension, stress_path: plane_strain, axial_strain_rate: 1.0, "
-                                       "max_axial_strain: 0.02, damping: 0.2}\n", 20);
+  const auto pse = [](const char* name, const std::string& drainage, const std::string& strain) {
+    return on_reference(name, "  - {name: shear, type: triaxial, drainage: " + drainage + ", direction: extension, "
+                        "stress_path: plane_strain, axial_strain_rate: 1.0, max_axial_strain: " + strain +
+                        ", damping: 0.2}\n", 20);
+  };
+  const std::string cfg = pse("pse", "drained", "0.02");
   const std::string out = tmpdir("pse");
   ASSERT_TRUE(run(cfg, out).stages.at(0).converged);
   H5Reader h(out + "/run.h5");
@@ -1638,9 +1641,7 @@ TEST(Lab, PlaneStrainExtensionHoldsTheXWalls) {
                                               "\"plane_strain\""), std::string::npos);
   EXPECT_NE(plan_run(load_run_config(cfg)).stages.at(0).find("in plane strain (the x walls held) extension to eps_a = "
                                                               "-0.02"), std::string::npos);
-  const std::string ucfg = on_reference("pseu", "  - {name: shear, type: triaxial, drainage: undrained, direction: "
-                                        "extension, stress_path: plane_strain, axial_strain_rate: 1.0, "
-                                        "max_axial_strain: 0.01, damping: 0.2}\n", 20);
+  const std::string ucfg = pse("pseu", "undrained", "0.01");
   const std::string uout = tmpdir("pseu");
   ASSERT_TRUE(run(ucfg, uout).stages.at(0).converged);
   H5Reader uh(uout + "/run.h5");
