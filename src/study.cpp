@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -1086,6 +1087,28 @@ Study load_study_unchecked(const std::string& path) {
   return s;
 }
 
+std::string duration_text(double seconds) {
+  char b[48];
+  const long whole = std::lround(seconds);
+  if (seconds < 59.95)
+    std::snprintf(b, sizeof b, "%.1f s", seconds);
+  else if (whole < 3600)
+    std::snprintf(b, sizeof b, "%ld min %02ld s", whole / 60, whole % 60);
+  else
+    std::snprintf(b, sizeof b, "%ld h %02ld min", whole / 3600, (whole / 60) % 60);
+  return b;
+}
+
+double shears_left_seconds(const std::vector<double>& left, double rate, int slots) {
+  if (left.empty() || !(rate > 0) || slots < 1) return 0;
+  double sum = 0, longest = 0;
+  for (double w : left) {
+    sum += w;
+    longest = std::max(longest, w);
+  }
+  return std::max(longest, sum / double(std::min<size_t>(size_t(slots), left.size()))) / rate;
+}
+
 std::string shear_config(const Study& s, const StudyJob& j, const std::string& sample_file) {
   return YAML::Dump(job_config(load_yaml_screened(s.base), j, true, sample_file));
 }
@@ -1167,7 +1190,12 @@ namespace {
 struct Running {
   pid_t pid;
   const StudyJob* job;
+  std::chrono::steady_clock::time_point start;
 };
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
 // The isotropic stages of a finished run that ran out of steps (summary.json's done: false): the stage reached its
 // max_steps before its pressure, unbalanced-force and kinetic-energy criteria held, so the sample is not in equilibrium
@@ -1605,6 +1633,9 @@ int run_study(const Study& s, const StudyOptions& o) {
   int failures = 0, interrupted = 0;
   bool stopping = false, forwarded = false;
   size_t finished = total - queue.size();
+  // The progress lines' estimate of the shears left: the planned work (shear_work) the shears finished in this call
+  // did in their wall seconds. Only the shears': a preparation ends at equilibrium, which no plan foretells.
+  double shear_work_done = 0, shear_seconds = 0;
   while (!queue.empty() || !running.empty()) {
     if (g_study_stop) stopping = true;
     if (stopping && !forwarded) {
@@ -1628,7 +1659,7 @@ int run_study(const Study& s, const StudyOptions& o) {
         it = queue.erase(it);
         continue;
       }
-      running.push_back({launch(*j), j});
+      running.push_back({launch(*j), j, std::chrono::steady_clock::now()});
       it = queue.erase(it);
     }
     if (running.empty()) continue;
@@ -1651,7 +1682,26 @@ int run_study(const Study& s, const StudyOptions& o) {
       if (code == 0) {
         ++finished;
         write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
-        if (!o.quiet) std::printf("[%zu/%zu] %s done\n", finished, total, j.name.c_str());
+        const double took = seconds_since(it->start);
+        if (!j.is_sample && work_of(j) > 0) {
+          shear_work_done += work_of(j);
+          shear_seconds += took;
+        }
+        std::string left_text;
+        if (shear_work_done > 0 && shear_seconds > 0) {
+          const double rate = shear_work_done / shear_seconds;
+          std::vector<double> left;  // the shears queued, and those running less what they have done by this rate
+          for (const StudyJob* q : queue)
+            if (!q->is_sample) left.push_back(work_of(*q));
+          for (const Running& r : running)
+            if (r.pid != pid && !r.job->is_sample)
+              left.push_back(std::max(0.0, work_of(*r.job) - rate * seconds_since(r.start)));
+          if (!left.empty())
+            left_text = "; the shears left: about " + duration_text(shears_left_seconds(left, rate, o.jobs));
+        }
+        if (!o.quiet)
+          std::printf("[%zu/%zu] %s done in %s%s\n", finished, total, j.name.c_str(), duration_text(took).c_str(),
+                      left_text.c_str());
         // a sample's preparation, or a shear job's isotropic stage between its shears (a reconsolidation)
         const Unconverged u = unconverged_stages(out / "jobs" / j.name / "run" / "summary.json");
         for (size_t k = 0; k < u.stages.size(); ++k)

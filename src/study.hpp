@@ -120,6 +120,15 @@ struct StudyPlan {
 };
 StudyPlan plan_study(const Study& s);
 
+// A wall time as a person reads it: "12.3 s", "3 min 05 s", "2 h 05 min" (the study's progress lines).
+std::string duration_text(double seconds);
+
+// The wall time the shears not yet finished will take (run_study's progress lines): `left` the planned work (spheres
+// x steps, StudyPlan::shear_work) of each, `rate` the planned work a slot has done a second on the shears finished so
+// far, `slots` the jobs run at a time. At least the longest one's time, and at least all of them shared evenly by the
+// slots (Graham: longest first ends within 4/3 of the larger bound). 0 where nothing is left.
+double shears_left_seconds(const std::vector<double>& left, double rate, int slots);
+
 struct StudyOptions {
   std::string out_dir, self_exe;
   int jobs = 1, threads = 0;

@@ -18,11 +18,18 @@ extra:
 YAML
 plan=$("$bin" validate order.yaml 2>&1) || fail "validate failed: $plan"
 out=$("$bin" study order.yaml --out st --jobs 1 2>&1) || fail "the study failed: $out"
-got=$(printf '%s\n' "$out" | sed -n 's/^\[[0-9]*\/[0-9]*\] \([^ ]*\) done$/\1/p' | tr '\n' ' ')
+got=$(printf '%s\n' "$out" | sed -n 's/^\[[0-9]*\/[0-9]*\] \([^ ]*\) done in .*$/\1/p' | tr '\n' ' ')
 want="sample_mur0.3_ebase_p100k_s3_n300 sample_mur0_ebase_p100k_s3_n300 "
 want+="shear_drained_mur0.3_ebase_p100k_s3_n300_rate0.25 shear_drained_mur0.3_ebase_p100k_s3_n300 "
 want+="shear_drained_mur0_ebase_p100k_s3_n300 "
 [ "$got" = "$want" ] || fail "jobs ended in the order: $got; longest first is: $want"
+# Each progress line says the job's wall time; once a shear has finished, the estimate of the shears left (none after
+# the last; the samples' preparations are not estimated: they end at equilibrium).
+progress=$(printf '%s\n' "$out" | grep '^\[')
+[ "$(printf '%s\n' "$progress" | grep -cE '^\[[1-5]/5\] [^ ]+ done in [0-9.]+ s$')" -eq 3 ] &&
+  [ "$(printf '%s\n' "$progress" | grep -cE '^\[[34]/5\] shear_[^ ]+ done in [0-9.]+ s; the shears left: about [0-9.]+ s$')" -eq 2 ] &&
+  printf '%s\n' "$progress" | grep -qE '^\[5/5\] shear_[^ ]+ done in [0-9.]+ s$' ||
+  fail "progress lines without their wall time or the shears' estimate: $progress"
 # the steps behind that order: the mu_r 0.3 shear's over twice mu_r 0's at the same strain, its slow twin's more
 steps() { awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "step") c = i; next } { s = $c } END { print s }' \
             "st/jobs/$1/run/series.csv"; }

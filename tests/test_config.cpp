@@ -1420,6 +1420,26 @@ TEST(Config, StudyStageAxisOnAPreparationStageMakesSamples) {
             2u);
 }
 
+// The study's progress lines: wall times as read (rounding at each unit's edge: 59.96 s is "1 min 00 s", 3599.6 s
+// "1 h 00 min"), and the estimate of the shears left by hand: three shears of planned work 6, 3, 3 (spheres x steps)
+// at 2 a second on 2 slots take 3 s (the 12 shared by the two, and the longest alone, both 6); 10, 1, 1 take 5 s (the
+// longest bounds it: the 12 shared would say 3); on one slot all 12 in turn, 6 s; on 4 slots (3 shears) the longest
+// alone; nothing left, 0.
+TEST(Config, StudyProgressGivesDurationsAndTheShearsLeft) {
+  EXPECT_EQ(duration_text(0.04), "0.0 s");
+  EXPECT_EQ(duration_text(12.34), "12.3 s");
+  EXPECT_EQ(duration_text(59.96), "1 min 00 s");
+  EXPECT_EQ(duration_text(185), "3 min 05 s");
+  EXPECT_EQ(duration_text(3599.6), "1 h 00 min");
+  EXPECT_EQ(duration_text(7500), "2 h 05 min");
+  EXPECT_DOUBLE_EQ(shears_left_seconds({6, 3, 3}, 2, 2), 3.0);
+  EXPECT_DOUBLE_EQ(shears_left_seconds({10, 1, 1}, 2, 2), 5.0);
+  EXPECT_DOUBLE_EQ(shears_left_seconds({6, 3, 3}, 2, 1), 6.0);
+  EXPECT_DOUBLE_EQ(shears_left_seconds({6, 3, 3}, 2, 4), 3.0);
+  EXPECT_DOUBLE_EQ(shears_left_seconds({}, 2, 2), 0.0);
+  EXPECT_DOUBLE_EQ(shears_left_seconds({6}, 0, 2), 0.0);  // no rate measured yet
+}
+
 TEST(Config, StudySeedZeroIsASeed) {
   const Study s = load_study(write_tmp("study_seed0", "base: " GRAINLAB_SOURCE_DIR
                                                       "/configs/quick-study-base.yaml\naxes: {seed: [0, 1]}\n"));
