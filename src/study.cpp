@@ -1191,6 +1191,7 @@ struct Running {
   pid_t pid;
   const StudyJob* job;
   std::chrono::steady_clock::time_point start;
+  bool resumed;  // from a checkpoint an earlier call left: its wall time is not its planned work's
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -1633,8 +1634,9 @@ int run_study(const Study& s, const StudyOptions& o) {
   int failures = 0, interrupted = 0;
   bool stopping = false, forwarded = false;
   size_t finished = total - queue.size();
-  // The progress lines' estimate of the shears left: the planned work (shear_work) the shears finished in this call
-  // did in their wall seconds. Only the shears': a preparation ends at equilibrium, which no plan foretells.
+  // The progress lines' estimate of the shears left: the planned work (shear_work) the shears started and finished in
+  // this call did in their wall seconds (a resumed one did part of its work before). Only the shears': a preparation
+  // ends at equilibrium, which no plan foretells.
   double shear_work_done = 0, shear_seconds = 0;
   while (!queue.empty() || !running.empty()) {
     if (g_study_stop) stopping = true;
@@ -1659,7 +1661,8 @@ int run_study(const Study& s, const StudyOptions& o) {
         it = queue.erase(it);
         continue;
       }
-      running.push_back({launch(*j), j, std::chrono::steady_clock::now()});
+      const bool resumed = fs::exists(out / "jobs" / j->name / "run" / "series.csv");
+      running.push_back({launch(*j), j, std::chrono::steady_clock::now(), resumed});
       it = queue.erase(it);
     }
     if (running.empty()) continue;
@@ -1683,7 +1686,7 @@ int run_study(const Study& s, const StudyOptions& o) {
         ++finished;
         write_file_atomic((out / "jobs" / j.name / "done").string(), "ok\n");
         const double took = seconds_since(it->start);
-        if (!j.is_sample && work_of(j) > 0) {
+        if (!j.is_sample && !it->resumed && work_of(j) > 0) {
           shear_work_done += work_of(j);
           shear_seconds += took;
         }
