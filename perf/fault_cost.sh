@@ -25,5 +25,6 @@ int main(void) {
 C
 cc -O2 -o "$tmp/f" "$tmp/f.c"
 for _ in $(seq 1 "$rounds"); do "$tmp/f"; done | sort -g |
-  awk -v r="$rounds" -v c="$(nproc)" '{ v[NR] = $1 } END { m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
+  awk -v r="$rounds" -v c="$(nproc)" '{ v[NR] = $1 }
+    END { m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
     printf "page fault: %.2f us (median of %d, %d cores; fresh anonymous memory, 4 KiB pages)\n", m, r, c }'

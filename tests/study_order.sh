@@ -27,7 +27,8 @@ want+="shear_drained_mur0_ebase_p100k_s3_n300 "
 # the last; the samples' preparations are not estimated: they end at equilibrium).
 progress=$(printf '%s\n' "$out" | grep '^\[')
 [ "$(printf '%s\n' "$progress" | grep -cE '^\[[1-5]/5\] [^ ]+ done in [0-9.]+ s$')" -eq 3 ] &&
-  [ "$(printf '%s\n' "$progress" | grep -cE '^\[[34]/5\] shear_[^ ]+ done in [0-9.]+ s; the shears left: about [0-9.]+ s$')" -eq 2 ] &&
+  [ "$(printf '%s\n' "$progress" |
+       grep -cE '^\[[34]/5\] shear_[^ ]+ done in [0-9.]+ s; the shears left: about [0-9.]+ s$')" -eq 2 ] &&
   printf '%s\n' "$progress" | grep -qE '^\[5/5\] shear_[^ ]+ done in [0-9.]+ s$' ||
   fail "progress lines without their wall time or the shears' estimate: $progress"
 # the steps behind that order: the mu_r 0.3 shear's over twice mu_r 0's at the same strain, its slow twin's more

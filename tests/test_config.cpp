@@ -95,7 +95,8 @@ TEST(Config, NumbersAreWrittenShortAndReadBackBitwise) {
 // sample.D = 1 (p(r) ~ 1/r, uniform in ln r: Packing.PowerLawRadiiFollowTheirDistribution) is a law like any other
 // (it was refused: the inverse CDF's general form divides by 1 - D); it reads back from the resolved config.
 TEST(Config, DOfOneIsTheLogUniformLaw) {
-  const RunConfig c = parse_run_config(YAML::Load("sample: {count: 50, D: 1}\nstages: [{type: isotropic}]\n"), "d1.yaml");
+  const RunConfig c =
+      parse_run_config(YAML::Load("sample: {count: 50, D: 1}\nstages: [{type: isotropic}]\n"), "d1.yaml");
   EXPECT_EQ(c.packing.D, 1.0);
   const std::string text = resolved_config_yaml(c);
   EXPECT_EQ(resolved_config_yaml(parse_run_config(YAML::Load(text), "d1.yaml")), text);

@@ -375,13 +375,13 @@ TEST(Packing, PlacedSpheresAreApartInsideTheBoxAndInCellOrder) {
   }
 }
 
-// sample.D (p(r) ~ r^-D on [r_min, r_max], SPEC §1) against its CDF F(r) = (r^(1-D) - a^(1-D)) / (b^(1-D) - a^(1-D)), at
-// D = 1 its limit ln(r/a) / ln(b/a), written out here: 200 000 radii drawn as a run draws them (packing_radii), the
-// share below each of 9 radii within 5 binomial standard errors sqrt(F (1 - F) / N) of F (a false alarm ~1e-6 a
-// check; the D = 3.63 law read as D = 1 misses by 210-360 of them). At D = 1 and 1 +- 1e-9 the inverse CDF is the
-// log-uniform one to 1e-8 at every u: the general form, used there before D = 1 was refused, was ~1e-7 off at
-// 1 + 1e-9 (kNearOne in power_law_radius). Its ends are a and b to 1e-12 for every D (the general form just past
-// kNearOne is 1e-13 off; at 1 + 2e-6 it was 5e-11).
+// sample.D (p(r) ~ r^-D on [r_min, r_max], SPEC §1) against its CDF F(r) = (r^(1-D) - a^(1-D)) / (b^(1-D) - a^(1-D)),
+// at D = 1 its limit ln(r/a) / ln(b/a), written out here: 200 000 radii drawn as a run draws them (packing_radii), the
+// share below each of 9 radii within 5 binomial standard errors sqrt(F (1 - F) / N) of F (a false alarm ~1e-6 a check;
+// the D = 3.63 law read as D = 1 misses by 210-360 of them). At D = 1 and 1 +- 1e-9 the inverse CDF is the log-uniform
+// one to 1e-8 at every u: the general form, used there before D = 1 was refused, was ~1e-7 off at 1 + 1e-9 (kNearOne
+// in power_law_radius). Its ends are a and b to 1e-12 for every D (the general form just past kNearOne is 1e-13 off;
+// at 1 + 2e-6 it was 5e-11).
 TEST(Packing, PowerLawRadiiFollowTheirDistribution) {
   const double a = 0.2e-3, b = 0.6e-3, kSigmas = 5, kNearOneTol = 1e-8;
   const auto cdf = [&](double D, double r) {
