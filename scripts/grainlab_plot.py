@@ -195,7 +195,8 @@ def _write_figure(fig, out, name):
 # Why in turn: a child writes its figure into memory it has not touched yet (the renderer's buffers; the parent's
 # heap, copied on its first write), a page fault a page, where the parent writing in turn reuses what it has. On the
 # 2-core VM of session 63 two children took the quick study's report from 5.7-6.5 s to 4.5-5.3 s; on the one of
-# session 69, where a page fault costs 15 us, they took it from 4.4 to 6.0 s (three times the faults).
+# session 69, where a page fault costs 14-16 us (perf/fault_cost.sh), they took it from 6.93 to 8.02 s (medians of 5,
+# perf/report_time.sh) with 2.3 times the faults.
 _FIGURE_CHILDREN = []
 FIGURE_JOBS = 1
 
@@ -1692,6 +1693,7 @@ def csl(runs, out, window, tol=(0.05, 0.05, 0.005), quiet=False):
             lines.append(f"| {mur:g} | {direction} | {len(g)} | fewer than 3 critical states {100 * CSL_LEVEL_GAP:g} % "
                          "apart in p'_c: no fit | | | | | "
                          f"{m_txt} |")
+
     def draw_across(label, a, b, p):  # the line through every direction's states (directions_line), grey
         xs = np.linspace(p.min(), p.max(), 20)
         ax[0].plot(xs, a + b * xs, "-.", color="0.4", lw=1, label=f"{label}, every direction")
