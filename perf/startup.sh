@@ -10,8 +10,13 @@
 #   start: a run of N spheres to its step-0 checkpoint (default 1e6: 7.0 s, placement half of it; 14.9 s with session
 #     42's placement; session 43);
 #   import: `grainlab import` of the shared race scene tiled K^3 times (race_bench --write-scene; default K = 3: 864 000
-#     spheres, 66 MiB of text), its time and peak memory (session 64, 2-core VM: median of 3 1.89 s, 403 MB).
-# Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K] [REPS]   (build/
+#     spheres, 66 MiB of text), its time and peak memory (session 64, 2-core VM: median of 3 1.89 s, 403 MB);
+#   validate: the smallest commands, `grainlab validate` of a config refused at its first key and of the tests' smoke
+#     config, with their page faults (fuzz_configs runs 1 300 such commands; session 70, 2-core VM, medians of 11,
+#     /usr/bin/time's start included: 57 and 58 ms, ~2 720 faults, when a config was read into a zeroed 4 MiB string;
+#     34 and 36 ms, 670 and 696 faults, read in blocks).
+# Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K | validate]
+#   [REPS]   (build/
 #   first; default: placement 200000, 3 reps)
 set -eu
 what=${1:-placement}; arg=${2:-}; reps=${3:-3}
@@ -57,7 +62,19 @@ elif [ "$what" = import ]; then
   head -1 "$work/import.txt"
   echo "import of the race scene tiled ${k}^3 ($(du -m "$work/scene.txt" | cut -f1) MiB of text, median of $reps):" \
        "$(cat "$work"/time* | cut -d' ' -f1 | median) s, peak $(cat "$work"/time* | cut -d' ' -f2 | median) kB"
+elif [ "$what" = validate ]; then
+  reps=${arg:-11}
+  printf 'sample: {cuont: 10}\nstages: [{type: isotropic}]\n' > "$work/bad.yaml"
+  for cfg in "$work/bad.yaml" "$root/tests/data/smoke.yaml"; do
+    for r in $(seq "$reps"); do  # the wall time in ms (time's %e has 10 ms steps), its page faults
+      s=$(date +%s%N)
+      /usr/bin/time -f "%R" -o "$work/faults" "$bin" validate "$cfg" > /dev/null 2>&1 || true
+      echo "$(( ($(date +%s%N) - s) / 1000000 )) $(tail -1 "$work/faults")" >> "$work/v.$(basename "$cfg")"
+    done
+    echo "validate $(basename "$cfg") (median of $reps): $(cut -d' ' -f1 "$work/v.$(basename "$cfg")" | median) ms," \
+         "$(cut -d' ' -f2 "$work/v.$(basename "$cfg")" | median) page faults"
+  done
 else
-  echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K] [REPS]" >&2
+  echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K | validate [REPS]] [REPS]" >&2
   exit 2
 fi

@@ -566,6 +566,28 @@ TEST(Config, RejectsBadInputClearly) {
   }
 }
 
+// The 4 MiB limit on a config file is exact, whatever the read's block size (the text is read in 64 KiB blocks, at
+// most one byte past the limit): a config of 4 MiB loads, one byte more is refused by name; a size between blocks
+// reads whole.
+TEST(Config, AConfigOfTheSizeLimitLoadsAndOneByteMoreIsRefused) {
+  constexpr size_t kLimit = size_t(4) << 20;  // load_yaml_screened's kMaxBytes
+  const auto padded = [](size_t bytes) {      // kMinimal, then a comment line that brings the file to `bytes`
+    std::string t = std::string(kMinimal) + "# ";
+    t += std::string(bytes - t.size() - 1, 'x') + "\n";
+    return t;
+  };
+  for (const size_t n : {kLimit, kLimit - 1, kLimit - (size_t(1) << 16), size_t(3 << 20) + 12345}) {
+    const std::string p = write_tmp("limit_" + std::to_string(n), padded(n));
+    ASSERT_EQ(fs::file_size(p), n);
+    EXPECT_EQ(error_of(p), "") << n << " bytes";
+  }
+  const std::string over = write_tmp("limit_over", padded(kLimit + 1));
+  EXPECT_EQ(error_of(over), over + ": larger than 4 MiB: not a grainlab config");
+  // the byte past the limit is a newline after the comment: a read that stopped at the limit would load it
+  const std::string just_over = write_tmp("limit_newline", padded(kLimit) + "\n");
+  EXPECT_EQ(error_of(just_over), just_over + ": larger than 4 MiB: not a grainlab config");
+}
+
 // Studies: the axes are checked as values, and every job's config is checked as its run would check it, at load
 // (so `grainlab validate` catches it); a seed of 0 on an axis is the seed 0, not "the base's seed".
 namespace {
