@@ -175,13 +175,32 @@ def label(run, s):
     return f"{run_name(run)} (mu_r={mur:g})"
 
 
+# The files each figure is written as: the command's figure_formats (GRAINLAB_FIGURE_FORMATS, else PNG and PDF).
+FIGURE_FORMATS = ("png", "pdf")
+_KNOWN_FORMATS = ("png", "pdf", "svg")
+
+
+def figure_formats(cmd):
+    """The formats each figure is written in: GRAINLAB_FIGURE_FORMATS, a comma-separated list of png, pdf and svg in
+    the order written (exits naming it otherwise), else PNG and PDF. Each format is a render of its own: a report of
+    PNGs alone took 0.75-0.83 of the time (perf/report_time.sh DIR formats; perf/NOTES.md session 70)."""
+    env = os.environ.get("GRAINLAB_FIGURE_FORMATS")
+    if env is None or env.strip() == "":
+        return ("png", "pdf")
+    fmts = [f.strip().lower() for f in env.split(",")]
+    if any(f not in _KNOWN_FORMATS for f in fmts) or len(set(fmts)) != len(fmts):
+        sys.exit(f"grainlab {cmd}: error: GRAINLAB_FIGURE_FORMATS = '{env}': the figures' file formats, a "
+                 f"comma-separated list of {', '.join(_KNOWN_FORMATS)}, each once (default png,pdf)")
+    return tuple(fmts)
+
+
 def _write_figure(fig, out, name):
     fig.tight_layout()  # keeps a row's axis labels off the titles of the row below
-    # The tight box once for both files: bbox_inches="tight" draws the figure a second time in each savefig to find
+    # The tight box once for every file: bbox_inches="tight" draws the figure a second time in each savefig to find
     # it, a fifth of a report's time (study_tiny's report: 9.2 -> 7.2 s). Its padding is savefig's default.
     box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
-    for ext in ("png", "pdf"):
-        # format= because the temporary name does not end in .png / .pdf
+    for ext in FIGURE_FORMATS:
+        # format= because the temporary name does not end in .png / .pdf / .svg
         write_atomically(os.path.join(out, f"{name}.{ext}"),
                          lambda tmp, e=ext: fig.savefig(tmp, dpi=130, bbox_inches=box, format=e))
 
@@ -278,9 +297,9 @@ def _die_with_parent():
 
 
 def save(fig, out, name):
-    """Writes fig as out/name.png and .pdf (atomically), in a forked child where FIGURE_JOBS > 1 (figures_done waits
-    for them), and closes it."""
-    path = os.path.join(out, name + ".png")
+    """Writes fig as out/name.png and .pdf (or FIGURE_FORMATS) atomically, in a forked child where FIGURE_JOBS > 1
+    (figures_done waits for them), closes it and prints the first file's path."""
+    path = os.path.join(out, f"{name}.{FIGURE_FORMATS[0]}")
     if FIGURE_JOBS < 2:
         _write_figure(fig, out, name)
     else:
@@ -320,7 +339,7 @@ def save(fig, out, name):
 
 
 def finish(fig, ax, legend_ax, fontsize, out, name):
-    """The close of a figure of line plots: a grid on every axes, the legend on one, saved as PNG and PDF."""
+    """The close of a figure of line plots: a grid on every axes, the legend on one, saved (PNG and PDF)."""
     for a in np.ravel(ax):
         a.grid(alpha=0.3)
     legend(legend_ax, fontsize=fontsize)
@@ -4959,6 +4978,7 @@ class _Console:
 if __name__ == "__main__":
     sys.stdout = _Console(sys.stdout)
     FIGURE_JOBS = figure_jobs(sys.argv[1] if len(sys.argv) > 1 else "")
+    FIGURE_FORMATS = figure_formats(sys.argv[1] if len(sys.argv) > 1 else "")
     # A file-system error (an --out that cannot be created, a full disk, no permission) is one line naming the
     # path, like the engine's errors; what was written before stays whole (scripts/atomic_write.py).
     try:

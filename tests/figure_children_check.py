@@ -5,7 +5,8 @@ one error line naming the variable): the same PNG as a figure written in the pro
 child comes back to the parent when it waits (figures_done): an OSError as raised (the one-line message naming the
 file), anything else as a RuntimeError carrying the child's traceback; every child is waited for, none left running
 or unreaped, no temporary file left; no line the parent printed before a fork is printed twice; a child whose command is
-killed ends at once, writing nothing."""
+killed ends at once, writing nothing. The files of a figure: PNG and PDF, or GRAINLAB_FIGURE_FORMATS's list (a bad one
+is one error line naming the variable)."""
 import os
 import shutil
 import signal
@@ -71,6 +72,33 @@ for bad in ("0", "two", "-1", "1.5"):
     if out.returncode != 1 or not out.stderr.startswith(want) or out.stderr.count("\n") != 1:
         fails.append(f"GRAINLAB_FIGURE_JOBS={bad}: exit {out.returncode}, {out.stderr!r}")
 del os.environ["GRAINLAB_FIGURE_JOBS"]
+# The files of a figure: PNG and PDF without GRAINLAB_FIGURE_FORMATS, its list otherwise (the first format's path is the
+# one printed), nothing else; a bad list is one error line naming the variable.
+os.environ.pop("GRAINLAB_FIGURE_FORMATS", None)
+if g.FIGURE_FORMATS != ("png", "pdf") or g.figure_formats("plot") != ("png", "pdf"):
+    fails.append("without GRAINLAB_FIGURE_FORMATS the figures are not PNG and PDF")
+os.environ["GRAINLAB_FIGURE_FORMATS"] = " SVG,pdf "
+if g.figure_formats("plot") != ("svg", "pdf"):
+    fails.append(f"GRAINLAB_FIGURE_FORMATS=' SVG,pdf ' read as {g.figure_formats('plot')}")
+for bad in ("jpg", "png,png", "png,", ",", "png pdf"):
+    os.environ["GRAINLAB_FIGURE_FORMATS"] = bad
+    out = subprocess.run([sys.executable, g.__file__, "csl", work], capture_output=True, text=True)
+    want = (f"grainlab csl: error: GRAINLAB_FIGURE_FORMATS = '{bad}': the figures' file formats, "
+            "a comma-separated list of png, pdf, svg, each once")
+    if out.returncode != 1 or not out.stderr.startswith(want) or out.stderr.count("\n") != 1:
+        fails.append(f"GRAINLAB_FIGURE_FORMATS={bad}: exit {out.returncode}, {out.stderr!r}")
+del os.environ["GRAINLAB_FIGURE_FORMATS"]
+magic = {"png": b"\x89PNG", "pdf": b"%PDF", "svg": b"<?xml"}
+for fmts in (("png", "pdf"), ("svg",), ("pdf", "png")):
+    d = os.path.join(work, "formats_" + "_".join(fmts))
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    g.FIGURE_FORMATS = fmts
+    g.save(figure("f"), d, "fig")
+    if sorted(os.listdir(d)) != sorted(f"fig.{f}" for f in fmts) or \
+            any(not open(os.path.join(d, f"fig.{f}"), "rb").read().startswith(magic[f]) for f in fmts):
+        fails.append(f"formats {fmts}: wrote {sorted(os.listdir(d))}")
+g.FIGURE_FORMATS = ("png", "pdf")
 # Whatever the machine lends, the test runs every figure through a child, two at a time.
 
 # 1. The same bytes as written in the process itself; several children at once (more figures than slots).

@@ -6,6 +6,7 @@
 # each output line once, and an edited study over finished jobs refused.
 set -u
 bin=$1; study=$2; work=$3
+here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work"
 # The README's form: a relative --out, from a working directory that is neither the study's nor the sources'.
 # (A sample path written relative to the working directory broke every shear this way; see the reuse check.)
@@ -119,6 +120,7 @@ printf '%s\n' "$lines" | awk -F'|' '{
     print "critical-state line not fitted from >= 3 critical states (or e_c rises with p\x27): " $0; bad = 1 }
 } END { exit bad }' || exit 1
 [ -f "$work/figures/stress_paths.png" ] || { echo "no stress-path figure"; exit 1; }
+"$here/pdf_beside_png.sh" "$work/figures" || exit 1  # the default formats: each figure in PNG and PDF
 # A job.yaml that names its sample by an absolute path (as older versions wrote it) is the same config: the
 # rerun must not take it for an edit.
 s1=$(ls -d "$work"/jobs/shear_* | head -1)
