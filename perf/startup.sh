@@ -6,7 +6,7 @@
 #     coordinates);
 #   threads: the tests' 300-sphere smoke run (tests/data/smoke.yaml) at 1 .. MAX threads, to see what threads beyond
 #     the cores cost (src/main.cpp's warning; session 42 on the 2-core VM, medians of 3: 0.60 s at 1 thread, 0.47 s at
-#     2, 5.6 s at 3, 6.0 s at 4).
+#     2, 5.6 s at 3, 6.0 s at 4; session 70's 2-core VM, medians of 5: 0.51 s at 1 thread, 0.77 s at 2).
 #   start: a run of N spheres to its step-0 checkpoint (default 1e6: 7.0 s, placement half of it; 14.9 s with session
 #     42's placement; session 43);
 #   import: `grainlab import` of the shared race scene tiled K^3 times (race_bench --write-scene; default K = 3: 864 000

@@ -3138,7 +3138,7 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         }
       } else if (sc.stress_reversal() || sc.sigma_v_reversal()) {
         // Stress reversal: how far each half cycle strains depends on the sample (more as p' falls).
-        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of "
+        os << "cyclic " << drainage << ", " << sc.cycles << " cycle" << plural(sc.cycles) << " of "
            << (sc.sigma_v_reversal() ? "sigma_v = sigma_v,0 +- " : "q = +-");
         if (sc.sigma_v_reversal()) os << sc.sigma_v_amplitude / 1e3 << " kPa (the lateral walls held)";
         else if (sc.csr > 0) os << "2 x " << sc.csr << " p'_c";
@@ -3152,7 +3152,8 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         // so each peak lies n steps from 0 (overshooting A by under a step's strain) and a cycle takes 4 n steps; the
         // stage ends on the step that finds eps_a back at 0, one after it.
         const double need = 4 * double(sc.cycles) * std::ceil(sc.strain_amplitude / strain_step) + 1;
-        os << "cyclic " << drainage << ", " << sc.cycles << " cycles of eps_a = +-" << sc.strain_amplitude << " at "
+        os << "cyclic " << drainage << ", " << sc.cycles << " cycle" << plural(sc.cycles) << " of eps_a = +-"
+           << sc.strain_amplitude << " at "
            << sc.axial_strain_rate << "/s, mu = " << sc.mu << ", mu_r = " << sc.mu_r << ": " << std::setprecision(6)
            << need << " steps";
         plan.steps.push_back(std::min(need, double(sc.max_steps)));
@@ -3173,7 +3174,8 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         }
         if (need > double(sc.max_steps)) {
           std::ostringstream w;
-          w << std::setprecision(4) << sc.cycles << " cycles of eps_a = +-" << sc.strain_amplitude << " take " << need
+          w << std::setprecision(4) << sc.cycles << " cycle" << plural(sc.cycles) << " of eps_a = +-" << sc.strain_amplitude
+            << (sc.cycles == 1 ? " takes " : " take ") << need
             << " steps, but max_steps = " << sc.max_steps << ": the stage would stop after ~"
             << double(sc.max_steps) * strain_step / (4 * sc.strain_amplitude) << " cycles; raise max_steps";
           warn(w.str());
