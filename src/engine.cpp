@@ -337,15 +337,17 @@ Real Engine::box_volume() const {
   return v;
 }
 
-Real Engine::solid_volume_in(const Vec3d& lo, const Vec3d& hi) const {
+Real Engine::solid_volume_in(const Vec3d& lo, const Vec3d& hi) {
   auto x = P_.x;
   auto r = P_.r;
   const Vec3 l(lo[0], lo[1], lo[2]), h(hi[0], hi[1], hi[2]);
   Real v = 0;
-  // An output-row measure, not the dynamics: a Sum (its order is the backend's, fixed for a fixed thread count).
-  Kokkos::parallel_reduce(
-      "grainlab::analysis::solid_in_box", Kokkos::RangePolicy<ExecSpace>(0, num_particles()),
-      KOKKOS_LAMBDA(int i, Real& s) { s += sphere_volume_in_box(Vec3(x(i, 0), x(i, 1), x(i, 2)), r(i), l, h); }, v);
+  // An output-row measure, not the dynamics, but summed as the rest (fixed chunks in a fixed order): a plain Sum's
+  // order was the backend's, and e_inner and e_core differed between 1 and 2 threads in their last bit (session 70).
+  red_.run(
+      "grainlab::analysis::solid_in_box", P_.n, 1,
+      KOKKOS_LAMBDA(int i, Real* acc) { acc[0] += sphere_volume_in_box(Vec3(x(i, 0), x(i, 1), x(i, 2)), r(i), l, h); },
+      &v);
   return v;
 }
 

@@ -216,7 +216,7 @@ class Engine {
   // core's (Laboratory::grading). Centre counting, which it replaces, is unbiased but counts a cut sphere whole or not
   // at all: in the central eighth of a 10 000-sphere sample that made e wrong by about 0.02, the size of the grading it
   // is meant to show.
-  Real solid_volume_in(const Vec3d& lo, const Vec3d& hi) const;
+  Real solid_volume_in(const Vec3d& lo, const Vec3d& hi);
 
   Diagnostics diagnostics();
   // Checks the current state for NaN/Inf, excessive overlaps, escaped particles and tunnelling speeds.

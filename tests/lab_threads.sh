@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # lab_threads.sh GRAINLAB CONFIG DIR: the config's run at 1 and at 2 threads ends in the same state bit for bit: the
 # final checkpoint's /state (positions, velocities, spins, forces, contact pairs and their tangential and rolling
-# histories, walls, scalars) by h5diff, and the same series.csv and cycles.csv. Each stage must have run (a row in the
-# series), and each run with the threads asked for (summary.json's build line) on a host backend; on a GPU the two
-# runs are two runs on the device. Not compared: /lab/series's e_inner and e_core (a Sum whose order is the backend's,
-# an output row's measure: Engine::solid_volume_in).
+# histories, walls, scalars) and /lab (the series and stage results to the bit, e_inner and e_core among them) by
+# h5diff, run.h5's /series, and the same series.csv and cycles.csv. Each stage must have run (a row in the series), and
+# each run with the threads asked for (summary.json's build line) on a host backend; on a GPU the two runs are two
+# runs on the device.
 set -u
 bin=$1 cfg=$2 dir=$3
 rm -rf "$dir" && mkdir -p "$dir" || exit 1
@@ -22,8 +22,12 @@ for s in $stages; do
 done
 last=$(ls "$dir/t1/checkpoints" | tail -1)
 [ "$last" = "$(ls "$dir/t2/checkpoints" | tail -1)" ] || fail "the runs' last checkpoints differ: $last, $(ls "$dir/t2/checkpoints" | tail -1)"
-h5diff "$dir/t1/checkpoints/$last" "$dir/t2/checkpoints/$last" /state /state > "$dir/state.diff" ||
-  { head -20 "$dir/state.diff"; fail "the state at 1 and 2 threads differs ($last)"; }
+for g in /state /lab; do
+  h5diff "$dir/t1/checkpoints/$last" "$dir/t2/checkpoints/$last" $g $g > "$dir/diff.txt" ||
+    { head -20 "$dir/diff.txt"; fail "$last's $g at 1 and 2 threads differs"; }
+done
+h5diff "$dir/t1/run.h5" "$dir/t2/run.h5" /series /series > "$dir/diff.txt" ||
+  { head -20 "$dir/diff.txt"; fail "run.h5's /series at 1 and 2 threads differs"; }
 for f in series.csv cycles.csv; do
   cmp "$dir/t1/$f" "$dir/t2/$f" || fail "$f differs between 1 and 2 threads"
 done
