@@ -15,9 +15,8 @@
 #     config, with their page faults (fuzz_configs runs 1 300 such commands; session 70, 2-core VM, medians of 11,
 #     /usr/bin/time's start included: 57 and 58 ms, ~2 720 faults, when a config was read into a zeroed 4 MiB string;
 #     34 and 36 ms, 670 and 696 faults, read in blocks).
-# Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K | validate]
-#   [REPS]   (build/
-#   first; default: placement 200000, 3 reps)
+# Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or
+#   perf/startup.sh validate [REPS]   (build/ first; default: placement 200000, 3 reps; validate 11)
 set -eu
 what=${1:-placement}; arg=${2:-}; reps=${3:-3}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -75,6 +74,6 @@ elif [ "$what" = validate ]; then
          "$(cut -d' ' -f2 "$work/v.$(basename "$cfg")" | median) page faults"
   done
 else
-  echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K | validate [REPS]] [REPS]" >&2
+  echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or validate [REPS]" >&2
   exit 2
 fi

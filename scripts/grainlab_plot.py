@@ -183,7 +183,7 @@ _KNOWN_FORMATS = ("png", "pdf", "svg")
 def figure_formats(cmd):
     """The formats each figure is written in: GRAINLAB_FIGURE_FORMATS, a comma-separated list of png, pdf and svg in
     the order written (exits naming it otherwise), else PNG and PDF. Each format is a render of its own: a report of
-    PNGs alone took 0.75-0.83 of the time (perf/report_time.sh DIR formats; perf/NOTES.md session 70)."""
+    PNGs alone took 0.76-0.83 of the time (perf/report_time.sh DIR formats; perf/NOTES.md session 70)."""
     env = os.environ.get("GRAINLAB_FIGURE_FORMATS")
     if env is None or env.strip() == "":
         return ("png", "pdf")

@@ -3174,8 +3174,8 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
         }
         if (need > double(sc.max_steps)) {
           std::ostringstream w;
-          w << std::setprecision(4) << sc.cycles << " cycle" << plural(sc.cycles) << " of eps_a = +-" << sc.strain_amplitude
-            << (sc.cycles == 1 ? " takes " : " take ") << need
+          w << std::setprecision(4) << sc.cycles << " cycle" << plural(sc.cycles) << " of eps_a = +-"
+            << sc.strain_amplitude << (sc.cycles == 1 ? " takes " : " take ") << need
             << " steps, but max_steps = " << sc.max_steps << ": the stage would stop after ~"
             << double(sc.max_steps) * strain_step / (4 * sc.strain_amplitude) << " cycles; raise max_steps";
           warn(w.str());

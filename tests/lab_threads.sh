@@ -10,7 +10,8 @@ bin=$1 cfg=$2 dir=$3
 rm -rf "$dir" && mkdir -p "$dir" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
 for t in 1 2; do
-  "$bin" run "$cfg" --out "$dir/t$t" --threads "$t" --quiet 2> "$dir/t$t.err" || { cat "$dir/t$t.err"; fail "the run at $t threads"; }
+  "$bin" run "$cfg" --out "$dir/t$t" --threads "$t" --quiet 2> "$dir/t$t.err" ||
+    { cat "$dir/t$t.err"; fail "the run at $t threads"; }
   build=$(grep -o '"build": "[^"]*"' "$dir/t$t/summary.json")
   case "$build" in
     *"OpenMP x"*) printf '%s\n' "$build" | grep -q "OpenMP x $t;" || fail "asked for $t threads, ran $build" ;;
@@ -20,8 +21,8 @@ stages=$(grep -oE '^ *- \{name: [a-z0-9_]+' "$cfg" | sed 's/.*name: //')
 for s in $stages; do
   grep -q "^$s," "$dir/t1/series.csv" || fail "stage $s has no row in the series: it did not run"
 done
-last=$(ls "$dir/t1/checkpoints" | tail -1)
-[ "$last" = "$(ls "$dir/t2/checkpoints" | tail -1)" ] || fail "the runs' last checkpoints differ: $last, $(ls "$dir/t2/checkpoints" | tail -1)"
+last=$(ls "$dir/t1/checkpoints" | tail -1) last2=$(ls "$dir/t2/checkpoints" | tail -1)
+[ "$last" = "$last2" ] || fail "the runs' last checkpoints differ: $last, $last2"
 for g in /state /lab; do
   h5diff "$dir/t1/checkpoints/$last" "$dir/t2/checkpoints/$last" $g $g > "$dir/diff.txt" ||
     { head -20 "$dir/diff.txt"; fail "$last's $g at 1 and 2 threads differs"; }
