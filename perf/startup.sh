@@ -14,7 +14,8 @@
 #   validate: the smallest commands, `grainlab validate` of a config refused at its first key and of the tests' smoke
 #     config, with their page faults (fuzz_configs runs 1 300 such commands; session 70, 2-core VM, medians of 11,
 #     /usr/bin/time's start included: 57 and 58 ms, ~2 720 faults, when a config was read into a zeroed 4 MiB string;
-#     34 and 36 ms, 670 and 696 faults, read in blocks).
+#     34 and 36 ms, 670 and 696 faults, read in blocks; session 71, HDF5's static archive: 41 and 44 -> 24 and 25 ms,
+#     670 and 697 -> 228 and 257 faults).
 # Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or
 #   perf/startup.sh validate [REPS]   (build/ first; default: placement 200000, 3 reps; validate 11)
 set -eu
