@@ -60,7 +60,8 @@ int usage(FILE* f) {
                "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP, a closed output pipe: checkpoint written; continue with\n"
                "                --resume)\n"
                "environment: OMP_NUM_THREADS (threads, unless --threads), GRAINLAB_MEMORY_LIMIT (bytes a run may\n"
-               "             plan for; 16G, 512M), GRAINLAB_PYTHON (interpreter of plot, csl and the study report)\n");
+               "             plan for; 16G, 512M), GRAINLAB_PYTHON (interpreter of plot, csl and the study report),\n"
+               "             GRAINLAB_FIGURE_FORMATS (the figures' files: a list of png, pdf, svg; png,pdf)\n");
   return 0;
 }
 // A whole-number option in [lo, hi]. Anything else (empty, "abc", "2.5", out of range) gets one line naming the
