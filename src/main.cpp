@@ -59,6 +59,7 @@ int usage(FILE* f) {
                "exit codes: 0 done, 1 error (config, I/O, memory), 2 bad command line, 3 numerical blow-up,\n"
                "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP, a closed output pipe: checkpoint written; continue with\n"
                "                --resume)\n"
+               "threads: --threads N, else OMP_NUM_THREADS, else a thread a 1000 spheres up to the cores\n"
                "environment: OMP_NUM_THREADS (threads, unless --threads), GRAINLAB_MEMORY_LIMIT (bytes a run may\n"
                "             plan for; 16G, 512M), GRAINLAB_PYTHON (interpreter of plot, csl and the study report),\n"
                "             GRAINLAB_FIGURE_FORMATS (the figures' files: a list of png, pdf, svg; png,pdf)\n");
@@ -538,6 +539,20 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (!omp_threads_env_ok(threads)) return 2;
+#if defined(KOKKOS_ENABLE_OPENMP) && !defined(KOKKOS_ENABLE_CUDA)
+  // Neither --threads nor OMP_NUM_THREADS: a thread for each kSpheresPerThread spheres, up to the cores (OpenMP would
+  // start one a core, and on a 300-sphere run two threads took 1.5x one's time on the project's VM).
+  if (threads == 0 && !std::getenv("OMP_NUM_THREADS")) {
+    const int cores = grainlab::usable_cores();
+    const long spheres = grainlab::config_spheres(cfg);
+    threads = spheres > 0 ? grainlab::default_threads(spheres, cores) : cores;
+    if (threads < cores)
+      opt.threads_note = "threads: " + std::to_string(threads) + " of " + std::to_string(cores) + " cores (" +
+                         std::to_string(spheres) + " spheres: a thread a " + std::to_string(grainlab::kSpheresPerThread) +
+                         "; more threads would wait on each other at every step's barriers); --threads N or "
+                         "OMP_NUM_THREADS to choose";
+  }
+#endif
   try {
     grainlab::compat::initialize(threads);
   } catch (const std::exception& e) {  // more threads than Kokkos's OpenMP pool (compat::kMaxHostThreads)

@@ -2788,6 +2788,7 @@ RunResult Laboratory::run() {
     std::printf("%s | %d particles | dt = %.4g s (%.3g of the stable limit) | density scaling %g%s\n",
                 build_info().c_str(), eng_->num_particles(), eng_->dt(), eng_->dt() / eng_->critical_dt(), scaling_,
                 fines);
+    if (!opt_.threads_note.empty()) std::printf("%s\n", opt_.threads_note.c_str());
     // The resolved config (every default filled in) is the run's config.yaml, not the console's: 50 lines before
     // the first progress line buried the plan.
     std::printf("output: %s (config.yaml: the resolved config, every default filled in)\n", out_.c_str());
@@ -2865,6 +2866,19 @@ int usable_cores() {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (const int q = cores_of_cpu_max(text); q > 0) cores = std::min(cores, q);
   return cores;
+}
+
+int default_threads(long spheres, int cores) {
+  return int(std::clamp(spheres / kSpheresPerThread, 1L, long(std::max(1, cores))));
+}
+
+long config_spheres(const RunConfig& cfg) {
+  if (cfg.sample_file.empty()) return cfg.packing.count;
+  try {
+    return long(H5Reader(cfg.sample_file).doubles("/state/r").size());
+  } catch (const std::exception&) {
+    return 0;
+  }
 }
 
 std::string memory_amount(double b) {

@@ -15,6 +15,7 @@ struct RunOptions {
   bool quiet = false;
   bool resume = false;
   long stop_after_steps = -1;  // testing aid: behave as if interrupted after this many steps (-1: never)
+  std::string threads_note;    // printed under the run's first line (why it runs at fewer threads than cores)
   // A study's check of a job its edit extends (`run --check-resume`): the refusals --resume of this config would
   // make (a key that differs, another time step, an end moved before where the run is) as its error, nothing written.
   bool check_resume = false;
@@ -135,6 +136,17 @@ std::string memory_amount(double bytes);
 // default thread count (the online CPUs where the affinity cannot be read), and at most what a cgroup v2 CPU quota
 // (/sys/fs/cgroup/cpu.max: docker --cpus) allows, which OpenMP does not see.
 int usable_cores();
+// The threads a CPU run starts where neither --threads nor OMP_NUM_THREADS chose them (OpenMP's own default is a thread
+// a core): a thread for each kSpheresPerThread spheres, at least 1 and at most `cores`. A step opens ~4 OpenMP
+// parallel regions, each a fork, barriers and a join across every thread (~7 us a region at 2 threads on the
+// project's VM, more with more threads): a small sample spread over many threads waits on them more than it
+// computes (perf/NOTES.md sessions 70 and 71). The dynamics do not depend on the count (fixed-chunk sums: the same bits
+// at any), so the choice changes only the time a run takes.
+constexpr long kSpheresPerThread = 1000;
+int default_threads(long spheres, int cores);
+// The spheres a run config starts with: sample.count, or the sample file's (0 where the file cannot be read: the run
+// itself says why).
+long config_spheres(const RunConfig& cfg);
 // The cores of a cgroup v2 cpu.max text, "QUOTA PERIOD" (microseconds each), rounded up; 0 for "max PERIOD" (no
 // limit) or an unreadable text.
 int cores_of_cpu_max(const std::string& text);

@@ -1387,6 +1387,11 @@ int run_study(const Study& s, const StudyOptions& o) {
   // The cores of this process's affinity, not the machine's: a container's cpuset of 2 on a 64-core host must not
   // start 32 threads a job (OpenMP threads beyond the cores wait on each other at every barrier, main.cpp).
   const int per_job_threads = std::max(1, (o.threads > 0 ? o.threads : usable_cores()) / std::max(1, o.jobs));
+  // Where --threads did not set them, a job of few spheres gets fewer: a thread a kSpheresPerThread spheres, as a
+  // run's default (default_threads: a small sample spread over many threads waits on their barriers).
+  const auto job_threads = [&](const StudyJob& j) {
+    return o.threads > 0 || j.count <= 0 ? per_job_threads : default_threads(j.count, per_job_threads);
+  };
   // Write every job's config first: a bad one fails now, not hours in.
   auto cfg_path = [&](const StudyJob& j) { return out / "jobs" / j.name / "job.yaml"; };
   auto sample_file = [&](const StudyJob& sample) {
@@ -1584,7 +1589,7 @@ int run_study(const Study& s, const StudyOptions& o) {
       if (getppid() != parent) _exit(3);  // the study died before prctl took effect
       if (!freopen(log.c_str(), "a", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(2);
       const std::string cfg = cfg_path(j).string(), dir = (out / "jobs" / j.name / "run").string(),
-                        th = std::to_string(per_job_threads);
+                        th = std::to_string(job_threads(j));
       execl(o.self_exe.c_str(), o.self_exe.c_str(), "run", cfg.c_str(), "--out", dir.c_str(), "--resume", "--threads",
             th.c_str(), "--quiet", (char*)nullptr);
       _exit(127);
@@ -1625,11 +1630,17 @@ int run_study(const Study& s, const StudyOptions& o) {
   queue.insert(queue.end(), shears_first.begin(), shears_first.end());
   const size_t total = s.samples.size() + s.shears.size();
   for (const std::string& w : s.warnings) std::fprintf(stderr, "grainlab: warning: %s\n", w.c_str());
-  if (!o.quiet)
-    std::printf("study %s: %zu sample%s, %zu shear%s; %zu to run, %d at a time x %d thread%s; output %s\n",
+  if (!o.quiet) {
+    bool fewer = false;  // a job below per_job_threads x kSpheresPerThread spheres, which starts fewer threads
+    for (const auto* js : {&s.samples, &s.shears})
+      for (const StudyJob& j : *js) fewer = fewer || job_threads(j) < per_job_threads;
+    const std::string few = " (fewer for a job of fewer than " + std::to_string(per_job_threads * kSpheresPerThread) +
+                            " spheres: a thread a " + std::to_string(kSpheresPerThread) + ")";
+    std::printf("study %s: %zu sample%s, %zu shear%s; %zu to run, %d at a time x %d thread%s%s; output %s\n",
                 s.path.c_str(), s.samples.size(), plural(long(s.samples.size())), s.shears.size(),
                 plural(long(s.shears.size())), queue.size(), o.jobs, per_job_threads, plural(long(per_job_threads)),
-                out.c_str());
+                fewer ? few.c_str() : "", out.c_str());
+  }
   std::vector<Running> running;
   int failures = 0, interrupted = 0;
   bool stopping = false, forwarded = false;
