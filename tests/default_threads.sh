@@ -8,15 +8,16 @@ fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 unset OMP_NUM_THREADS
 sample() {  # a config of N spheres with one short isotropic stage
-  printf 'sample: {count: %s, seed: 3, density_scaling: 1000}\nstages:\n  - {name: c, type: isotropic, max_steps: 20}\n' \
-    "$1" > "$2"
+  printf 'sample: {count: %s, seed: 3, density_scaling: 1000}\n' "$1" > "$2"
+  printf 'stages:\n  - {name: c, type: isotropic, max_steps: 20}\n' >> "$2"
 }
 first_lines() { "$bin" run "$@" --stop-after-steps 5 2>&1 | head -n 2; }
 sample 300 small.yaml
 out=$(first_lines small.yaml --out small)
 cores=$(printf '%s\n' "$out" | sed -n 's/^threads: 1 of \([0-9]*\) cores (300 spheres: a thread a 1000;.*/\1/p')
 if [ -z "$cores" ]; then
-  printf '%s\n' "$out" | grep -q "backend OpenMP x 1;" && { echo "one usable core: nothing to choose (skipped)"; exit 77; }
+  printf '%s\n' "$out" | grep -q "backend OpenMP x 1;" &&
+    { echo "one usable core: nothing to choose (skipped)"; exit 77; }
   fail "a 300-sphere run without --threads or OMP_NUM_THREADS did not start 1 thread and say why: $out"
 fi
 printf '%s\n' "$out" | grep -q "backend OpenMP x 1;" || fail "the note says 1 thread, the build line does not: $out"
@@ -29,7 +30,8 @@ printf '%s\n' "$out" | grep -q "^threads:" && fail "a note where the run takes e
 # one sphere fewer: a thread fewer
 sample $((n - 1)) under.yaml
 out=$(first_lines under.yaml --out under)
-printf '%s\n' "$out" | grep -q "backend OpenMP x $((cores - 1));" || fail "$((n - 1)) spheres: not $((cores - 1)) threads: $out"
+printf '%s\n' "$out" | grep -q "backend OpenMP x $((cores - 1));" ||
+  fail "$((n - 1)) spheres: not $((cores - 1)) threads: $out"
 # a user's choice stands, whatever the size
 out=$(OMP_NUM_THREADS=2 first_lines small.yaml --out env)
 printf '%s\n' "$out" | grep -q "backend OpenMP x 2;" || fail "OMP_NUM_THREADS=2 did not start 2 threads: $out"
@@ -40,10 +42,12 @@ printf '%s\n' "$out" | grep -q "backend OpenMP x 2;" || fail "--threads 2 did no
 # runs --quiet: its summary.json's build line says), and the study's first line says why.
 printf 'base: small.yaml\naxes: {mu_r: [0.1]}\n' > study.yaml
 out=$("$bin" study study.yaml --out st --jobs 1 2>&1) || fail "the study failed: $out"
-printf '%s\n' "$out" | grep -q "1 at a time x $cores threads (fewer for a job of fewer than $n spheres: a thread a 1000)" ||
+want="1 at a time x $cores threads (fewer for a job of fewer than $n spheres: a thread a 1000)"
+printf '%s\n' "$out" | grep -qF "$want" ||
   fail "the study's first line does not say its jobs start fewer threads: $out"
 grep -q "backend OpenMP x 1;" st/jobs/*/run/summary.json || fail "the study's 300-sphere job did not run at 1 thread"
 out=$("$bin" study study.yaml --out st2 --jobs 1 --threads 2 2>&1) || fail "the study with --threads 2 failed: $out"
 printf '%s\n' "$out" | grep -q "fewer for a job" && fail "--threads 2 given, the study still says fewer: $out"
 grep -q "backend OpenMP x 2;" st2/jobs/*/run/summary.json || fail "the study's job did not run at --threads 2"
-echo "ok: 1 thread for 300 spheres on $cores cores, $cores for $n, $((cores - 1)) for $((n - 1)); --threads, OMP_NUM_THREADS and a study's jobs"
+echo "ok: 1 thread for 300 spheres on $cores cores, $cores for $n, $((cores - 1)) for $((n - 1));" \
+  "--threads, OMP_NUM_THREADS and a study's jobs"
