@@ -16,8 +16,11 @@
 #     /usr/bin/time's start included: 57 and 58 ms, ~2 720 faults, when a config was read into a zeroed 4 MiB string;
 #     34 and 36 ms, 670 and 696 faults, read in blocks; session 71, HDF5's static archive: 41 and 44 -> 24 and 25 ms,
 #     670 and 697 -> 228 and 257 faults).
+#   sizes: 1 against 2 threads on samples of 250 to 8 000 spheres (an isotropic stage of 4 000 steps, whole process),
+#     the measurement behind a run's default thread count (a thread a 1 000 spheres; session 71, 2-core VM, medians of
+#     3, 2 threads / 1: 1.35, 1.24, 1.06, 0.87, 0.68, 0.58).
 # Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or
-#   perf/startup.sh validate [REPS]   (build/ first; default: placement 200000, 3 reps; validate 11)
+#   perf/startup.sh validate [REPS] or sizes - [REPS]   (build/ first; default: placement 200000, 3 reps; validate 11)
 set -eu
 what=${1:-placement}; arg=${2:-}; reps=${3:-3}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -49,6 +52,22 @@ elif [ "$what" = threads ]; then
         done | median)
     echo "smoke run at $t thread(s) (median of $reps): $s s"
   done
+elif [ "$what" = sizes ]; then
+  # 1 against 2 threads by sample size: an isotropic stage of 4 000 steps, whole process, alternating (main.cpp's
+  # default thread count, kSpheresPerThread)
+  for n in 250 500 1000 2000 4000 8000; do
+    printf 'sample: {count: %s, seed: 3, density_scaling: 1000}\nmaterial: {mu_r: 0.1}\n' "$n" > "$work/n.yaml"
+    printf 'stages:\n  - {name: c, type: isotropic, mu: 0.3, max_steps: 4000, ufr_tolerance: 1e-12}\n' >> "$work/n.yaml"
+    : > "$work/n1"; : > "$work/n2"
+    for k in $(seq "$reps"); do
+      for t in 1 2; do
+        seconds "$bin" run "$work/n.yaml" --out "$work/n${t}_$k" --threads "$t" --quiet >> "$work/n$t"
+        rm -rf "$work/n${t}_$k"
+      done
+    done
+    m1=$(median < "$work/n1"); m2=$(median < "$work/n2")
+    echo "$n spheres (medians of $reps): 1 thread $m1 s, 2 threads $m2 s, 2/1 $(echo "scale=3; $m2 / $m1" | bc)"
+  done
 elif [ "$what" = import ]; then
   k=${arg:-3}
   peers=${PEERS_DIR:-$root/../shared/bench/peers}
@@ -75,6 +94,7 @@ elif [ "$what" = validate ]; then
          "$(cut -d' ' -f2 "$work/v.$(basename "$cfg")" | median) page faults"
   done
 else
-  echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or validate [REPS]" >&2
+  echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or validate [REPS], or" \
+       "sizes - [REPS]" >&2
   exit 2
 fi
