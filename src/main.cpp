@@ -59,7 +59,8 @@ int usage(FILE* f) {
                "exit codes: 0 done, 1 error (config, I/O, memory), 2 bad command line, 3 numerical blow-up,\n"
                "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP, a closed output pipe: checkpoint written; continue with\n"
                "                --resume)\n"
-               "threads: --threads N, else OMP_NUM_THREADS, else a thread a 1000 spheres up to the cores\n"
+               "threads: --threads N, else OMP_NUM_THREADS, else a thread a 1000 spheres up to the cores (a study\n"
+               "         divides them among its --jobs)\n"
                "environment: OMP_NUM_THREADS (threads, unless --threads), GRAINLAB_MEMORY_LIMIT (bytes a run may\n"
                "             plan for; 16G, 512M), GRAINLAB_PYTHON (interpreter of plot, csl and the study report),\n"
                "             GRAINLAB_FIGURE_FORMATS (the figures' files: a list of png, pdf, svg; png,pdf)\n");
@@ -345,14 +346,20 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "grainlab study: which study? (a STUDY.yaml is missing)\n");
       return usage(stderr);
     }
-    // Its runs start with --threads, else OMP_NUM_THREADS: refused here, before any job starts, where unreadable or
-    // too many.
+    // Its threads are --threads, else OMP_NUM_THREADS, else the usable cores, divided among the jobs: refused here,
+    // before any job starts, where unreadable or too many.
     if (!omp_threads_env_ok(so.threads)) return 2;
     if (const int t = grainlab::compat::host_threads(so.threads); t > grainlab::compat::kMaxHostThreads) {
       std::fprintf(stderr, "grainlab: %d threads (OMP_NUM_THREADS): Kokkos's OpenMP backend runs at most %d: set fewer "
                    "with --threads N\n", t, grainlab::compat::kMaxHostThreads);
       return 2;
     }
+#if defined(KOKKOS_ENABLE_OPENMP) && !defined(KOKKOS_ENABLE_CUDA)
+    // The jobs are child processes started with --threads (their share), which overrides the variable in each: so
+    // the study reads it here, as a run does, and treats it as --threads (a user's choice: no fewer for small jobs).
+    // Before, a study ignored it and took every core (on a shared node, OMP_NUM_THREADS=4 started cores/jobs a job).
+    if (so.threads == 0 && std::getenv("OMP_NUM_THREADS")) so.threads = grainlab::compat::host_threads(0);
+#endif
     if (!grainlab::is_study_file(study) && grainlab::is_run_config_file(study)) {
       std::fprintf(stderr, "grainlab: error: %s: a run config, not a study (a study names its `base`): run it with "
                    "`grainlab run %s`\n", study.c_str(), study.c_str());

@@ -49,5 +49,9 @@ grep -q "backend OpenMP x 1;" st/jobs/*/run/summary.json || fail "the study's 30
 out=$("$bin" study study.yaml --out st2 --jobs 1 --threads 2 2>&1) || fail "the study with --threads 2 failed: $out"
 printf '%s\n' "$out" | grep -q "fewer for a job" && fail "--threads 2 given, the study still says fewer: $out"
 grep -q "backend OpenMP x 2;" st2/jobs/*/run/summary.json || fail "the study's job did not run at --threads 2"
+# OMP_NUM_THREADS is a user's choice in a study too (as --threads): its 300-sphere job starts 2, not 1
+out=$(OMP_NUM_THREADS=2 "$bin" study study.yaml --out st3 --jobs 1 2>&1) || fail "the study with OMP_NUM_THREADS failed"
+printf '%s\n' "$out" | grep -q "1 at a time x 2 threads;" || fail "OMP_NUM_THREADS=2: not 1 job x 2 threads: $out"
+grep -q "backend OpenMP x 2;" st3/jobs/*/run/summary.json || fail "the study's job did not run at OMP_NUM_THREADS=2"
 echo "ok: 1 thread for 300 spheres on $cores cores, $cores for $n, $((cores - 1)) for $((n - 1));" \
-  "--threads, OMP_NUM_THREADS and a study's jobs"
+  "--threads, OMP_NUM_THREADS and a study's jobs (either choosing)"
