@@ -643,7 +643,8 @@ HealthReport Engine::check_health(const HealthLimits& lim) const {
     const Real kn = params_.contact.E * 0.5 * (ri + rj);
     std::ostringstream os;
     os << "particles " << mo.i << " and " << mo.j << " overlap by " << mo.ratio << " of the smaller radius (limit "
-       << lim.max_overlap << "), normal force " << kn * delta << " N, closing by " << 100 * per_step
+       << lim.max_overlap << "), normal force " << kn * delta << " N (radii " << 1e3 * ri << " and " << 1e3 * rj
+       << " mm), closing by " << 100 * per_step
        << " % of the overlap per step";
     rep.squeeze = per_step < kSqueeze;
     if (rep.squeeze)
