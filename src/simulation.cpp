@@ -2199,7 +2199,7 @@ void Laboratory::assert_healthy() {
   // Not once the stage has reached its pressure (kPressureReached of it): its walls then hold still, and what squeezes
   // the fine sphere is the load itself, which no ramp lowers. A gas of diameters 0.1-2 mm (p(r) ~ r^-2, 3 000 spheres,
   // E = 100 MPa, 190 kPa; the stopped pair's radii 0.36 and 0.063 mm) stopped so on a 7 000-step ramp at step 12 199
-  // with p' at 189.9 kPa, and the ramps advised then (61 000, 220 000 steps) stopped earlier still, at 128 and ~82 kPa:
+  // with p' at 189.9 kPa, and the ramps advised then (61 000, 220 000 steps) stopped earlier still, at 132 and 81.8 kPa:
   // the advice only sent the user round (tests/data/wide_loaded.yaml). Below it the advice stands: the gas above stops
   // at 18 kPa of 100, tests/data/wide_gas.yaml at 133 kPa of 200, tests/data/soft_ramp.yaml at ~150 kPa of 190 on its
   // 20 000-step ramp, and each consolidates on the ramp advised.
