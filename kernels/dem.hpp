@@ -208,7 +208,16 @@ class DeterministicSum {
   }
   template <bool Team>
   void sum_chunks(int nchunks, int nv) {
-    if constexpr (!Team) {
+    if constexpr (!Team && kHostBackend) {
+      // On the calling thread, chunk by chunk (the partials' rows in memory order): the nv sums (18 for six walls)
+      // of 40 chunks at 10^4 spheres, 3 900 at 10^6, where a parallel region for them cost ~7 us of fork, join and
+      // barrier at 2 threads, one of the four the lab's step opened (perf/NOTES.md, session 72). Each value gets the
+      // same additions in the same (chunk) order as ChunkSums', so the same bits.
+      Real s[kMaxValues] = {};
+      for (int c = 0; c < nchunks; ++c)
+        for (int k = 0; k < nv; ++k) s[k] += partial_(c, k);
+      for (int k = 0; k < nv; ++k) result_(k) = s[k];
+    } else if constexpr (!Team) {
       Kokkos::parallel_for("grainlab::reduce::chunks", Kokkos::RangePolicy<ExecSpace>(0, nv),
                            ChunkSums{partial_, result_, nchunks});
     } else {
