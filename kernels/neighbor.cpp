@@ -23,20 +23,22 @@ KOKKOS_INLINE_FUNCTION void sort_segment(const IntView& a, int begin, int end) {
   }
 }
 
-// Exclusive scan of counts(0..n-1) into offsets(0..n); returns the total.
+// Exclusive scan of counts(0..n-1) into offsets(0..n); returns the total. The last item's final pass writes the
+// tail, offsets(n): no kernel of its own (a parallel region fewer on host backends, perf/NOTES.md session 72).
 int exclusive_scan(const IntView& counts, const IntView& offsets, int n) {
   int total = 0;
   Kokkos::parallel_scan(
       "grainlab::neighbor::scan", Kokkos::RangePolicy<ExecSpace>(0, n),
       KOKKOS_LAMBDA(int i, int& upd, bool final) {
         const int c = counts(i);
-        if (final) offsets(i) = upd;
+        if (final) {
+          offsets(i) = upd;
+          if (i == n - 1) offsets(n) = upd + c;
+        }
         upd += c;
       },
       total);
-  Kokkos::parallel_for(
-      "grainlab::neighbor::scan_tail", Kokkos::RangePolicy<ExecSpace>(0, 1),
-      KOKKOS_LAMBDA(int) { offsets(n) = total; });
+  if (n == 0) Kokkos::deep_copy(Kokkos::subview(offsets, 0), 0);
   return total;
 }
 
@@ -52,12 +54,12 @@ void group_by_key(const IntView& key, int nitems, int nkeys, const IntView& curs
       "grainlab::neighbor::group_count", Kokkos::RangePolicy<ExecSpace>(0, nitems),
       KOKKOS_LAMBDA(int i) { Kokkos::atomic_fetch_add(&cursor(key(i)), 1); });
   exclusive_scan(cursor, start, nkeys);
-  Kokkos::parallel_for(
-      "grainlab::neighbor::group_cursor", Kokkos::RangePolicy<ExecSpace>(0, nkeys),
-      KOKKOS_LAMBDA(int k) { cursor(k) = start(k); });
+  // The fill counts each key's items down from its count (c, c - 1, ..., 1: slots start + c - 1 down to start),
+  // so the cursor needs no copy of start (a kernel fewer); the sort below fixes the order within a key either way.
   Kokkos::parallel_for(
       "grainlab::neighbor::group_fill", Kokkos::RangePolicy<ExecSpace>(0, nitems), KOKKOS_LAMBDA(int i) {
-        const int slot = Kokkos::atomic_fetch_add(&cursor(key(i)), 1);
+        const int k = key(i);
+        const int slot = start(k) + Kokkos::atomic_fetch_sub(&cursor(k), 1) - 1;
         items(slot) = i;
       });
   Kokkos::parallel_for(
