@@ -1031,6 +1031,24 @@ std::string on_reference(const std::string& name, const std::string& stages, int
                             "stages:\n" + stages + "output: {every: " + std::to_string(every) +
                             ", checkpoint_every: 0, checkpoint_minutes: 0}\n");
 }
+
+// The rows of an undrained plane-strain stage (u, sigma_y, eps_x, eps_v of its rows alone; the first row 20 steps in):
+// the x walls held (eps_x exactly 0), the y walls keeping the volume (eps_v 0 to round-off: kVolTol), the cell
+// pressure on the y faces alone, so u + sigma'_y is the start's on every row (kUTol: round-off of Pa sums of 1e5) and
+// u is 0 at the first row, as SPEC's (kU0Tol: the walls' switch from servo to constant volume moves sigma_y by ~0.003
+// p'_0 in those steps, measured).
+void expect_undrained_plane_strain_rows(const std::vector<double>& u, const std::vector<double>& sy,
+                                        const std::vector<double>& ex, const std::vector<double>& ev, double p0) {
+  const double kVolTol = 1e-12, kUTol = 1e-9 * p0, kU0Tol = 0.01 * p0;
+  ASSERT_GT(u.size(), 5u);
+  const double sy_start = u[0] + sy[0];
+  EXPECT_NEAR(u[0], 0.0, kU0Tol) << "the first row, a step into the stage";
+  for (size_t k = 0; k < u.size(); ++k) {
+    EXPECT_EQ(ex[k], 0.0) << "row " << k;
+    EXPECT_NEAR(ev[k], 0.0, kVolTol) << "row " << k;
+    EXPECT_NEAR(u[k] + sy[k], sy_start, kUTol) << "row " << k;
+  }
+}
 }  // namespace
 
 // A shear after a K0 consolidation (an oedometric stage: q0 ~ 0.3 of sigma_z) starts from the anisotropic stress it
@@ -1515,14 +1533,12 @@ TEST(Lab, PlaneStrainHoldsTheXWalls) {
   ASSERT_FALSE(run(cfg, stopped, -1, true).interrupted);
   EXPECT_EQ(slurp(stopped + "/series.csv"), slurp(out + "/series.csv"));
   // Undrained, after a drained true-triaxial loading (b = 0.5 to 0.5 %, so sigma_x and sigma_y differ where it starts):
-  // the y walls alone keep the volume (eps_v 0 to round-off from the stage's start, kVolTol; eps_x exactly 0) and the
-  // cell pressure acts on the y faces, u = sigma'_y,0 - sigma'_y: u + sigma_y is the start's sigma'_y on every row
-  // (kUTol: round-off of Pa sums of 1e5), u 0 at the start as SPEC's (kU0Tol: the first row is 20 steps in, where the
-  // walls' switch from servo to constant volume has moved sigma_y by 0.003 p'_0, measured; the mean lateral stress's
-  // start, p'_0 - q_0/3, in place of sigma'_y,0 gives half the start's sigma_x - sigma_y, 0.1 p'_0, there);
+  // the y walls alone keep the volume and the cell pressure acts on the y faces, u = sigma'_y,0 - sigma'_y
+  // (expect_undrained_plane_strain_rows; the mean lateral stress's start, p'_0 - q_0/3, in place of sigma'_y,0 would
+  // put half the start's sigma_x - sigma_y, 0.1 p'_0, into u at the first row: past the helper's kU0Tol, below);
   // sigma_x develops between sigma_3 and sigma_1 as drained. Interrupted and resumed: the same bytes (the checkpoint
   // holds sigma'_y,0).
-  const double kVolTol = 1e-12, kUTol = 1e-9 * p0, kU0Tol = 0.01 * p0;
+  const double kU0Tol = 0.01 * p0;
   const std::string ucfg = on_reference("psu", "  - {name: pre, type: triaxial, drainage: drained, b: 0.5, "
                                         "axial_strain_rate: 1.0, max_axial_strain: 0.005, damping: 0.2}\n"
                                         "  - {name: shear, type: triaxial, drainage: undrained, stress_path: "
@@ -1540,16 +1556,9 @@ TEST(Lab, PlaneStrainHoldsTheXWalls) {
       if (st[k] == "shear") v.push_back(std::stod(x[k]));
     return v;
   };
-  const auto uu = col("u"), usx = col("sigma_x"), usy = col("sigma_y"), usz = col("sigma_z"), uex = col("eps_x"),
-             uev = col("eps_v");
+  const auto uu = col("u"), usx = col("sigma_x"), usy = col("sigma_y"), usz = col("sigma_z");
+  expect_undrained_plane_strain_rows(uu, usy, col("eps_x"), col("eps_v"), p0);
   ASSERT_GT(uu.size(), 5u);
-  const double sy_start = uu[0] + usy[0];
-  EXPECT_NEAR(uu[0], 0.0, kU0Tol) << "the first row, a step into the stage";
-  for (size_t k = 0; k < uu.size(); ++k) {
-    EXPECT_EQ(uex[k], 0.0) << "row " << k;
-    EXPECT_NEAR(uev[k], 0.0, kVolTol) << "row " << k;
-    EXPECT_NEAR(uu[k] + usy[k], sy_start, kUTol) << "row " << k;
-  }
   const double ub = (usx.back() - usy.back()) / (usz.back() - usy.back());
   std::printf("  undrained plane strain at 2 %% after b = 0.5: start sigma_x - sigma_y %.3g p'_0, u at the first row "
               "%.2e p'_0; at the end b %.3f, u/p'_0 %.3f\n", (usx[0] - usy[0]) / p0, uu[0] / p0, ub, uu.back() / p0);
@@ -1592,13 +1601,12 @@ TEST(Lab, PlaneStrainHoldsTheXWalls) {
 // held (eps_x exactly 0 on every row) and the y walls at their start's stress, p'_0 (within 1 %, the servo's accuracy
 // as in compression), which becomes sigma_1 as sigma_z falls; sigma_x the intermediate stress once the deviator is
 // 20 % of p'_0, b = (sigma_x - sigma_z) / (sigma_y - sigma_z) in (0, 1) (measured, printed). The y walls close in
-// (eps_y > 0). Undrained, the y walls keep the volume (kVolTol, as the compression's) and the cell pressure on the y
-// faces is constant: u + sigma'_y the start's on every row (kUTol), u 0 at the first row 20 steps in (kU0Tol).
-// summary.json names the direction and the path, which the report reads.
+// (eps_y > 0). Undrained, the y walls keep the volume and the cell pressure on the y faces is constant, as in
+// compression (expect_undrained_plane_strain_rows). summary.json names the direction and the path, which the report
+// reads.
 TEST(Lab, PlaneStrainExtensionHoldsTheXWalls) {
   const Reference& ref = reference();
   const double p0 = H5Reader(ref.out + "/sample_consolidate.h5").attr_double("p");
-  const double kVolTol = 1e-12, kUTol = 1e-9 * p0, kU0Tol = 0.01 * p0;
   const auto pse = [](const char* name, const std::string& drainage, const std::string& strain) {
     return on_reference(name, "  - {name: shear, type: triaxial, drainage: " + drainage + ", direction: extension, "
                         "stress_path: plane_strain, axial_strain_rate: 1.0, max_axial_strain: " + strain +
@@ -1638,15 +1646,9 @@ TEST(Lab, PlaneStrainExtensionHoldsTheXWalls) {
   ASSERT_TRUE(run(ucfg, uout).stages.at(0).converged);
   H5Reader uh(uout + "/run.h5");
   const auto uu = uh.doubles("/series/u"), usx = uh.doubles("/series/sigma_x"), usy = uh.doubles("/series/sigma_y"),
-             usz = uh.doubles("/series/sigma_z"), uex = uh.doubles("/series/eps_x"), uev = uh.doubles("/series/eps_v");
+             usz = uh.doubles("/series/sigma_z");
+  expect_undrained_plane_strain_rows(uu, usy, uh.doubles("/series/eps_x"), uh.doubles("/series/eps_v"), p0);
   ASSERT_GT(uu.size(), 5u);
-  const double sy_start = uu[0] + usy[0];
-  EXPECT_NEAR(uu[0], 0.0, kU0Tol) << "the first row, a step into the stage";
-  for (size_t k = 0; k < uu.size(); ++k) {
-    EXPECT_EQ(uex[k], 0.0) << "row " << k;
-    EXPECT_NEAR(uev[k], 0.0, kVolTol) << "row " << k;
-    EXPECT_NEAR(uu[k] + usy[k], sy_start, kUTol) << "row " << k;
-  }
   std::printf("  undrained plane-strain extension at -1 %%: sigma_x %.3f, sigma_y %.3f, sigma_z %.3f p'_0, u %.3f "
               "p'_0\n", usx.back() / p0, usy.back() / p0, usz.back() / p0, uu.back() / p0);
   EXPECT_LT(usz.back(), usy.back()) << "the axis unloaded below the y walls' stress";
