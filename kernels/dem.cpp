@@ -227,7 +227,7 @@ void pair_forces_lanes_impl(const Particles& P, const PairList& L, const PairHis
   // threads finish together even when the cores run at different speeds (this VM's two do: 2 threads,
   // 1.09x median of 12 alternating runs against the static schedule, perf/NOTES.md attempt 20).
   Kokkos::parallel_for(
-      label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, nblocks), KOKKOS_LAMBDA(int b) {
+      label, dynamic_range(nblocks), KOKKOS_LAMBDA(int b) {
         // Local restrict copies: through the closure every store could alias the captured pointers, and
         // GCC would then neither hoist the loads nor if-convert the loop.
         const int* __restrict PI = PI_;
@@ -443,7 +443,7 @@ Real integrate_impl(const Particles& P, const PairList& L, const FlagView& flags
   } else {
     Real maxd2 = 0;
     // Dynamic schedule as in the pair-lane kernel: per-particle outputs and an exact max, so no bit depends on it.
-    const Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>> policy(0, P.n);
+    const DynamicRange policy = dynamic_range(P.n);
     auto body = KOKKOS_LAMBDA(int i, Real& mx) { particle(i, nullptr, mx); };
     if (device_max) {
       // Into device memory: the launch returns without waiting for the kernel (no copy to the host yet).

@@ -165,7 +165,7 @@ class DeterministicSum {
     auto partial = partial_;
     Real mx = 0;
     Kokkos::parallel_reduce(
-        label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, nchunks),
+        label, dynamic_range(nchunks),
         KOKKOS_LAMBDA(int c, Real& m) {
           Real acc[kMaxValues];
           for (int k = 0; k < nv; ++k) acc[k] = 0;

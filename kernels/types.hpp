@@ -17,6 +17,16 @@ using HostSpace = Kokkos::HostSpace;
 // shape that suits the backend where two shapes compute the same bits (DeterministicSum).
 constexpr bool kHostBackend = Kokkos::SpaceAccessibility<ExecSpace, HostSpace>::accessible;
 
+// A dynamic schedule over [0, n): on cores of unequal speed the threads finish together (perf/NOTES.md, attempt 20),
+// and no bit depends on which thread takes an item (each writes its own outputs; maxima are exact). On one thread,
+// one chunk: nothing to balance, and Kokkos 3.4 hands out every chunk under a lock (work stealing on a 16-byte range),
+// ~6 % of a 300-sphere run at 1 thread (perf/NOTES.md, session 72). Kokkos' automatic chunk otherwise.
+using DynamicRange = Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
+inline DynamicRange dynamic_range(int n) {
+  const DynamicRange p(0, n);
+  return ExecSpace().concurrency() == 1 && n > 0 ? p.set_chunk_size(n) : p;
+}
+
 // Structure of arrays at the field level (x, v, w, f, ... are separate Views). Within a vector field the
 // component layout follows the backend (perf/NOTES.md): on GPUs LayoutLeft (x, y, z each contiguous, so
 // a warp reads consecutive addresses); on CPUs LayoutRight (x, y, z of one particle in one cache line,
