@@ -3,8 +3,10 @@
 // grainlab calls grainlab::math::* and grainlab::compat::*. Facts: ../shared/DEPENDENCIES.md.
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <vector>
 #if defined(KOKKOS_ENABLE_OPENMP)
 #include <omp.h>
 #endif
@@ -48,6 +50,33 @@ inline int host_threads(int nthreads) {
 #else
   return 1;
 #endif
+}
+// The OpenMP places, each a list of CPU ids, where OpenMP binds its threads (OMP_PROC_BIND true, spread, close or
+// primary, or OMP_PLACES set); empty where it does not bind, or on a backend without OpenMP. Where it binds, libgomp
+// pins the initial thread to the first place as the library loads, before main: from then on the process's affinity
+// (sched_getaffinity) is that one place, and only the places still say which CPUs the process was given (libgomp
+// builds them from the affinity it found, and drops an OMP_PLACES entry outside it).
+inline std::vector<std::vector<int>> openmp_places() {
+  std::vector<std::vector<int>> places;
+#if defined(KOKKOS_ENABLE_OPENMP)
+  if (omp_get_proc_bind() == omp_proc_bind_false) return places;
+  for (int p = 0; p < omp_get_num_places(); ++p) {
+    std::vector<int> ids(size_t(std::max(0, omp_get_place_num_procs(p))));
+    if (!ids.empty()) omp_get_place_proc_ids(p, ids.data());
+    places.push_back(std::move(ids));
+  }
+#endif
+  return places;
+}
+// Places in OMP_PLACES's notation: {0,64},{1,65}.
+inline std::string places_text(const std::vector<std::vector<int>>& places) {
+  std::string t;
+  for (const auto& place : places) {
+    t += t.empty() ? "{" : ",{";
+    for (size_t k = 0; k < place.size(); ++k) t += (k ? "," : "") + std::to_string(place[k]);
+    t += "}";
+  }
+  return t;
 }
 // Thread count through the API, never through stale command-line flags (--kokkos-threads in 3.x vs
 // --kokkos-num-threads in 4.x). nthreads <= 0 keeps the backend default (OMP_NUM_THREADS).

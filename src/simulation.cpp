@@ -365,7 +365,12 @@ std::string build_string(bool threads) {
   std::ostringstream os;
   os << "grainlab " << GRAINLAB_VERSION << " (source " << source_commit() << "); Kokkos " << KOKKOS_VERSION / 10000
      << '.' << (KOKKOS_VERSION / 100) % 100 << '.' << KOKKOS_VERSION % 100 << "; backend " << ExecSpace::name();
-  if (threads) os << " x " << ExecSpace().concurrency();
+  if (threads) {
+    os << " x " << ExecSpace().concurrency();
+    // Where OpenMP binds its threads, to which CPUs (a study's jobs each to their own: study.cpp)
+    if (const auto places = compat::openmp_places(); !places.empty())
+      os << "; threads bound to places " << compat::places_text(places);
+  }
   os << "; compiler " <<
 #if defined(__clang__)
       "clang " << __clang_version__
@@ -2877,9 +2882,12 @@ int cores_of_cpu_max(const std::string& text) {
 }
 
 int usable_cores() {
+  std::set<int> cpus;
+  for (const auto& place : compat::openmp_places()) cpus.insert(place.begin(), place.end());
   cpu_set_t set;
   CPU_ZERO(&set);
-  int cores = sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0
+  int cores = !cpus.empty() ? int(cpus.size())
+              : sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0
                   ? CPU_COUNT(&set)
                   : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
   std::ifstream in("/sys/fs/cgroup/cpu.max");

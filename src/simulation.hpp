@@ -134,7 +134,9 @@ inline const char* plural(long n) { return n == 1 ? "" : "s"; }
 std::string memory_amount(double bytes);
 // The cores this process may run on: its CPU affinity (taskset, a container's cpuset), as OpenMP counts them for its
 // default thread count (the online CPUs where the affinity cannot be read), and at most what a cgroup v2 CPU quota
-// (/sys/fs/cgroup/cpu.max: docker --cpus) allows, which OpenMP does not see.
+// (/sys/fs/cgroup/cpu.max: docker --cpus) allows, which OpenMP does not see. Where OpenMP binds (OMP_PROC_BIND,
+// OMP_PLACES) the CPUs of its places: libgomp has pinned the process to the first place before main, and the affinity
+// alone said 1 core (compat::openmp_places).
 int usable_cores();
 // The threads a CPU run starts where neither --threads nor OMP_NUM_THREADS chose them (OpenMP's own default is a thread
 // a core): a thread for each kSpheresPerThread spheres, at least 1 and at most `cores`. A step opens ~4 OpenMP

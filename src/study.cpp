@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <glob.h>
+#include <sched.h>
 #include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -1192,6 +1193,67 @@ struct Running {
   const StudyJob* job;
   std::chrono::steady_clock::time_point start;
   bool resumed;  // from a checkpoint an earlier call left: its wall time is not its planned work's
+  int slot;      // which of the --jobs slots it runs in (its places, where OpenMP binds: JobPlaces)
+};
+
+// Where OpenMP binds its threads (OMP_PROC_BIND, OMP_PLACES; the binding Kokkos advises), a process's threads bind
+// to the places it starts with, and libgomp pins the study's own initial thread to its first place as it loads: every
+// job inherited that one place, and `--jobs 2` ran both jobs on one core (measured: the tiny study's two 1-thread jobs
+// on CPU 0 at 50 % each). So each --jobs slot gets places of its own, `threads` consecutive ones from the study's
+// (round again where the slots need more than there are): the job's affinity is their CPUs and its OMP_PLACES names
+// them, so its OpenMP binds within them with the user's policy. Where OpenMP does not bind, nothing is set: the
+// kernel's scheduler spreads the jobs.
+class JobPlaces {
+ public:
+  JobPlaces(int jobs, int threads) {
+    const auto places = compat::openmp_places();
+    if (places.empty()) return;
+    for (int s = 0; s < jobs; ++s) {
+      Slot slot;
+      CPU_ZERO(&slot.cpus);
+      std::vector<std::vector<int>> mine;
+      std::set<size_t> taken;
+      for (int k = 0; k < std::max(1, threads); ++k) {
+        const size_t p = (size_t(s) * size_t(std::max(1, threads)) + size_t(k)) % places.size();
+        if (!taken.insert(p).second) continue;
+        mine.push_back(places[p]);
+        for (const int c : places[p])
+          if (c >= 0 && c < CPU_SETSIZE) CPU_SET(c, &slot.cpus);
+      }
+      slot.text = compat::places_text(mine);
+      for (char** e = environ; *e != nullptr; ++e)
+        if (std::strncmp(*e, "OMP_PLACES=", 11) != 0) slot.env.emplace_back(*e);
+      slot.env.push_back("OMP_PLACES=" + slot.text);
+      slots_.push_back(std::move(slot));
+    }
+    for (Slot& slot : slots_) {  // pointers into the strings once no string moves again
+      for (std::string& e : slot.env) slot.envp.push_back(e.data());
+      slot.envp.push_back(nullptr);
+    }
+  }
+  bool binds() const { return !slots_.empty(); }
+  // "{0} | {1}": each slot's places
+  std::string text() const {
+    std::string t;
+    for (const Slot& slot : slots_) t += (t.empty() ? "" : " | ") + slot.text;
+    return t;
+  }
+  // In the forked child, before exec: only a system call and a pointer store (the study may hold other threads' locks).
+  void apply_in_child(int slot) {
+    if (!binds()) return;
+    Slot& s = slots_[size_t(slot) % slots_.size()];
+    if (sched_setaffinity(0, sizeof(cpu_set_t), &s.cpus) != 0) _exit(4);
+    environ = s.envp.data();
+  }
+
+ private:
+  struct Slot {
+    cpu_set_t cpus;
+    std::string text;
+    std::vector<std::string> env;  // the study's environment with OMP_PLACES set to the slot's places
+    std::vector<char*> envp;
+  };
+  std::vector<Slot> slots_;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -1573,7 +1635,8 @@ int run_study(const Study& s, const StudyOptions& o) {
   auto done = [&](const StudyJob& j) { return fs::exists(out / "jobs" / j.name / "done"); };
   std::optional<StudySignals> signals;  // for the job loop only: the report's python runs with the usual signals
   signals.emplace();
-  auto launch = [&](const StudyJob& j) -> pid_t {
+  JobPlaces job_places(o.jobs, per_job_threads);
+  auto launch = [&](const StudyJob& j, int slot) -> pid_t {
     const std::string log = (out / "jobs" / j.name / "log.txt").string();
     const pid_t parent = getpid();
     // The child's freopen flushes the stdio buffers it inherited: flush them here, or every job would print
@@ -1588,6 +1651,7 @@ int run_study(const Study& s, const StudyOptions& o) {
       prctl(PR_SET_PDEATHSIG, SIGTERM);
       if (getppid() != parent) _exit(3);  // the study died before prctl took effect
       if (!freopen(log.c_str(), "a", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(2);
+      job_places.apply_in_child(slot);
       const std::string cfg = cfg_path(j).string(), dir = (out / "jobs" / j.name / "run").string(),
                         th = std::to_string(job_threads(j));
       execl(o.self_exe.c_str(), o.self_exe.c_str(), "run", cfg.c_str(), "--out", dir.c_str(), "--resume", "--threads",
@@ -1640,6 +1704,9 @@ int run_study(const Study& s, const StudyOptions& o) {
                 s.path.c_str(), s.samples.size(), plural(long(s.samples.size())), s.shears.size(),
                 plural(long(s.shears.size())), queue.size(), o.jobs, per_job_threads, plural(long(per_job_threads)),
                 fewer ? few.c_str() : "", out.c_str());
+    if (job_places.binds())
+      std::printf("OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): each running job to places of its own, %s\n",
+                  job_places.text().c_str());
   }
   std::vector<Running> running;
   int failures = 0, interrupted = 0;
@@ -1673,7 +1740,9 @@ int run_study(const Study& s, const StudyOptions& o) {
         continue;
       }
       const bool resumed = fs::exists(out / "jobs" / j->name / "run" / "series.csv");
-      running.push_back({launch(*j), j, std::chrono::steady_clock::now(), resumed});
+      int slot = 0;  // the lowest free one
+      while (std::any_of(running.begin(), running.end(), [&](const Running& r) { return r.slot == slot; })) ++slot;
+      running.push_back({launch(*j, slot), j, std::chrono::steady_clock::now(), resumed, slot});
       it = queue.erase(it);
     }
     if (running.empty()) continue;

@@ -53,5 +53,25 @@ grep -q "backend OpenMP x 2;" st2/jobs/*/run/summary.json || fail "the study's j
 out=$(OMP_NUM_THREADS=2 "$bin" study study.yaml --out st3 --jobs 1 2>&1) || fail "the study with OMP_NUM_THREADS failed"
 printf '%s\n' "$out" | grep -q "1 at a time x 2 threads;" || fail "OMP_NUM_THREADS=2: not 1 job x 2 threads: $out"
 grep -q "backend OpenMP x 2;" st3/jobs/*/run/summary.json || fail "the study's job did not run at OMP_NUM_THREADS=2"
+# Where OpenMP binds (OMP_PROC_BIND, OMP_PLACES: what Kokkos advises), libgomp pins the process to its first place
+# before main: the cores are still the places' (the affinity alone said 1, and the run started 1 thread and warned
+# of "2 threads on 1 core" at --threads 2), and a study gives each running job places of its own (every job inherited
+# the study's one place: two jobs on one core).
+out=$(OMP_PROC_BIND=true first_lines large.yaml --out bound)
+printf '%s\n' "$out" | grep -q "backend OpenMP x $cores; threads bound to places {[0-9]" ||
+  fail "OMP_PROC_BIND=true, $n spheres on $cores cores: not $cores bound threads: $out"
+out=$(OMP_PLACES=threads first_lines small.yaml --out bound2 --threads 2)
+printf '%s\n' "$out" | grep -q "threads on 1 core" && fail "OMP_PLACES=threads: a warning of one core: $out"
+printf '%s\n' "$out" | grep -q "backend OpenMP x 2; threads bound to places" || fail "OMP_PLACES=threads: $out"
+out=$(OMP_PROC_BIND=false first_lines small.yaml --out unbound --threads 2)
+printf '%s\n' "$out" | grep -q "bound to places" && fail "OMP_PROC_BIND=false: the build line says bound: $out"
+printf 'base: small.yaml\naxes: {mu_r: [0.1, 0.2]}\n' > study2.yaml
+out=$(OMP_PROC_BIND=true "$bin" study study2.yaml --out stb --jobs 2 2>&1) || fail "the bound study failed: $out"
+printf '%s\n' "$out" | grep -q "^OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): each running job to places of its own" ||
+  fail "the bound study does not say how it binds its jobs: $out"
+places=$(grep -ho "threads bound to places {[0-9,{}]*" stb/jobs/*/run/summary.json | sort -u | wc -l)
+[ "$places" -eq 2 ] || fail "the bound study's two jobs (run together) did not run on places of their own: \
+$(grep -ho '"build": "[^;]*;[^;]*;[^;]*;[^;]*' stb/jobs/*/run/summary.json)"
 echo "ok: 1 thread for 300 spheres on $cores cores, $cores for $n, $((cores - 1)) for $((n - 1));" \
-  "--threads, OMP_NUM_THREADS and a study's jobs (either choosing)"
+  "--threads, OMP_NUM_THREADS and a study's jobs (either choosing); bound by OMP_PROC_BIND or OMP_PLACES, the" \
+  "places' cores, each study job on its own"
