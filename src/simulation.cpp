@@ -1728,13 +1728,18 @@ void Laboratory::watch_core_share() {
   }
   if (++share_short_ < 2) return;
   share_warned_ = true;
+  // Bound (OMP_PROC_BIND, OMP_PLACES), every run started alike takes the same first places, whatever its --threads
+  const auto places = compat::openmp_places();
+  const std::string bound = places.empty() ? ""
+                                           : ", and, as OpenMP binds threads here (to places " +
+                                                 compat::places_text(places) + "), each its own OMP_PLACES";
   std::fprintf(stderr,
                "grainlab: warning: over the last %.3g s this run's %d threads had %.3g cores' worth of CPU time: other "
                "processes (or, on a virtual machine, other guests) are using its cores, and OpenMP threads wait on each "
                "other at every kernel's end, so it runs far slower than its share (two 2-thread runs of 400 spheres on "
-               "2 cores at once: up to 400x each); give each run --threads so that together they fit the cores (a study does "
-               "so for its jobs), or stop the others\n",
-               wall, threads, cores);
+               "2 cores at once: up to 400x each); give each run --threads so that together they fit the cores%s (a "
+               "study does so for its jobs), or stop the others\n",
+               wall, threads, cores, bound.c_str());
 }
 
 bool Laboratory::run_stage(const StageConfig& sc) {
