@@ -4,6 +4,7 @@
 #include <Kokkos_Core.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -67,6 +68,24 @@ inline std::vector<std::vector<int>> openmp_places() {
   }
 #endif
   return places;
+}
+// The most threads OpenMP gives a parallel region, whatever is asked: 1 where OMP_MAX_ACTIVE_LEVELS=0 makes every region
+// serial, else OMP_THREAD_LIMIT (INT_MAX unset); `why` names the variable. Kokkos's OpenMP backend needs every thread
+// it starts in each region: asked for more, Kokkos 3.4 aborted in its initialisation ("organize_pool ERROR pool
+// already exists"). Without OpenMP, no cap.
+inline int openmp_thread_cap(std::string* why = nullptr) {
+#if defined(KOKKOS_ENABLE_OPENMP)
+  if (omp_get_max_active_levels() < 1) {
+    if (why) *why = "OMP_MAX_ACTIVE_LEVELS=0";
+    return 1;
+  }
+  const int limit = std::max(1, omp_get_thread_limit());
+  if (why) *why = "OMP_THREAD_LIMIT=" + std::to_string(limit);
+  return limit;
+#else
+  if (why) *why = "";
+  return std::numeric_limits<int>::max();
+#endif
 }
 // Places in OMP_PLACES's notation: {0,64},{1,65}.
 inline std::string places_text(const std::vector<std::vector<int>>& places) {

@@ -106,6 +106,25 @@ bool omp_threads_env_ok(int threads) {
 #endif
   return true;
 }
+// OpenMP settings under which Kokkos's OpenMP backend cannot start `threads` (compat::host_threads): more than
+// OMP_THREAD_LIMIT or OMP_MAX_ACTIVE_LEVELS=0 allow is refused (one line, exit 2; Kokkos 3.4 aborted in its
+// initialisation, which grainlab passed on as "set fewer with --threads N"). OMP_DYNAMIC=true lets OpenMP give a region
+// fewer threads than it asked for, as the load average suggests (libgomp: the same abort on this 2-core VM): turned off,
+// as a run's thread count is the one its build line names, and its dynamics are the same bits at any count anyway.
+bool omp_env_allows(int threads) {
+#if defined(KOKKOS_ENABLE_OPENMP)
+  omp_set_dynamic(0);
+  std::string why;
+  if (const int t = grainlab::compat::host_threads(threads), cap = grainlab::compat::openmp_thread_cap(&why); t > cap) {
+    std::fprintf(stderr, "grainlab: %d threads, but %s allows %d: give --threads %d, or unset the variable\n", t,
+                 why.c_str(), cap, cap);
+    return false;
+  }
+#else
+  (void)threads;
+#endif
+  return true;
+}
 // The command's one file argument, wherever it stands among the options (`grainlab run --threads 2 cfg.yaml`; before,
 // "--threads" was read as the config): 1 where `arg` is it, 0 where `arg` is an option, -1 for a second file (said
 // here; the caller exits 2).
@@ -360,6 +379,8 @@ int main(int argc, char** argv) {
     // Before, a study ignored it and took every core (on a shared node, OMP_NUM_THREADS=4 started cores/jobs a job).
     if (so.threads == 0 && std::getenv("OMP_NUM_THREADS")) so.threads = grainlab::compat::host_threads(0);
 #endif
+    // a job's share (run_study's per_job_threads) within OMP_THREAD_LIMIT and OMP_MAX_ACTIVE_LEVELS, or every job fails
+    if (so.threads > 0 && !omp_env_allows(std::max(1, so.threads / std::max(1, so.jobs)))) return 2;
     if (!grainlab::is_study_file(study) && grainlab::is_run_config_file(study)) {
       std::fprintf(stderr, "grainlab: error: %s: a run config, not a study (a study names its `base`): run it with "
                    "`grainlab run %s`\n", study.c_str(), study.c_str());
@@ -548,18 +569,25 @@ int main(int argc, char** argv) {
   if (!omp_threads_env_ok(threads)) return 2;
 #if defined(KOKKOS_ENABLE_OPENMP) && !defined(KOKKOS_ENABLE_CUDA)
   // Neither --threads nor OMP_NUM_THREADS: a thread for each kSpheresPerThread spheres, up to the cores (OpenMP would
-  // start one a core, and on a 300-sphere run two threads took 1.5x one's time on the project's VM).
+  // start one a core, and on a 300-sphere run two threads took 1.5x one's time on the project's VM), and up to what
+  // OMP_THREAD_LIMIT or OMP_MAX_ACTIVE_LEVELS allow.
   if (threads == 0 && !std::getenv("OMP_NUM_THREADS")) {
-    const int cores = grainlab::usable_cores();
+    std::string why;
+    const int cores = grainlab::usable_cores(), cap = grainlab::compat::openmp_thread_cap(&why);
     const long spheres = grainlab::config_spheres(cfg);
-    threads = spheres > 0 ? grainlab::default_threads(spheres, cores) : cores;
-    if (threads < cores)
+    const int wanted = spheres > 0 ? grainlab::default_threads(spheres, cores) : cores;
+    threads = std::min(wanted, cap);
+    if (threads < wanted)
+      opt.threads_note = "threads: " + std::to_string(threads) + " of " + std::to_string(cores) + " cores (" + why +
+                         "); --threads N or OMP_NUM_THREADS to choose";
+    else if (threads < cores)
       opt.threads_note = "threads: " + std::to_string(threads) + " of " + std::to_string(cores) + " cores (" +
                          std::to_string(spheres) + " spheres: a thread a " + std::to_string(grainlab::kSpheresPerThread) +
                          "; more threads would wait on each other at every step's barriers); --threads N or "
                          "OMP_NUM_THREADS to choose";
   }
 #endif
+  if (!omp_env_allows(threads)) return 2;
   try {
     grainlab::compat::initialize(threads);
   } catch (const std::exception& e) {  // more threads than Kokkos's OpenMP pool (compat::kMaxHostThreads)

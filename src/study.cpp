@@ -1448,7 +1448,11 @@ int run_study(const Study& s, const StudyOptions& o) {
   const StudyLock lock(out);
   // The cores of this process's affinity, not the machine's: a container's cpuset of 2 on a 64-core host must not
   // start 32 threads a job (OpenMP threads beyond the cores wait on each other at every barrier, main.cpp).
-  const int per_job_threads = std::max(1, (o.threads > 0 ? o.threads : usable_cores()) / std::max(1, o.jobs));
+  // Without --threads, at most what OMP_THREAD_LIMIT or OMP_MAX_ACTIVE_LEVELS allow a job (compat::openmp_thread_cap;
+  // given more by --threads, main refuses the study).
+  const int per_job_threads = std::max(
+      1, o.threads > 0 ? o.threads / std::max(1, o.jobs)
+                       : std::min(usable_cores() / std::max(1, o.jobs), compat::openmp_thread_cap()));
   // Where --threads did not set them, a job of few spheres gets fewer: a thread a kSpheresPerThread spheres, as a
   // run's default (default_threads: a small sample spread over many threads waits on their barriers).
   const auto job_threads = [&](const StudyJob& j) {
