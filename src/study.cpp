@@ -1199,27 +1199,26 @@ struct Running {
 // Where OpenMP binds its threads (OMP_PROC_BIND, OMP_PLACES; the binding Kokkos advises), a process's threads bind
 // to the places it starts with, and libgomp pins the study's own initial thread to its first place as it loads: every
 // job inherited that one place, and `--jobs 2` ran both jobs on one core (measured: the tiny study's two 1-thread jobs
-// on CPU 0 at 50 % each). So each --jobs slot gets places of its own, `threads` consecutive ones from the study's
-// (round again where the slots need more than there are): the job's affinity is their CPUs and its OMP_PLACES names
-// them, so its OpenMP binds within them with the user's policy. Where OpenMP does not bind, nothing is set: the
-// kernel's scheduler spreads the jobs.
+// on CPU 0 at 50 % each). So the study's places are divided among the --jobs slots, consecutive ones to each (a place
+// each, in turn, where the slots outnumber them; divided rather than counted by a job's threads, which count CPUs: with
+// OMP_PLACES=cores on a 2-way SMT machine a core is one place of two CPUs): the job's affinity is its slot's CPUs and
+// its OMP_PLACES names its places, so its OpenMP binds within them with the user's policy. Where OpenMP does not bind,
+// nothing is set: the kernel's scheduler spreads the jobs.
 class JobPlaces {
  public:
-  JobPlaces(int jobs, int threads) {
+  explicit JobPlaces(int jobs) {
     const auto places = compat::openmp_places();
     if (places.empty()) return;
-    for (int s = 0; s < jobs; ++s) {
+    const size_t np = places.size(), nj = size_t(std::max(1, jobs));
+    shared_ = np < nj;
+    for (size_t s = 0; s < nj; ++s) {
       Slot slot;
       CPU_ZERO(&slot.cpus);
-      std::vector<std::vector<int>> mine;
-      std::set<size_t> taken;
-      for (int k = 0; k < std::max(1, threads); ++k) {
-        const size_t p = (size_t(s) * size_t(std::max(1, threads)) + size_t(k)) % places.size();
-        if (!taken.insert(p).second) continue;
-        mine.push_back(places[p]);
-        for (const int c : places[p])
+      const size_t begin = np >= nj ? s * np / nj : s % np, end = np >= nj ? (s + 1) * np / nj : begin + 1;
+      const std::vector<std::vector<int>> mine(places.begin() + long(begin), places.begin() + long(end));
+      for (const auto& place : mine)
+        for (const int c : place)
           if (c >= 0 && c < CPU_SETSIZE) CPU_SET(c, &slot.cpus);
-      }
       slot.text = compat::places_text(mine);
       for (char** e = environ; *e != nullptr; ++e)
         if (std::strncmp(*e, "OMP_PLACES=", 11) != 0) slot.env.emplace_back(*e);
@@ -1232,6 +1231,7 @@ class JobPlaces {
     }
   }
   bool binds() const { return !slots_.empty(); }
+  bool shared() const { return shared_; }
   // "{0} | {1}": each slot's places
   std::string text() const {
     std::string t;
@@ -1254,6 +1254,7 @@ class JobPlaces {
     std::vector<char*> envp;
   };
   std::vector<Slot> slots_;
+  bool shared_ = false;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -1639,7 +1640,7 @@ int run_study(const Study& s, const StudyOptions& o) {
   auto done = [&](const StudyJob& j) { return fs::exists(out / "jobs" / j.name / "done"); };
   std::optional<StudySignals> signals;  // for the job loop only: the report's python runs with the usual signals
   signals.emplace();
-  JobPlaces job_places(o.jobs, per_job_threads);
+  JobPlaces job_places(o.jobs);
   auto launch = [&](const StudyJob& j, int slot) -> pid_t {
     const std::string log = (out / "jobs" / j.name / "log.txt").string();
     const pid_t parent = getpid();
@@ -1709,8 +1710,8 @@ int run_study(const Study& s, const StudyOptions& o) {
                 plural(long(s.shears.size())), queue.size(), o.jobs, per_job_threads, plural(long(per_job_threads)),
                 fewer ? few.c_str() : "", out.c_str());
     if (job_places.binds())
-      std::printf("OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): each running job to places of its own, %s\n",
-                  job_places.text().c_str());
+      std::printf("OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): its places divided among the running jobs, %s%s\n",
+                  job_places.text().c_str(), job_places.shared() ? " (fewer places than --jobs: some jobs share one)" : "");
   }
   std::vector<Running> running;
   int failures = 0, interrupted = 0;

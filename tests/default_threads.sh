@@ -67,7 +67,7 @@ out=$(OMP_PROC_BIND=false first_lines small.yaml --out unbound --threads 2)
 printf '%s\n' "$out" | grep -q "bound to places" && fail "OMP_PROC_BIND=false: the build line says bound: $out"
 printf 'base: small.yaml\naxes: {mu_r: [0.1, 0.2]}\n' > study2.yaml
 out=$(OMP_PROC_BIND=true "$bin" study study2.yaml --out stb --jobs 2 2>&1) || fail "the bound study failed: $out"
-printf '%s\n' "$out" | grep -q "^OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): each running job to places of its own" ||
+printf '%s\n' "$out" | grep -q "^OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): its places divided among the running jobs, {" ||
   fail "the bound study does not say how it binds its jobs: $out"
 places=$(grep -ho "threads bound to places {[0-9,{}]*" stb/jobs/*/run/summary.json | sort -u | wc -l)
 [ "$places" -eq 2 ] || fail "the bound study's two jobs (run together) did not run on places of their own: \
