@@ -69,8 +69,8 @@ inline std::vector<std::vector<int>> openmp_places() {
 #endif
   return places;
 }
-// The most threads OpenMP gives a parallel region, whatever is asked: 1 where OMP_MAX_ACTIVE_LEVELS=0 makes every region
-// serial, else OMP_THREAD_LIMIT (INT_MAX unset); `why` names the variable. Kokkos's OpenMP backend needs every thread
+// The most threads OpenMP gives a parallel region, whatever is asked: 1 where OMP_MAX_ACTIVE_LEVELS=0 makes every
+// region serial, else OMP_THREAD_LIMIT (INT_MAX unset); `why` names the variable. Kokkos's OpenMP backend needs every thread
 // it starts in each region: asked for more, Kokkos 3.4 aborted in its initialisation ("organize_pool ERROR pool
 // already exists"). Without OpenMP, no cap.
 inline int openmp_thread_cap(std::string* why = nullptr) {

@@ -108,9 +108,10 @@ bool omp_threads_env_ok(int threads) {
 }
 // OpenMP settings under which Kokkos's OpenMP backend cannot start `threads` (compat::host_threads): more than
 // OMP_THREAD_LIMIT or OMP_MAX_ACTIVE_LEVELS=0 allow is refused (one line, exit 2; Kokkos 3.4 aborted in its
-// initialisation, which grainlab passed on as "set fewer with --threads N"). OMP_DYNAMIC=true lets OpenMP give a region
-// fewer threads than it asked for, as the load average suggests (libgomp: the same abort on this 2-core VM): turned off,
-// as a run's thread count is the one its build line names, and its dynamics are the same bits at any count anyway.
+// initialisation, which grainlab passed on as "set fewer with --threads N"). OMP_DYNAMIC=true lets OpenMP give a
+// region fewer threads than it asked for, as the load average suggests (libgomp: the same abort on this 2-core VM):
+// turned off, as a run's thread count is the one its build line names, and its dynamics are the same bits at any
+// count anyway.
 bool omp_env_allows(int threads) {
 #if defined(KOKKOS_ENABLE_OPENMP)
   omp_set_dynamic(0);

@@ -1711,7 +1711,8 @@ int run_study(const Study& s, const StudyOptions& o) {
                 fewer ? few.c_str() : "", out.c_str());
     if (job_places.binds())
       std::printf("OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): its places divided among the running jobs, %s%s\n",
-                  job_places.text().c_str(), job_places.shared() ? " (fewer places than --jobs: some jobs share one)" : "");
+                  job_places.text().c_str(),
+                  job_places.shared() ? " (fewer places than --jobs: some jobs share one)" : "");
   }
   std::vector<Running> running;
   int failures = 0, interrupted = 0;

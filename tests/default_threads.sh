@@ -67,14 +67,16 @@ out=$(OMP_PROC_BIND=false first_lines small.yaml --out unbound --threads 2)
 printf '%s\n' "$out" | grep -q "bound to places" && fail "OMP_PROC_BIND=false: the build line says bound: $out"
 printf 'base: small.yaml\naxes: {mu_r: [0.1, 0.2]}\n' > study2.yaml
 out=$(OMP_PROC_BIND=true "$bin" study study2.yaml --out stb --jobs 2 2>&1) || fail "the bound study failed: $out"
-printf '%s\n' "$out" | grep -q "^OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): its places divided among the running jobs, {" ||
+printf '%s\n' "$out" |
+  grep -q "^OpenMP binds threads (OMP_PROC_BIND, OMP_PLACES): its places divided among the running jobs, {" ||
   fail "the bound study does not say how it binds its jobs: $out"
 places=$(grep -ho "threads bound to places {[0-9,{}]*" stb/jobs/*/run/summary.json | sort -u | wc -l)
 [ "$places" -eq 2 ] || fail "the bound study's two jobs (run together) did not run on places of their own: \
 $(grep -ho '"build": "[^;]*;[^;]*;[^;]*;[^;]*' stb/jobs/*/run/summary.json)"
 # OMP_THREAD_LIMIT caps the default (said), and OMP_DYNAMIC=true, under which libgomp may give a region fewer threads
-# than Kokkos started (as the load average suggests; Kokkos 3.4 then aborted in its initialisation), is turned off. (On
-# an idle machine libgomp gives every thread anyway: this catches the abort where the host is loaded, as under ctest -j.)
+# than Kokkos started (as the load average suggests; Kokkos 3.4 then aborted in its initialisation), is turned off.
+# (On an idle machine libgomp gives every thread anyway: this catches the abort where the host is loaded, as under
+# ctest -j.)
 out=$(OMP_THREAD_LIMIT=1 first_lines large.yaml --out limited)
 printf '%s\n' "$out" | grep -q "backend OpenMP x 1;" || fail "OMP_THREAD_LIMIT=1: not 1 thread: $out"
 printf '%s\n' "$out" | grep -q "^threads: 1 of $cores cores (OMP_THREAD_LIMIT=1); --threads N" ||
