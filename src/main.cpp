@@ -313,6 +313,12 @@ bool missing_value(const std::string& option, int a, int argc) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // HDF5 (1.10 on) locks a file it opens, and on a filesystem without locks (NFS without its lock daemon: ENOLCK) the
+  // open fails: every resume there found "no readable checkpoint", each called corrupt (test cli_no_file_locks).
+  // grainlab's HDF5 files are written whole to a temporary name and renamed, so a reader never meets one half-written
+  // and the locks protect nothing: off, unless the user's environment says otherwise; the report's Python (h5py)
+  // inherits it.
+  setenv("HDF5_USE_FILE_LOCKING", "FALSE", 0);
   if (argc < 2) return usage(stderr);
   const std::string cmd = argv[1];
   if (cmd == "-h" || cmd == "--help" || cmd == "help") return usage(stdout);

@@ -893,7 +893,7 @@ void Laboratory::prepare_output_dir() {
   // One process per run directory: a second one would interleave checkpoints and outputs.
   lock_fd_ = ::open((out_ + "/.lock").c_str(), O_RDWR | O_CREAT, 0644);
   if (lock_fd_ < 0) throw std::runtime_error(out_ + ": cannot create the lock file (" + std::strerror(errno) + ")");
-  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0)
+  if (!lock_or_warn(lock_fd_, out_ + "/.lock"))
     throw std::runtime_error(out_ + ": in use by another grainlab process (lock held on " + out_ + "/.lock)");
   // Temporary files of writers that were killed mid-write (the lock says none is running now).
   for (const std::string& d : {out_, out_ + "/checkpoints", out_ + "/snapshots"}) {
@@ -2884,6 +2884,14 @@ int cores_of_cpu_max(const std::string& text) {
   double quota = 0, period = 0;
   if (!(in >> quota >> period) || !(quota > 0) || !(period > 0)) return 0;  // "max" does not parse as a number
   return int(std::min(1e6, std::ceil(quota / period)));
+}
+
+bool lock_or_warn(int fd, const std::string& path) {
+  if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return true;
+  if (errno == EWOULDBLOCK) return false;
+  std::fprintf(stderr, "grainlab: warning: %s: this filesystem does not lock files (flock: %s): a second grainlab process "
+               "on this directory would not be refused; run one at a time\n", path.c_str(), std::strerror(errno));
+  return true;
 }
 
 int usable_cores() {

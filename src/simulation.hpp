@@ -138,6 +138,11 @@ std::string memory_amount(double bytes);
 // OMP_PLACES) the CPUs of its places: libgomp has pinned the process to the first place before main, and the affinity
 // alone said 1 core (compat::openmp_places).
 int usable_cores();
+// An exclusive lock on the open file fd (flock, LOCK_NB): true where taken, false where another process holds it. A
+// filesystem without locks (Lustre mounted without -o flock: ENOSYS; NFS without its lock daemon: ENOLCK) refused every
+// run there as "in use by another grainlab process": there the run goes on unlocked, and says so once on stderr
+// (`path`: the lock file).
+bool lock_or_warn(int fd, const std::string& path);
 // The threads a CPU run starts where neither --threads nor OMP_NUM_THREADS chose them (OpenMP's own default is a thread
 // a core): a thread for each kSpheresPerThread spheres, at least 1 and at most `cores`. A step opens ~4 OpenMP
 // parallel regions, each a fork, barriers and a join across every thread (~7 us a region at 2 threads on the

@@ -1424,7 +1424,7 @@ class StudyLock {
     const std::string path = (out / ".lock").string();
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0) throw std::runtime_error(path + ": cannot create the lock file (" + std::strerror(errno) + ")");
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    if (!lock_or_warn(fd_, path)) {
       ::close(fd_);
       throw std::runtime_error(out.string() + ": in use by another grainlab study (lock held on " + path + ")");
     }
