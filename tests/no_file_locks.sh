@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# no_file_locks.sh GRAINLAB PRELOAD SMOKE DIR: on a filesystem without file locks (PRELOAD, tests/no_flock.c: flock fails
-# with ENOSYS as on Lustre without -o flock, or ENOLCK as on NFS without its lock daemon) a run starts, says once that
-# its directory is not locked, writes its HDF5 files and resumes from them; a study the same. Before, every run there
-# was refused as "in use by another grainlab process".
+# no_file_locks.sh GRAINLAB PRELOAD SMOKE DIR: on a filesystem without file locks (PRELOAD, tests/no_flock.c: flock
+# fails with ENOSYS as on Lustre without -o flock, or ENOLCK as on NFS without its lock daemon) a run starts, says once
+# that its directory is not locked, writes its HDF5 files and resumes from them; a study the same. Before, every run
+# there was refused as "in use by another grainlab process", and under ENOLCK HDF5 failed to open every checkpoint.
 set -u
 bin=$1 preload=$2 smoke=$3 dir=$4
 fail() { echo "FAIL: $*"; exit 1; }
@@ -26,5 +26,6 @@ grep -q "does not lock files" locked.err && fail "a warning where the filesystem
 printf 'base: %s\naxes: {mu_r: [0.1]}\n' "$smoke" > study.yaml
 LD_PRELOAD=$preload "$bin" study study.yaml --out st --jobs 1 --quiet > st.out 2> st.err ||
   { cat st.err; fail "the study failed without file locks"; }
-grep -q "^grainlab: warning: st/.lock: this filesystem does not lock files" st.err || fail "the study did not warn: $(cat st.err)"
+grep -q "^grainlab: warning: st/.lock: this filesystem does not lock files" st.err ||
+  fail "the study did not warn: $(cat st.err)"
 echo "ok: runs (ENOSYS, ENOLCK) and a study without file locks start, warn once, write and resume"
