@@ -58,7 +58,7 @@ int usage(FILE* f) {
   std::fprintf(f,
                "exit codes: 0 done, 1 error (config, I/O, memory), 2 bad command line, 3 numerical blow-up,\n"
                "            130 interrupted (Ctrl-C, SIGTERM, SIGHUP, a closed output pipe: checkpoint written; continue with\n"
-               "                --resume)\n"
+               "                --resume); SIGUSR1 writes a checkpoint and the run goes on (a study passes it to its jobs)\n"
                "threads: --threads N, else OMP_NUM_THREADS, else a thread a 1000 spheres up to the cores (a study\n"
                "         divides them among its --jobs)\n"
                "environment: OMP_NUM_THREADS (threads, unless --threads), GRAINLAB_MEMORY_LIMIT (bytes a run may\n"

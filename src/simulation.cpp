@@ -39,11 +39,12 @@ namespace grainlab {
 namespace fs = std::filesystem;
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0, g_pipe_closed = 0;
+volatile std::sig_atomic_t g_stop = 0, g_pipe_closed = 0, g_checkpoint = 0;
 extern "C" void on_stop_signal(int sig) {
   g_stop = 1;
   if (sig == SIGPIPE) g_pipe_closed = 1;
 }
+extern "C" void on_checkpoint_signal(int) { g_checkpoint = 1; }
 
 // Handlers for the life of a run, the previous ones restored after: Ctrl-C, SIGTERM (a batch system's stop, a
 // study's), SIGHUP (the terminal or SSH session closed) and SIGPIPE (the reader of the console lines gone: `| tee`
@@ -51,12 +52,22 @@ extern "C" void on_stop_signal(int sig) {
 // its next progress line with nothing saved since the last checkpoint. A SIGHUP or SIGPIPE the caller ignores
 // (nohup) stays ignored. Once the pipe has closed, SIGPIPE stays ignored: any line still written after the run
 // (its buffered output, at exit) must not kill the process between the checkpoint and the exit code.
+// SIGUSR1 asks for a checkpoint at the next step boundary, and the run goes on: a batch system's warning before its
+// time limit (SLURM `--signal=B:USR1@300`, which a study passes to its jobs), where SIGUSR1's default action ended the
+// run with nothing saved since its last checkpoint. The limit's SIGTERM then stops the run with a checkpoint as ever.
 struct SignalGuard {
   using Handler = void (*)(int);
-  Handler old_int, old_term, old_hup, old_pipe;
+  Handler old_int, old_term, old_hup, old_pipe, old_usr1;
   SignalGuard() {
     g_stop = 0;
     g_pipe_closed = 0;
+    g_checkpoint = 0;
+    old_usr1 = std::signal(SIGUSR1, on_checkpoint_signal);
+    if (old_usr1 == SIG_IGN) std::signal(SIGUSR1, SIG_IGN);
+    sigset_t usr1;  // a study's job starts with it blocked (study.cpp, StudySignals::reset_in_child): one sent meanwhile
+    sigemptyset(&usr1);  // arrives now
+    sigaddset(&usr1, SIGUSR1);
+    sigprocmask(SIG_UNBLOCK, &usr1, nullptr);
     old_int = std::signal(SIGINT, on_stop_signal);
     old_term = std::signal(SIGTERM, on_stop_signal);
     old_hup = std::signal(SIGHUP, on_stop_signal);
@@ -69,6 +80,7 @@ struct SignalGuard {
     std::signal(SIGTERM, old_term);
     std::signal(SIGHUP, old_hup);
     std::signal(SIGPIPE, g_pipe_closed ? SIG_IGN : old_pipe);
+    std::signal(SIGUSR1, old_usr1);
   }
   SignalGuard(const SignalGuard&) = delete;
   SignalGuard& operator=(const SignalGuard&) = delete;
@@ -1887,7 +1899,16 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     const bool ckpt_time =
         cfg_.checkpoint_minutes > 0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - last_ckpt_).count() > 60 * cfg_.checkpoint_minutes;
-    if (ckpt_steps || ckpt_time) write_checkpoint();
+    const bool ckpt_asked = g_checkpoint != 0;  // SIGUSR1 (SignalGuard)
+    if (ckpt_steps || ckpt_time || ckpt_asked) {
+      g_checkpoint = 0;
+      const std::string path = write_checkpoint();
+      if (ckpt_asked) {
+        progress("", true);
+        // Even with --quiet, as an interruption's line: the one who sent the signal learns where the state is
+        std::fprintf(stderr, "checkpoint at step %ld (SIGUSR1): %s; the run goes on\n", e.step_count(), path.c_str());
+      }
+    }
     if (stop_requested()) return false;
   }
   progress("", true);

@@ -1295,7 +1295,8 @@ Unconverged unconverged_stages(const fs::path& summary) {
   return u;
 }
 
-volatile std::sig_atomic_t g_study_stop = 0, g_study_pipe_closed = 0;
+volatile std::sig_atomic_t g_study_stop = 0, g_study_pipe_closed = 0, g_study_checkpoint = 0;
+extern "C" void on_study_checkpoint(int) { g_study_checkpoint = 1; }
 extern "C" void on_study_stop(int sig) {
   g_study_stop = 1;
   if (sig == SIGPIPE) g_study_pipe_closed = 1;
@@ -1308,7 +1309,9 @@ extern "C" void on_child(int) {}  // only to end sigsuspend
 // PR_SET_PDEATHSIG in each job.) SIGINT, SIGHUP or SIGPIPE ignored by the caller (`&` in a script, nohup) stays
 // ignored; after a SIGPIPE it stays ignored, so the lines still buffered cannot kill the study before its exit code.
 // SIGCHLD and the stop signals are blocked in the loop and taken only in sigsuspend, so a signal cannot fall between a
-// check of the flag and the wait.
+// check of the flag and the wait. SIGUSR1 (a batch system's warning before its time limit) is passed on to the running
+// jobs, each of which writes a checkpoint and goes on (simulation.cpp, SignalGuard); a job starts with it blocked and
+// unblocks it once its handler is in, so one sent as a job starts waits for the handler instead of ending the job.
 class StudySignals {
  public:
   StudySignals() {
@@ -1327,11 +1330,14 @@ class StudySignals {
     pipe_ignored_ = old_pipe_.sa_handler == SIG_IGN;
     if (!pipe_ignored_) sigaction(SIGPIPE, &sa, nullptr);
     sigaction(SIGTERM, &sa, &old_term_);
+    sa.sa_handler = on_study_checkpoint;
+    g_study_checkpoint = 0;
+    sigaction(SIGUSR1, &sa, &old_usr1_);
     sa.sa_handler = on_child;
     sigaction(SIGCHLD, &sa, &old_chld_);
     sigset_t block;
     sigemptyset(&block);
-    for (int sig : {SIGCHLD, SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaddset(&block, sig);
+    for (int sig : {SIGCHLD, SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGUSR1}) sigaddset(&block, sig);
     sigprocmask(SIG_BLOCK, &block, &prev_);
   }
   ~StudySignals() {
@@ -1341,6 +1347,7 @@ class StudySignals {
     if (g_study_pipe_closed) signal(SIGPIPE, SIG_IGN);
     else sigaction(SIGPIPE, &old_pipe_, nullptr);
     sigaction(SIGTERM, &old_term_, nullptr);
+    sigaction(SIGUSR1, &old_usr1_, nullptr);
     sigaction(SIGCHLD, &old_chld_, nullptr);
   }
   StudySignals(const StudySignals&) = delete;
@@ -1352,13 +1359,16 @@ class StudySignals {
     signal(SIGHUP, hup_ignored_ ? SIG_IGN : SIG_DFL);
     signal(SIGPIPE, pipe_ignored_ ? SIG_IGN : SIG_DFL);
     signal(SIGTERM, SIG_DFL);
+    signal(SIGUSR1, SIG_DFL);
     signal(SIGCHLD, SIG_DFL);
-    sigprocmask(SIG_SETMASK, &prev_, nullptr);
+    sigset_t mask = prev_;
+    sigaddset(&mask, SIGUSR1);  // kept blocked through exec until the run's handler is in
+    sigprocmask(SIG_SETMASK, &mask, nullptr);
   }
   void wait_for_signal() const { sigsuspend(&prev_); }
 
  private:
-  struct sigaction old_int_ {}, old_hup_ {}, old_term_ {}, old_chld_ {}, old_pipe_ {};
+  struct sigaction old_int_ {}, old_hup_ {}, old_term_ {}, old_chld_ {}, old_pipe_ {}, old_usr1_ {};
   sigset_t prev_{};
   bool int_ignored_ = false, hup_ignored_ = false, pipe_ignored_ = false;
 };
@@ -1729,6 +1739,12 @@ int run_study(const Study& s, const StudyOptions& o) {
       forwarded = true;
     }
     if (stopping) queue.clear();  // left for the rerun
+    if (g_study_checkpoint) {
+      g_study_checkpoint = 0;
+      for (const Running& r : running) kill(r.pid, SIGUSR1);
+      std::fprintf(stderr, "grainlab study: SIGUSR1: %zu running job(s) asked for a checkpoint; the study goes on\n",
+                   running.size());
+    }
     // Start what can start: samples any time, shears once their sample is done.
     for (auto it = queue.begin(); it != queue.end() && int(running.size()) < o.jobs;) {
       const StudyJob* j = *it;
