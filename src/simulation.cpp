@@ -775,7 +775,7 @@ bool holds_files(const std::string& d) {
   return false;
 }
 
-// Memory a run may plan for, in bytes. On CPU threads: MemAvailable, lowered by a cgroup v2 limit (a container's
+// Memory a run may plan for, in bytes. On CPU threads: MemAvailable, lowered by a cgroup limit (a container's
 // or a batch job's share). On a GPU: the device's free memory, where the particle and contact arrays live (the
 // host keeps only output mirrors: 48 B a sphere at 11M, perf/RESULTS.md's GPU section). Either lowered by
 // GRAINLAB_MEMORY_LIMIT (bytes, for a shared node or GPU). 0 where none can be read.
@@ -806,9 +806,9 @@ double memory_available(std::string& source) {
         avail = kb * 1024;
         source = "MemAvailable";
       }
-    std::ifstream cg("/sys/fs/cgroup/memory.max");
-    double v = 0;
-    if (cg >> v) lower(v, "the cgroup's memory.max");  // "max" (no limit) does not parse
+    std::ifstream self("/proc/self/cgroup");
+    const std::string cgroups((std::istreambuf_iterator<char>(self)), std::istreambuf_iterator<char>());
+    lower(cgroup_memory_limit(cgroups), "the cgroup's memory limit");
   }
   if (const char* env = std::getenv("GRAINLAB_MEMORY_LIMIT")) {
     // Bytes, or with a binary unit as a batch system writes it (16G, 512M, 1.5GiB; K M G T, 1024-based).
@@ -2915,6 +2915,66 @@ bool lock_or_warn(int fd, const std::string& path) {
   return true;
 }
 
+namespace {
+std::string file_text(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+// The paths of a cgroup control file for this process: v2's `v2_file` (the "0::PATH" line) and v1's `v1_file` under the
+// mount of `controller` (its line "ID:cpu,cpuacct:PATH"; the mount is named by the list, or by the controller), in
+// the cgroup and each of its parents up to the mount's root.
+std::vector<std::string> cgroup_files(const std::string& proc_self_cgroup, const std::string& root,
+                                      const std::string& controller, const std::string& v1_file,
+                                      const std::string& v2_file) {
+  std::vector<std::string> out;
+  std::istringstream in(proc_self_cgroup);
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
+    if (b == std::string::npos) continue;
+    const std::string list = line.substr(a + 1, b - a - 1);
+    std::string path = line.substr(b + 1), dir = root, file = v2_file;
+    if (!list.empty()) {
+      if (("," + list + ",").find("," + controller + ",") == std::string::npos) continue;
+      dir += '/';
+      dir += fs::is_directory(fs::path(root) / list) ? list : controller;
+      file = v1_file;
+    }
+    for (;;) {
+      std::string f = dir;
+      if (path != "/") f += path;
+      f += '/';
+      f += file;
+      out.push_back(std::move(f));
+      if (path.empty() || path == "/") break;
+      path = path.substr(0, path.rfind('/'));
+    }
+  }
+  return out;
+}
+}  // namespace
+
+int cgroup_cores(const std::string& proc_self_cgroup, const std::string& root) {
+  int cores = 0;
+  for (const std::string& f : cgroup_files(proc_self_cgroup, root, "cpu", "cpu.cfs_quota_us", "cpu.max")) {
+    std::string text = file_text(f);  // v2: "QUOTA PERIOD"; v1: the quota (-1: none), its period beside it
+    if (f.size() > 16 && f.compare(f.size() - 16, 16, "cpu.cfs_quota_us") == 0)
+      text += " " + file_text(f.substr(0, f.size() - 8) + "period_us");
+    if (const int q = cores_of_cpu_max(text); q > 0) cores = cores > 0 ? std::min(cores, q) : q;
+  }
+  return cores;
+}
+
+double cgroup_memory_limit(const std::string& proc_self_cgroup, const std::string& root) {
+  double limit = 0;
+  for (const std::string& f : cgroup_files(proc_self_cgroup, root, "memory", "memory.limit_in_bytes", "memory.max")) {
+    std::istringstream in(file_text(f));
+    double v = 0;  // v2's "max" (none) does not parse; v1's none is ~9.2e18, above any memory
+    if (in >> v && v > 0 && v < 1e18) limit = limit > 0 ? std::min(limit, v) : v;
+  }
+  return limit;
+}
+
 int usable_cores() {
   std::set<int> cpus;
   for (const auto& place : compat::openmp_places()) cpus.insert(place.begin(), place.end());
@@ -2924,9 +2984,7 @@ int usable_cores() {
               : sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0
                   ? CPU_COUNT(&set)
                   : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
-  std::ifstream in("/sys/fs/cgroup/cpu.max");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (const int q = cores_of_cpu_max(text); q > 0) cores = std::min(cores, q);
+  if (const int q = cgroup_cores(file_text("/proc/self/cgroup")); q > 0) cores = std::min(cores, q);
   return cores;
 }
 

@@ -133,8 +133,8 @@ inline const char* plural(long n) { return n == 1 ? "" : "s"; }
 // "4.4 MiB", "1.2 GiB".
 std::string memory_amount(double bytes);
 // The cores this process may run on: its CPU affinity (taskset, a container's cpuset), as OpenMP counts them for its
-// default thread count (the online CPUs where the affinity cannot be read), and at most what a cgroup v2 CPU quota
-// (/sys/fs/cgroup/cpu.max: docker --cpus) allows, which OpenMP does not see. Where OpenMP binds (OMP_PROC_BIND,
+// default thread count (the online CPUs where the affinity cannot be read), and at most what a cgroup CPU quota
+// (docker --cpus: cgroup_cores) allows, which OpenMP does not see. Where OpenMP binds (OMP_PROC_BIND,
 // OMP_PLACES) the CPUs of its places: libgomp has pinned the process to the first place before main, and the affinity
 // alone said 1 core (compat::openmp_places).
 int usable_cores();
@@ -157,6 +157,13 @@ long config_spheres(const RunConfig& cfg);
 // The cores of a cgroup v2 cpu.max text, "QUOTA PERIOD" (microseconds each), rounded up; 0 for "max PERIOD" (no
 // limit) or an unreadable text.
 int cores_of_cpu_max(const std::string& text);
+// This process's cgroup limits, from /proc/self/cgroup's text and the cgroup mount `root`: v2 (cpu.max, memory.max)
+// or v1 (cpu.cfs_quota_us over cpu.cfs_period_us, memory.limit_in_bytes: RHEL 7 and 8, Ubuntu 20.04 and a container on
+// such a host, where only v2 was read and a `docker --cpus 2` container on 64 cores started 64 threads). The
+// cgroup's own file and each parent's (a parent's limit binds too; a container's namespaced view is the mount's
+// root), the smallest. 0 where none limits.
+int cgroup_cores(const std::string& proc_self_cgroup, const std::string& root = "/sys/fs/cgroup");
+double cgroup_memory_limit(const std::string& proc_self_cgroup, const std::string& root = "/sys/fs/cgroup");
 // Whether a stage writes its outputs again (series.csv, cycles.csv, run.h5: whole-file atomic rewrites that grow with
 // the series) at a series row, rows_since rows and seconds_since seconds after the last write, which took last_cost
 // seconds: after 20 rows, or a minute for a slow run, never sooner than 10 last_cost (the writes' share of the run

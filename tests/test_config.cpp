@@ -1588,6 +1588,40 @@ TEST(Config, CpuQuotaCountsCores) {
   EXPECT_GE(usable_cores(), 1);
 }
 
+// The limits of cgroup v1 (RHEL 7 and 8, Ubuntu 20.04, a container on such a host) and v2, in the process's cgroup and
+// its parents, on a mock of /sys/fs/cgroup: only v2's root cpu.max and memory.max were read, so `docker --cpus 2` on a
+// v1 host of 64 cores started 64 threads.
+TEST(Config, CgroupLimitsV1AndV2) {
+  const fs::path root = test::scratch("cgroup");
+  const auto put = [&](const std::string& rel, const std::string& text) {
+    fs::create_directories((root / rel).parent_path());
+    std::ofstream(root / rel) << text;
+  };
+  // v1, cpu and cpuacct mounted together: the job's quota 2.5 cores (rounded up), its parent unlimited
+  put("cpu,cpuacct/cpu.cfs_quota_us", "-1\n");
+  put("cpu,cpuacct/cpu.cfs_period_us", "100000\n");
+  put("cpu,cpuacct/slurm/job7/cpu.cfs_quota_us", "250000\n");
+  put("cpu,cpuacct/slurm/job7/cpu.cfs_period_us", "100000\n");
+  put("memory/memory.limit_in_bytes", "9223372036854771712\n");  // v1's "no limit"
+  put("memory/slurm/memory.limit_in_bytes", "8589934592\n");
+  put("memory/slurm/job7/memory.limit_in_bytes", "17179869184\n");  // above its parent's: the parent's binds
+  const std::string v1 = "12:memory:/slurm/job7\n4:cpu,cpuacct:/slurm/job7\n1:name=systemd:/x\n0::/\n";
+  EXPECT_EQ(cgroup_cores(v1, root.string()), 3);
+  EXPECT_EQ(cgroup_memory_limit(v1, root.string()), 8589934592.0);
+  // a container's namespaced view: its path names a cgroup the mount does not show, its limit at the mount's root
+  put("cpu,cpuacct/cpu.cfs_quota_us", "100000\n");
+  EXPECT_EQ(cgroup_cores("4:cpu,cpuacct:/docker/abc\n", root.string()), 1);
+  // v2: a parent's cpu.max binds where the cgroup's own says max
+  put("a/cpu.max", "200000 100000\n");
+  put("a/b/cpu.max", "max 100000\n");
+  put("a/b/memory.max", "1073741824\n");
+  EXPECT_EQ(cgroup_cores("0::/a/b\n", root.string()), 2);
+  EXPECT_EQ(cgroup_memory_limit("0::/a/b\n", root.string()), 1073741824.0);
+  // nothing there, or an unreadable text: no limit
+  EXPECT_EQ(cgroup_cores("0::/none\n", (root / "missing").string()), 0);
+  EXPECT_EQ(cgroup_memory_limit("garbage", root.string()), 0.0);
+}
+
 // The pace of a stage's output writes (series.csv, cycles.csv, run.h5 rewritten whole): every 20 rows, a minute for a
 // slow run, never sooner than ten times the last write took.
 TEST(Config, OutputWritesArePaced) {
