@@ -774,6 +774,11 @@ bool holds_files(const std::string& d) {
     if (f.path().filename().string().find(".tmp.") == std::string::npos) return true;
   return false;
 }
+// A file's whole text ("" where it cannot be read).
+std::string file_text(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
 
 // Memory a run may plan for, in bytes. On CPU threads: MemAvailable, lowered by a cgroup limit (a container's
 // or a batch job's share). On a GPU: the device's free memory, where the particle and contact arrays live (the
@@ -806,9 +811,7 @@ double memory_available(std::string& source) {
         avail = kb * 1024;
         source = "MemAvailable";
       }
-    std::ifstream self("/proc/self/cgroup");
-    const std::string cgroups((std::istreambuf_iterator<char>(self)), std::istreambuf_iterator<char>());
-    lower(cgroup_memory_limit(cgroups), "the cgroup's memory limit");
+    lower(cgroup_memory_limit(file_text("/proc/self/cgroup")), "the cgroup's memory limit");
   }
   if (const char* env = std::getenv("GRAINLAB_MEMORY_LIMIT")) {
     // Bytes, or with a binary unit as a batch system writes it (16G, 512M, 1.5GiB; K M G T, 1024-based).
@@ -2916,10 +2919,6 @@ bool lock_or_warn(int fd, const std::string& path) {
 }
 
 namespace {
-std::string file_text(const std::string& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 // The paths of a cgroup control file for this process: v2's `v2_file` (the "0::PATH" line) and v1's `v1_file` under the
 // mount of `controller` (its line "ID:cpu,cpuacct:PATH"; the mount is named by the list, or by the controller), in
 // the cgroup and each of its parents up to the mount's root.
