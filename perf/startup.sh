@@ -19,8 +19,10 @@
 #   sizes: 1 against 2 threads on samples of 250 to 8 000 spheres (an isotropic stage of 4 000 steps, whole process),
 #     the measurement behind a run's default thread count (a thread a 1 000 spheres; session 71, 2-core VM, medians of
 #     3, 2 threads / 1: 1.35, 1.24, 1.06, 0.87, 0.68, 0.58).
+#   bound: a two-job study under OpenMP binding, on one place and unbound (study.cpp's JobPlaces; session 73).
 # Usage: [GRAINLAB_BIN=other/grainlab] perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or
-#   perf/startup.sh validate [REPS] or sizes - [REPS]   (build/ first; default: placement 200000, 3 reps; validate 11)
+#   perf/startup.sh validate [REPS], sizes - [REPS] or bound - [REPS]   (build/ first; default: placement 200000, 3
+#   reps; validate 11)
 set -eu
 what=${1:-placement}; arg=${2:-}; reps=${3:-3}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -68,6 +70,24 @@ elif [ "$what" = sizes ]; then
     m1=$(median < "$work/n1"); m2=$(median < "$work/n2")
     echo "$n spheres (medians of $reps): 1 thread $m1 s, 2 threads $m2 s, 2/1 $(echo "scale=3; $m2 / $m1" | bc)"
   done
+elif [ "$what" = bound ]; then
+  # A study of two 2 000-sphere preparations (15 000 steps of configs/quick.yaml's consolidation, mu_r 0.1 and 0.2),
+  # --jobs 2, whole command, under OpenMP binding (OMP_PROC_BIND=true: each job on its own places, study.cpp's
+  # JobPlaces), bound to one place (OMP_PLACES={0}: what every job inherited before), and unbound; rounds alternate
+  # (session 73, 2-core VM, two rounds by hand: 2.83 / 2.61, 4.97 / 4.80, 2.88 / 2.95 s).
+  sed -e '/^  - name: shear/,/^output:/{/^output:/!d}' -e 's/max_steps: 200000/max_steps: 15000/' \
+      -e 's/count: 3000/count: 2000/' "$root/configs/quick.yaml" > "$work/base.yaml"
+  printf 'base: base.yaml\naxes:\n  mu_r: [0.1, 0.2]\n' > "$work/study.yaml"
+  for mode in bound one unbound; do : > "$work/b.$mode"; done
+  for k in $(seq "$reps"); do
+    for mode in bound one unbound; do
+      case $mode in bound) e=OMP_PROC_BIND=true ;; one) e="OMP_PLACES={0}" ;; *) e=OMP_PROC_BIND=false ;; esac
+      seconds env "$e" GRAINLAB_FIGURE_FORMATS=png "$bin" study "$work/study.yaml" --out "$work/st_${mode}_$k" \
+        --jobs 2 --quiet >> "$work/b.$mode"
+      rm -rf "$work/st_${mode}_$k"
+    done
+  done
+  for mode in bound one unbound; do echo "two-job study, $mode (median of $reps): $(median < "$work/b.$mode") s"; done
 elif [ "$what" = import ]; then
   k=${arg:-3}
   peers=${PEERS_DIR:-$root/../shared/bench/peers}
@@ -95,6 +115,6 @@ elif [ "$what" = validate ]; then
   done
 else
   echo "usage: perf/startup.sh [placement N | start N | threads MAX | import K] [REPS], or validate [REPS], or" \
-       "sizes - [REPS]" >&2
+       "sizes - [REPS], or bound - [REPS]" >&2
   exit 2
 fi

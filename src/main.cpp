@@ -387,7 +387,7 @@ int main(int argc, char** argv) {
     if (so.threads == 0 && std::getenv("OMP_NUM_THREADS")) so.threads = grainlab::compat::host_threads(0);
 #endif
     // a job's share (run_study's per_job_threads) within OMP_THREAD_LIMIT and OMP_MAX_ACTIVE_LEVELS, or every job fails
-    if (so.threads > 0 && !omp_env_allows(std::max(1, so.threads / std::max(1, so.jobs)))) return 2;
+    if (so.threads > 0 && !omp_env_allows(grainlab::threads_per_job(so.threads, so.jobs))) return 2;
     if (!grainlab::is_study_file(study) && grainlab::is_run_config_file(study)) {
       std::fprintf(stderr, "grainlab: error: %s: a run config, not a study (a study names its `base`): run it with "
                    "`grainlab run %s`\n", study.c_str(), study.c_str());

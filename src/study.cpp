@@ -1461,9 +1461,9 @@ int run_study(const Study& s, const StudyOptions& o) {
   // start 32 threads a job (OpenMP threads beyond the cores wait on each other at every barrier, main.cpp).
   // Without --threads, at most what OMP_THREAD_LIMIT or OMP_MAX_ACTIVE_LEVELS allow a job (compat::openmp_thread_cap;
   // given more by --threads, main refuses the study).
-  const int per_job_threads = std::max(
-      1, o.threads > 0 ? o.threads / std::max(1, o.jobs)
-                       : std::min(usable_cores() / std::max(1, o.jobs), compat::openmp_thread_cap()));
+  const int per_job_threads = o.threads > 0
+                                  ? threads_per_job(o.threads, o.jobs)
+                                  : std::min(threads_per_job(usable_cores(), o.jobs), compat::openmp_thread_cap());
   // Where --threads did not set them, a job of few spheres gets fewer: a thread a kSpheresPerThread spheres, as a
   // run's default (default_threads: a small sample spread over many threads waits on their barriers).
   const auto job_threads = [&](const StudyJob& j) {

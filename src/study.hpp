@@ -134,6 +134,11 @@ struct StudyOptions {
   int jobs = 1, threads = 0;
   bool quiet = false;
 };
+// A job's share of `threads` among `jobs` running at once: at least 1.
+inline int threads_per_job(int threads, int jobs) {
+  const int share = threads / (jobs > 1 ? jobs : 1);
+  return share > 1 ? share : 1;
+}
 
 // Runs every job (resumably) and writes the report; returns the process exit code.
 int run_study(const Study& s, const StudyOptions& o);
