@@ -682,7 +682,8 @@ class Laboratory {
   void watch_overlap(const StageConfig& sc, const Measure& m);
   bool overlap_warned_ = false;  // this stage's watch_overlap warning given
   void write_summary() const;
-  void assert_healthy();
+  // stage_step: the steps the stage (or a target_e0 trial) has run, for a ramp's advice; trial: "" or which trial
+  void assert_healthy(long stage_step, const std::string& trial = "");
   [[noreturn]] void stop_run(const std::string& what);
   Real servo_error(const StageConfig& sc, const Measure& m) const;
   Real stage_servo_error(const StageConfig& sc) const;
@@ -717,7 +718,8 @@ class Laboratory {
   void snapshot(const std::string& tag);
   void write_xdmf();
   void save_sample(const StageConfig& sc);
-  std::string write_checkpoint();
+  // The engine's state, or `state` (a target_e0 search's stage start, written while a trial runs)
+  std::string write_checkpoint(const EngineState* state = nullptr);
   bool load_newest_checkpoint();
   void flush_outputs();
   void progress(const std::string& line, bool final = false);
@@ -1590,11 +1592,19 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
   e.restore(s0);
   e.set_friction(mu, sc.mu_r);
   interrupted = false;
-  for (long s = 0; s < sc.max_steps; ++s) {
+  // A trial is checked as a stage is (run_stage): a trial that blew up (a sphere squeezed past numerics.max_overlap,
+  // a NaN) stops the run with the stage's advice, where before its void ratio went on into the search unchecked.
+  std::ostringstream trial_os;
+  trial_os << std::setprecision(4) << "stage " << sc.name << ", target_e0 trial " << lab_.trial_mu.size() + 1
+           << " (mu = " << mu << ")";
+  const std::string trial = trial_os.str();
+  long s = 0;
+  for (; s < sc.max_steps; ++s) {
     const bool check = ((s + 1) % sc.check_every) == 0;
     bool done = false;
     if (check) {
       e.evaluate();
+      assert_healthy(s + 1, trial);
       done = isotropic_done(sc, e.diagnostics());
       ramp_pressure(sc, s + 1);
       e.advance();
@@ -1608,6 +1618,16 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
       interrupted = true;
       return 0;
     }
+    if (g_checkpoint != 0) {
+      // SIGUSR1 (SignalGuard): a search's checkpoint is its stage start and the trials finished (what a resume takes
+      // up; search_e0), written from s0 and leaving this trial's state alone, so the run goes on to the same bits.
+      g_checkpoint = 0;
+      const std::string path = write_checkpoint(&s0);
+      progress("", true);
+      std::fprintf(stderr, "checkpoint at step %ld (SIGUSR1): %s, the start of stage %s and its %zu finished target_e0 "
+                   "trial(s): a resume repeats trial %zu (at its step %ld now); the run goes on\n", s0.step, path.c_str(),
+                   sc.name.c_str(), lab_.trial_mu.size(), lab_.trial_mu.size() + 1, s + 1);
+    }
     if (s % 5000 == 0) {
       std::ostringstream os;
       os << std::setprecision(4) << sc.name << " | target_e0 " << sc.target_e0 << " | trial " << lab_.trial_mu.size() + 1
@@ -1615,6 +1635,7 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
       progress(os.str());
     }
   }
+  assert_healthy(std::min(s + 1, sc.max_steps), trial);  // the steps since the last check, before e is taken
   return measure(sc).e;
 }
 
@@ -1663,6 +1684,7 @@ bool Laboratory::search_e0(const StageConfig& sc) {
         progress("", true);
         std::printf("%s: target_e0 %.4f: trial %zu mu = %.4f -> e = %.4f\n", sc.name.c_str(), sc.target_e0,
                     lab_.trial_mu.size(), mu, e);
+        std::fflush(stdout);  // a batch job's log shows each trial as it ends (a trial of a large sample takes hours)
       }
       eng_->restore(s0);
       write_checkpoint();  // stage-start state + the trials so far: a resume skips finished trials
@@ -1674,7 +1696,7 @@ found : {
     if (std::abs(lab_.trial_e[k] - sc.target_e0) < std::abs(lab_.trial_e[best] - sc.target_e0)) best = k;
   lab_.mu = lab_.trial_mu[best];
   if (std::abs(lab_.trial_e[best] - sc.target_e0) > sc.target_e0_tolerance && !opt_.quiet)
-    std::printf("%s: target_e0 %.4f NOT reached within %.4f (reachable here: e in [%.4f, %.4f]); using mu = %.4f "
+    std::printf("%s: target_e0 %.4f NOT reached within %.4g (reachable here: e in [%.4f, %.4f]); using mu = %.4f "
                 "(e = %.4f)\n",
                 sc.name.c_str(), sc.target_e0, sc.target_e0_tolerance,
                 *std::min_element(lab_.trial_e.begin(), lab_.trial_e.end()),
@@ -1870,7 +1892,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
         watch_overlap(sc, m);
       }
       if (check) {
-        assert_healthy();
+        assert_healthy(lab_.stage_step);
         done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : strain_end;
       }
       if (snap) {
@@ -2214,10 +2236,10 @@ void Laboratory::save_sample(const StageConfig& sc) {
   if (!opt_.quiet) std::printf("sample: %s (reuse it with sample: {file: ...})\n", path.c_str());
 }
 
-void Laboratory::assert_healthy() {
+void Laboratory::assert_healthy(long stage_step, const std::string& trial) {
   const HealthReport h = eng_->check_health(cfg_.health);
   if (h.ok) return;
-  std::string what = h.what;
+  std::string what = trial.empty() ? h.what : trial + ": " + h.what;
   // A squeeze in an isotropic stage that loads at once (or on a ramp not much longer than the steps run so far) is
   // most often a loose gas that the servo walls drive at full speed (numerics.servo_max_step) into its jamming: a few
   // chains then take the walls' momentum, before the sample has found contacts enough to share it, and a finer sphere
@@ -2239,7 +2261,7 @@ void Laboratory::assert_healthy() {
   // 20 000-step ramp, and each consolidates on the ramp advised.
   if (h.squeeze && lab_.stage >= 0 && size_t(lab_.stage) < cfg_.stages.size()) {
     const StageConfig& sc = cfg_.stages[size_t(lab_.stage)];
-    const long advice = 5 * std::max(lab_.stage_step, 1L);
+    const long advice = 5 * std::max(stage_step, 1L);
     const Real p = sc.type == StageType::Isotropic ? measure(sc).p : 0;
     std::ostringstream os;
     os << std::setprecision(4);
@@ -2386,11 +2408,16 @@ void Laboratory::stop_run(const std::string& what) {
   throw BlowUpError(msg);
 }
 
-std::string Laboratory::write_checkpoint() {
-  assert_healthy();  // never replace a good checkpoint by a broken state
-  const EngineState s = eng_->capture();
+std::string Laboratory::write_checkpoint(const EngineState* state) {
+  EngineState captured;
+  if (!state) {
+    assert_healthy(lab_.stage_step);  // never replace a good checkpoint by a broken state
+    captured = eng_->capture();
+    state = &captured;
+  }
+  const EngineState& s = *state;
   char name[64];
-  std::snprintf(name, sizeof(name), "/checkpoints/ckpt_%012ld.h5", eng_->step_count());
+  std::snprintf(name, sizeof(name), "/checkpoints/ckpt_%012ld.h5", s.step);
   std::string path = out_ + name;
   write_h5_atomic(path, [&](H5Writer& w) {
     write_state(w, s);
