@@ -8,6 +8,27 @@ set -u
 bin=$1 data=$2 dir=$3
 fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$dir" && mkdir -p "$dir" && cd "$dir" || exit 1
+# signalled CONFIG NAME PATTERN: runs CONFIG into NAME (its console in NAME.out and NAME.err) and sends it SIGUSR1 once
+# a line of its console matches PATTERN (the line is written and flushed then, so the signal lands where the pattern
+# says, whatever the host's speed: a third of a reference run's time fell in either stage under load); it must exit 0.
+signalled() {
+  "$bin" run "$1" --out "$2" --threads 2 > "$2.out" 2> "$2.err" &
+  local pid=$! rc
+  for _ in $(seq 1 1200); do grep -q "$3" "$2.out" && break; sleep 0.05; done
+  kill -USR1 "$pid" 2> /dev/null || fail "$2 ended before it was signalled"
+  wait "$pid"; rc=$?
+  [ "$rc" -eq 0 ] || { cat "$2.err"; fail "$2, signalled, exited $rc, not 0"; }
+}
+# resumed_from CKPT NAME: the run of CKPT's directory resumed from CKPT alone (its config and snapshots copied: a
+# resume finds those its checkpoint lists) into NAME
+resumed_from() {
+  local from=${1%/checkpoints/*}
+  mkdir -p "$2/checkpoints" || exit 1
+  if ! { cp "$from/config.yaml" "$2/" && cp "$1" "$2/checkpoints/" && cp -r "$from/snapshots" "$2/"; }; then
+    fail "copying $from"
+  fi
+  "$bin" run "$2/config.yaml" --out "$2" --resume --quiet --threads 2 2> "$2.err" || { cat "$2.err"; fail "$2's resume"; }
+}
 cat > c.yaml <<'YAML'
 sample: {count: 800, seed: 12, density_scaling: 1000}
 material: {mu_r: 0.1}
@@ -17,25 +38,13 @@ stages:
 output: {every: 500, checkpoint_every: 0, checkpoint_minutes: 0, keep_checkpoints: 5}
 YAML
 "$bin" run c.yaml --out ref --quiet --threads 2 2> ref.err || { cat ref.err; fail "the reference run"; }
-# signalled once the shear's first progress line is out (a stage's first line is written and flushed at once): the
-# signal lands early in the shear, whatever the host's speed (a third of the reference's time fell in either stage)
-"$bin" run c.yaml --out sig --threads 2 > sig.out 2> sig.err &
-pid=$!
-for _ in $(seq 1 1200); do grep -q "^shear | step " sig.out && break; sleep 0.05; done
-kill -USR1 "$pid" 2> /dev/null || fail "the run ended before it was signalled"
-wait "$pid"; rc=$?
-[ "$rc" -eq 0 ] || { cat sig.err; fail "the signalled run exited $rc, not 0"; }
+signalled c.yaml sig "^shear | step "  # early in the shear: its first progress line
 line=$(grep -E "^checkpoint at step [0-9]+ \(SIGUSR1\): sig/checkpoints/ckpt_[0-9]+\.h5; the run goes on$" sig.err) ||
   { cat sig.err; fail "no line saying where the SIGUSR1 checkpoint is"; }
 ckpt=${line#*: }; ckpt=${ckpt%%;*}
 [ -f "$ckpt" ] || fail "the SIGUSR1 checkpoint $ckpt is not there"
 cmp ref/series.csv sig/series.csv || fail "the signalled run's series differs from the unsignalled one's"
-# resumed from that checkpoint alone: the same end
-mkdir -p res/checkpoints || exit 1
-cp sig/config.yaml res/ || fail "copying the config"
-cp "$ckpt" res/checkpoints/ || fail "copying the checkpoint"
-cp -r sig/snapshots res/ || fail "copying the snapshots (a resume finds those its checkpoint lists)"
-"$bin" run res/config.yaml --out res --resume --quiet --threads 2 2> res.err || { cat res.err; fail "the resume"; }
+resumed_from "$ckpt" res
 cmp ref/series.csv res/series.csv || fail "resumed from the SIGUSR1 checkpoint, the series differs"
 # During a target_e0 search the checkpoint is the stage's start and the trials finished (what a resume takes up),
 # written from the stage start while the trial runs on untouched: the same end, and a resume from it alone ends the
@@ -50,19 +59,11 @@ stages:
 output: {every: 500, checkpoint_every: 0, checkpoint_minutes: 0}
 YAML
 "$bin" run s.yaml --out sref --quiet --threads 2 2> sref.err || { cat sref.err; fail "the search's reference run"; }
-"$bin" run s.yaml --out ssig --threads 2 > ssig.out 2> ssig.err &
-pid=$!
-for _ in $(seq 1 600); do grep -q "^prepare: target_e0 0.7500: trial 1 mu = " ssig.out && break; sleep 0.05; done
-kill -USR1 "$pid" 2> /dev/null || fail "the search ended before it was signalled"
-wait "$pid"; rc=$?
-[ "$rc" -eq 0 ] || { cat ssig.err; fail "the signalled search exited $rc, not 0"; }
+signalled s.yaml ssig "^prepare: target_e0 0.7500: trial 1 mu = "
 grep -qE "^checkpoint at step 0 \(SIGUSR1\): ssig/checkpoints/ckpt_000000000000\.h5, the start of stage prepare and its 1 finished target_e0 trial\(s\): a resume repeats trial 2 \(at its step [0-9]+ now\); the run goes on$" ssig.err ||
   { cat ssig.err; fail "no line saying the SIGUSR1 checkpoint holds the search's start and its finished trials"; }
 for f in series.csv summary.json; do cmp sref/$f ssig/$f || fail "the signalled search's $f differs"; done
-mkdir -p sres/checkpoints || exit 1
-cp ssig/config.yaml sres/ || fail "copying the search's config"
-cp ssig/checkpoints/ckpt_000000000000.h5 sres/checkpoints/ || fail "copying the search's checkpoint"
-"$bin" run sres/config.yaml --out sres --resume --quiet --threads 2 2> sres.err || { cat sres.err; fail "its resume"; }
+resumed_from ssig/checkpoints/ckpt_000000000000.h5 sres
 cmp sref/series.csv sres/series.csv || fail "resumed from the search's checkpoint, the series differs"
 # the summary less its line naming the config file (s.yaml, sres/config.yaml): the trials' mu and e, the stage's end
 cmp <(grep -v '^  "config": ' sref/summary.json) <(grep -v '^  "config": ' sres/summary.json) ||
