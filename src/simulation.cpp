@@ -723,6 +723,7 @@ class Laboratory {
   bool load_newest_checkpoint();
   void flush_outputs();
   void progress(const std::string& line, bool final = false);
+  long trial_steps_ = 0;  // the steps a target_e0 trial had run when the run was interrupted
   bool stop_requested() const {
     return g_stop || (opt_.stop_after_steps >= 0 && total_steps_ >= opt_.stop_after_steps);
   }
@@ -1616,6 +1617,7 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
     if (done) break;
     if (stop_requested()) {
       interrupted = true;
+      trial_steps_ = s + 1;
       return 0;
     }
     if (g_checkpoint != 0) {
@@ -2911,8 +2913,17 @@ RunResult Laboratory::run() {
       // Searching: the checkpoint holds the stage-start state; otherwise the current step boundary.
       result.checkpoint = write_checkpoint();
       // Even with --quiet (which silences progress, not news): a stopped run says where it can resume.
-      std::fprintf(stderr, "interrupted at step %ld%s: checkpoint %s; continue with --resume\n", eng_->step_count(),
-                   g_pipe_closed ? " (the reader of its output closed the pipe)" : "", result.checkpoint.c_str());
+      std::string search;  // a target_e0 search's step is its stage start's: which trial was running, and how far
+      if (lab_.searching) {
+        std::ostringstream os;
+        const size_t k = lab_.trial_mu.size() + 1;
+        os << ", in stage " << cfg_.stages[size_t(lab_.stage)].name << "'s target_e0 search at step " << trial_steps_
+           << " of trial " << k << " (" << k - 1 << " finished; a resume runs trial " << k << " again)";
+        search = os.str();
+      }
+      std::fprintf(stderr, "interrupted at step %ld%s%s: checkpoint %s; continue with --resume\n", eng_->step_count(),
+                   search.c_str(), g_pipe_closed ? " (the reader of its output closed the pipe)" : "",
+                   result.checkpoint.c_str());
       result.stages = lab_.results;
       return result;
     }

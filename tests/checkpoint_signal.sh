@@ -8,16 +8,17 @@ set -u
 bin=$1 data=$2 dir=$3
 fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$dir" && mkdir -p "$dir" && cd "$dir" || exit 1
-# signalled CONFIG NAME PATTERN: runs CONFIG into NAME (its console in NAME.out and NAME.err) and sends it SIGUSR1 once
-# a line of its console matches PATTERN (the line is written and flushed then, so the signal lands where the pattern
-# says, whatever the host's speed: a third of a reference run's time fell in either stage under load); it must exit 0.
+# signalled CONFIG NAME PATTERN [SIGNAL EXIT]: runs CONFIG into NAME (its console in NAME.out and NAME.err) and sends
+# it SIGNAL (USR1) once a line of its console matches PATTERN (the line is written and flushed then, so the signal lands
+# where the pattern says, whatever the host's speed: a third of a reference run's time fell in either stage under
+# load); it must exit EXIT (0).
 signalled() {
   "$bin" run "$1" --out "$2" --threads 2 > "$2.out" 2> "$2.err" &
   local pid=$! rc
   for _ in $(seq 1 1200); do grep -q "$3" "$2.out" && break; sleep 0.05; done
-  kill -USR1 "$pid" 2> /dev/null || fail "$2 ended before it was signalled"
+  kill -"${4:-USR1}" "$pid" 2> /dev/null || fail "$2 ended before it was signalled"
   wait "$pid"; rc=$?
-  [ "$rc" -eq 0 ] || { cat "$2.err"; fail "$2, signalled, exited $rc, not 0"; }
+  [ "$rc" -eq "${5:-0}" ] || { cat "$2.err"; fail "$2, signalled, exited $rc, not ${5:-0}"; }
 }
 # resumed_from CKPT NAME: the run of CKPT's directory resumed from CKPT alone (its config and snapshots copied: a
 # resume finds those its checkpoint lists) into NAME
@@ -68,6 +69,10 @@ cmp sref/series.csv sres/series.csv || fail "resumed from the search's checkpoin
 # the summary less its line naming the config file (s.yaml, sres/config.yaml): the trials' mu and e, the stage's end
 cmp <(grep -v '^  "config": ' sref/summary.json) <(grep -v '^  "config": ' sres/summary.json) ||
   fail "resumed from the search's checkpoint, summary.json differs"
+# Interrupted in the search (SIGINT): the line names the trial that ran, and that a resume runs it again
+signalled s.yaml sint "^prepare: target_e0 0.7500: trial 1 mu = " INT 130
+grep -qE "^interrupted at step 0, in stage prepare's target_e0 search at step [0-9]+ of trial 2 \(1 finished; a resume runs trial 2 again\): checkpoint sint/checkpoints/ckpt_000000000000\.h5; continue with --resume$" sint.err ||
+  { cat sint.err; fail "the interruption's line does not name the search's trial"; }
 # a study: passed on to its running jobs, which write a checkpoint each and go on
 cp "$data"/tiny-study.yaml "$data"/tiny-study-base.yaml .
 GRAINLAB_FIGURE_FORMATS=png "$bin" study tiny-study.yaml --out st --jobs 2 --quiet > st.out 2> st.err &
