@@ -1667,6 +1667,10 @@ bool Laboratory::search_e0(const StageConfig& sc) {
     }
     return mu;  // -1: the target lies outside [e(0), e(mu_max)]
   };
+  if (!opt_.quiet)  // a resumed search: the trials its checkpoint holds, so the log shows the whole search
+    for (size_t k = 0; k < lab_.trial_mu.size(); ++k)
+      std::printf("%s: target_e0 %.4f: trial %zu mu = %.4f -> e = %.4f (run before the resume)\n", sc.name.c_str(),
+                  sc.target_e0, k + 1, lab_.trial_mu[k], lab_.trial_e[k]);
   while (int(lab_.trial_mu.size()) < sc.max_trials) {
     // Converged?
     for (size_t k = 0; k < lab_.trial_mu.size(); ++k)

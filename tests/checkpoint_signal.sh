@@ -73,6 +73,10 @@ cmp <(grep -v '^  "config": ' sref/summary.json) <(grep -v '^  "config": ' sres/
 signalled s.yaml sint "^prepare: target_e0 0.7500: trial 1 mu = " INT 130
 grep -qE "^interrupted at step 0, in stage prepare's target_e0 search at step [0-9]+ of trial 2 \(1 finished; a resume runs trial 2 again\): checkpoint sint/checkpoints/ckpt_000000000000\.h5; continue with --resume$" sint.err ||
   { cat sint.err; fail "the interruption's line does not name the search's trial"; }
+"$bin" run s.yaml --out sint --resume --threads 2 > sint2.out 2> sint2.err || { cat sint2.err; fail "the search's resume"; }
+grep -qE "^prepare: target_e0 0.7500: trial 1 mu = 0.0000 -> e = 0\.[0-9]{4} \(run before the resume\)$" sint2.out ||
+  { cat sint2.out; fail "the resumed search does not show the trial its checkpoint holds"; }
+cmp sref/series.csv sint/series.csv || fail "the search interrupted and resumed: its series differs"
 # a study: passed on to its running jobs, which write a checkpoint each and go on
 cp "$data"/tiny-study.yaml "$data"/tiny-study-base.yaml .
 GRAINLAB_FIGURE_FORMATS=png "$bin" study tiny-study.yaml --out st --jobs 2 --quiet > st.out 2> st.err &
