@@ -1606,6 +1606,7 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
     if (check) {
       e.evaluate();
       assert_healthy(s + 1, trial);
+      watch_core_share();  // a search of a large sample is hours of trials: a host shared with others warns here too
       done = isotropic_done(sc, e.diagnostics());
       ramp_pressure(sc, s + 1);
       e.advance();
