@@ -714,7 +714,12 @@ class Laboratory {
   // Runs the stage from lab_.stage_step; returns false when interrupted.
   bool run_stage(const StageConfig& sc);
   bool search_e0(const StageConfig& sc);
-  Real trial_consolidation(const StageConfig& sc, const EngineState& s0, Real mu, bool& interrupted);
+  struct TrialEnd {
+    Real e = 0;
+    bool converged = false;    // ended by isotropic_done, not by max_steps
+    bool interrupted = false;  // stopped (a signal; stop_after_steps): e means nothing
+  };
+  TrialEnd trial_consolidation(const StageConfig& sc, const EngineState& s0, Real mu);
   void snapshot(const std::string& tag);
   void write_xdmf();
   void save_sample(const StageConfig& sc);
@@ -1588,11 +1593,11 @@ void Laboratory::ramp_pressure(const StageConfig& sc, long stage_step) {
   for (int k = 0; k < 6; ++k) eng_->wall_control(k).target_stress = frac * sc.pressure;
 }
 
-Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s0, Real mu, bool& interrupted) {
+Laboratory::TrialEnd Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s0, Real mu) {
   Engine& e = *eng_;
   e.restore(s0);
   e.set_friction(mu, sc.mu_r);
-  interrupted = false;
+  TrialEnd end;
   // A trial is checked as a stage is (run_stage): a trial that blew up (a sphere squeezed past numerics.max_overlap,
   // a NaN) stops the run with the stage's advice, where before its void ratio went on into the search unchecked.
   std::ostringstream trial_os;
@@ -1615,11 +1620,14 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
       e.step();  // nothing measured between the halves: the fused step, the same bits (see run_stage)
     }
     ++total_steps_;
-    if (done) break;
+    if (done) {
+      end.converged = true;
+      break;
+    }
     if (stop_requested()) {
-      interrupted = true;
+      end.interrupted = true;
       trial_steps_ = s + 1;
-      return 0;
+      return end;
     }
     if (g_checkpoint != 0) {
       // SIGUSR1 (SignalGuard): a search's checkpoint is its stage start and the trials finished (what a resume takes
@@ -1639,7 +1647,8 @@ Real Laboratory::trial_consolidation(const StageConfig& sc, const EngineState& s
     }
   }
   assert_healthy(std::min(s + 1, sc.max_steps), trial);  // the steps since the last check, before e is taken
-  return measure(sc).e;
+  end.e = measure(sc).e;
+  return end;
 }
 
 bool Laboratory::search_e0(const StageConfig& sc) {
@@ -1679,18 +1688,19 @@ bool Laboratory::search_e0(const StageConfig& sc) {
     {
       const Real mu = next_mu();
       if (mu < 0) break;
-      bool interrupted = false;
-      const Real e = trial_consolidation(sc, s0, mu, interrupted);
-      if (interrupted) {
+      const TrialEnd t = trial_consolidation(sc, s0, mu);
+      if (t.interrupted) {
         eng_->restore(s0);
         return false;
       }
       lab_.trial_mu.push_back(mu);
-      lab_.trial_e.push_back(e);
+      lab_.trial_e.push_back(t.e);
       if (!opt_.quiet) {
         progress("", true);
-        std::printf("%s: target_e0 %.4f: trial %zu mu = %.4f -> e = %.4f\n", sc.name.c_str(), sc.target_e0,
-                    lab_.trial_mu.size(), mu, e);
+        // A trial out of steps is no equilibrium's e (as a stage's "NOT converged" line says of its end)
+        std::printf("%s: target_e0 %.4f: trial %zu mu = %.4f -> e = %.4f%s\n", sc.name.c_str(), sc.target_e0,
+                    lab_.trial_mu.size(), mu, t.e,
+                    t.converged ? "" : " (NOT converged: max_steps reached, e taken there; raise max_steps)");
         std::fflush(stdout);  // a batch job's log shows each trial as it ends (a trial of a large sample takes hours)
       }
       eng_->restore(s0);
