@@ -2998,8 +2998,9 @@ std::vector<std::string> cgroup_files(const std::string& proc_self_cgroup, const
       f += '/';
       f += file;
       out.push_back(std::move(f));
-      if (path.empty() || path == "/") break;
-      path = path.substr(0, path.rfind('/'));
+      const size_t cut = path.rfind('/');
+      if (path == "/" || cut == std::string::npos) break;  // the root's files read; a path without '/' has no parent
+      path.resize(cut);  // "/a/b" -> "/a" -> "" (the root's files, then the end)
     }
   }
   return out;
