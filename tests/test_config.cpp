@@ -1620,6 +1620,8 @@ TEST(Config, CgroupLimitsV1AndV2) {
   // nothing there, or an unreadable text: no limit
   EXPECT_EQ(cgroup_cores("0::/none\n", (root / "missing").string()), 0);
   EXPECT_EQ(cgroup_memory_limit("garbage", root.string()), 0.0);
+  // a path without its leading '/': read as it stands, and the walk ends (it looped forever, growing its list)
+  EXPECT_EQ(cgroup_cores("0::a/b\n", root.string()), 0);
 }
 
 // The pace of a stage's output writes (series.csv, cycles.csv, run.h5 rewritten whole): every 20 rows, a minute for a
