@@ -3231,9 +3231,13 @@ RunPlan plan_run_with(const RunConfig& cfg, Real p_start, bool place, const Samp
     os << std::setprecision(4) << "stage " << sc.name << ": ";
     const auto warn = [&](const std::string& w) { plan.warnings.push_back("stage " + sc.name + ": " + w); };
     if (sc.type == StageType::Isotropic) {
-      os << "isotropic to " << sc.pressure / 1e3 << " kPa, mu = " << sc.mu << ", mu_r = " << sc.mu_r;
+      // a search's mu is its own (0, mu_max, then between: Laboratory::search_e0), whatever the stage's mu says
+      os << "isotropic to " << sc.pressure / 1e3 << " kPa, ";
+      if (sc.target_e0 > 0) os << "mu searched in [0, " << sc.mu_max << "]";
+      else os << "mu = " << sc.mu;
+      os << ", mu_r = " << sc.mu_r;
       if (sc.target_e0 > 0)
-        os << ", searching mu for e0 = " << sc.target_e0 << " (up to " << sc.max_trials << " trials of up to "
+        os << ", for e0 = " << sc.target_e0 << " (up to " << sc.max_trials << " trials of up to "
            << sc.max_steps << " steps)";
       else
         os << ", until equilibrium (at most " << sc.max_steps << " steps)";
