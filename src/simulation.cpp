@@ -24,6 +24,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <yaml-cpp/yaml.h>
 
@@ -615,6 +616,8 @@ class Laboratory {
   Measure measure(const StageConfig& sc) const;
   std::vector<double> row(const StageConfig& sc, const Measure& m, const Diagnostics& d);
   bool isotropic_done(const StageConfig& sc, const Diagnostics& d) const;
+  // Which of isotropic_done's criteria d and the walls miss, with their values and tolerances ("" if none)
+  std::string isotropic_unmet(const StageConfig& sc, const Diagnostics& d) const;
   bool shear_end(const StageConfig& sc, const Measure& m) const;
   // An oedometric stage's stress end (StageConfig::sigma_v, ocr): the sigma_z it ends at, 0 for none; sv_end_ holds
   // the running stage's (run_stage), which shear_end reads.
@@ -1254,6 +1257,29 @@ bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) con
   return d.contacts > 0 && d.unbalanced_ratio < sc.ufr_tolerance && d.kinetic_skeleton < sc.ke_tolerance * d.potential;
 }
 
+std::string Laboratory::isotropic_unmet(const StageConfig& sc, const Diagnostics& d) const {
+  std::ostringstream os;
+  os << std::setprecision(3);
+  const char* sep = "";
+  int worst = 0;
+  for (int k = 1; k < 6; ++k)
+    if (std::abs(eng_->wall_stress(k) - sc.pressure) > std::abs(eng_->wall_stress(worst) - sc.pressure)) worst = k;
+  const Real off = std::abs(eng_->wall_stress(worst) - sc.pressure) / sc.pressure;
+  if (off > sc.pressure_tolerance) {
+    os << "wall " << worst << " at " << eng_->wall_stress(worst) / 1e3 << " kPa, " << 100 * off << " % off "
+       << sc.pressure / 1e3 << " kPa against pressure_tolerance " << sc.pressure_tolerance;
+    sep = "; ";
+  }
+  if (!(d.contacts > 0)) os << std::exchange(sep, "; ") << "no contacts";
+  if (!(d.unbalanced_ratio < sc.ufr_tolerance))
+    os << std::exchange(sep, "; ") << "unbalanced force ratio " << d.unbalanced_ratio << " against ufr_tolerance "
+       << sc.ufr_tolerance;
+  if (!(d.kinetic_skeleton < sc.ke_tolerance * d.potential))
+    os << std::exchange(sep, "; ") << "kinetic / elastic energy " << d.kinetic_skeleton / d.potential
+       << " against ke_tolerance " << sc.ke_tolerance;
+  return os.str();
+}
+
 // A shear stage's end, judged at the start of a step (from wall positions and the wall loads the servo used):
 // triaxial, eps_a (-eps_a in extension) reached; cyclic, |eps_a| at max_axial_strain (the sample liquefied or failed), or the cycles
 // done: after the last extension peak, back at the level the stage started from (q or eps_a = 0).
@@ -1812,6 +1838,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
   bool done = false;
   Measure final_m{};
   long final_step = 0;  // the step of final_m (the stage's last series row)
+  std::string unmet;    // an isotropic stage out of steps: the equilibrium criteria it missed on its last step
   while (lab_.stage_step < sc.max_steps) {
     // What this step does is known before it runs: counters, and the axial strain, which comes from the
     // wall positions that evaluate() leaves alone.
@@ -1911,6 +1938,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       if (check) {
         assert_healthy(lab_.stage_step);
         done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : strain_end;
+        if (last_step && !done && sc.type == StageType::Isotropic) unmet = isotropic_unmet(sc, d);
       }
       if (snap) {
         snapshot(sc.name + (cyclic ? "_peak" + std::to_string(lab_.half_cycles) : "_eps" + std::to_string(lab_.snapshots)));
@@ -2030,6 +2058,10 @@ bool Laboratory::run_stage(const StageConfig& sc) {
     else if (!opt_.quiet)
       std::printf("stage %s: ended at %s, its end %s\n", sc.name.c_str(), at.c_str(), end.c_str());
   }
+  if (sc.type == StageType::Isotropic && !done)  // even with --quiet: what follows starts from a sample not at rest
+    std::fprintf(stderr, "grainlab: warning: stage %s: not in equilibrium at its max_steps = %ld%s%s%s: the sample it "
+                 "leaves is not at rest (summary.json: done false); raise its max_steps\n", sc.name.c_str(),
+                 sc.max_steps, unmet.empty() ? "" : " (", unmet.c_str(), unmet.empty() ? "" : ")");
   if (!opt_.quiet) {
     std::printf("stage %s: %s after %ld steps, mu = %.4g, p = %.4g kPa, q = %.4g kPa, e = %.4f\n", sc.name.c_str(),
                 done ? "done" : "NOT converged (max_steps reached)", lab_.stage_step, lab_.mu, m.p / 1e3, m.q / 1e3, m.e);
