@@ -615,9 +615,8 @@ class Laboratory {
   void start_stage(const StageConfig& sc);
   Measure measure(const StageConfig& sc) const;
   std::vector<double> row(const StageConfig& sc, const Measure& m, const Diagnostics& d);
-  bool isotropic_done(const StageConfig& sc, const Diagnostics& d) const;
-  // Which of isotropic_done's criteria d and the walls miss, with their values and tolerances ("" if none)
-  std::string isotropic_unmet(const StageConfig& sc, const Diagnostics& d) const;
+  // unmet: where given, the criteria missed, with their values and tolerances ("" if none)
+  bool isotropic_done(const StageConfig& sc, const Diagnostics& d, std::string* unmet = nullptr) const;
   bool shear_end(const StageConfig& sc, const Measure& m) const;
   // An oedometric stage's stress end (StageConfig::sigma_v, ocr): the sigma_z it ends at, 0 for none; sv_end_ holds
   // the running stage's (run_stage), which shear_end reads.
@@ -1250,34 +1249,35 @@ void Laboratory::warn_graded(const StageConfig& sc, const StageResult& r) const 
                                 "compacts it homogeneously");
 }
 
-bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d) const {
+bool Laboratory::isotropic_done(const StageConfig& sc, const Diagnostics& d, std::string* unmet) const {
   // SPEC §6.2: every wall within the pressure tolerance, and equilibrium (unbalanced force, kinetic energy).
-  for (int k = 0; k < 6; ++k)
-    if (std::abs(eng_->wall_stress(k) - sc.pressure) > sc.pressure_tolerance * sc.pressure) return false;
-  return d.contacts > 0 && d.unbalanced_ratio < sc.ufr_tolerance && d.kinetic_skeleton < sc.ke_tolerance * d.potential;
-}
-
-std::string Laboratory::isotropic_unmet(const StageConfig& sc, const Diagnostics& d) const {
-  std::ostringstream os;
-  os << std::setprecision(3);
-  const char* sep = "";
+  bool walls = true;
   int worst = 0;
-  for (int k = 1; k < 6; ++k)
-    if (std::abs(eng_->wall_stress(k) - sc.pressure) > std::abs(eng_->wall_stress(worst) - sc.pressure)) worst = k;
-  const Real off = std::abs(eng_->wall_stress(worst) - sc.pressure) / sc.pressure;
-  if (off > sc.pressure_tolerance) {
-    os << "wall " << worst << " at " << eng_->wall_stress(worst) / 1e3 << " kPa, " << 100 * off << " % off "
-       << sc.pressure / 1e3 << " kPa against pressure_tolerance " << sc.pressure_tolerance;
-    sep = "; ";
+  for (int k = 0; k < 6; ++k) {
+    const Real off = std::abs(eng_->wall_stress(k) - sc.pressure);
+    if (off > sc.pressure_tolerance * sc.pressure) walls = false;
+    if (off > std::abs(eng_->wall_stress(worst) - sc.pressure)) worst = k;
   }
-  if (!(d.contacts > 0)) os << std::exchange(sep, "; ") << "no contacts";
-  if (!(d.unbalanced_ratio < sc.ufr_tolerance))
-    os << std::exchange(sep, "; ") << "unbalanced force ratio " << d.unbalanced_ratio << " against ufr_tolerance "
-       << sc.ufr_tolerance;
-  if (!(d.kinetic_skeleton < sc.ke_tolerance * d.potential))
-    os << std::exchange(sep, "; ") << "kinetic / elastic energy " << d.kinetic_skeleton / d.potential
-       << " against ke_tolerance " << sc.ke_tolerance;
-  return os.str();
+  const bool contacts = d.contacts > 0, ufr = d.unbalanced_ratio < sc.ufr_tolerance,
+             ke = d.kinetic_skeleton < sc.ke_tolerance * d.potential;
+  if (unmet) {
+    std::ostringstream os;
+    os << std::setprecision(3);
+    const char* sep = "";
+    if (!walls)
+      os << std::exchange(sep, "; ") << "wall " << worst << " at " << eng_->wall_stress(worst) / 1e3 << " kPa, "
+         << 100 * std::abs(eng_->wall_stress(worst) - sc.pressure) / sc.pressure << " % off " << sc.pressure / 1e3
+         << " kPa against pressure_tolerance " << sc.pressure_tolerance;
+    if (!contacts) os << std::exchange(sep, "; ") << "no contacts";
+    if (!ufr)
+      os << std::exchange(sep, "; ") << "unbalanced force ratio " << d.unbalanced_ratio << " against ufr_tolerance "
+         << sc.ufr_tolerance;
+    if (!ke)
+      os << std::exchange(sep, "; ") << "kinetic / elastic energy " << d.kinetic_skeleton / d.potential
+         << " against ke_tolerance " << sc.ke_tolerance;
+    *unmet = os.str();
+  }
+  return walls && contacts && ufr && ke;
 }
 
 // A shear stage's end, judged at the start of a step (from wall positions and the wall loads the servo used):
@@ -1937,8 +1937,8 @@ bool Laboratory::run_stage(const StageConfig& sc) {
       }
       if (check) {
         assert_healthy(lab_.stage_step);
-        done = sc.type == StageType::Isotropic ? isotropic_done(sc, d) : strain_end;
-        if (last_step && !done && sc.type == StageType::Isotropic) unmet = isotropic_unmet(sc, d);
+        // on its last step an isotropic stage keeps what it missed: its warning if it ends there unconverged
+        done = sc.type == StageType::Isotropic ? isotropic_done(sc, d, last_step ? &unmet : nullptr) : strain_end;
       }
       if (snap) {
         snapshot(sc.name + (cyclic ? "_peak" + std::to_string(lab_.half_cycles) : "_eps" + std::to_string(lab_.snapshots)));
