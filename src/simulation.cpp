@@ -2278,6 +2278,12 @@ void Laboratory::save_sample(const StageConfig& sc) {
     w.attr("e_inner", r.e_inner);
     w.attr("e_core", r.e_core);
     w.attr("mu_prep", r.mu);
+    if (!lab_.trial_mu.empty()) {  // a target_e0 search's trials, in the order run: e(mu) of this sample, and its scatter
+      w.group("/search");
+      w.write("/search/trial_mu", lab_.trial_mu);
+      w.write("/search/trial_e", lab_.trial_e);
+      w.attr("target_e0", sc.target_e0);
+    }
     w.attr("stage", sc.name);
     w.attr("config", resolved_config_yaml(cfg_));
     w.attr("build", build_info());

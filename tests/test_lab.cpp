@@ -954,6 +954,18 @@ output: {every: 1000, checkpoint_every: 0, checkpoint_minutes: 0}
   H5Reader s(out + "/sample_prepare.h5");
   EXPECT_NEAR(s.attr_double("e"), 0.76, 0.003);
   EXPECT_EQ(s.attr_double("mu_prep"), r.stages[0].mu);
+  // the trials, in the order run: mu = 0 and mu_max first, the friction found among them with the e it gave (the
+  // stage runs that trial again from the same start: the same e to the digits reported)
+  EXPECT_EQ(s.attr_double("target_e0"), 0.76);
+  const std::vector<double> mu = s.doubles("/search/trial_mu"), e = s.doubles("/search/trial_e");
+  ASSERT_EQ(mu.size(), e.size());
+  ASSERT_GE(mu.size(), 3u);
+  EXPECT_LE(mu.size(), 16u);
+  EXPECT_EQ(mu[0], 0.0);
+  EXPECT_EQ(mu[1], 1.0);
+  const auto found = std::find(mu.begin(), mu.end(), r.stages[0].mu);
+  ASSERT_NE(found, mu.end()) << "the friction found is not one of the trials";
+  EXPECT_NEAR(e[size_t(found - mu.begin())], r.stages[0].e, 5e-5);
 }
 
 // Bad input: one clear error, and nothing already written is touched.
