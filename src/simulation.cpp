@@ -720,6 +720,7 @@ class Laboratory {
     Real e = 0;
     bool converged = false;    // ended by isotropic_done, not by max_steps
     bool interrupted = false;  // stopped (a signal; stop_after_steps): e means nothing
+    long steps = 0;            // the steps it ran
   };
   TrialEnd trial_consolidation(const StageConfig& sc, const EngineState& s0, Real mu);
   void snapshot(const std::string& tag);
@@ -1672,7 +1673,8 @@ Laboratory::TrialEnd Laboratory::trial_consolidation(const StageConfig& sc, cons
       progress(os.str());
     }
   }
-  assert_healthy(std::min(s + 1, sc.max_steps), trial);  // the steps since the last check, before e is taken
+  end.steps = std::min(s + 1, sc.max_steps);
+  assert_healthy(end.steps, trial);  // the steps since the last check, before e is taken
   end.e = measure(sc).e;
   return end;
 }
@@ -1724,9 +1726,9 @@ bool Laboratory::search_e0(const StageConfig& sc) {
       if (!opt_.quiet) {
         progress("", true);
         // A trial out of steps is no equilibrium's e (as a stage's "NOT converged" line says of its end)
-        std::printf("%s: target_e0 %.4f: trial %zu mu = %.4f -> e = %.4f%s\n", sc.name.c_str(), sc.target_e0,
-                    lab_.trial_mu.size(), mu, t.e,
-                    t.converged ? "" : " (NOT converged: max_steps reached, e taken there; raise max_steps)");
+        std::printf("%s: target_e0 %.4f: trial %zu mu = %.4f -> e = %.4f %s %ld steps%s\n", sc.name.c_str(),
+                    sc.target_e0, lab_.trial_mu.size(), mu, t.e, t.converged ? "in" : "(NOT converged in", t.steps,
+                    t.converged ? "" : ", its max_steps: e taken there; raise max_steps)");
         std::fflush(stdout);  // a batch job's log shows each trial as it ends (a trial of a large sample takes hours)
       }
       eng_->restore(s0);
