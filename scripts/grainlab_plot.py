@@ -3451,6 +3451,17 @@ def sample_sizes(run_dir):
         return {}
 
 
+def search_trials(run_dir, stage):
+    """A target_e0 search's trials, (mu, e) in the order run, from the sample file its stage saved (/search/trial_mu,
+    /search/trial_e); None where there are none (no search, no sample file, a build before them)."""
+    try:
+        import h5py
+        with h5py.File(os.path.join(run_dir, f"sample_{stage}.h5"), "r") as f:
+            return [float(x) for x in f["/search/trial_mu"][()]], [float(x) for x in f["/search/trial_e"][()]]
+    except (OSError, KeyError, ImportError):
+        return None
+
+
 def samples_section(out, jobs, samples=None):
     """The study's samples as consolidated (their summary.json's last isotropic stage): D50 and Cu of their spheres (by
     mass), e of the box, of its interior and of its core (the central eighth), and whether the sample is graded
@@ -3485,7 +3496,10 @@ def samples_section(out, jobs, samples=None):
         for st in isotropic_stages(out, name):
             t, tol = st.get("target_e0"), st.get("target_e0_tolerance")
             if t is not None and tol is not None and st.get("e") is not None and abs(st["e"] - t) > tol:
-                missed.append(name)
+                # the void ratios its trials did reach (their frictions 0 to mu_max): where a target could lie
+                tr = search_trials(s["dir"], st["name"])
+                missed.append(name + (f" (its {len(tr[1])} trials' e {min(tr[1]):.4f} to {max(tr[1]):.4f})"
+                                      if tr and tr[1] else ""))
                 verdict = f"target_e0 {t:g} NOT reached ({st['name']}: e {st['e']:.4f}); {verdict}"
         sizes = sample_sizes(s["dir"])
         d50 = sizes.get("d50")

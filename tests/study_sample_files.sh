@@ -183,6 +183,9 @@ grep -q '"target_e0": 0.8, "target_e0_tolerance": 0.003}' ste0/jobs/sample_mur0_
   fail "summary.json lacks the target"
 grep -q "^| sample_mur0_e0.8_pbase_fb_n300 | 300 | .* | target_e0 0.8 NOT reached (again: e 0\.7[0-9]*); " ste0/report.md &&
   grep -q "^1 of 1 samples did not reach their target_e0" ste0/report.md || fail "the report does not mark the missed target"
+# and the void ratios its trials did reach (the sample file's /search/trial_e): from mu = 0 (the densest) to mu_max
+grep -qE "start from the e_0 given here: sample_mur0_e0.8_pbase_fb_n300 \(its [2-9] trials' e 0\.[0-9]{4} to 0\.7[0-9]{3}\)\.$" ste0/report.md ||
+  fail "the report does not give the e the search's trials reached: $(grep 'did not reach' ste0/report.md)"
 # An extra job on one file by its name (and the base's own drawn sample beside it)
 printf 'base: base.yaml\naxes: {sample_file: {a: packings/a.h5}}\nextra: [{sample_file: a, drainage: drained}, {drainage: drained}]\n' > extra.yaml
 plan=$("$bin" validate extra.yaml 2>&1) || fail "validate of extra jobs failed: $plan"
