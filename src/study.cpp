@@ -26,6 +26,7 @@
 #include <sstream>
 
 #include "config.hpp"
+#include "h5io.hpp"
 #include "simulation.hpp"
 
 namespace grainlab {
@@ -1272,6 +1273,9 @@ struct Unconverged {
   // a target_e0 search that missed its target (summary.json's target_e0 and tolerance against e): "stage: e 0.767
   // against target_e0 0.8 (tolerance 0.003)"; empty where none missed
   std::string e0_missed;
+  // the e its trials reached, from its stage's sample file (/search/trial_e): " (its 2 trials reached e 0.6863 to
+  // 0.7672)"; empty where the file has none
+  std::string e0_trials;
 };
 Unconverged unconverged_stages(const fs::path& summary) {
   Unconverged u;
@@ -1284,9 +1288,21 @@ Unconverged unconverged_stages(const fs::path& summary) {
         const double e = st["e"].as<double>(), t = st["target_e0"].as<double>();
         if (std::abs(e - t) > st["target_e0_tolerance"].as<double>()) {
           std::ostringstream os;
-          os << std::setprecision(4) << (st["name"] ? st["name"].as<std::string>() : "?") << ": e " << e
-             << " against target_e0 " << t << " (tolerance " << st["target_e0_tolerance"].as<double>() << ")";
+          const std::string stage = st["name"] ? st["name"].as<std::string>() : "?";
+          os << std::setprecision(4) << stage << ": e " << e << " against target_e0 " << t << " (tolerance "
+             << st["target_e0_tolerance"].as<double>() << ")";
           u.e0_missed = os.str();
+          try {  // where a target could lie: the void ratios the trials' frictions, 0 to mu_max, did make
+            const std::vector<double> te = H5Reader((summary.parent_path() / ("sample_" + stage + ".h5")).string())
+                                               .doubles("/search/trial_e");
+            if (!te.empty()) {
+              std::ostringstream ts;
+              ts << std::fixed << std::setprecision(4) << " (its " << te.size() << " trials reached e "
+                 << *std::min_element(te.begin(), te.end()) << " to " << *std::max_element(te.begin(), te.end()) << ")";
+              u.e0_trials = ts.str();
+            }
+          } catch (const std::exception&) {  // no sample file, or one from a build before the trials: say less
+          }
         }
       }
     }
@@ -1819,8 +1835,8 @@ int run_study(const Study& s, const StudyOptions& o) {
         // a target_e0 the search's frictions could not reach: the job's name says the target, its sample has another e
         if (!u.e0_missed.empty())
           std::fprintf(stderr, "grainlab study: warning: %s: target_e0 NOT reached (%s): its frictions, 0 to the "
-                       "stage's mu_max, do not make that void ratio of this sample here; the report gives the e it "
-                       "has\n", j.name.c_str(), u.e0_missed.c_str());
+                       "stage's mu_max, do not make that void ratio of this sample here%s; the report gives the e it "
+                       "has\n", j.name.c_str(), u.e0_missed.c_str(), u.e0_trials.c_str());
       } else if (code == 130 || code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP) {
         // Stopped at a checkpoint (130), or by the signal before it had started: the rerun resumes it. A job
         // stopped so means the user (or the system) is stopping the study: start nothing new.
