@@ -681,7 +681,8 @@ class Laboratory {
     const long start = eng_->step_count() - lab_.stage_step;
     return double(row_step - start) * eng_->dt() / 4 / transit_;
   }
-  void watch_overlap(const StageConfig& sc, const Measure& m);
+  // deepest: the deepest sphere-sphere overlap now, of the smaller radius; trial: "" or which target_e0 trial
+  void watch_overlap(const StageConfig& sc, Real deepest, const std::string& trial = "");
   bool overlap_warned_ = false;  // this stage's watch_overlap warning given
   void write_summary() const;
   // stage_step: the steps the stage (or a target_e0 trial) has run, for a ramp's advice; trial: "" or which trial
@@ -1487,17 +1488,18 @@ void Laboratory::print_ratcheting(const StageConfig& sc) const {
 // its threshold) cannot see: a loose gas carries the load on a few chains first (tests/data/soft_ramp.yaml). Not at
 // half: runs that end well pass it for a while as a gas jams (the quick run's consolidation 0.107, the tests' runs
 // 0.100-0.105; a shear of test_lab's at 1.7 MPa reaches 0.196 and is warned of).
-void Laboratory::watch_overlap(const StageConfig& sc, const Measure& m) {
-  const double deepest = lab_.series.rows.back()[series_column("overlap_max")];
+void Laboratory::watch_overlap(const StageConfig& sc, Real deepest, const std::string& trial) {
   if (overlap_warned_ || !(deepest > 0.75 * cfg_.health.max_overlap)) return;
   overlap_warned_ = true;
+  const Measure m = measure(sc);
   // A slower ramp only while an isotropic stage is still on its way to its pressure (assert_healthy argues it)
   const bool ramp = sc.type == StageType::Isotropic && m.p < kPressureReached * sc.pressure;
   std::fprintf(stderr,
-               "grainlab: warning: stage %s: at step %ld (p = %.4g kPa) the deepest sphere-sphere overlap is %.3g of the "
+               "grainlab: warning: %s: at step %ld (p = %.4g kPa) the deepest sphere-sphere overlap is %.3g of the "
                "smaller radius, past three quarters of numerics.max_overlap = %g, where the run stops: the contacts are soft for "
                "this load (raise material.E, lower the pressure%s, or allow deeper overlaps)\n",
-               sc.name.c_str(), eng_->step_count(), m.p / 1e3, deepest, double(cfg_.health.max_overlap),
+               (trial.empty() ? "stage " + sc.name : trial).c_str(), eng_->step_count(), m.p / 1e3, deepest,
+               double(cfg_.health.max_overlap),
                ramp ? " or ramp it in slower" : "");
 }
 
@@ -1638,6 +1640,8 @@ Laboratory::TrialEnd Laboratory::trial_consolidation(const StageConfig& sc, cons
     if (check) {
       e.evaluate();
       assert_healthy(s + 1, trial);
+      // once a search (search_e0 clears it; run_stage again after the search, for the stage's own run)
+      if (!overlap_warned_) watch_overlap(sc, std::max(Real(0), e.deepest_overlap().ratio), trial);
       watch_core_share();  // a search of a large sample is hours of trials: a host shared with others warns here too
       done = isotropic_done(sc, e.diagnostics());
       ramp_pressure(sc, s + 1);
@@ -1683,6 +1687,7 @@ bool Laboratory::search_e0(const StageConfig& sc) {
   // e after consolidation grows with the preparation friction (SPEC §6.2): bracket [0, mu_max], then
   // regula falsi (Illinois) on e(mu) - target. Each trial starts from the same stage-start state s0.
   const EngineState s0 = eng_->capture();
+  overlap_warned_ = false;  // the search warns once of deep overlaps, its stage's run (run_stage) once more
   auto next_mu = [&]() -> Real {
     const size_t n = lab_.trial_mu.size();
     if (n == 0) return 0;
@@ -1935,7 +1940,7 @@ bool Laboratory::run_stage(const StageConfig& sc) {
           rows_since_flush = 0;
         }
         check_servo(sc, m);
-        watch_overlap(sc, m);
+        watch_overlap(sc, lab_.series.rows.back()[series_column("overlap_max")]);
       }
       if (check) {
         assert_healthy(lab_.stage_step);
