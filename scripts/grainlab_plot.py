@@ -3451,15 +3451,15 @@ def sample_sizes(run_dir):
         return {}
 
 
-def search_trials(run_dir, stage):
-    """A target_e0 search's trials, (mu, e) in the order run, from the sample file its stage saved (/search/trial_mu,
-    /search/trial_e); None where there are none (no search, no sample file, a build before them)."""
+def search_trial_e(run_dir, stage):
+    """The void ratios a target_e0 search's trials reached, from the sample file its stage saved (/search/trial_e);
+    [] where there are none (no search, no sample file, a build before them)."""
     try:
         import h5py
         with h5py.File(os.path.join(run_dir, f"sample_{stage}.h5"), "r") as f:
-            return [float(x) for x in f["/search/trial_mu"][()]], [float(x) for x in f["/search/trial_e"][()]]
+            return [float(x) for x in f["/search/trial_e"][()]]
     except (OSError, KeyError, ImportError):
-        return None
+        return []
 
 
 def samples_section(out, jobs, samples=None):
@@ -3497,9 +3497,8 @@ def samples_section(out, jobs, samples=None):
             t, tol = st.get("target_e0"), st.get("target_e0_tolerance")
             if t is not None and tol is not None and st.get("e") is not None and abs(st["e"] - t) > tol:
                 # the void ratios its trials did reach (their frictions 0 to mu_max): where a target could lie
-                tr = search_trials(s["dir"], st["name"])
-                missed.append(name + (f" (its {len(tr[1])} trials' e {min(tr[1]):.4f} to {max(tr[1]):.4f})"
-                                      if tr and tr[1] else ""))
+                te = search_trial_e(s["dir"], st["name"])
+                missed.append(name + (f" (its {len(te)} trials' e {min(te):.4f} to {max(te):.4f})" if te else ""))
                 verdict = f"target_e0 {t:g} NOT reached ({st['name']}: e {st['e']:.4f}); {verdict}"
         sizes = sample_sizes(s["dir"])
         d50 = sizes.get("d50")
